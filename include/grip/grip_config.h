@@ -1,0 +1,43 @@
+/*
+ * grip_config.h - build-time configuration with documented defaults.
+ *
+ * Override any option on the compiler command line (-DGRIP_...=...) or put
+ * your overrides in a header of your own and build with
+ * -DGRIP_CONFIG_FILE='"my_grip_config.h"'; that header is read first, so it
+ * wins over every default below. grip_config_check.h then rejects
+ * contradictory settings with #error.
+ */
+#ifndef GRIP_CONFIG_H
+#define GRIP_CONFIG_H
+
+#ifdef GRIP_CONFIG_FILE
+#include GRIP_CONFIG_FILE
+#endif
+
+/* Arithmetic: 0 = single-precision float (for FPUs such as Cortex-M4F),
+ * 1 = Q-format integers only (for cores without FPU such as Cortex-M0+).
+ * `make ARITH=fixed` sets 1. */
+#ifndef GRIP_ARITH_FIXED
+#define GRIP_ARITH_FIXED 0
+#endif
+
+/* Fixed build only: count every saturation of a fixed-point operation and
+ * remember the first one (grip_debug_saturation_count()). Costs a call on
+ * every saturation; meant for host tests (`make ... DEBUG_SAT=1`). */
+#ifndef GRIP_DEBUG_SATURATION
+#define GRIP_DEBUG_SATURATION 0
+#endif
+
+/* Fractional bits of the two fixed-point formats (see docs/numerics.md).
+ * QS carries dimensionless values, angles, lengths, speeds and times;
+ * QL carries forces, moments, pressures, stiffnesses and masses. */
+#ifndef GRIP_QS_BITS
+#define GRIP_QS_BITS 16
+#endif
+#ifndef GRIP_QL_BITS
+#define GRIP_QL_BITS 8
+#endif
+
+#include "grip_config_check.h"
+
+#endif /* GRIP_CONFIG_H */

@@ -1,0 +1,90 @@
+/*
+ * arith.h - the one set of arithmetic operations that every model in lib/
+ * is written in. In the float build each is plain single-precision float
+ * arithmetic; in the fixed build each is a saturating Q-format integer
+ * operation (Opus/CELT's arch.h idea). Formats (grip_types.h):
+ *   QS = Q15.16 (dimensionless, rad, m, m/s, s), QL = Q23.8 (N, N m, Pa, ...).
+ *
+ *   r_add/r_sub(a, b)   same format in, same out
+ *   r_mul(a_QS, b_Qx)   -> Qx       (QS times anything keeps the other format)
+ *   r_div(a_Qx, b_Qx)   -> QS       (ratio of like quantities is dimensionless)
+ *   r_div_keep(a_Qx, b_QS) -> Qx    (quantity divided by a dimensionless value)
+ *   r_ql_to_qs / r_qs_to_ql          format change, no-op in float
+ *   r_sqrt r_atan r_atan2 r_sin r_cos r_exp r_log on QS
+ *
+ * Internal to lib/: not part of the public API.
+ */
+#ifndef GRIP_ARITH_H
+#define GRIP_ARITH_H
+
+#include "grip/grip_types.h"
+
+#if GRIP_ARITH_FIXED
+#include "q16_inline.h"
+
+#define RC(x)  GRIP_QS(x)   /* QS constant */
+#define RCL(x) GRIP_QL(x)   /* QL constant */
+#define R_ZERO ((grip_real_t)0)
+#define R_ONE  ((grip_real_t)65536)
+
+static inline grip_real_t r_add(grip_real_t a, grip_real_t b) { return q16_add(a, b); }
+static inline grip_real_t r_sub(grip_real_t a, grip_real_t b) { return q16_sub(a, b); }
+static inline grip_real_t r_mul(grip_real_t a, grip_real_t b) { return q16_mul(a, b); }
+static inline grip_real_t r_div(grip_real_t a, grip_real_t b) { return q16_div(a, b); }
+static inline grip_real_t r_div_keep(grip_real_t a, grip_real_t b) { return q16_div(a, b); }
+static inline grip_real_t r_neg(grip_real_t a) { return q16_neg(a); }
+static inline grip_real_t r_abs(grip_real_t a) { return q16_abs(a); }
+static inline grip_real_t r_ql_to_qs(grip_real_t a) { return q16_from_ql(a); }
+static inline grip_real_t r_qs_to_ql(grip_real_t a) { return q16_to_ql(a); }
+static inline grip_real_t r_sqrt(grip_real_t a) { return grip_q16_sqrt(a); }
+static inline grip_real_t r_atan(grip_real_t a) { return grip_q16_atan(a); }
+static inline grip_real_t r_atan2(grip_real_t y, grip_real_t x) { return grip_q16_atan2(y, x); }
+static inline grip_real_t r_sin(grip_real_t a) { return grip_q16_sin(a); }
+static inline grip_real_t r_cos(grip_real_t a) { return grip_q16_cos(a); }
+static inline grip_real_t r_exp(grip_real_t a) { return grip_q16_exp(a); }
+static inline grip_real_t r_log(grip_real_t a) { return grip_q16_log(a); }
+/* Every fixed-point value is finite by construction. */
+static inline int r_is_finite(grip_real_t a) { (void)a; return 1; }
+
+#else /* float */
+#include <math.h>
+
+#define RC(x)  ((grip_real_t)(x))
+#define RCL(x) ((grip_real_t)(x))
+#define R_ZERO (0.0f)
+#define R_ONE  (1.0f)
+
+static inline grip_real_t r_add(grip_real_t a, grip_real_t b) { return a + b; }
+static inline grip_real_t r_sub(grip_real_t a, grip_real_t b) { return a - b; }
+static inline grip_real_t r_mul(grip_real_t a, grip_real_t b) { return a * b; }
+static inline grip_real_t r_div(grip_real_t a, grip_real_t b) { return a / b; }
+static inline grip_real_t r_div_keep(grip_real_t a, grip_real_t b) { return a / b; }
+static inline grip_real_t r_neg(grip_real_t a) { return -a; }
+static inline grip_real_t r_abs(grip_real_t a) { return fabsf(a); }
+static inline grip_real_t r_ql_to_qs(grip_real_t a) { return a; }
+static inline grip_real_t r_qs_to_ql(grip_real_t a) { return a; }
+/* Negative arguments give 0, as in the fixed build, never NaN. */
+static inline grip_real_t r_sqrt(grip_real_t a) { return (a > 0.0f) ? sqrtf(a) : 0.0f; }
+static inline grip_real_t r_atan(grip_real_t a) { return atanf(a); }
+static inline grip_real_t r_atan2(grip_real_t y, grip_real_t x) { return atan2f(y, x); }
+static inline grip_real_t r_sin(grip_real_t a) { return sinf(a); }
+static inline grip_real_t r_cos(grip_real_t a) { return cosf(a); }
+static inline grip_real_t r_exp(grip_real_t a) { return expf(a); }
+static inline grip_real_t r_log(grip_real_t a) { return (a > 0.0f) ? logf(a) : -1.0e30f; }
+static inline int r_is_finite(grip_real_t a) { return isfinite(a) ? 1 : 0; }
+#endif
+
+static inline grip_real_t r_min(grip_real_t a, grip_real_t b) { return (a < b) ? a : b; }
+static inline grip_real_t r_max(grip_real_t a, grip_real_t b) { return (a > b) ? a : b; }
+static inline grip_real_t r_clamp(grip_real_t x, grip_real_t lo, grip_real_t hi)
+{
+    return r_min(r_max(x, lo), hi);
+}
+static inline grip_real_t r_sq(grip_real_t a) { return r_mul(a, a); }
+/* sign(a) as QS: -1, 0 or +1 */
+static inline grip_real_t r_sign(grip_real_t a)
+{
+    return (a > R_ZERO) ? R_ONE : ((a < R_ZERO) ? r_neg(R_ONE) : R_ZERO);
+}
+
+#endif /* GRIP_ARITH_H */

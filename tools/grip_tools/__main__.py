@@ -1,0 +1,26 @@
+"""Command-line entry: python -m grip_tools <command> [args]."""
+import importlib
+import sys
+
+COMMANDS = {
+    "kernels": ("grip_tools.kernels", "regenerate the Q15.16 polynomial kernels header"),
+    "golden-q16": ("grip_tools.golden_q16", "write golden vectors for the Q15.16 math primitives"),
+}
+
+
+def main():
+    if len(sys.argv) < 2 or sys.argv[1] in ("-h", "--help"):
+        print("usage: python -m grip_tools <command> [args]\n\ncommands:")
+        for name, (_, what) in sorted(COMMANDS.items()):
+            print(f"  {name:14s} {what}")
+        return 0 if len(sys.argv) >= 2 else 2
+    name = sys.argv[1]
+    if name not in COMMANDS:
+        print(f"grip_tools: unknown command '{name}' (try --help)", file=sys.stderr)
+        return 2
+    module = importlib.import_module(COMMANDS[name][0])
+    return module.main(sys.argv[2:]) or 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

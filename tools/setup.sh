@@ -1,0 +1,35 @@
+#!/bin/sh
+# One-time set-up of a fresh Debian machine for grip: system packages and the
+# Python virtual environment (.venv). Idempotent and quick when done already.
+# Called by `make setup`, which every README command depends on.
+set -eu
+cd "$(dirname "$0")/.."
+
+PKGS="gcc make clang libcmocka-dev libsocketcan-dev pkg-config valgrind \
+gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi \
+qemu-system-arm can-utils python3-venv"
+
+missing=""
+for p in $PKGS; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
+done
+if [ -n "$missing" ]; then
+    echo "setup: installing Debian packages:$missing"
+    SUDO=""
+    [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+    $SUDO env DEBIAN_FRONTEND=noninteractive apt-get update -qq
+    # shellcheck disable=SC2086
+    $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $missing >/dev/null
+fi
+
+REQ=tools/requirements.txt
+STAMP=.venv/.grip-requirements
+if [ ! -x .venv/bin/python ]; then
+    echo "setup: creating Python virtual environment .venv"
+    python3 -m venv .venv
+fi
+if [ ! -f "$STAMP" ] || ! cmp -s "$REQ" "$STAMP"; then
+    echo "setup: installing Python packages from $REQ"
+    .venv/bin/pip install -q --disable-pip-version-check -r "$REQ"
+    cp "$REQ" "$STAMP"
+fi
