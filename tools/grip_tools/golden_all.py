@@ -2,24 +2,31 @@
 tests use, into one folder (build/golden by default). `make golden` runs
 this before every test run, so the vectors always come from the current
 reference models.
+
+Every module grip_tools/golden_<name>.py that defines write_golden(outdir)
+is a generator and is run here, in name order.
 """
 import argparse
+import importlib
 import os
+import pkgutil
+import sys
 
-from . import golden_q16
+import grip_tools
 
-
-def write_mf_params(outdir):
-    """build/golden/mf_params.c: the grip_test_tires[] table (tests/support/mf_params.h).
-    Filled by the Magic Formula emitter once it exists; empty until then."""
-    path = os.path.join(outdir, "mf_params.c")
-    text = ('#include "mf_params.h"\n'
-            "const grip_test_tire grip_test_tires[1] = { { 0, 0, 0, 0 } };\n"
-            "const int grip_test_tire_count = 0;\n")
-    _write_if_changed(path, text)
+SKIP = {"golden_all", "golden_io"}
 
 
-def _write_if_changed(path, text):
+def generators():
+    names = sorted(m.name for m in pkgutil.iter_modules(grip_tools.__path__)
+                   if m.name.startswith("golden_") and m.name not in SKIP)
+    for name in names:
+        module = importlib.import_module(f"grip_tools.{name}")
+        if hasattr(module, "write_golden"):
+            yield name, module.write_golden
+
+
+def write_if_changed(path, text):
     """Keep the file's timestamp when nothing changed, so make does not rebuild."""
     if os.path.exists(path):
         with open(path) as f:
@@ -36,6 +43,13 @@ def main(argv=None):
     ap.add_argument("-o", "--outdir", default="build/golden")
     args = ap.parse_args(argv)
     os.makedirs(args.outdir, exist_ok=True)
-    golden_q16.main(["-o", os.path.join(args.outdir, "q16.txt")])
-    write_mf_params(args.outdir)
+    for name, write in generators():
+        write(args.outdir)
+    if not os.path.exists(os.path.join(args.outdir, "mf_params.c")):
+        # No Magic Formula emitter yet: an empty table keeps the tests linkable.
+        write_if_changed(os.path.join(args.outdir, "mf_params.c"),
+                         '#include "mf_params.h"\n'
+                         "const grip_test_tire grip_test_tires[1] = { { 0, 0, 0, 0 } };\n"
+                         "const int grip_test_tire_count = 0;\n")
+    print(f"golden-all: wrote {args.outdir}", file=sys.stderr)
     return 0

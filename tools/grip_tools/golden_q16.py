@@ -7,6 +7,7 @@ are float64 numpy evaluations of the exact function at the exact input
 value, clamped to the representable range (the saturating semantics).
 """
 import argparse
+import os
 import sys
 
 import numpy as np
@@ -87,6 +88,10 @@ def vectors(rng):
             b = np.concatenate([b, _raw_domain(rng, N, 0, 23)])
         out.append((name, a, b))
     return out
+
+
+def write_golden(outdir):
+    return main(["-o", os.path.join(outdir, "q16.txt")])
 
 
 def main(argv=None):
