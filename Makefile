@@ -5,8 +5,11 @@
 #   CC=gcc|clang        host compiler (default gcc)
 #   SAN=1               AddressSanitizer + UndefinedBehaviorSanitizer
 #   DEBUG_SAT=1         fixed build only: count every fixed-point saturation
+#   TARGET=host|m4f|m0p cross-build lib/ for Cortex-M4F (float) or Cortex-M0+
+#                       (fixed, no FPU) with arm-none-eabi-gcc
 
 ARITH     ?= float
+TARGET    ?= host
 ifeq ($(origin CC),default)
 CC := gcc
 endif
@@ -17,8 +20,25 @@ ifeq ($(filter $(ARITH),float fixed),)
 $(error ARITH must be float or fixed, not '$(ARITH)')
 endif
 
+CPUFLAGS :=
+ifeq ($(TARGET),m4f)
+override CC    := arm-none-eabi-gcc
+override ARITH := float
+CPUFLAGS := -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard
+else ifeq ($(TARGET),m0p)
+override CC    := arm-none-eabi-gcc
+override ARITH := fixed
+CPUFLAGS := -mcpu=cortex-m0plus -mthumb -mfloat-abi=soft
+else ifneq ($(TARGET),host)
+$(error TARGET must be host, m4f or m0p)
+endif
+
 CCNAME  := $(notdir $(firstword $(CC)))
+ifeq ($(TARGET),host)
 VARIANT := $(ARITH)-$(CCNAME)$(if $(filter 1,$(SAN)),-san)$(if $(filter 1,$(DEBUG_SAT)),-satdbg)
+else
+VARIANT := $(TARGET)-$(ARITH)
+endif
 BUILD   := build/$(VARIANT)
 PY      := .venv/bin/python
 PYTOOLS := PYTHONPATH=tools $(PY) -m grip_tools
@@ -39,8 +59,14 @@ ifeq ($(SAN),1)
 OPT  := -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=all
 endif
 
+ifneq ($(TARGET),host)
+# Firmware: size-conscious, one section per function (the linker drops what
+# an application does not call), per-function stack usage and call graph.
+OPT := -O2 -g -ffunction-sections -fdata-sections -fstack-usage -fcallgraph-info=su
+endif
+
 INC := -Iinclude -Ilib/arith
-CFLAGS_LIB  := $(WARN_LIB) $(OPT) $(DEFS) $(INC)
+CFLAGS_LIB  := $(WARN_LIB) $(CPUFLAGS) $(OPT) $(DEFS) $(INC)
 CFLAGS_HOST := $(WARN_HOST) $(OPT) $(DEFS) $(INC) -Itests/support -Iport/linux
 
 LIB_SRCS := $(sort $(wildcard lib/*/*.c))
@@ -51,7 +77,7 @@ SUPPORT_SRCS := $(sort $(wildcard tests/support/*.c))
 UNIT_SRCS    := $(sort $(wildcard tests/unit/test_*.c))
 UNIT_BINS    := $(UNIT_SRCS:tests/unit/%.c=$(BUILD)/tests/%)
 
-.PHONY: all lib tests test check run setup golden firmware bench clean help
+.PHONY: all lib tests test run-tests check run setup golden firmware firmware-image bench clean help
 
 all: lib tests
 
@@ -94,7 +120,10 @@ golden: setup
 $(GOLDEN)/mf_params.c: | golden
 
 test: golden
-	@$(MAKE) --no-print-directory tests
+	@$(MAKE) --no-print-directory run-tests
+
+# Build and run this variant's tests on the golden vectors already in place.
+run-tests: tests
 	@GRIP_GOLDEN_DIR=$(GOLDEN) sh tests/run_suite.sh $(UNIT_BINS)
 
 setup:
@@ -109,8 +138,24 @@ check: setup
 run: setup
 	@sh tools/scripts/main_job.sh
 
+# Bare-metal example image: every object of libgrip linked in whole, so the
+# floating-point check below sees all of the library.
+BM_SRCS := $(sort $(wildcard port/baremetal/*.c))
+BM_ELF  := $(BUILD)/grip-example.elf
+CFLAGS_BM := -std=c99 -Wall -Wextra -Werror $(CPUFLAGS) -O2 -g $(DEFS) $(INC) -Iport/baremetal
+
+$(BM_ELF): $(BM_SRCS) $(LIBGRIP) port/baremetal/mps2.ld
+	$(CC) $(CFLAGS_BM) -nostartfiles -nostdlib -T port/baremetal/mps2.ld $(BM_SRCS) \
+	    -Wl,--whole-archive $(LIBGRIP) -Wl,--no-whole-archive -lm -lc -lgcc -o $@
+
+firmware-image: $(BM_ELF)
+
+# Cortex-M4F (float) and Cortex-M0+ (fixed): build, sizes, stack, float check.
 firmware:
-	@sh tests/firmware/build.sh
+	@$(MAKE) --no-print-directory TARGET=m4f firmware-image
+	@$(MAKE) --no-print-directory TARGET=m0p firmware-image
+	@sh tests/firmware/check.sh build/m4f-float float
+	@sh tests/firmware/check.sh build/m0p-fixed fixed
 
 bench: setup
 	@sh tools/scripts/bench.sh

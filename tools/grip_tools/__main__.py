@@ -5,6 +5,7 @@ import sys
 COMMANDS = {
     "kernels": ("grip_tools.kernels", "regenerate the Q15.16 polynomial kernels header"),
     "golden-q16": ("grip_tools.golden_q16", "write golden vectors for the Q15.16 math primitives"),
+    "stack": ("grip_tools.stack", "worst-case stack per function from -fcallgraph-info files"),
     "golden-all": ("grip_tools.golden_all", "write every golden-vector file and test parameter set"),
 }
 

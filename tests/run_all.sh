@@ -1,0 +1,51 @@
+#!/bin/sh
+# Every test of grip, in every configuration CI cares about. Each step's
+# output is kept in build/test-logs/<step>.log and echoed; TAP lines
+# ("ok" / "not ok") are counted; a step that fails without a "not ok" line
+# (a build error, a crash) counts as one failure. Ends with the summary line
+# "N passed, N failed". Exit status 0 only if nothing failed.
+set -u
+cd "$(dirname "$0")/.."
+LOGS=build/test-logs
+rm -rf "$LOGS"
+mkdir -p "$LOGS"
+JOBS="-j2"
+passed=0
+failed=0
+start=$(date +%s)
+
+step() {
+    name=$1
+    shift
+    echo "=== $name: $*"
+    t0=$(date +%s)
+    "$@" >"$LOGS/$name.log" 2>&1
+    rc=$?
+    grep -E '^(ok|not ok) |^# ' "$LOGS/$name.log" | grep -vE '^# (suite|ok|not ok) -' || true
+    p=$(grep -cE '^ok ' "$LOGS/$name.log")
+    f=$(grep -cE '^not ok ' "$LOGS/$name.log")
+    if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then
+        echo "not ok - $name exited with status $rc; last lines of $LOGS/$name.log:"
+        tail -20 "$LOGS/$name.log" | sed 's/^/#   /'
+        f=1
+    fi
+    passed=$((passed + p))
+    failed=$((failed + f))
+    echo "=== $name: $p passed, $f failed ($(( $(date +%s) - t0 )) s)"
+}
+
+# Vectors once, from the current reference models.
+step golden make --no-print-directory golden
+for cfg in "ARITH=float" "ARITH=fixed" "ARITH=fixed DEBUG_SAT=1" \
+           "ARITH=float SAN=1" "ARITH=fixed SAN=1" \
+           "ARITH=float CC=clang" "ARITH=fixed CC=clang"; do
+    name=$(echo "$cfg" | tr ' =' '_-')
+    # shellcheck disable=SC2086
+    step "unit_$name" make --no-print-directory $JOBS $cfg run-tests
+done
+step firmware make --no-print-directory $JOBS firmware
+step python .venv/bin/python tests/python/run.py
+
+echo "total time $(( $(date +%s) - start )) s"
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
