@@ -77,7 +77,7 @@ SUPPORT_SRCS := $(sort $(wildcard tests/support/*.c))
 UNIT_SRCS    := $(sort $(wildcard tests/unit/test_*.c))
 UNIT_BINS    := $(UNIT_SRCS:tests/unit/%.c=$(BUILD)/tests/%)
 
-.PHONY: all lib tests test run-tests check run setup golden firmware firmware-image bench clean help
+.PHONY: all lib tests test run-tests check run setup golden firmware firmware-image bench bench-image bench-host clean help
 
 all: lib tests
 
@@ -150,6 +150,23 @@ $(BM_ELF): $(BM_SRCS) $(LIBGRIP) port/baremetal/mps2.ld
 
 firmware-image: $(BM_ELF)
 
+# Benchmarks: the same cases on the host and on emulated Cortex-M.
+BENCH_SRCS := tests/bench/bench_cases.c
+BENCH_ELF  := $(BUILD)/grip-bench.elf
+BENCH_HOST := $(BUILD)/bench/bench_host
+BM_PORT    := $(filter-out port/baremetal/example_main.c,$(BM_SRCS))
+
+$(BENCH_ELF): tests/bench/bench_target.c $(BENCH_SRCS) $(BM_PORT) $(LIBGRIP) port/baremetal/mps2.ld
+	$(CC) $(CFLAGS_BM) -Itests/bench -nostartfiles -nostdlib -T port/baremetal/mps2.ld \
+	    tests/bench/bench_target.c $(BENCH_SRCS) $(BM_PORT) $(LIBGRIP) -lm -lc -lgcc -o $@
+
+$(BENCH_HOST): tests/bench/bench_host.c $(BENCH_SRCS) $(LIBGRIP)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_HOST) -Itests/bench $^ -lm -o $@
+
+bench-image: $(BENCH_ELF)
+bench-host: $(BENCH_HOST)
+
 # Cortex-M4F (float) and Cortex-M0+ (fixed): build, sizes, stack, float check.
 firmware:
 	@$(MAKE) --no-print-directory TARGET=m4f firmware-image
@@ -158,7 +175,11 @@ firmware:
 	@sh tests/firmware/check.sh build/m0p-fixed fixed
 
 bench: setup
-	@sh tools/scripts/bench.sh
+	@$(MAKE) --no-print-directory ARITH=float bench-host
+	@$(MAKE) --no-print-directory ARITH=fixed bench-host
+	@$(MAKE) --no-print-directory TARGET=m4f bench-image
+	@$(MAKE) --no-print-directory TARGET=m0p bench-image
+	@$(PYTOOLS) bench
 
 clean:
 	rm -rf build

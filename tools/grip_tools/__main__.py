@@ -6,6 +6,7 @@ COMMANDS = {
     "kernels": ("grip_tools.kernels", "regenerate the Q15.16 polynomial kernels header"),
     "golden-q16": ("grip_tools.golden_q16", "write golden vectors for the Q15.16 math primitives"),
     "stack": ("grip_tools.stack", "worst-case stack per function from -fcallgraph-info files"),
+    "bench": ("grip_tools.bench", "benchmarks: host ns/call, callgrind and Cortex-M instruction counts"),
     "golden-all": ("grip_tools.golden_all", "write every golden-vector file and test parameter set"),
 }
 

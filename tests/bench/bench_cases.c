@@ -1,0 +1,45 @@
+/* bench_cases.c - see bench_cases.h. Integer-only in the fixed build. */
+#include "bench_cases.h"
+#include "grip/grip_q16.h"
+#include "arith.h"
+
+static volatile int32_t sink;
+static volatile grip_real_t rsink;
+
+/* Q15.16 inputs spread over each primitive's typical domain */
+static const int32_t q_in[BENCH_INPUTS] = {
+    -3276800, -655360, -196608, -65536, -32768, -6554, -655, 0,
+    655, 6554, 32768, 65536, 131072, 205887, 655360, 3276800,
+};
+
+static void b_mul(int i) { sink = grip_q16_mul(q_in[i], q_in[(i + 5) % BENCH_INPUTS]); }
+static void b_div(int i) { sink = grip_q16_div(q_in[i], q_in[(i + 3) % BENCH_INPUTS] | 1); }
+static void b_sqrt(int i) { sink = grip_q16_sqrt(q_in[i] < 0 ? -q_in[i] : q_in[i]); }
+static void b_atan(int i) { sink = grip_q16_atan(q_in[i]); }
+static void b_atan2(int i) { sink = grip_q16_atan2(q_in[i], q_in[(i + 7) % BENCH_INPUTS]); }
+static void b_sin(int i) { sink = grip_q16_sin(q_in[i]); }
+static void b_cos(int i) { sink = grip_q16_cos(q_in[i]); }
+static void b_exp(int i) { sink = grip_q16_exp(q_in[i] / 8); }
+static void b_log(int i) { sink = grip_q16_log(q_in[i] < 0 ? -q_in[i] : q_in[i] + 1); }
+
+/* The arithmetic layer as the models see it: libm float or Q15.16. */
+static const grip_real_t r_in[BENCH_INPUTS] = {
+    RC(-50.0), RC(-10.0), RC(-3.0), RC(-1.0), RC(-0.5), RC(-0.1), RC(-0.01), RC(0.0),
+    RC(0.01), RC(0.1), RC(0.5), RC(1.0), RC(2.0), RC(3.14159), RC(10.0), RC(50.0),
+};
+
+static void b_r_mul(int i) { rsink = r_mul(r_in[i], r_in[(i + 5) % BENCH_INPUTS]); }
+static void b_r_div(int i) { rsink = r_div(r_in[i], r_add(r_abs(r_in[(i + 3) % BENCH_INPUTS]), RC(0.5))); }
+static void b_r_sqrt(int i) { rsink = r_sqrt(r_abs(r_in[i])); }
+static void b_r_atan2(int i) { rsink = r_atan2(r_in[i], r_in[(i + 7) % BENCH_INPUTS]); }
+static void b_r_sin(int i) { rsink = r_sin(r_in[i]); }
+static void b_r_exp(int i) { rsink = r_exp(r_mul(r_in[i], RC(0.125))); }
+
+const bench_case bench_cases[] = {
+    { "r_mul", b_r_mul }, { "r_div", b_r_div }, { "r_sqrt", b_r_sqrt },
+    { "r_atan2", b_r_atan2 }, { "r_sin", b_r_sin }, { "r_exp", b_r_exp },
+    { "q16_mul", b_mul },   { "q16_div", b_div }, { "q16_sqrt", b_sqrt },
+    { "q16_atan", b_atan }, { "q16_atan2", b_atan2 }, { "q16_sin", b_sin },
+    { "q16_cos", b_cos },   { "q16_exp", b_exp }, { "q16_log", b_log },
+};
+const int bench_case_count = (int)(sizeof(bench_cases) / sizeof(bench_cases[0]));

@@ -1,0 +1,23 @@
+/*
+ * bench_cases.h - the benchmark cases, shared by the host benchmark
+ * (ns/call, callgrind) and the Cortex-M benchmark (instructions counted on
+ * qemu-system-arm). Each case evaluates one public function on input set i
+ * of BENCH_INPUTS representative inputs; the result goes to a volatile sink
+ * so nothing is optimized away.
+ */
+#ifndef GRIP_BENCH_CASES_H
+#define GRIP_BENCH_CASES_H
+
+#include <stdint.h>
+
+#define BENCH_INPUTS 16
+
+typedef struct {
+    const char *name;
+    void (*run)(int i);
+} bench_case;
+
+extern const bench_case bench_cases[];
+extern const int bench_case_count;
+
+#endif
