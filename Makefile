@@ -73,13 +73,36 @@ LIB_SRCS := $(sort $(wildcard lib/*/*.c))
 LIB_OBJS := $(LIB_SRCS:%.c=$(BUILD)/%.o)
 LIBGRIP  := $(BUILD)/libgrip.a
 
+# Host port: port/linux/grip_*.c are programs (bin/grip-*), the rest is the
+# port library that programs and tests link.
+PROG_SRCS := $(sort $(wildcard port/linux/grip_*.c))
+PORT_SRCS := $(filter-out $(PROG_SRCS),$(sort $(wildcard port/linux/*.c)))
+PORT_OBJS := $(PORT_SRCS:%.c=$(BUILD)/%.o)
+LIBPORT   := $(BUILD)/libgrip_port.a
+PROGS     := $(addprefix $(BUILD)/bin/grip-,$(subst _,-,$(patsubst port/linux/grip_%.c,%,$(PROG_SRCS))))
+
 SUPPORT_SRCS := $(sort $(wildcard tests/support/*.c))
 UNIT_SRCS    := $(sort $(wildcard tests/unit/test_*.c))
 UNIT_BINS    := $(UNIT_SRCS:tests/unit/%.c=$(BUILD)/tests/%)
 
-.PHONY: all lib tests test run-tests check run setup golden firmware firmware-image bench bench-image bench-host clean help
+.PHONY: all lib progs tests test run-tests check run setup golden firmware firmware-image bench bench-image bench-host clean help
 
-all: lib tests
+all: lib progs tests
+
+progs: $(PROGS)
+
+$(BUILD)/port/%.o: port/%.c $(wildcard include/grip/*.h port/linux/*.h)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_HOST) -c $< -o $@
+
+$(LIBPORT): $(PORT_OBJS)
+	@rm -f $@
+	ar rcs $@ $^
+
+.SECONDEXPANSION:
+$(BUILD)/bin/grip-%: port/linux/grip_$$(subst -,_,$$*).c $(LIBPORT) $(LIBGRIP) $(wildcard include/grip/*.h port/linux/*.h)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_HOST) $< $(LIBPORT) $(LIBGRIP) -lm -o $@
 
 help:
 	@echo "make run              set up, then run the main job (README)"
@@ -107,9 +130,9 @@ $(BUILD)/golden/mf_params.o: $(GOLDEN)/mf_params.c $(wildcard include/grip/*.h)
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_HOST) -c $< -o $@
 
-$(BUILD)/tests/%: tests/unit/%.c $(SUPPORT_SRCS) $(BUILD)/golden/mf_params.o $(LIBGRIP) $(wildcard tests/support/*.h)
+$(BUILD)/tests/%: tests/unit/%.c $(SUPPORT_SRCS) $(BUILD)/golden/mf_params.o $(LIBPORT) $(LIBGRIP) $(wildcard tests/support/*.h)
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_HOST) $< $(SUPPORT_SRCS) $(BUILD)/golden/mf_params.o $(LIBGRIP) -lcmocka -lm -o $@
+	$(CC) $(CFLAGS_HOST) $< $(SUPPORT_SRCS) $(BUILD)/golden/mf_params.o $(LIBPORT) $(LIBGRIP) -lcmocka -lm -o $@
 
 # Golden vectors are regenerated from the Python reference on every test
 # run, so a changed reference model changes the vectors (and fails the C

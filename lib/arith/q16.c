@@ -53,11 +53,27 @@ grip_q16_t grip_q16_sub(grip_q16_t a, grip_q16_t b) { return q16_sub(a, b); }
 grip_q16_t grip_q16_mul(grip_q16_t a, grip_q16_t b) { return q16_mul(a, b); }
 grip_q16_t grip_q16_div(grip_q16_t a, grip_q16_t b) { return q16_div(a, b); }
 
+/* Position of the highest set bit of v != 0: six fixed steps. */
+static int msb64(uint64_t v)
+{
+    int p = 0;
+    if (v >= ((uint64_t)1 << 32)) { p += 32; v >>= 32; }
+    if (v >= ((uint64_t)1 << 16)) { p += 16; v >>= 16; }
+    if (v >= ((uint64_t)1 << 8))  { p += 8;  v >>= 8; }
+    if (v >= ((uint64_t)1 << 4))  { p += 4;  v >>= 4; }
+    if (v >= ((uint64_t)1 << 2))  { p += 2;  v >>= 2; }
+    if (v >= ((uint64_t)1 << 1))  { p += 1; }
+    return p;
+}
+
 grip_q16_t grip_q16_sqrt(grip_q16_t a)
 {
-    uint64_t v;
-    uint64_t root = 0;
-    uint64_t bit = (uint64_t)1 << 62;
+    uint64_t x;
+    int p;
+    int sh;
+    int64_t f;
+    int64_t y;
+    int64_t r;
     int i;
     if (a <= 0) {
         if (a < 0) {
@@ -65,22 +81,33 @@ grip_q16_t grip_q16_sqrt(grip_q16_t a)
         }
         return 0;
     }
-    v = (uint64_t)(uint32_t)a << 16;   /* sqrt of Q32 is Q16 */
-    /* Digit-by-digit square root: always 32 steps. */
-    for (i = 0; i < 32; ++i) {
-        if (v >= root + bit) {
-            v -= root + bit;
-            root = (root >> 1) + bit;
-        } else {
-            root >>= 1;
+    /* The Q16 root of a is the integer root of x = a * 2^16 (at most 2^47). */
+    x = (uint64_t)(uint32_t)a << 16;
+    /* Normalize by an even shift to f = x * 2^sh / 2^62 in [1/4, 1). */
+    p = msb64(x);
+    sh = ((p & 1) == 0) ? (60 - p) : (61 - p);
+    f = (int64_t)((x << sh) >> 32);                 /* Q30 */
+    /* 1/sqrt(f) in Q29: linear first guess (error < 9.2 %), then four
+     * Newton steps y <- y (3 - f y^2) / 2 (9e-2 -> 1e-2 -> 2e-4 -> 8e-8 -> 1e-14);
+     * multiplies only, no division. */
+    y = 1152551797 - ((664811157 * f) >> 30);      /* 2.1468 - 1.2383 f */
+    for (i = 0; i < 4; ++i) {
+        int64_t fy2 = (f * ((y * y) >> 29)) >> 30;  /* Q29 */
+        y = (y * (((int64_t)3 << 29) - fy2)) >> 30;
+    }
+    /* sqrt(f) = f / sqrt(f) in Q30; sqrt(x) = sqrt(f) * 2^(31 - sh/2). */
+    r = q_round_shift((f * y) >> 29, (unsigned)(sh / 2 - 1));
+    /* Exact rounding: r is round(sqrt(x)) iff r^2 - r < x <= r^2 + r.
+     * The estimate is within 1 of it; two fixed correction steps. */
+    for (i = 0; i < 2; ++i) {
+        uint64_t r2 = (uint64_t)r * (uint64_t)r;
+        if (r2 + (uint64_t)r < x) {
+            r += 1;
+        } else if (r2 - (uint64_t)r >= x) {
+            r -= 1;
         }
-        bit >>= 2;
     }
-    /* v now holds the remainder a*2^16 - root^2: round to nearest. */
-    if (v > root) {
-        root += 1u;
-    }
-    return (grip_q16_t)root;
+    return (grip_q16_t)r;
 }
 
 /* atan of u >= 0 given as Q16 magnitude, result in Q30 rad. */
