@@ -5,11 +5,13 @@
 #   CC=gcc|clang        host compiler (default gcc)
 #   SAN=1               AddressSanitizer + UndefinedBehaviorSanitizer
 #   DEBUG_SAT=1         fixed build only: count every fixed-point saturation
+#   BUILDROOT=dir       where build folders go (default build)
 #   TARGET=host|m4f|m0p cross-build lib/ for Cortex-M4F (float) or Cortex-M0+
 #                       (fixed, no FPU) with arm-none-eabi-gcc
 
 ARITH     ?= float
 TARGET    ?= host
+BUILDROOT ?= build
 ifeq ($(origin CC),default)
 CC := gcc
 endif
@@ -39,10 +41,10 @@ VARIANT := $(ARITH)-$(CCNAME)$(if $(filter 1,$(SAN)),-san)$(if $(filter 1,$(DEBU
 else
 VARIANT := $(TARGET)-$(ARITH)
 endif
-BUILD   := build/$(VARIANT)
+BUILD   := $(BUILDROOT)/$(VARIANT)
 PY      := .venv/bin/python
 PYTOOLS := PYTHONPATH=tools $(PY) -m grip_tools
-GOLDEN  := build/golden
+GOLDEN  := $(BUILDROOT)/golden
 
 # Strict flags for the portable core; the same for gcc and clang.
 WARN_LIB := -std=c99 -Wall -Wextra -Wpedantic -Wconversion -Wsign-conversion \
@@ -194,8 +196,8 @@ bench-host: $(BENCH_HOST)
 firmware:
 	@$(MAKE) --no-print-directory TARGET=m4f firmware-image
 	@$(MAKE) --no-print-directory TARGET=m0p firmware-image
-	@sh tests/firmware/check.sh build/m4f-float float
-	@sh tests/firmware/check.sh build/m0p-fixed fixed
+	@sh tests/firmware/check.sh $(BUILDROOT)/m4f-float float
+	@sh tests/firmware/check.sh $(BUILDROOT)/m0p-fixed fixed
 
 bench: setup
 	@$(MAKE) --no-print-directory ARITH=float bench-host
