@@ -102,9 +102,13 @@ $(LIBPORT): $(PORT_OBJS)
 	ar rcs $@ $^
 
 .SECONDEXPANSION:
+# A source may name extra link flags in a line `/* LDFLAGS: ... */`
+# (e.g. -lsocketcan, -Wl,--wrap=recvmsg for a mocked socket test).
+ldflags_of = $(shell sed -n 's|^/\* LDFLAGS: \(.*\) \*/$$|\1|p' $(1))
+
 $(BUILD)/bin/grip-%: port/linux/grip_$$(subst -,_,$$*).c $(LIBPORT) $(LIBGRIP) $(wildcard include/grip/*.h port/linux/*.h)
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_HOST) $< $(LIBPORT) $(LIBGRIP) -lm -o $@
+	$(CC) $(CFLAGS_HOST) $< $(LIBPORT) $(LIBGRIP) -lm $(call ldflags_of,$<) -o $@
 
 help:
 	@echo "make run              set up, then run the main job (README)"
@@ -134,7 +138,7 @@ $(BUILD)/golden/mf_params.o: $(GOLDEN)/mf_params.c $(wildcard include/grip/*.h)
 
 $(BUILD)/tests/%: tests/unit/%.c $(SUPPORT_SRCS) $(BUILD)/golden/mf_params.o $(LIBPORT) $(LIBGRIP) $(wildcard tests/support/*.h)
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_HOST) $< $(SUPPORT_SRCS) $(BUILD)/golden/mf_params.o $(LIBPORT) $(LIBGRIP) -lcmocka -lm -o $@
+	$(CC) $(CFLAGS_HOST) $< $(SUPPORT_SRCS) $(BUILD)/golden/mf_params.o $(LIBPORT) $(LIBGRIP) -lcmocka -lm $(call ldflags_of,$<) -o $@
 
 # Golden vectors are regenerated from the Python reference on every test
 # run, so a changed reference model changes the vectors (and fails the C
