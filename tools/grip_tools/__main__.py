@@ -7,7 +7,11 @@ COMMANDS = {
     "golden-q16": ("grip_tools.golden_q16", "write golden vectors for the Q15.16 math primitives"),
     "stack": ("grip_tools.stack", "worst-case stack per function from -fcallgraph-info files"),
     "bench": ("grip_tools.bench", "benchmarks: host ns/call, callgrind and Cortex-M instruction counts"),
+    "main-job": ("grip_tools.main_job", "the README's main job (see tools/scripts/main_job.sh)"),
+    "mf89": ("grip_tools.mf89", "1989-style lateral Magic Formula: constraint report of a coefficient set"),
     "golden-all": ("grip_tools.golden_all", "write every golden-vector file and test parameter set"),
+    "tir2c": ("grip_tools.tir", "emit a grip_mf_params C definition from a .tir file"),
+    "fit-mf": ("grip_tools.fit_mf", "identify Magic Formula coefficients from measured sweeps"),
 }
 
 
