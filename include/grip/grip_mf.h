@@ -23,4 +23,77 @@ typedef struct {
 #undef GRIP_MF_X_FIELD
 } grip_mf_params;
 
+/* ------------------------------------------------------------------------
+ * Option bits of grip_mf_params.options (docs/magic-formula-c.md).
+ * With no bit set the model is MF-Tyre's steady-state Magic Formula in the
+ * ISO-W (TYDEX W) axis system, for a tyre mounted on the LEFT side of the
+ * vehicle: a parameter set with tyreside == -1 (TYRESIDE = 'RIGHT') is
+ * mirrored, as the struct contract says.
+ */
+#define GRIP_MF_OPT_BOOK         (1u << 0) /* Pacejka-book equation forms instead of MF-Tyre's   */
+#define GRIP_MF_OPT_KAPPA_BRAKE  (1u << 1) /* input kappa is positive in braking (= -kappa ISO) */
+#define GRIP_MF_OPT_MIRROR       (1u << 2) /* mirror once more (alpha, gamma, Fy, Mz)           */
+#define GRIP_MF_OPT_RIGHT_SIDE   (1u << 3) /* tyre on the right: mirror if tyreside == +1 instead */
+#define GRIP_MF_OPT_SAE          (1u << 4) /* inputs/outputs in the SAE J670 tyre axis system   */
+#define GRIP_MF_OPT_ALL          (0x1Fu)
+
+/* Valid input domain (plain constants: wrap them in GRIP_QS()/GRIP_QL() or
+ * cast them); inputs beyond it are clamped and GRIP_WARN_CLAMPED is
+ * returned. Fz <= 0 (tyre off the ground) gives zero outputs and GRIP_OK.
+ * The file's own *_RANGE values (KPUMIN, FZMAX, ...) are NOT applied. */
+#define GRIP_MF_KAPPA_MAX      1.5        /* |kappa| (MF-Tyre's default KPUMIN/KPUMAX)        */
+#define GRIP_MF_ALPHA_MAX      1.5707963  /* |alpha| <= pi/2 rad                             */
+#define GRIP_MF_ALPHA_MAX_BOOK 1.5        /* |alpha| with GRIP_MF_OPT_BOOK (tan alpha <= 14)  */
+#define GRIP_MF_GAMMA_MAX      0.5235988  /* |gamma| <= 30 deg (MF-Tyre's default CAMMIN/MAX) */
+#define GRIP_MF_FZ_MAX_REL     4.0        /* Fz <= 4 * FNOMIN                                 */
+#define GRIP_MF_DPI_MIN        (-0.5)     /* p >= 0.5 * NOMPRES (MF 6.x)                      */
+#define GRIP_MF_DPI_MAX        1.0        /* p <= 2 * NOMPRES (MF 6.x)                        */
+#define GRIP_MF_VX_MAX         300.0      /* |vx| [m/s]                                       */
+
+/* Operating point of one tyre (ISO-W unless GRIP_MF_OPT_SAE / _KAPPA_BRAKE). */
+typedef struct {
+    grip_real_t kappa;   /* QS  longitudinal slip [-], -1 = locked wheel        */
+    grip_real_t alpha;   /* QS  slip angle [rad]                                */
+    grip_real_t gamma;   /* QS  inclination (camber) angle [rad]                */
+    grip_real_t fz;      /* QL  vertical load [N], > 0 when loaded              */
+    grip_real_t p;       /* QL  inflation pressure [Pa]; <= 0: INFLPRES, or     */
+                         /*     NOMPRES if INFLPRES = 0; ignored by MF 5.2      */
+    grip_real_t vx;      /* QS  longitudinal speed of the contact centre [m/s]  */
+} grip_mf_input;
+
+/* Forces and moment at the contact centre. */
+typedef struct {
+    grip_real_t fx;      /* QL  longitudinal force [N]    */
+    grip_real_t fy;      /* QL  lateral force [N]         */
+    grip_real_t mz;      /* QL  aligning moment [N m]     */
+} grip_mf_output;
+
+#define grip_mf_check_params GRIP_TYPED(grip_mf_check_params)
+#define grip_mf_eval_pure GRIP_TYPED(grip_mf_eval_pure)
+#define grip_mf_eval GRIP_TYPED(grip_mf_eval)
+
+/* Validates a parameter set: GRIP_OK, GRIP_ERR_NULL or GRIP_ERR_PARAM:
+ * FITTYP not 5, 6, 21, 61, 62; TYRESIDE not +-1; unknown option bits;
+ * FNOMIN not in (0, 1e6] N; UNLOADED_RADIUS <= 0; LFZO <= 0; NOMPRES or
+ * INFLPRES < 0; LMUX, LMUY or LMUV < 0; LMUV > 0 with LONGVL <= 0.1 m/s;
+ * in the float build also any non-finite coefficient. grip_mf_eval and
+ * grip_mf_eval_pure repeat the cheap structural checks on every call, not
+ * the per-coefficient finiteness: call this once after loading a set (a
+ * non-finite coefficient that reaches an output is caught there and gives
+ * zeros and GRIP_ERR_PARAM). */
+grip_status_t grip_mf_check_params(const grip_mf_params *p);
+
+/* Pure-slip forces and moment: out->fx = Fx0(kappa), out->fy = Fy0(alpha),
+ * out->mz = Mz0(alpha), each at the given gamma, Fz, p and vx.
+ * Returns GRIP_OK, GRIP_WARN_CLAMPED (an input was clamped to the domain
+ * above; outputs valid), GRIP_ERR_NULL, GRIP_ERR_PARAM, GRIP_ERR_INPUT (a
+ * non-finite input, float build) or GRIP_ERR_DOMAIN (a non-finite result
+ * from finite but absurd coefficients, float build); on every error the
+ * outputs are zero. Pure function: no state, reentrant. */
+grip_status_t grip_mf_eval_pure(const grip_mf_params *p, const grip_mf_input *in,
+                                grip_mf_output *out);
+
+/* Combined-slip forces and moment Fx, Fy, Mz. Same status rules. */
+grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out);
+
 #endif /* GRIP_MF_H */

@@ -1,0 +1,595 @@
+/*
+ * mf_eval.c - steady-state Magic Formula (MF 5.2 / PAC2002, MF 6.1 / 6.2):
+ * pure and combined slip Fx, Fy, Mz, written once for both arithmetics.
+ *
+ * Default equation forms are those of TNO's MF-Tyre (ISO-W axis system,
+ * slip angle and inclination used as angles, A_mu = 1, the trail and
+ * residual-moment forms of MF-Tyre 6.1); GRIP_MF_OPT_BOOK selects the forms
+ * of Pacejka's book (alpha* = tan(alpha), gamma* = sin(gamma), ...).
+ * The equations are in docs/magic-formula.md, what is specific to this C
+ * code in docs/magic-formula-c.md; equation numbers below are the book's
+ * (Tyre and Vehicle Dynamics, 3rd ed., section 4.3.2, "4.Exx").
+ *
+ * Everything is computed per unit load (mf_internal.h); the result is
+ * scaled by Fz and Fz * R0 to N and N m at the very end. Pure functions:
+ * no state, no loops.
+ */
+#include "mf_internal.h"
+
+/* Operating point shared by all parts of one evaluation. */
+typedef struct {
+    grip_real_t fz_ql;   /* Fz [N] (QL), after clamping                        */
+    grip_real_t fz;      /* Fz / FNOMIN                                        */
+    grip_real_t fzp;     /* Fz / Fz0' with Fz0' = LFZO * FNOMIN                 */
+    grip_real_t dfz;     /* (Fz - Fz0') / Fz0'                       (4.E2a)   */
+    grip_real_t dpi;     /* (p - NOMPRES) / NOMPRES                  (4.E2b)   */
+    grip_real_t kappa;   /* longitudinal slip (ISO)                            */
+    grip_real_t alpha;   /* alpha* : alpha (MF-Tyre) or tan(alpha) (book)      */
+    grip_real_t gamma;   /* gamma* : gamma (MF-Tyre) or sin(gamma)             */
+    grip_real_t cosa;    /* cos'(alpha) = |Vcx| / Vc = |cos(alpha)|     (4.E6) */
+    grip_real_t smooth;  /* low-speed factor of the shifts, t and Mzr:         */
+                         /* 1 - 0.5 (1 + cos(pi Vx / VXLOW)) for |Vx| <= VXLOW */
+    grip_real_t lmux_s;  /* LMUX*, LMUY* (4.E7)                                */
+    grip_real_t lmuy_s;
+    grip_real_t lmux_p;  /* LMUX', LMUY' (4.E8)                                */
+    grip_real_t lmuy_p;
+    grip_real_t gmux;    /* camber in mu_x (4.E13): gamma (times LGAX in 5.2); */
+                         /* the book writes gamma, not gamma*, there too       */
+    grip_real_t gx;      /* camber as it enters Fx, Fy, Mz: gamma* (MF 6.x),   */
+    grip_real_t gy;      /* gamma* * LGAX / LGAY / LGAZ (MF 5.2)               */
+    grip_real_t gz;
+    grip_real_t kyc;     /* LKYC, LKZC (MF 6.x); 1 (MF 5.2)                    */
+    grip_real_t kzc;
+    int mf52;            /* FITTYP 5, 6, 21                                    */
+    int book;            /* GRIP_MF_OPT_BOOK                                   */
+} mf_op;
+
+/* Coefficients that MF 5.2 does not have (PKY5, PEY5, RBX3, RBY4, QDZ10,
+ * QDZ11): zero for FITTYP 5, 6, 21 whatever the set holds. */
+#define MF6_ONLY(op, coef) ((op)->mf52 ? R_ZERO : (coef))
+
+/* Pure longitudinal slip. */
+typedef struct {
+    grip_real_t fx0;     /* Fx0 / Fz                                           */
+    grip_real_t kxk;     /* Kxk / Fz                                           */
+} mf_long;
+
+/* Pure lateral slip at one inclination. */
+typedef struct {
+    grip_real_t fy0;     /* Fy0 / Fz                                           */
+    grip_real_t muy;
+    grip_real_t kya;     /* Kya / Fz (per rad)                                 */
+    grip_real_t shy;
+    grip_real_t svy;     /* SVy / Fz                                           */
+    grip_real_t by;
+    grip_real_t cy;
+} mf_lat;
+
+/* Aligning-moment coefficients (pure slip). */
+typedef struct {
+    grip_real_t alpha_r; /* alpha_r = alpha* + SHf                   (4.E37)   */
+    grip_real_t alpha_t; /* alpha_t = alpha* + SHt                   (4.E34)   */
+    grip_real_t dt;      /* Dt / UNLOADED_RADIUS                               */
+    grip_real_t bt;
+    grip_real_t ct;
+    grip_real_t et;
+    grip_real_t br;
+    grip_real_t dr;      /* Dr / (Fz * UNLOADED_RADIUS)                        */
+} mf_trail;
+
+/* ---------------------------------------------------------------- Fx0 */
+static void mf_long_pure(const grip_mf_params *p, const mf_op *op, mf_long *out)
+{
+    grip_real_t dfz = op->dfz;
+    grip_real_t dpi = op->dpi;
+    grip_real_t shx = r_mul(r_mul(r_add(p->phx1, r_mul(p->phx2, dfz)), p->lhx), op->smooth); /* 4.E17 */
+    grip_real_t kx = r_add(op->kappa, shx);                                          /* 4.E10 */
+    grip_real_t cx = r_mul(p->pcx1, p->lcx);                                         /* 4.E11 */
+    grip_real_t mux = r_mul(r_mul(r_mul(r_add(p->pdx1, r_mul(p->pdx2, dfz)),         /* 4.E13 */
+                                        r_add(R_ONE, r_add(r_mul(p->ppx3, dpi), r_mul(p->ppx4, r_sq(dpi))))),
+                                  r_sub(R_ONE, r_mul(p->pdx3, r_sq(op->gmux)))),
+                            op->lmux_s);
+    grip_real_t dx = mux;                                                            /* 4.E12 */
+    grip_real_t ex = r_mul(r_mul(r_add(p->pex1, r_add(r_mul(p->pex2, dfz), r_mul(p->pex3, r_sq(dfz)))),
+                                 r_sub(R_ONE, r_mul(p->pex4, r_sign(kx)))),
+                           p->lex);                                                  /* 4.E14 */
+    /* Kxk / Fz: the slip stiffness per unit load, so that Bx is formed
+     * without dividing two loads (4.E15, 4.E16). */
+    grip_real_t kx_per = r_mul(r_mul(r_mul(r_add(p->pkx1, r_mul(p->pkx2, dfz)), r_exp(r_mul(p->pkx3, dfz))),
+                                     r_add(R_ONE, r_add(r_mul(p->ppx1, dpi), r_mul(p->ppx2, r_sq(dpi))))),
+                               p->lkx);
+    grip_real_t bx = mf_div_lim(kx_per, r_mul(cx, mux), MF_LIM_B);                   /* 4.E16 */
+    grip_real_t svx = r_mul(r_mul(r_mul(r_add(p->pvx1, r_mul(p->pvx2, dfz)), p->lvx), op->lmux_p),
+                            op->smooth);                                             /* 4.E18 */
+    ex = r_min(ex, R_ONE);
+    out->fx0 = r_add(mf_sin_curve(bx, cx, dx, ex, kx), svx);                        /* 4.E9 */
+    out->kxk = kx_per;
+}
+
+/* ---------------------------------------------------------------- Fy0 */
+static void mf_lat_pure(const grip_mf_params *p, const mf_op *op, grip_real_t g, mf_lat *out)
+{
+    grip_real_t dfz = op->dfz;
+    grip_real_t dpi = op->dpi;
+    grip_real_t g2 = r_sq(g);
+    /* Cornering stiffness (4.E25); the arctangent of a quotient whose
+     * denominator PKY2 + PKY5 gamma^2 may pass through zero. */
+    grip_real_t den = r_mul(r_add(p->pky2, r_mul(MF6_ONLY(op, p->pky5), g2)), r_add(R_ONE, r_mul(p->ppy2, dpi)));
+    /* Kya / Fz = PKY1 (Fz0' / Fz) sin(PKY4 atan(...)) (...): the sine divided
+     * by Fz / Fz0' (finite as Fz -> 0, where the sine is ~ PKY4 Fz / Fz0'). */
+    grip_real_t kya = r_mul(r_mul(r_mul(r_mul(p->pky1, r_add(R_ONE, r_mul(p->ppy1, dpi))),
+                                        r_sub(R_ONE, r_mul(p->pky3, r_abs(g)))),
+                                  mf_div_lim(r_sin(r_mul(p->pky4, mf_atan_ratio(op->fzp, den))), op->fzp, MF_LIM_B)),
+                            p->lky);
+    grip_real_t muy = r_mul(r_mul(r_mul(r_add(p->pdy1, r_mul(p->pdy2, dfz)),                      /* 4.E23 */
+                                        r_add(R_ONE, r_add(r_mul(p->ppy3, dpi), r_mul(p->ppy4, r_sq(dpi))))),
+                                  r_sub(R_ONE, r_mul(p->pdy3, g2))),
+                            op->lmuy_s);
+    grip_real_t dy = muy;                                                                         /* 4.E22 */
+    grip_real_t svyg = r_mul(r_mul(r_mul(r_add(p->pvy3, r_mul(p->pvy4, dfz)), g), op->kyc), op->lmuy_p); /* 4.E28 */
+    grip_real_t svy = r_add(r_mul(r_mul(r_add(p->pvy1, r_mul(p->pvy2, dfz)), p->lvy), op->lmuy_p),
+                            svyg);                                                                /* 4.E29 */
+    grip_real_t shy = r_mul(r_add(p->phy1, r_mul(p->phy2, dfz)), p->lhy);
+    grip_real_t ay;
+    grip_real_t cy = r_mul(p->pcy1, p->lcy);                                                      /* 4.E21 */
+    grip_real_t ey;
+    grip_real_t by;
+    if (op->mf52) {
+        /* MF 5.2: camber shift PHY3 * gamma_y. */
+        shy = r_add(shy, r_mul(p->phy3, g));
+    } else {
+        /* MF 6.x: the camber shift follows from the camber stiffness Kyg0
+         * (4.E30) and SVyg (4.E27). */
+        grip_real_t kyg0 = r_mul(r_mul(r_add(p->pky6, r_mul(p->pky7, dfz)), r_add(R_ONE, r_mul(p->ppy5, dpi))),
+                                 op->kyc);
+        shy = r_add(shy, mf_div_lim(r_sub(r_mul(kyg0, g), svyg), kya, MF_LIM_SHIFT));
+    }
+    /* Low speed: the shifts fade out with the speed. */
+    shy = r_mul(shy, op->smooth);
+    svy = r_mul(svy, op->smooth);
+    ay = r_add(op->alpha, shy);                                                                   /* 4.E20 */
+    ey = r_mul(r_mul(r_add(p->pey1, r_mul(p->pey2, dfz)),
+                     r_sub(r_add(R_ONE, r_mul(MF6_ONLY(op, p->pey5), g2)),
+                           r_mul(r_add(p->pey3, r_mul(p->pey4, g)), mf_sign1(ay)))),
+               p->ley);                                                                           /* 4.E24 */
+    ey = r_min(ey, R_ONE);
+    by = mf_div_lim(kya, r_mul(cy, muy), MF_LIM_B);                                               /* 4.E26 */
+    out->fy0 = r_add(mf_sin_curve(by, cy, dy, ey, ay), svy);                                      /* 4.E19 */
+    out->muy = muy;
+    out->kya = kya;
+    out->shy = shy;
+    out->svy = svy;
+    out->by = by;
+    out->cy = cy;
+}
+
+/* ------------------------------------------------- Mz0 coefficients */
+static void mf_trail_coefs(const grip_mf_params *p, const mf_op *op, const mf_lat *lat, mf_trail *out)
+{
+    grip_real_t dfz = op->dfz;
+    grip_real_t dpi = op->dpi;
+    grip_real_t g = op->gz;
+    grip_real_t ga = r_abs(g);
+    grip_real_t ky_mu = mf_div_lim(p->lky, op->lmuy_s, MF_LIM_RATIO);       /* LKY / LMUY* */
+    grip_real_t sht = r_add(r_add(p->qhz1, r_mul(p->qhz2, dfz)), r_mul(r_add(p->qhz3, r_mul(p->qhz4, dfz)), g));
+    grip_real_t shf = r_add(lat->shy, mf_div_lim(lat->svy, lat->kya, MF_LIM_SHIFT));              /* 4.E38 */
+    grip_real_t dt_cam;
+    grip_real_t bt_cam;
+    grip_real_t dt;
+    grip_real_t bt;
+    grip_real_t et;
+    grip_real_t dr_cam;
+    grip_real_t dr;
+    if (op->book && !op->mf52) {
+        /* Book 6.1: |gamma*| in Dt (4.E43) and QBZ5 |gamma*| + QBZ6 gamma*^2 in Bt (4.E40). */
+        dt_cam = r_add(R_ONE, r_add(r_mul(p->qdz3, ga), r_mul(p->qdz4, r_sq(g))));
+        bt_cam = r_add(R_ONE, r_add(r_mul(p->qbz5, ga), r_mul(p->qbz6, r_sq(g))));
+    } else {
+        /* MF-Tyre (and MF 5.2): QDZ3 gamma, QBZ4 gamma + QBZ5 |gamma|. */
+        dt_cam = r_add(R_ONE, r_add(r_mul(p->qdz3, g), r_mul(p->qdz4, r_sq(g))));
+        bt_cam = r_add(R_ONE, r_add(r_mul(p->qbz4, g), r_mul(p->qbz5, ga)));
+    }
+    /* Dt / R0 = (Fz / Fz0') (QDZ1 + QDZ2 dfz)(1 - PPZ1 dpi) (...) LTR  (4.E42-43) */
+    dt = r_mul(r_mul(r_mul(r_mul(op->fzp, r_add(p->qdz1, r_mul(p->qdz2, dfz))), r_sub(R_ONE, r_mul(p->ppz1, dpi))),
+                     dt_cam),
+               p->ltr);
+    bt = r_mul(r_mul(r_add(p->qbz1, r_add(r_mul(p->qbz2, dfz), r_mul(p->qbz3, r_sq(dfz)))), bt_cam), ky_mu);
+    out->alpha_t = r_add(op->alpha, sht);                                                        /* 4.E34 */
+    out->alpha_r = r_add(op->alpha, shf);                                                        /* 4.E37 */
+    out->ct = p->qcz1;                                                                           /* 4.E41 */
+    et = r_mul(r_add(p->qez1, r_add(r_mul(p->qez2, dfz), r_mul(p->qez3, r_sq(dfz)))),
+               r_add(R_ONE, r_mul(r_mul(r_add(p->qez4, r_mul(p->qez5, g)), MF_2_OVER_PI),
+                                  r_atan(r_mul(r_mul(bt, out->ct), out->alpha_t)))));            /* 4.E44 */
+    out->et = r_min(et, R_ONE);
+    out->dt = dt;
+    out->bt = bt;
+    out->br = r_add(r_mul(p->qbz9, ky_mu), r_mul(r_mul(p->qbz10, lat->by), lat->cy));            /* 4.E45 */
+    /* Dr / (Fz R0)                                                         (4.E47) */
+    dr_cam = r_mul(r_mul(r_add(r_mul(r_add(p->qdz8, r_mul(p->qdz9, dfz)), r_add(R_ONE, r_mul(p->ppz2, dpi))),
+                               r_mul(r_add(MF6_ONLY(op, p->qdz10), r_mul(MF6_ONLY(op, p->qdz11), dfz)), ga)),
+                         g),
+                   op->kzc);
+    dr = r_mul(r_add(r_mul(r_add(p->qdz6, r_mul(p->qdz7, dfz)), p->lres), dr_cam), op->lmuy_s);
+    /* sgn(Vcx) cos'(alpha), with |Vx| for Vx (see mf_prepare). */
+    out->dr = r_mul(dr, op->cosa);
+}
+
+/* Trail t / R0 at a (possibly equivalent) trail slip angle a (4.E33, 4.E73). */
+static grip_real_t mf_trail_at(const mf_op *op, const mf_trail *tc, grip_real_t a)
+{
+    return r_mul(r_mul(tc->dt, mf_cos_curve(tc->bt, tc->ct, tc->et, a)), op->cosa);
+}
+
+/* Residual moment Mzr / (Fz R0) at a residual slip angle a, Cr = 1 (4.E36). */
+static grip_real_t mf_residual_at(const mf_trail *tc, grip_real_t a)
+{
+    return r_mul(tc->dr, r_cos(r_atan(r_mul(tc->br, a))));
+}
+
+/* Combined-slip weighting function of Fy (4.E59-E65) at inclination g. */
+static grip_real_t mf_gyk(const grip_mf_params *p, const mf_op *op, grip_real_t g)
+{
+    grip_real_t shyk = r_add(p->rhy1, r_mul(p->rhy2, op->dfz));                                   /* 4.E65 */
+    grip_real_t eyk = r_min(r_add(p->rey1, r_mul(p->rey2, op->dfz)), R_ONE);                      /* 4.E64 */
+    grip_real_t byk = r_mul(r_mul(r_add(p->rby1, r_mul(MF6_ONLY(op, p->rby4), r_sq(g))),
+                                  r_cos(r_atan(r_mul(p->rby2, r_sub(op->alpha, p->rby3))))),
+                            p->lyka);                                                             /* 4.E62 */
+    grip_real_t ks = r_add(op->kappa, shyk);                                                      /* 4.E61 */
+    return mf_div_lim(mf_cos_curve(byk, p->rcy1, eyk, ks), mf_cos_curve(byk, p->rcy1, eyk, shyk), MF_LIM_G);
+}
+
+/* ------------------------------------------------------ preparation */
+
+typedef struct {
+    int zero;            /* Fz <= 0: all outputs are zero                      */
+    int mirror;          /* mirror alpha, gamma, Fy, Mz                        */
+    int sae;             /* SAE J670 output signs                              */
+} mf_io;
+
+static grip_real_t clamp_sym(grip_real_t x, grip_real_t lim, int *clamped)
+{
+    if (x > lim) {
+        *clamped = 1;
+        return lim;
+    }
+    if (x < r_neg(lim)) {
+        *clamped = 1;
+        return r_neg(lim);
+    }
+    return x;
+}
+
+static grip_status_t mf_prepare(const grip_mf_params *p, const grip_mf_input *in, mf_op *op, mf_io *io)
+{
+    uint32_t opt = p->options;
+    int clamped = 0;
+    grip_real_t kappa = in->kappa;
+    grip_real_t alpha = in->alpha;
+    grip_real_t gamma = in->gamma;
+    grip_real_t fz = in->fz;
+    grip_real_t vx = in->vx;
+    grip_real_t pr = in->p;
+    grip_real_t sa;
+    grip_real_t ca;
+
+    if (!mf_params_usable(p)) {
+        return GRIP_ERR_PARAM;
+    }
+    if (!r_is_finite(kappa) || !r_is_finite(alpha) || !r_is_finite(gamma) || !r_is_finite(fz) ||
+        !r_is_finite(vx) || !r_is_finite(pr)) {
+        return GRIP_ERR_INPUT;
+    }
+
+    /* Sign conventions -> ISO-W. */
+    io->sae = (opt & GRIP_MF_OPT_SAE) != 0u;
+    if (io->sae) {
+        alpha = r_neg(alpha);          /* rotation about z: z points down in SAE */
+        fz = r_neg(fz);                /* a loaded tyre has Fz < 0 in SAE        */
+    }
+    if ((opt & GRIP_MF_OPT_KAPPA_BRAKE) != 0u) {
+        kappa = r_neg(kappa);
+    }
+    /* TYRESIDE: the characteristics are those of a tyre on the left side of
+     * the vehicle (a RIGHT file is mirrored) or, with GRIP_MF_OPT_RIGHT_SIDE,
+     * on the right side (a LEFT file is mirrored). */
+    io->mirror = ((opt & GRIP_MF_OPT_MIRROR) != 0u) ^
+                 (p->tyreside == (((opt & GRIP_MF_OPT_RIGHT_SIDE) != 0u) ? 1 : -1));
+    if (io->mirror) {
+        alpha = r_neg(alpha);
+        gamma = r_neg(gamma);
+    }
+
+    io->zero = !(fz > R_ZERO);
+    if (io->zero) {
+        return GRIP_OK;
+    }
+
+    /* Valid domain. */
+    op->book = (opt & GRIP_MF_OPT_BOOK) != 0u;
+    op->mf52 = (p->fittyp == 5) || (p->fittyp == 6) || (p->fittyp == 21);
+    kappa = clamp_sym(kappa, RC(GRIP_MF_KAPPA_MAX), &clamped);
+    alpha = clamp_sym(alpha, op->book ? RC(GRIP_MF_ALPHA_MAX_BOOK) : RC(GRIP_MF_ALPHA_MAX), &clamped);
+    gamma = clamp_sym(gamma, RC(GRIP_MF_GAMMA_MAX), &clamped);
+    vx = clamp_sym(vx, RC(GRIP_MF_VX_MAX), &clamped);
+    if (fz > r_mul(RC(GRIP_MF_FZ_MAX_REL), p->fnomin)) {
+        fz = r_mul(RC(GRIP_MF_FZ_MAX_REL), p->fnomin);
+        clamped = 1;
+    }
+
+    op->fz_ql = fz;
+    op->fz = r_div(fz, p->fnomin);
+    op->fzp = r_div(op->fz, p->lfzo);                                               /* 4.E1 */
+    op->dfz = r_sub(op->fzp, R_ONE);                                                /* 4.E2a */
+    op->dpi = R_ZERO;
+    if (!op->mf52 && (p->nompres > R_ZERO)) {   /* MF 5.2 has no pressure terms */
+        if (!(pr > R_ZERO)) {
+            pr = (p->inflpres > R_ZERO) ? p->inflpres : p->nompres;
+        }
+        if (pr < r_mul(RC(1.0 + GRIP_MF_DPI_MIN), p->nompres)) {
+            op->dpi = RC(GRIP_MF_DPI_MIN);
+            clamped = 1;
+        } else if (pr > r_mul(RC(1.0 + GRIP_MF_DPI_MAX), p->nompres)) {
+            op->dpi = RC(GRIP_MF_DPI_MAX);
+            clamped = 1;
+        } else {
+            op->dpi = r_div(r_sub(pr, p->nompres), p->nompres);                    /* 4.E2b */
+        }
+    }
+
+    /* Low-speed model (VXLOW), as MF-Tyre: for |Vx| <= VXLOW kappa fades
+     * linearly with the speed (times |Vx| / VXLOW) and the shifts, the trail
+     * and the residual moment by the smooth factor
+     * 1 - 0.5 (1 + cos(pi Vx / VXLOW)); alpha fades by (|Vx| + |Vsy|) / VXLOW
+     * while that sum is below VXLOW, Vsy = tan(alpha) |Vx| (compared and
+     * divided after multiplying by |cos alpha|, so alpha = pi/2 needs no
+     * tangent). Vx = 0 gives zero slip, zero shifts and zero outputs. */
+    op->smooth = R_ONE;
+    if (p->vxlow > R_ZERO) {
+        grip_real_t avx = r_abs(vx);
+        grip_real_t c = r_abs(r_cos(alpha));
+        grip_real_t num = r_mul(avx, r_add(c, r_abs(r_sin(alpha))));
+        grip_real_t den = r_mul(p->vxlow, c);
+        if (avx <= p->vxlow) {
+            grip_real_t rl = r_div(avx, p->vxlow);
+            kappa = r_mul(rl, kappa);
+            op->smooth = r_mul(RC(0.5), r_sub(R_ONE, r_cos(r_mul(MF_PI, rl))));
+        }
+        if (num < den) {
+            alpha = r_mul(r_div(num, den), alpha);
+        }
+    }
+
+    op->kappa = kappa;
+    /* The slips are defined with |Vx| (tan(alpha) = Vsy / |Vx|, kappa =
+     * -Vsx / |Vx|), and the model uses |Vx| throughout: sgn(Vcx) = +1 in
+     * 4.E3, 4.E42, 4.E47 and cos'(alpha) = |cos(alpha)|. */
+    sa = r_sin(alpha);
+    ca = r_cos(alpha);
+    op->cosa = r_abs(ca);                                                           /* 4.E6 */
+    if (op->book) {
+        op->alpha = r_div(sa, ca);                                                  /* 4.E3 */
+        op->gamma = r_sin(gamma);                                                   /* 4.E4 */
+    } else {
+        op->alpha = alpha;
+        op->gamma = gamma;
+    }
+
+    /* Friction decaying with slip speed, LMU* = LMU / (1 + LMUV Vs / V0) with
+     * Vs = |Vx| sqrt(kappa^2 + tan^2 alpha), multiplied through by |cos alpha|
+     * so that alpha = pi/2 needs no division (4.E7). */
+    op->lmux_s = p->lmux;
+    op->lmuy_s = p->lmuy;
+    if (p->lmuv > R_ZERO) {
+        grip_real_t vs = r_mul(r_mul(p->lmuv, r_div(r_abs(vx), p->longvl)), mf_hypot(r_mul(kappa, ca), sa));
+        grip_real_t f = mf_div_lim(op->cosa, r_add(op->cosa, vs), R_ONE);
+        op->lmux_s = r_mul(f, p->lmux);
+        op->lmuy_s = r_mul(f, p->lmuy);
+    }
+    if (op->book) {
+        /* A_mu = 10: LMU' = 10 LMU* / (1 + 9 LMU*) (4.E8). */
+        op->lmux_p = mf_div_lim(r_mul(RC(10.0), op->lmux_s), r_add(R_ONE, r_mul(RC(9.0), op->lmux_s)), RC(10.0));
+        op->lmuy_p = mf_div_lim(r_mul(RC(10.0), op->lmuy_s), r_add(R_ONE, r_mul(RC(9.0), op->lmuy_s)), RC(10.0));
+    } else {
+        /* MF-Tyre: A_mu = 1, so LMU' = LMU*. */
+        op->lmux_p = op->lmux_s;
+        op->lmuy_p = op->lmuy_s;
+    }
+
+    op->gmux = op->mf52 ? r_mul(gamma, p->lgax) : gamma;
+    if (op->mf52) {
+        op->gx = r_mul(op->gamma, p->lgax);
+        op->gy = r_mul(op->gamma, p->lgay);
+        op->gz = r_mul(op->gamma, p->lgaz);
+        op->kyc = R_ONE;
+        op->kzc = R_ONE;
+    } else {
+        op->gx = op->gamma;
+        op->gy = op->gamma;
+        op->gz = op->gamma;
+        op->kyc = p->lkyc;
+        op->kzc = p->lkzc;
+    }
+    return clamped ? GRIP_WARN_CLAMPED : GRIP_OK;
+}
+
+/* Scale normalized results to N and N m, apply the output conventions and
+ * make sure nothing non-finite leaves (float build). */
+static grip_status_t mf_finish(const grip_mf_params *p, const mf_op *op, const mf_io *io, grip_status_t st,
+                               grip_real_t fx, grip_real_t fy, grip_real_t mz, grip_mf_output *out)
+{
+    grip_real_t mref = r_mul(p->unloaded_radius, op->fz_ql);   /* Fz * R0 [N m] */
+    out->fx = r_mul(fx, op->fz_ql);
+    out->fy = r_mul(fy, op->fz_ql);
+    out->mz = r_mul(mz, mref);
+    if (io->mirror) {
+        out->fy = r_neg(out->fy);
+        out->mz = r_neg(out->mz);
+    }
+    if (io->sae) {
+        out->fy = r_neg(out->fy);
+        out->mz = r_neg(out->mz);
+    }
+    if (!r_is_finite(out->fx) || !r_is_finite(out->fy) || !r_is_finite(out->mz)) {
+        out->fx = R_ZERO;
+        out->fy = R_ZERO;
+        out->mz = R_ZERO;
+        return (grip_mf_check_params(p) != GRIP_OK) ? GRIP_ERR_PARAM : GRIP_ERR_DOMAIN;
+    }
+    return st;
+}
+
+static grip_status_t mf_begin(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out, mf_op *op,
+                              mf_io *io)
+{
+    grip_status_t st;
+    if (out == 0) {
+        return GRIP_ERR_NULL;
+    }
+    out->fx = R_ZERO;
+    out->fy = R_ZERO;
+    out->mz = R_ZERO;
+    if ((p == 0) || (in == 0)) {
+        return GRIP_ERR_NULL;
+    }
+    st = mf_prepare(p, in, op, io);
+    if ((st == GRIP_OK) && io->zero) {
+        return GRIP_OK;
+    }
+    return st;
+}
+
+grip_status_t grip_mf_eval_pure(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out)
+{
+    mf_op op;
+    mf_io io;
+    mf_long lon;
+    mf_lat lat;
+    mf_lat lat0;
+    mf_trail tc;
+    grip_real_t fy_ref;
+    grip_real_t t0;
+    grip_real_t mz0;
+    grip_status_t st = mf_begin(p, in, out, &op, &io);
+    if ((st < 0) || io.zero) {
+        return st;
+    }
+    mf_long_pure(p, &op, &lon);
+    mf_lat_pure(p, &op, op.gy, &lat);
+    mf_trail_coefs(p, &op, &lat, &tc);
+    /* Mz0' = -t0 Fy0 (4.E32). MF 6.x uses Fy0 at gamma = 0 (camber acts on
+     * Mz through Mzr); MF 5.2 the pure lateral force itself. */
+    if (op.mf52) {
+        fy_ref = lat.fy0;
+    } else {
+        mf_lat_pure(p, &op, R_ZERO, &lat0);
+        fy_ref = lat0.fy0;
+    }
+    t0 = mf_trail_at(&op, &tc, tc.alpha_t);                                 /* 4.E33 */
+    if (!op.book) {
+        t0 = r_mul(t0, p->lfzo);         /* MF-Tyre scales the trail by LFZO */
+    }
+    /* Mzr0 = Dr cos(Cr atan(Br alpha_r)) cos'(alpha) (4.E36; Dr carries a
+     * cos(alpha) of its own, 4.E47). */
+    mz0 = r_sub(r_mul(mf_residual_at(&tc, tc.alpha_r), op.cosa), r_mul(t0, fy_ref));  /* 4.E31 */
+    mz0 = r_mul(mz0, op.smooth);                                            /* low speed */
+    return mf_finish(p, &op, &io, st, lon.fx0, lat.fy0, mz0, out);
+}
+
+/* Magnitude of the equivalent slip angle of the combined aligning moment
+ * (4.E77-78). MF-Tyre: atan(sqrt(tan^2 a + (Kxk/Kya)^2 kappa^2)), written as
+ * an atan2 of products so that neither tan(pi/2) nor Kya = 0 divides by
+ * zero; book: sqrt(a^2 + (Kxk/Kya)^2 kappa^2). The equations multiply by
+ * sgn(a), but both users (the trail's cosine curve at a fixed Et and
+ * cos(atan(Br x))) are even in the angle, so only the magnitude matters. The
+ * one place where the sign would act, sgn(0) = 0 at a = 0 exactly, makes the
+ * equivalent angle jump from atan(|Kxk kappa / Kya|) to 0; grip keeps the
+ * continuous value there (docs/magic-formula-c.md). */
+static grip_real_t mf_alpha_eq(const mf_op *op, grip_real_t a, grip_real_t kxk, grip_real_t kya)
+{
+    if (op->book) {
+        return mf_hypot(a, mf_div_lim(r_mul(kxk, op->kappa), kya, MF_LIM_RATIO));
+    } else {
+        grip_real_t ca = r_cos(a);
+        grip_real_t num = mf_hypot(r_mul(kya, r_sin(a)), r_mul(r_mul(kxk, op->kappa), ca));
+        return r_atan2(num, r_abs(r_mul(kya, ca)));
+    }
+}
+
+grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out)
+{
+    mf_op op;
+    mf_io io;
+    mf_long lon;
+    mf_lat lat;
+    mf_lat lat0;
+    mf_trail tc;
+    grip_real_t fx;
+    grip_real_t fy;
+    grip_real_t mz;
+    grip_real_t gyk;
+    grip_real_t svyk;
+    grip_real_t fy_prime;
+    grip_real_t t;
+    grip_real_t mzr;
+    grip_real_t s;
+    grip_status_t st = mf_begin(p, in, out, &op, &io);
+    if ((st < 0) || io.zero) {
+        return st;
+    }
+    mf_long_pure(p, &op, &lon);
+    mf_lat_pure(p, &op, op.gy, &lat);
+    mf_trail_coefs(p, &op, &lat, &tc);
+
+    /* Fx = Gxa Fx0 (4.E50-E57). */
+    {
+        grip_real_t bxa = r_mul(r_mul(r_add(p->rbx1, r_mul(MF6_ONLY(&op, p->rbx3), r_sq(op.gx))),
+                                      r_cos(r_atan(r_mul(p->rbx2, op.kappa)))),
+                                p->lxal);                                                         /* 4.E54 */
+        grip_real_t exa = r_min(r_add(p->rex1, r_mul(p->rex2, op.dfz)), R_ONE);                   /* 4.E56 */
+        grip_real_t as = r_add(op.alpha, p->rhx1);                                                /* 4.E53 */
+        grip_real_t gxa = mf_div_lim(mf_cos_curve(bxa, p->rcx1, exa, as), mf_cos_curve(bxa, p->rcx1, exa, p->rhx1),
+                                     MF_LIM_G);                                                   /* 4.E51-52 */
+        fx = r_mul(gxa, lon.fx0);
+    }
+
+    /* Fy = Gyk Fy0 + SVyk (4.E58-E67). */
+    {
+        grip_real_t dvyk = r_mul(r_mul(lat.muy,
+                                       r_add(r_add(p->rvy1, r_mul(p->rvy2, op.dfz)), r_mul(p->rvy3, op.gy))),
+                                 r_cos(r_atan(r_mul(p->rvy4, op.alpha))));                        /* 4.E67 */
+        svyk = r_mul(r_mul(r_mul(dvyk, r_sin(r_mul(p->rvy5, r_atan(r_mul(p->rvy6, op.kappa))))), p->lvyka),
+                     op.smooth);                                                                  /* 4.E66 */
+        gyk = mf_gyk(p, &op, op.gy);
+        fy = r_add(r_mul(gyk, lat.fy0), svyk);
+    }
+
+    /* Mz = -t Fy' + Mzr + s Fx (4.E71-E78). */
+    {
+        grip_real_t ar_eq = mf_alpha_eq(&op, tc.alpha_r, lon.kxk, lat.kya);
+        grip_real_t at_eq = mf_alpha_eq(&op, tc.alpha_t, lon.kxk, lat.kya);
+        /* s / R0 = SSZ1 + SSZ2 Fy / Fz0 + (SSZ3 + SSZ4 dfz) gamma; MF-Tyre uses
+         * FNOMIN for Fz0, the book Fz0' (4.E76). */
+        grip_real_t fy_rel = r_mul(fy, op.book ? op.fzp : op.fz);
+        s = r_mul(r_add(r_add(p->ssz1, r_mul(p->ssz2, fy_rel)), r_mul(r_add(p->ssz3, r_mul(p->ssz4, op.dfz)), op.gz)),
+                  p->ls);
+        mzr = mf_residual_at(&tc, ar_eq);                                                         /* 4.E75 */
+        t = mf_trail_at(&op, &tc, at_eq);                                                         /* 4.E73 */
+        if (op.book) {
+            mzr = r_mul(mzr, op.cosa);   /* the book keeps cos'(alpha) in the combined Mzr too */
+        } else {
+            t = r_mul(t, p->lfzo);       /* MF-Tyre scales the trail by LFZO */
+        }
+        t = r_mul(t, op.smooth);         /* low speed */
+        mzr = r_mul(mzr, op.smooth);
+        if (op.mf52) {
+            fy_prime = r_sub(fy, svyk);  /* MF 5.2: Fy' = Fy - SVyk */
+        } else {
+            /* MF 6.x: Fy' = Gyk Fy0(gamma = 0) (4.E74); MF-Tyre keeps the
+             * inclination in Gyk, the book evaluates Gyk at gamma = 0 too. */
+            mf_lat_pure(p, &op, R_ZERO, &lat0);
+            fy_prime = r_mul(op.book ? mf_gyk(p, &op, R_ZERO) : gyk, lat0.fy0);
+        }
+        mz = r_add(r_sub(mzr, r_mul(t, fy_prime)), r_mul(s, fx));                                 /* 4.E71 */
+    }
+    return mf_finish(p, &op, &io, st, fx, fy, mz, out);
+}
