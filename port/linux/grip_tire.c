@@ -1,0 +1,511 @@
+/*
+ * grip_tire.c - `grip-tire`: evaluate a tire model on CSV rows.
+ *
+ *   grip-tire [--model mf] [--tir FILE] [--pure] [--side left|right]
+ *             [--sae] [--kappa-braking] [--no-status] [--prefix STR] < in.csv > out.csv
+ *
+ * Reads CSV on standard input whose header names at least the columns
+ * kappa, alpha, gamma, fz, p, vx (SI units, radians; any order; other
+ * columns are passed through unchanged) and writes every row again with
+ * the columns fx, fy, mz and status appended. docs/tools.md is the manual:
+ * CSV schema, sign conventions, status values and exit codes.
+ *
+ * Models are entries of MODELS[] below; a model needs a name, a set-up
+ * function (read its parameter file) and an evaluation function on SI
+ * doubles. The conversion of SI doubles to the build's grip_real_t formats
+ * (float, or Q15.16 / Q23.8 in the fixed build) happens here, so a model's
+ * evaluation function sees exactly what an ECU application would pass.
+ */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "grip/grip_mf.h"
+#include "grip/grip_types.h"
+#include "csv.h"
+#include "tir_reader.h"
+
+/* Exit codes (docs/tools.md). */
+#define EXIT_ROWS_FAILED 1   /* some rows malformed or rejected by the model */
+#define EXIT_USAGE 2         /* bad command line */
+#define EXIT_MODEL 3         /* the model's parameters could not be loaded */
+#define EXIT_HEADER 4        /* no header, or a required column missing */
+#define EXIT_IO 5            /* reading stdin or writing stdout failed */
+
+/* Status written for a row that could not be read (not a grip_status_t). */
+#define ROW_MALFORMED (-100)
+
+/* Model inputs and outputs, in this order. */
+enum { IN_KAPPA, IN_ALPHA, IN_GAMMA, IN_FZ, IN_P, IN_VX, N_IN };
+enum { OUT_FX, OUT_FY, OUT_MZ, N_OUT };
+
+static const char *const IN_NAMES[N_IN] = { "kappa", "alpha", "gamma", "fz", "p", "vx" };
+static const char *const OUT_NAMES[N_OUT] = { "fx", "fy", "mz" };
+/* fixed-point format of each: 1 = QL (forces, pressure), 0 = QS */
+static const int IN_QL[N_IN] = { 0, 0, 0, 1, 1, 0 };
+static const int OUT_QL[N_OUT] = { 1, 1, 1 };
+
+typedef struct {
+    const char *model;
+    const char *tir;
+    int pure;
+    grip_tir_side side;
+    int sae;
+    int kappa_braking;
+    int status_column;
+    int dump_params;
+    const char *prefix;
+} cli_options;
+
+/* Everything a model keeps between rows. */
+typedef struct {
+    int pure;
+    union {
+        grip_mf_params mf;
+    } u;
+} model_ctx;
+
+typedef struct {
+    const char *name;
+    const char *summary;
+    /* Loads the parameters; 0 or -1 with a message in err. */
+    int (*setup)(const cli_options *o, model_ctx *m, char *err, size_t errlen);
+    /* Evaluates one row: in[] in the build's number format (already
+     * converted), out[] likewise. */
+    grip_status_t (*eval)(const model_ctx *m, const grip_real_t in[N_IN], grip_real_t out[N_OUT]);
+    /* Prints the loaded parameters as "KEY = value" lines (SI). */
+    void (*dump)(const model_ctx *m, FILE *f);
+} tire_model;
+
+/* ---- Magic Formula ------------------------------------------------ */
+
+static int mf_setup(const cli_options *o, model_ctx *m, char *err, size_t errlen)
+{
+    grip_status_t st;
+    if (o->tir == NULL) {
+        snprintf(err, errlen, "model 'mf' needs a property file: --tir FILE");
+        return -1;
+    }
+    m->pure = o->pure;
+    /* TYRESIDE is taken from the file; --side says where the tyre is
+     * mounted (default left), and the library mirrors the characteristics
+     * when the two differ. */
+    if (grip_tir_read(o->tir, &m->u.mf, err, errlen) != 0) {
+        return -1;
+    }
+    m->u.mf.options = 0u;
+    if (o->side == GRIP_TIR_SIDE_RIGHT) {
+        m->u.mf.options |= GRIP_MF_OPT_RIGHT_SIDE;
+    }
+    if (o->sae) {
+        m->u.mf.options |= GRIP_MF_OPT_SAE;
+    }
+    if (o->kappa_braking) {
+        m->u.mf.options |= GRIP_MF_OPT_KAPPA_BRAKE;
+    }
+    st = grip_mf_check_params(&m->u.mf);
+    if (st != GRIP_OK) {
+        snprintf(err, errlen, "%s: the library rejects the parameter set: status %d (%s)", o->tir,
+                 (int)st, grip_status_str(st));
+        return -1;
+    }
+    return 0;
+}
+
+static grip_status_t mf_eval(const model_ctx *m, const grip_real_t in[N_IN], grip_real_t out[N_OUT])
+{
+    grip_mf_input x;
+    grip_mf_output y;
+    grip_status_t st;
+    x.kappa = in[IN_KAPPA];
+    x.alpha = in[IN_ALPHA];
+    x.gamma = in[IN_GAMMA];
+    x.fz = in[IN_FZ];
+    x.p = in[IN_P];
+    x.vx = in[IN_VX];
+    memset(&y, 0, sizeof y);
+    st = m->pure ? grip_mf_eval_pure(&m->u.mf, &x, &y) : grip_mf_eval(&m->u.mf, &x, &y);
+    out[OUT_FX] = y.fx;
+    out[OUT_FY] = y.fy;
+    out[OUT_MZ] = y.mz;
+    return st;
+}
+
+static void mf_dump(const model_ctx *m, FILE *f)
+{
+    int i;
+    fprintf(f, "FITTYP = %d\nTYRESIDE = %d\nOPTIONS = %u\n", (int)m->u.mf.fittyp,
+            (int)m->u.mf.tyreside, (unsigned)m->u.mf.options);
+    for (i = 0; i < grip_tir_coef_count(); i++) {
+        fprintf(f, "%s = %.17g\n", grip_tir_coef_key(i), grip_tir_coef_get(&m->u.mf, i));
+    }
+}
+
+/* Further models (neofiala, fiala, brush, sakai) add one line each. */
+static const tire_model MODELS[] = {
+    { "mf", "Magic Formula 5.2 / 6.1 / 6.2 from a .tir file (--tir)", mf_setup, mf_eval, mf_dump },
+};
+#define N_MODELS (sizeof MODELS / sizeof MODELS[0])
+
+/* ---- command line ------------------------------------------------- */
+
+static void usage(FILE *f)
+{
+    size_t i;
+    fprintf(f,
+            "usage: grip-tire [--model NAME] [--tir FILE] [--pure] [--side left|right]\n"
+            "                 [--sae] [--kappa-braking] [--no-status] [--prefix STR]\n"
+            "                 [--dump-params] < in.csv > out.csv\n"
+            "\n"
+            "Reads CSV with the columns kappa,alpha,gamma,fz,p,vx (SI, rad; any order;\n"
+            "other columns passed through) and appends fx,fy,mz,status. Build: %s.\n"
+            "\n"
+            "  --model NAME      tire model (default mf):\n",
+            GRIP_ARITH_NAME);
+    for (i = 0; i < N_MODELS; i++) {
+        fprintf(f, "                      %-8s %s\n", MODELS[i].name, MODELS[i].summary);
+    }
+    fprintf(f,
+            "  --tir FILE        property file of the mf model\n"
+            "  --pure            pure-slip forces only (no combined-slip weighting)\n"
+            "  --side left|right where the tyre is mounted (default left); a file\n"
+            "                    fitted for the other side (TYRESIDE) is mirrored\n"
+            "  --sae             inputs and outputs in SAE J670 tyre axes (x forward,\n"
+            "                    y right, z down: alpha, fy, mz and fz change sign);\n"
+            "                    default ISO-W (x forward, y left, z up)\n"
+            "  --kappa-braking   kappa column is positive in braking (kappa_ISO = -kappa)\n"
+            "  --no-status       do not append the status column\n"
+            "  --prefix STR      prefix of the appended column names (e.g. model_)\n"
+            "  --dump-params     print the loaded parameters (SI, as stored in this\n"
+            "                    build) as KEY = value lines and exit\n"
+            "\n"
+            "exit status: 0 all rows evaluated; 1 some rows malformed or rejected\n"
+            "(status < 0); 2 usage; 3 parameters not loaded; 4 header; 5 I/O error\n");
+}
+
+static int parse_args(int argc, char **argv, cli_options *o)
+{
+    int i;
+    memset(o, 0, sizeof *o);
+    o->model = "mf";
+    o->side = GRIP_TIR_SIDE_FILE;
+    o->status_column = 1;
+    o->prefix = "";
+    for (i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
+            usage(stdout);
+            exit(0);
+        } else if (strcmp(a, "--model") == 0 && i + 1 < argc) {
+            o->model = argv[++i];
+        } else if (strcmp(a, "--tir") == 0 && i + 1 < argc) {
+            o->tir = argv[++i];
+        } else if (strcmp(a, "--pure") == 0) {
+            o->pure = 1;
+        } else if (strcmp(a, "--side") == 0 && i + 1 < argc) {
+            const char *s = argv[++i];
+            if (strcmp(s, "left") == 0) {
+                o->side = GRIP_TIR_SIDE_LEFT;
+            } else if (strcmp(s, "right") == 0) {
+                o->side = GRIP_TIR_SIDE_RIGHT;
+            } else {
+                fprintf(stderr, "grip-tire: --side must be left or right, not '%s'\n", s);
+                return -1;
+            }
+        } else if (strcmp(a, "--sae") == 0) {
+            o->sae = 1;
+        } else if (strcmp(a, "--kappa-braking") == 0) {
+            o->kappa_braking = 1;
+        } else if (strcmp(a, "--no-status") == 0) {
+            o->status_column = 0;
+        } else if (strcmp(a, "--dump-params") == 0) {
+            o->dump_params = 1;
+        } else if (strcmp(a, "--prefix") == 0 && i + 1 < argc) {
+            o->prefix = argv[++i];
+        } else {
+            fprintf(stderr, "grip-tire: unknown or incomplete option '%s' (try --help)\n", a);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* ---- CSV processing ------------------------------------------------ */
+
+static int name_eq(const char *a, const char *b)
+{
+    while (*a != '\0' && *b != '\0') {
+        char ca = (*a >= 'A' && *a <= 'Z') ? (char)(*a - 'A' + 'a') : *a;
+        char cb = (*b >= 'A' && *b <= 'Z') ? (char)(*b - 'A' + 'a') : *b;
+        if (ca != cb) {
+            return 0;
+        }
+        a++;
+        b++;
+    }
+    return *a == *b;
+}
+
+typedef struct {
+    int col[N_IN];        /* column of each input */
+    int ncols;
+} header_map;
+
+static int read_header(const char *line, const cli_options *o, header_map *h)
+{
+    csv_record rec;
+    const char *why = NULL;
+    size_t len = strlen(line) + 1;
+    char *work = malloc(len);
+    int i;
+    int j;
+    int k;
+    if (work == NULL) {
+        fprintf(stderr, "grip-tire: out of memory\n");
+        return -1;
+    }
+    if (csv_split(line, work, len, &rec, &why) != 0) {
+        fprintf(stderr, "grip-tire: <stdin>:1: header: %s\n", why);
+        free(work);
+        return -1;
+    }
+    h->ncols = rec.n;
+    for (i = 0; i < N_IN; i++) {
+        h->col[i] = -1;
+        for (j = 0; j < rec.n; j++) {
+            if (name_eq(rec.field[j], IN_NAMES[i])) {
+                if (h->col[i] >= 0) {
+                    fprintf(stderr, "grip-tire: <stdin>:1: header: column '%s' appears twice (%d and %d)\n",
+                            IN_NAMES[i], h->col[i] + 1, j + 1);
+                    free(work);
+                    return -1;
+                }
+                h->col[i] = j;
+            }
+        }
+    }
+    for (i = 0; i < N_IN; i++) {
+        if (h->col[i] < 0) {
+            fprintf(stderr,
+                    "grip-tire: <stdin>:1: header: missing column '%s' (need kappa,alpha,gamma,fz,p,vx)\n",
+                    IN_NAMES[i]);
+            free(work);
+            return -1;
+        }
+    }
+    /* the appended names must not collide with input columns */
+    for (k = 0; k < N_OUT + 1; k++) {
+        char name[128];
+        if (k == N_OUT && !o->status_column) {
+            break;
+        }
+        snprintf(name, sizeof name, "%s%s", o->prefix, (k < N_OUT) ? OUT_NAMES[k] : "status");
+        for (j = 0; j < rec.n; j++) {
+            if (name_eq(rec.field[j], name)) {
+                fprintf(stderr,
+                        "grip-tire: <stdin>:1: header: input already has a column '%s' "
+                        "(use --prefix to name the outputs differently)\n",
+                        name);
+                free(work);
+                return -1;
+            }
+        }
+    }
+    free(work);
+    return 0;
+}
+
+typedef struct {
+    unsigned long rows;
+    unsigned long malformed;
+    unsigned long errors;     /* status < 0 */
+    unsigned long warnings;   /* status > 0 */
+} run_stats;
+
+/* One data row. Writes the output row; returns the status written. */
+static int process_row(const tire_model *model, const model_ctx *m, const cli_options *o,
+                       const header_map *h, const char *line, unsigned long lineno,
+                       char *work, size_t worklen, FILE *out)
+{
+    csv_record rec;
+    const char *why = NULL;
+    double in[N_IN];
+    double res[N_OUT] = { 0.0, 0.0, 0.0 };
+    grip_real_t rin[N_IN];
+    grip_real_t rout[N_OUT];
+    int status;
+    int i;
+
+    if (csv_split(line, work, worklen, &rec, &why) != 0) {
+        fprintf(stderr, "grip-tire: <stdin>:%lu: malformed row: %s\n", lineno, why);
+        status = ROW_MALFORMED;
+        goto write;
+    }
+    if (rec.n != h->ncols) {
+        fprintf(stderr, "grip-tire: <stdin>:%lu: malformed row: %d fields, the header has %d\n",
+                lineno, rec.n, h->ncols);
+        status = ROW_MALFORMED;
+        goto write;
+    }
+    for (i = 0; i < N_IN; i++) {
+        const char *f = rec.field[h->col[i]];
+        if (csv_number(f, &in[i]) != 0) {
+            fprintf(stderr, "grip-tire: <stdin>:%lu: column '%s': '%s' is not a finite number\n",
+                    lineno, IN_NAMES[i], f);
+            status = ROW_MALFORMED;
+            goto write;
+        }
+    }
+    for (i = 0; i < N_IN; i++) {
+        if (grip_tir_to_real(in[i], IN_QL[i], &rin[i]) != 0) {
+            fprintf(stderr, "grip-tire: <stdin>:%lu: column '%s': %g is not representable in the %s build\n",
+                    lineno, IN_NAMES[i], in[i], GRIP_ARITH_NAME);
+            status = GRIP_ERR_INPUT;
+            goto write;
+        }
+    }
+    status = (int)model->eval(m, rin, rout);
+    for (i = 0; i < N_OUT; i++) {
+        res[i] = grip_tir_from_real(rout[i], OUT_QL[i]);
+    }
+    if (status < 0) {
+        fprintf(stderr, "grip-tire: <stdin>:%lu: model '%s': status %d (%s)\n", lineno, model->name,
+                status, grip_status_str((grip_status_t)status));
+    }
+write:
+    fputs(line, out);
+    if (status == ROW_MALFORMED) {
+        for (i = 0; i < N_OUT; i++) {
+            fputs(",", out);   /* empty: nothing was computed */
+        }
+    } else {
+        for (i = 0; i < N_OUT; i++) {
+            fprintf(out, ",%.9g", res[i] + 0.0);
+        }
+    }
+    if (o->status_column) {
+        fprintf(out, ",%d", status);
+    }
+    fputc('\n', out);
+    return status;
+}
+
+int main(int argc, char **argv)
+{
+    cli_options o;
+    const tire_model *model = NULL;
+    static model_ctx m;
+    char err[1024];
+    header_map h;
+    char *line = NULL;
+    size_t cap = 0;
+    char *work = NULL;
+    size_t worklen = 0;
+    ssize_t got;
+    unsigned long lineno = 0;
+    run_stats rs;
+    size_t i;
+    int k;
+
+    if (parse_args(argc, argv, &o) != 0) {
+        return EXIT_USAGE;
+    }
+    for (i = 0; i < N_MODELS; i++) {
+        if (strcmp(MODELS[i].name, o.model) == 0) {
+            model = &MODELS[i];
+        }
+    }
+    if (model == NULL) {
+        fprintf(stderr, "grip-tire: unknown model '%s'; available:", o.model);
+        for (i = 0; i < N_MODELS; i++) {
+            fprintf(stderr, " %s", MODELS[i].name);
+        }
+        fprintf(stderr, "\n");
+        return EXIT_USAGE;
+    }
+    memset(&m, 0, sizeof m);
+    err[0] = '\0';
+    if (model->setup(&o, &m, err, sizeof err) != 0) {
+        fprintf(stderr, "grip-tire: %s\n", err);
+        return EXIT_MODEL;
+    }
+    if (o.dump_params) {
+        model->dump(&m, stdout);
+        return (fflush(stdout) == 0) ? 0 : EXIT_IO;
+    }
+
+    /* header: the first line that is not blank */
+    for (;;) {
+        got = getline(&line, &cap, stdin);
+        if (got == -1) {
+            fprintf(stderr, "grip-tire: <stdin>: no header line (empty input)\n");
+            free(line);
+            return EXIT_HEADER;
+        }
+        lineno++;
+        if (csv_chomp(line) > 0) {
+            break;
+        }
+    }
+    if (read_header(line, &o, &h) != 0) {
+        free(line);
+        return EXIT_HEADER;
+    }
+    fputs(line, stdout);
+    for (k = 0; k < N_OUT; k++) {
+        fprintf(stdout, ",%s%s", o.prefix, OUT_NAMES[k]);
+    }
+    if (o.status_column) {
+        fprintf(stdout, ",%sstatus", o.prefix);
+    }
+    fputc('\n', stdout);
+
+    memset(&rs, 0, sizeof rs);
+    while ((got = getline(&line, &cap, stdin)) != -1) {
+        size_t n;
+        int st;
+        lineno++;
+        n = csv_chomp(line);
+        if (n == 0) {
+            continue;   /* blank line: not a row */
+        }
+        if (worklen < n + 1) {
+            char *w = realloc(work, n + 1);
+            if (w == NULL) {
+                fprintf(stderr, "grip-tire: out of memory\n");
+                free(work);
+                free(line);
+                return EXIT_IO;
+            }
+            work = w;
+            worklen = n + 1;
+        }
+        st = process_row(model, &m, &o, &h, line, lineno, work, worklen, stdout);
+        rs.rows++;
+        if (st == ROW_MALFORMED) {
+            rs.malformed++;
+        } else if (st < 0) {
+            rs.errors++;
+        } else if (st > 0) {
+            rs.warnings++;
+        }
+    }
+    if (ferror(stdin)) {
+        fprintf(stderr, "grip-tire: <stdin>:%lu: read error: %s\n", lineno, strerror(errno));
+        free(work);
+        free(line);
+        return EXIT_IO;
+    }
+    free(work);
+    free(line);
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        fprintf(stderr, "grip-tire: writing the output failed: %s\n", strerror(errno));
+        return EXIT_IO;
+    }
+    if (rs.malformed > 0 || rs.errors > 0 || rs.warnings > 0) {
+        fprintf(stderr, "grip-tire: %lu rows: %lu malformed, %lu rejected by the model, %lu with warnings\n",
+                rs.rows, rs.malformed, rs.errors, rs.warnings);
+    }
+    return (rs.malformed > 0 || rs.errors > 0) ? EXIT_ROWS_FAILED : 0;
+}
