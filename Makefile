@@ -152,7 +152,7 @@ test: golden
 	@$(MAKE) --no-print-directory run-tests
 
 # Build and run this variant's tests on the golden vectors already in place.
-run-tests: tests
+run-tests: tests progs
 	@GRIP_GOLDEN_DIR=$(GOLDEN) sh tests/run_suite.sh $(UNIT_BINS)
 
 setup:

@@ -44,7 +44,10 @@ for cfg in "ARITH=float" "ARITH=fixed" "ARITH=fixed DEBUG_SAT=1" \
     step "unit_$name" make --no-print-directory $JOBS $cfg run-tests
 done
 step firmware make --no-print-directory $JOBS firmware
-step python .venv/bin/python tests/python/run.py
+step python env GRIP_TIRE_BIN=build/float-gcc/bin/grip-tire .venv/bin/python tests/python/run.py
+# The command-line program again, on the fixed build.
+step python_grip_tire_fixed env GRIP_TIRE_BIN=build/fixed-gcc/bin/grip-tire \
+    .venv/bin/python tests/python/run.py test_grip_tire.py
 
 echo "total time $(( $(date +%s) - start )) s"
 echo "$passed passed, $failed failed"

@@ -37,7 +37,9 @@ class TapResult(unittest.TextTestResult):
 
 
 def main():
-    suite = unittest.defaultTestLoader.discover(HERE, pattern="test_*.py", top_level_dir=HERE)
+    # optional argument: a file pattern, e.g. test_grip_tire.py
+    pattern = sys.argv[1] if len(sys.argv) > 1 else "test_*.py"
+    suite = unittest.defaultTestLoader.discover(HERE, pattern=pattern, top_level_dir=HERE)
     runner = unittest.TextTestRunner(resultclass=TapResult, stream=open(os.devnull, "w"), verbosity=0)
     result = runner.run(suite)
     print(f"1..{result.testsRun}")
