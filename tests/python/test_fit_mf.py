@@ -15,10 +15,10 @@ import unittest
 
 import numpy as np
 
-from grip_tools import fit_mf, mf89, tir
+from grip_tools import fit_mf, golden_mf, mf89, tir
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-SHARED = os.environ.get("GRIP_SHARED_DATA", os.path.join(ROOT, "..", "shared", "data"))
+SHARED = golden_mf.shared_data_dir()
 MF61 = os.path.join(SHARED, "mfeval-tir", "MagicFormula61_Paramerters.tir")
 
 try:

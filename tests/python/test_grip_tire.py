@@ -20,11 +20,11 @@ import unittest
 
 import numpy as np
 
-from grip_tools import tir
+from grip_tools import golden_mf, tir
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 BIN = os.environ.get("GRIP_TIRE_BIN", os.path.join(ROOT, "build", "float-gcc", "bin", "grip-tire"))
-SHARED = os.environ.get("GRIP_SHARED_DATA", os.path.join(ROOT, "..", "shared", "data"))
+SHARED = golden_mf.shared_data_dir()
 FIXTURES = os.path.join(ROOT, "tests", "data", "tir")
 
 try:

@@ -29,7 +29,7 @@
 static const char *shared_dir(void)
 {
     const char *d = getenv("GRIP_SHARED_DATA");
-    return (d != NULL && d[0] != '\0') ? d : "../shared/data";
+    return (d != NULL && d[0] != '\0') ? d : "tests/data";
 }
 
 static const char *const SHARED_TIR[] = {

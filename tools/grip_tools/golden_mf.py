@@ -40,10 +40,11 @@ SUBDIRS = ("chrono-tir", "mfeval-tir")
 
 
 def shared_data_dir():
+    """The test data folder: $GRIP_SHARED_DATA, else the copy bundled in tests/data."""
     env = os.environ.get("GRIP_SHARED_DATA")
     if env:
         return os.path.abspath(env)
-    return os.path.abspath(os.path.join(tir.REPO_ROOT, "..", "shared", "data"))
+    return os.path.join(tir.REPO_ROOT, "tests", "data")
 
 
 def tir_files(root=None):

@@ -4,7 +4,7 @@ fixed builds) and with the float64 reference, print the error table and plot
 the curves.
 
 Tire: Goodyear G275 MSA 335/65R22.5 at 60 psi, an MF-Tyre 5.x (PAC2002) file
-fitted to Calspan flat-belt measurements (../shared/data/chrono-tir).
+fitted to Calspan flat-belt measurements (tests/data/chrono-tir).
 """
 import argparse
 import csv
@@ -15,11 +15,10 @@ import sys
 
 import numpy as np
 
-from . import mf, tir
+from . import golden_mf, mf, tir
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-SHARED = os.environ.get("GRIP_SHARED_DATA", os.path.join(ROOT, "..", "shared", "data"))
-TIRE = os.path.join(SHARED, "chrono-tir", "335_65R22_5_G275MSA_60psi.tir")
+TIRE = os.path.join(golden_mf.shared_data_dir(), "chrono-tir", "335_65R22_5_G275MSA_60psi.tir")
 COLS = ["kappa", "alpha", "gamma", "fz", "p", "vx"]
 
 
