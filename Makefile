@@ -180,13 +180,13 @@ $(BM_ELF): $(BM_SRCS) $(LIBGRIP) port/baremetal/mps2.ld
 firmware-image: $(BM_ELF)
 
 # Benchmarks: the same cases on the host and on emulated Cortex-M.
-BENCH_SRCS := tests/bench/bench_cases.c
+BENCH_SRCS := tests/bench/bench_cases.c $(GOLDEN)/mf_params.c
 BENCH_ELF  := $(BUILD)/grip-bench.elf
 BENCH_HOST := $(BUILD)/bench/bench_host
 BM_PORT    := $(filter-out port/baremetal/example_main.c,$(BM_SRCS))
 
 $(BENCH_ELF): tests/bench/bench_target.c $(BENCH_SRCS) $(BM_PORT) $(LIBGRIP) port/baremetal/mps2.ld
-	$(CC) $(CFLAGS_BM) -Itests/bench -nostartfiles -nostdlib -T port/baremetal/mps2.ld \
+	$(CC) $(CFLAGS_BM) -Itests/bench -Itests/support -nostartfiles -nostdlib -T port/baremetal/mps2.ld \
 	    tests/bench/bench_target.c $(BENCH_SRCS) $(BM_PORT) $(LIBGRIP) -lm -lc -lgcc -o $@
 
 $(BENCH_HOST): tests/bench/bench_host.c $(BENCH_SRCS) $(LIBGRIP)
@@ -203,7 +203,7 @@ firmware:
 	@sh tests/firmware/check.sh $(BUILDROOT)/m4f-float float
 	@sh tests/firmware/check.sh $(BUILDROOT)/m0p-fixed fixed
 
-bench: setup
+bench: setup golden
 	@$(MAKE) --no-print-directory ARITH=float bench-host
 	@$(MAKE) --no-print-directory ARITH=fixed bench-host
 	@$(MAKE) --no-print-directory TARGET=m4f bench-image

@@ -1,7 +1,11 @@
 /* bench_cases.c - see bench_cases.h. Integer-only in the fixed build. */
 #include "bench_cases.h"
+#include <string.h>
+
+#include "grip/grip_mf.h"
 #include "grip/grip_q16.h"
 #include "arith.h"
+#include "mf_params.h"
 
 static volatile int32_t sink;
 static volatile grip_real_t rsink;
@@ -35,7 +39,69 @@ static void b_r_atan2(int i) { rsink = r_atan2(r_in[i], r_in[(i + 7) % BENCH_INP
 static void b_r_sin(int i) { rsink = r_sin(r_in[i]); }
 static void b_r_exp(int i) { rsink = r_exp(r_mul(r_in[i], RC(0.125))); }
 
+/* Magic Formula: a MF 6.1 passenger-car file (the longest equations) and
+ * the G275 truck tire (MF 5.2), on 16 operating points spanning the
+ * linear range, the peak and full sliding. */
+static const grip_mf_params *mf61;
+static const grip_mf_params *mf52;
+static grip_mf_input mf_in[BENCH_INPUTS];
+static volatile grip_real_t mf_sink;
+
+static const grip_mf_params *tire_named(const char *name)
+{
+    int k;
+    for (k = 0; k < grip_test_tire_count; ++k) {
+        if (strcmp(grip_test_tires[k].name, name) == 0) {
+            return grip_test_tires[k].params;
+        }
+    }
+    return grip_test_tires[0].params;
+}
+
+void bench_cases_setup(void)
+{
+    static const grip_real_t kappa[4] = { RC(0.0), RC(0.02), RC(-0.12), RC(0.6) };
+    static const grip_real_t alpha[4] = { RC(0.0), RC(0.03), RC(-0.12), RC(0.35) };
+    static const grip_real_t load[4] = { RCL(1500.0), RCL(3000.0), RCL(4500.0), RCL(6500.0) };
+    int i;
+    mf61 = tire_named("MagicFormula61_Paramerters");
+    mf52 = tire_named("335_65R22_5_G275MSA_60psi");
+    for (i = 0; i < BENCH_INPUTS; ++i) {
+        mf_in[i].kappa = kappa[i % 4];
+        mf_in[i].alpha = alpha[(i / 4) % 4];
+        mf_in[i].gamma = (i & 1) ? RC(0.03) : RC(-0.01);
+        mf_in[i].fz = load[(i + i / 4) % 4];
+        mf_in[i].p = R_ZERO;
+        mf_in[i].vx = RC(20.0);
+    }
+}
+
+static void b_mf61_pure(int i)
+{
+    grip_mf_output out;
+    (void)grip_mf_eval_pure(mf61, &mf_in[i], &out);
+    mf_sink = out.mz;
+}
+
+static void b_mf61_combined(int i)
+{
+    grip_mf_output out;
+    (void)grip_mf_eval(mf61, &mf_in[i], &out);
+    mf_sink = out.mz;
+}
+
+static void b_mf52_combined(int i)
+{
+    grip_mf_output out;
+    grip_mf_input in = mf_in[i];
+    in.fz = r_mul(RC(4.0), in.fz);   /* truck loads */
+    (void)grip_mf_eval(mf52, &in, &out);
+    mf_sink = out.mz;
+}
+
 const bench_case bench_cases[] = {
+    { "mf61_pure_fx_fy_mz", b_mf61_pure }, { "mf61_combined_fx_fy_mz", b_mf61_combined },
+    { "mf52_combined_fx_fy_mz", b_mf52_combined },
     { "r_mul", b_r_mul }, { "r_div", b_r_div }, { "r_sqrt", b_r_sqrt },
     { "r_atan2", b_r_atan2 }, { "r_sin", b_r_sin }, { "r_exp", b_r_exp },
     { "q16_mul", b_mul },   { "q16_div", b_div }, { "q16_sqrt", b_sqrt },

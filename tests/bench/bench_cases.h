@@ -20,4 +20,7 @@ typedef struct {
 extern const bench_case bench_cases[];
 extern const int bench_case_count;
 
+/* Called once by each harness before it measures anything. */
+void bench_cases_setup(void);
+
 #endif

@@ -30,6 +30,7 @@ static int cmp_double(const void *a, const void *b)
 int main(int argc, char **argv)
 {
     int c;
+    bench_cases_setup();
     if (argc == 3) {
         long n = strtol(argv[2], NULL, 10);
         for (c = 0; c < bench_case_count; ++c) {

@@ -18,6 +18,7 @@ int main(void)
 {
     int c;
     int i;
+    bench_cases_setup();
     grip_bm_puts("bench: empty\n");
     for (i = 0; i < BENCH_INPUTS; ++i) {
         bench_mark(-1);
