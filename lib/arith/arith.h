@@ -45,6 +45,9 @@ static inline grip_real_t r_exp(grip_real_t a) { return grip_q16_exp(a); }
 static inline grip_real_t r_log(grip_real_t a) { return grip_q16_log(a); }
 /* Every fixed-point value is finite by construction. */
 static inline int r_is_finite(grip_real_t a) { (void)a; return 1; }
+/* cos(atan(a)): kept literal in fixed point, where 1 + a^2 would leave QS
+ * for |a| > 181. */
+static inline grip_real_t r_cos_atan(grip_real_t a) { return grip_q16_cos(grip_q16_atan(a)); }
 
 #else /* float */
 #include <math.h>
@@ -72,6 +75,9 @@ static inline grip_real_t r_cos(grip_real_t a) { return cosf(a); }
 static inline grip_real_t r_exp(grip_real_t a) { return expf(a); }
 static inline grip_real_t r_log(grip_real_t a) { return (a > 0.0f) ? logf(a) : -1.0e30f; }
 static inline int r_is_finite(grip_real_t a) { return isfinite(a) ? 1 : 0; }
+/* cos(atan(a)) = 1 / sqrt(1 + a^2), exactly; a^2 = inf gives 0, as the
+ * limit. One square root and a division instead of atanf and cosf. */
+static inline grip_real_t r_cos_atan(grip_real_t a) { return 1.0f / sqrtf(1.0f + a * a); }
 #endif
 
 static inline grip_real_t r_min(grip_real_t a, grip_real_t b) { return (a < b) ? a : b; }

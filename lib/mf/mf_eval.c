@@ -223,7 +223,7 @@ static grip_real_t mf_trail_at(const mf_op *op, const mf_trail *tc, grip_real_t 
 /* Residual moment Mzr / (Fz R0) at a residual slip angle a, Cr = 1 (4.E36). */
 static grip_real_t mf_residual_at(const mf_trail *tc, grip_real_t a)
 {
-    return r_mul(tc->dr, r_cos(r_atan(r_mul(tc->br, a))));
+    return r_mul(tc->dr, r_cos_atan(r_mul(tc->br, a)));
 }
 
 /* Combined-slip weighting function of Fy (4.E59-E65) at inclination g. */
@@ -232,7 +232,7 @@ static grip_real_t mf_gyk(const grip_mf_params *p, const mf_op *op, grip_real_t 
     grip_real_t shyk = r_add(p->rhy1, r_mul(p->rhy2, op->dfz));                                   /* 4.E65 */
     grip_real_t eyk = r_min(r_add(p->rey1, r_mul(p->rey2, op->dfz)), R_ONE);                      /* 4.E64 */
     grip_real_t byk = r_mul(r_mul(r_add(p->rby1, r_mul(MF6_ONLY(op, p->rby4), r_sq(g))),
-                                  r_cos(r_atan(r_mul(p->rby2, r_sub(op->alpha, p->rby3))))),
+                                  r_cos_atan(r_mul(p->rby2, r_sub(op->alpha, p->rby3)))),
                             p->lyka);                                                             /* 4.E62 */
     grip_real_t ks = r_add(op->kappa, shyk);                                                      /* 4.E61 */
     return mf_div_lim(mf_cos_curve(byk, p->rcy1, eyk, ks), mf_cos_curve(byk, p->rcy1, eyk, shyk), MF_LIM_G);
@@ -344,10 +344,12 @@ static grip_status_t mf_prepare(const grip_mf_params *p, const grip_mf_input *in
      * divided after multiplying by |cos alpha|, so alpha = pi/2 needs no
      * tangent). Vx = 0 gives zero slip, zero shifts and zero outputs. */
     op->smooth = R_ONE;
+    sa = r_sin(alpha);
+    ca = r_cos(alpha);
     if (p->vxlow > R_ZERO) {
         grip_real_t avx = r_abs(vx);
-        grip_real_t c = r_abs(r_cos(alpha));
-        grip_real_t num = r_mul(avx, r_add(c, r_abs(r_sin(alpha))));
+        grip_real_t c = r_abs(ca);
+        grip_real_t num = r_mul(avx, r_add(c, r_abs(sa)));
         grip_real_t den = r_mul(p->vxlow, c);
         if (avx <= p->vxlow) {
             grip_real_t rl = r_div(avx, p->vxlow);
@@ -355,7 +357,10 @@ static grip_status_t mf_prepare(const grip_mf_params *p, const grip_mf_input *in
             op->smooth = r_mul(RC(0.5), r_sub(R_ONE, r_cos(r_mul(MF_PI, rl))));
         }
         if (num < den) {
+            /* only below VXLOW: the reduced angle needs its own sin, cos */
             alpha = r_mul(r_div(num, den), alpha);
+            sa = r_sin(alpha);
+            ca = r_cos(alpha);
         }
     }
 
@@ -363,8 +368,6 @@ static grip_status_t mf_prepare(const grip_mf_params *p, const grip_mf_input *in
     /* The slips are defined with |Vx| (tan(alpha) = Vsy / |Vx|, kappa =
      * -Vsx / |Vx|), and the model uses |Vx| throughout: sgn(Vcx) = +1 in
      * 4.E3, 4.E42, 4.E47 and cos'(alpha) = |cos(alpha)|. */
-    sa = r_sin(alpha);
-    ca = r_cos(alpha);
     op->cosa = r_abs(ca);                                                           /* 4.E6 */
     if (op->book) {
         op->alpha = r_div(sa, ca);                                                  /* 4.E3 */
@@ -543,7 +546,7 @@ grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, gri
     /* Fx = Gxa Fx0 (4.E50-E57). */
     {
         grip_real_t bxa = r_mul(r_mul(r_add(p->rbx1, r_mul(MF6_ONLY(&op, p->rbx3), r_sq(op.gx))),
-                                      r_cos(r_atan(r_mul(p->rbx2, op.kappa)))),
+                                      r_cos_atan(r_mul(p->rbx2, op.kappa))),
                                 p->lxal);                                                         /* 4.E54 */
         grip_real_t exa = r_min(r_add(p->rex1, r_mul(p->rex2, op.dfz)), R_ONE);                   /* 4.E56 */
         grip_real_t as = r_add(op.alpha, p->rhx1);                                                /* 4.E53 */
@@ -556,7 +559,7 @@ grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, gri
     {
         grip_real_t dvyk = r_mul(r_mul(lat.muy,
                                        r_add(r_add(p->rvy1, r_mul(p->rvy2, op.dfz)), r_mul(p->rvy3, op.gy))),
-                                 r_cos(r_atan(r_mul(p->rvy4, op.alpha))));                        /* 4.E67 */
+                                 r_cos_atan(r_mul(p->rvy4, op.alpha)));                        /* 4.E67 */
         svyk = r_mul(r_mul(r_mul(dvyk, r_sin(r_mul(p->rvy5, r_atan(r_mul(p->rvy6, op.kappa))))), p->lvyka),
                      op.smooth);                                                                  /* 4.E66 */
         gyk = mf_gyk(p, &op, op.gy);
