@@ -44,6 +44,8 @@ for cfg in "ARITH=float" "ARITH=fixed" "ARITH=fixed DEBUG_SAT=1" \
     step "unit_$name" make --no-print-directory $JOBS $cfg run-tests
 done
 step firmware make --no-print-directory $JOBS firmware
+# The real Linux CAN stack: a QEMU VM with vcan, canplayer and grip-replay -i vcan0.
+step vm sh tests/vm/run_vcan_test.sh
 step python env GRIP_TIRE_BIN=build/float-gcc/bin/grip-tire .venv/bin/python tests/python/run.py
 # The command-line program again, on the fixed build.
 step python_grip_tire_fixed env GRIP_TIRE_BIN=build/fixed-gcc/bin/grip-tire \

@@ -10,6 +10,9 @@ COMMANDS = {
     "main-job": ("grip_tools.main_job", "the README's main job (see tools/scripts/main_job.sh)"),
     "mf89": ("grip_tools.mf89", "1989-style lateral Magic Formula: constraint report of a coefficient set"),
     "golden-all": ("grip_tools.golden_all", "write every golden-vector file and test parameter set"),
+    "simulate": ("grip_tools.vehsim.cli", "reference vehicle simulator: truth.csv, sensors.csv, can.log"),
+    "can-table": ("grip_tools.dbc", "DBC + map file -> CAN signal table (C source, text form)"),
+    "comma2k19": ("grip_tools.comma2k19", "comma2k19 raw CAN arrays -> candump log"),
     "tir2c": ("grip_tools.tir", "emit a grip_mf_params C definition from a .tir file"),
     "fit-mf": ("grip_tools.fit_mf", "identify Magic Formula coefficients from measured sweeps"),
 }
