@@ -64,7 +64,14 @@ endif
 ifneq ($(TARGET),host)
 # Firmware: size-conscious, one section per function (the linker drops what
 # an application does not call), per-function stack usage and call graph.
-OPT := -O2 -g -ffunction-sections -fdata-sections -fstack-usage -fcallgraph-info=su
+# -Os on the Cortex-M0+: its saturating 64-bit arithmetic inlined at -O2
+# makes the library about five times larger (docs/performance.md).
+ifeq ($(TARGET),m0p)
+FW_OPT ?= -Os
+else
+FW_OPT ?= -O2
+endif
+OPT := $(FW_OPT) -g -ffunction-sections -fdata-sections -fstack-usage -fcallgraph-info=su
 endif
 
 INC := -Iinclude -Ilib/arith
