@@ -187,7 +187,8 @@ $(BM_ELF): $(BM_SRCS) $(LIBGRIP) port/baremetal/mps2.ld
 firmware-image: $(BM_ELF)
 
 # Benchmarks: the same cases on the host and on emulated Cortex-M.
-BENCH_SRCS := tests/bench/bench_cases.c $(GOLDEN)/mf_params.c
+BENCH_SRCS := $(filter-out tests/bench/bench_host.c tests/bench/bench_target.c,$(sort $(wildcard tests/bench/*.c))) \
+              $(GOLDEN)/mf_params.c
 BENCH_ELF  := $(BUILD)/grip-bench.elf
 BENCH_HOST := $(BUILD)/bench/bench_host
 BM_PORT    := $(filter-out port/baremetal/example_main.c,$(BM_SRCS))

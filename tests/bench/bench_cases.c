@@ -58,7 +58,47 @@ static const grip_mf_params *tire_named(const char *name)
     return grip_test_tires[0].params;
 }
 
+/* Optional tables of the other model families, weakly referenced: absent
+ * ones are NULL. */
+extern const bench_case bench_brush_cases[] __attribute__((weak));
+extern const int bench_brush_case_count __attribute__((weak));
+void bench_brush_setup(void) __attribute__((weak));
+extern const bench_case bench_est_cases[] __attribute__((weak));
+extern const int bench_est_case_count __attribute__((weak));
+void bench_est_setup(void) __attribute__((weak));
+
+const bench_case *bench_all[BENCH_MAX_CASES];
+int bench_all_count;
+
+static void bench_list(const bench_case *cases, const int *count)
+{
+    int k;
+    if (cases == 0 || count == 0) {
+        return;
+    }
+    for (k = 0; k < *count && bench_all_count < BENCH_MAX_CASES; ++k) {
+        bench_all[bench_all_count++] = &cases[k];
+    }
+}
+
+static void mf_setup(void);
+
 void bench_cases_setup(void)
+{
+    mf_setup();
+    if (bench_brush_setup != 0) {
+        bench_brush_setup();
+    }
+    if (bench_est_setup != 0) {
+        bench_est_setup();
+    }
+    bench_all_count = 0;
+    bench_list(bench_cases, &bench_case_count);
+    bench_list(bench_brush_cases, &bench_brush_case_count);
+    bench_list(bench_est_cases, &bench_est_case_count);
+}
+
+static void mf_setup(void)
 {
     static const grip_real_t kappa[4] = { RC(0.0), RC(0.02), RC(-0.12), RC(0.6) };
     static const grip_real_t alpha[4] = { RC(0.0), RC(0.03), RC(-0.12), RC(0.35) };

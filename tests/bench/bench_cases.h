@@ -20,7 +20,15 @@ typedef struct {
 extern const bench_case bench_cases[];
 extern const int bench_case_count;
 
-/* Called once by each harness before it measures anything. */
+/* Called once by each harness before it measures anything: prepares every
+ * case table linked into the image and lists all their cases. */
 void bench_cases_setup(void);
+
+/* Every case of every linked table, valid after bench_cases_setup(). The
+ * model families' tables (tests/bench/bench_<family>.c) are optional:
+ * each is linked when its file is built in. */
+#define BENCH_MAX_CASES 64
+extern const bench_case *bench_all[BENCH_MAX_CASES];
+extern int bench_all_count;
 
 #endif

@@ -33,12 +33,12 @@ int main(int argc, char **argv)
     bench_cases_setup();
     if (argc == 3) {
         long n = strtol(argv[2], NULL, 10);
-        for (c = 0; c < bench_case_count; ++c) {
-            if (strcmp(bench_cases[c].name, argv[1]) == 0) {
+        for (c = 0; c < bench_all_count; ++c) {
+            if (strcmp(bench_all[c]->name, argv[1]) == 0) {
                 long k;
                 CALLGRIND_START_INSTRUMENTATION;
                 for (k = 0; k < n; ++k) {
-                    bench_cases[c].run((int)(k % BENCH_INPUTS));
+                    bench_all[c]->run((int)(k % BENCH_INPUTS));
                 }
                 CALLGRIND_STOP_INSTRUMENTATION;
                 return 0;
@@ -48,7 +48,7 @@ int main(int argc, char **argv)
         return 2;
     }
     printf("case,arith,ns_per_call\n");
-    for (c = 0; c < bench_case_count; ++c) {
+    for (c = 0; c < bench_all_count; ++c) {
         double runs[5];
         int r;
         for (r = 0; r < 5; ++r) {
@@ -56,12 +56,12 @@ int main(int argc, char **argv)
             long k;
             double t0 = now_ns();
             for (k = 0; k < n; ++k) {
-                bench_cases[c].run((int)(k % BENCH_INPUTS));
+                bench_all[c]->run((int)(k % BENCH_INPUTS));
             }
             runs[r] = (now_ns() - t0) / (double)n;
         }
         qsort(runs, 5, sizeof(runs[0]), cmp_double);
-        printf("%s,%s,%.1f\n", bench_cases[c].name, GRIP_ARITH_NAME, runs[2]);
+        printf("%s,%s,%.1f\n", bench_all[c]->name, GRIP_ARITH_NAME, runs[2]);
     }
     return 0;
 }

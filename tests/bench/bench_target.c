@@ -25,13 +25,13 @@ int main(void)
         empty_case(i);
         bench_mark(-2);
     }
-    for (c = 0; c < bench_case_count; ++c) {
+    for (c = 0; c < bench_all_count; ++c) {
         grip_bm_puts("bench: ");
-        grip_bm_puts(bench_cases[c].name);
+        grip_bm_puts(bench_all[c]->name);
         grip_bm_puts("\n");
         for (i = 0; i < BENCH_INPUTS; ++i) {
             bench_mark(c);
-            bench_cases[c].run(i);
+            bench_all[c]->run(i);
             bench_mark(-2);
         }
     }
