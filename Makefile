@@ -94,7 +94,7 @@ SUPPORT_SRCS := $(sort $(wildcard tests/support/*.c))
 UNIT_SRCS    := $(sort $(wildcard tests/unit/test_*.c))
 UNIT_BINS    := $(UNIT_SRCS:tests/unit/%.c=$(BUILD)/tests/%)
 
-.PHONY: all lib progs tests test run-tests check run setup golden firmware firmware-image bench bench-image bench-host clean help
+.PHONY: target-test fuzz static all lib progs tests test run-tests check run setup golden firmware firmware-image bench bench-image bench-host clean help
 
 all: lib progs tests
 
@@ -210,6 +210,14 @@ firmware:
 	@$(MAKE) --no-print-directory TARGET=m0p firmware-image
 	@sh tests/firmware/check.sh $(BUILDROOT)/m4f-float float
 	@sh tests/firmware/check.sh $(BUILDROOT)/m0p-fixed fixed
+
+# Firmware-grade assurance (docs/assurance.md).
+target-test: setup golden
+	@BUILDROOT=$(BUILDROOT) sh tests/target/run_target_tests.sh
+fuzz: setup
+	@BUILDROOT=$(BUILDROOT) sh tests/fuzz/run_fuzz.sh
+static: setup
+	@BUILDROOT=$(BUILDROOT) sh tests/static/run_static.sh
 
 bench: setup golden
 	@$(MAKE) --no-print-directory ARITH=float bench-host

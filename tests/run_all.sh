@@ -44,6 +44,12 @@ for cfg in "ARITH=float" "ARITH=fixed" "ARITH=fixed DEBUG_SAT=1" \
     step "unit_$name" make --no-print-directory $JOBS $cfg run-tests
 done
 step firmware make --no-print-directory $JOBS firmware
+# Golden vectors on emulated Cortex-M4F / M0+ (fixed: bit-identical to the host).
+step target sh tests/target/run_target_tests.sh
+# libFuzzer harnesses, both arithmetics, a bounded time each.
+step fuzz env FUZZ_TIME=10 sh tests/fuzz/run_fuzz.sh
+# cppcheck MISRA C:2012 and clang-tidy over lib/; deviations in docs/assurance.md.
+step static sh tests/static/run_static.sh
 # The real Linux CAN stack: a QEMU VM with vcan, canplayer and grip-replay -i vcan0.
 step vm sh tests/vm/run_vcan_test.sh
 step python env GRIP_TIRE_BIN=build/float-gcc/bin/grip-tire .venv/bin/python tests/python/run.py

@@ -18,7 +18,7 @@ typedef struct {
     int32_t fittyp;      /* 5, 6, 21 (MF 5.2 / PAC2002), 61, 62 (MF 6.1 / 6.2) */
     int32_t tyreside;    /* +1: LEFT or not given; -1: RIGHT (mirrored)     */
     uint32_t options;    /* GRIP_MF_OPT_* bit set                            */
-#define GRIP_MF_X_FIELD(field, KEY, SECTION, FORMAT, DEFAULT, REQUIRED) grip_real_t field;
+#define GRIP_MF_X_FIELD(field, KEY, SECTION, FORMAT, DEFAULT, REQUIRED) grip_real_t field; /* grip-deviation: MISRA-20.7 X-macro: field is a member name */
     GRIP_MF_COEFFICIENTS(GRIP_MF_X_FIELD)
 #undef GRIP_MF_X_FIELD
 } grip_mf_params;

@@ -15,7 +15,7 @@
 #ifndef GRIP_MF_COEFS_H
 #define GRIP_MF_COEFS_H
 
-#define GRIP_MF_COEFFICIENTS(X) \
+#define GRIP_MF_COEFFICIENTS(X) /* grip-deviation: MISRA-20.7 X-macro: X is a macro name */ \
     X(longvl, LONGVL, MODEL, QS, 16.7, 0) \
     X(vxlow, VXLOW, MODEL, QS, 1, 0) \
     X(unloaded_radius, UNLOADED_RADIUS, DIMENSION, QS, 0, 1) \

@@ -50,7 +50,7 @@ static inline int r_is_finite(grip_real_t a) { (void)a; return 1; }
 static inline grip_real_t r_cos_atan(grip_real_t a) { return grip_q16_cos(grip_q16_atan(a)); }
 
 #else /* float */
-#include <math.h>
+#include <math.h> /* grip-deviation: MISRA-20.1 float build only, inside the arithmetic selection #if */
 
 #define RC(x)  ((grip_real_t)(x))
 #define RCL(x) ((grip_real_t)(x))

@@ -105,7 +105,7 @@ grip_q16_t grip_q16_sqrt(grip_q16_t a)
             r += 1;
         } else if (r2 - (uint64_t)r >= x) {
             r -= 1;
-        }
+        } /* grip-deviation: MISRA-15.7 no action when r is already correct */
     }
     return (grip_q16_t)r;
 }
@@ -117,7 +117,7 @@ static int64_t atan_mag_q30(uint32_t u)
         return odd_poly_q30(k_atan, GRIP_K_ATAN_N, (int64_t)u << 14);
     } else {
         /* atan(u) = pi/2 - atan(1/u); 1/u in Q30 */
-        int64_t inv = (int64_t)((((uint64_t)1 << 46) + (u >> 1)) / u);
+        int64_t inv = (int64_t)((((uint64_t)1 << 46) + (u >> 1)) / u); /* grip-deviation: MISRA-10.7 u (32 bit) mixed into the 64-bit quotient on purpose */
         return Q30_PI_2 - odd_poly_q30(k_atan, GRIP_K_ATAN_N, inv);
     }
 }

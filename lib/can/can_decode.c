@@ -62,12 +62,12 @@ grip_status_t grip_can_extract(const uint8_t *data, uint32_t len, uint32_t start
             if (take > length - got) {
                 take = length - got;
             }
-            acc = (acc << take) | (((uint64_t)data[byte] >> (bit + 1u - take)) & ((1u << take) - 1u));
+            acc = (acc << take) | (((uint64_t)data[byte] >> (bit + 1u - take)) & ((1u << take) - 1u)); /* grip-deviation: MISRA-10.7 take <= 8: the mask fits 32 bits before widening */
             got += take;
             pos = 8u * (byte + 1u) + 7u;
         }
     }
-    if (is_signed != 0u && length < 64u && ((acc >> (length - 1u)) & 1u) != 0u) {
+    if (is_signed != 0u && length < 64u && ((acc >> (length - 1u)) & 1u) != 0u) { /* grip-deviation: MISRA-10.7 unsigned 64-bit shift of acc, 1u mask widened as intended */
         acc |= ~(uint64_t)0u << length;
     }
     *raw = acc;
@@ -282,7 +282,7 @@ static uint64_t mag(int64_t x)
 /* Does the signal's every bit lie inside a payload of len bytes? */
 static int bits_fit(uint32_t start, uint32_t length, uint32_t order, uint32_t len)
 {
-    uint8_t probe[GRIP_CAN_MAX_DATA] = { 0u };
+    uint8_t probe[GRIP_CAN_MAX_DATA] = { 0u }; /* grip-deviation: MISRA-9.3 {0} zero-initializes the whole array (C99 6.7.8) */
     uint64_t raw;
     return grip_can_extract(probe, len, start, length, order, 0u, &raw) == GRIP_OK;
 }
@@ -335,7 +335,7 @@ grip_status_t grip_can_table_check(const grip_can_table_t *table, uint32_t *wher
         }
     } else if (table->n_signals != 0u) {
         return GRIP_ERR_PARAM;
-    }
+    } /* grip-deviation: MISRA-15.7 consistent table: nothing to reject */
     for (i = 0u; i < GRIP_CAN_MAX_SIGNALS && i < table->n_signals; i++) {
         const grip_can_signal_t *s = &table->signals[i];
         const grip_can_message_t *m;

@@ -55,7 +55,7 @@ static int tok_is(const token_t *t, const char *word)
 {
     uint32_t i;
     for (i = 0u; i < t->n && i < 32u; i++) {
-        if (word[i] == '\0' || word[i] != t->p[i]) {
+        if (word[i] == '\0' || word[i] != t->p[i]) { /* grip-deviation: arrayIndexOutOfBounds tool false positive: the loop returns at word's NUL */
             return 0;
         }
     }
@@ -74,7 +74,7 @@ static int tok_int(const token_t *t, int64_t lo, int64_t hi, int64_t *v)
         return 0;
     }
     if (t->p[0] == '-' || t->p[0] == '+') {
-        neg = (t->p[0] == '-');
+        neg = (t->p[0] == '-'); /* grip-deviation: MISRA-10.3 comparison result 0/1 stored in an int flag */
         i = 1u;
     }
     if (i + 1u < t->n && t->p[i] == '0' && (t->p[i + 1u] == 'x' || t->p[i + 1u] == 'X')) {
@@ -103,7 +103,7 @@ static int tok_int(const token_t *t, int64_t lo, int64_t hi, int64_t *v)
         acc = acc * base + d;
     }
     if (neg) {
-        *v = (acc == (uint64_t)INT64_MAX + 1u) ? INT64_MIN : -(int64_t)acc;
+        *v = (acc == (uint64_t)INT64_MAX + 1u) ? INT64_MIN : -(int64_t)acc; /* grip-deviation: MISRA-7.2 INT64_MAX is a signed <stdint.h> macro; converted explicitly */
     } else {
         *v = (int64_t)acc;
     }
@@ -149,7 +149,7 @@ static grip_status_t parse_msg(grip_can_table_text_t *b, const token_t *tok, uin
     grip_can_message_t *m;
     int64_t v[8];
     uint32_t i;
-    static const int64_t hi[8] = { 0xFFFFFFFF, 64, 0xFFFFFFFF, 1, 63, 511, 8, 1 };
+    static const int64_t hi[8] = { 0xFFFFFFFF, 64, 0xFFFFFFFF, 1, 63, 511, 8, 1 }; /* grip-deviation: MISRA-7.2 int64_t table: the constants are signed by intent */
     if (n != 10u) {
         *why = "msg line needs 9 fields: NAME ID LEN PERIOD_US CHECKSUM CHECKSUM_BYTE COUNTER_START COUNTER_LENGTH COUNTER_ORDER";
         return GRIP_ERR_INPUT;
@@ -166,7 +166,7 @@ static grip_status_t parse_msg(grip_can_table_text_t *b, const token_t *tok, uin
             v[i] = tok_is(t, "intel") ? 0 : (tok_is(t, "motorola") ? 1 : -1);
         } else if (!tok_int(t, 0, hi[i], &v[i])) {
             v[i] = -1;
-        }
+        } /* grip-deviation: MISRA-15.7 a valid token needs no action */
         if (v[i] < 0) {
             *why = "msg line: a field is not a number in range (or not none|toyota, intel|motorola)";
             return GRIP_ERR_INPUT;
@@ -232,7 +232,7 @@ static grip_status_t parse_sig(grip_can_table_text_t *b, const token_t *tok, uin
         int ok;
         if (i == 2u) {
             v[i] = tok_is(t, "intel") ? 0 : (tok_is(t, "motorola") ? 1 : -1);
-            ok = v[i] >= 0;
+            ok = v[i] >= 0; /* grip-deviation: MISRA-10.3 comparison result 0/1 stored in an int flag */
         } else {
             ok = tok_int(t, lo[i], hi[i], &v[i]);
         }
@@ -241,7 +241,7 @@ static grip_status_t parse_sig(grip_can_table_text_t *b, const token_t *tok, uin
             return GRIP_ERR_INPUT;
         }
     }
-    if (!tok_int(&tok[11], INT64_MIN, INT64_MAX, &s->raw_min) || !tok_int(&tok[12], INT64_MIN, INT64_MAX, &s->raw_max)) {
+    if (!tok_int(&tok[11], INT64_MIN, INT64_MAX, &s->raw_min) || !tok_int(&tok[12], INT64_MIN, INT64_MAX, &s->raw_max)) { /* grip-deviation: MISRA-7.2 INT64_MIN/INT64_MAX are <stdint.h> macros */
         *why = "sig line: RAW_MIN / RAW_MAX not integers";
         return GRIP_ERR_INPUT;
     }

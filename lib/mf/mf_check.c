@@ -46,13 +46,13 @@ int mf_params_usable(const grip_mf_params *p)
 
 grip_status_t grip_mf_check_params(const grip_mf_params *p)
 {
-    if (p == 0) {
+    if (p == NULL) {
         return GRIP_ERR_NULL;
     }
     if (!mf_params_usable(p)) {
         return GRIP_ERR_PARAM;
     }
-#define MF_CHECK_FINITE(field, KEY, SECTION, FORMAT, DEFAULT, REQUIRED) \
+#define MF_CHECK_FINITE(field, KEY, SECTION, FORMAT, DEFAULT, REQUIRED) /* grip-deviation: MISRA-20.7 X-macro: field is a member name, cannot be parenthesized */ \
     if (!r_is_finite(p->field)) {                                         \
         return GRIP_ERR_PARAM;                                            \
     }

@@ -445,13 +445,13 @@ static grip_status_t mf_begin(const grip_mf_params *p, const grip_mf_input *in, 
                               mf_io *io)
 {
     grip_status_t st;
-    if (out == 0) {
+    if (out == NULL) {
         return GRIP_ERR_NULL;
     }
     out->fx = R_ZERO;
     out->fy = R_ZERO;
     out->mz = R_ZERO;
-    if ((p == 0) || (in == 0)) {
+    if ((p == NULL) || (in == NULL)) {
         return GRIP_ERR_NULL;
     }
     st = mf_prepare(p, in, op, io);

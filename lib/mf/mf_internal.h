@@ -15,6 +15,7 @@
 #ifndef GRIP_MF_INTERNAL_H
 #define GRIP_MF_INTERNAL_H
 
+#include <stddef.h>
 #include "arith.h"
 #include "grip/grip_mf.h"
 

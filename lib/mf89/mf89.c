@@ -134,7 +134,7 @@ grip_status_t grip_mf89_fy(const grip_mf89_params *p, grip_real_t alpha, grip_re
     } else if (fz > p->fz_max) {
         fz = p->fz_max;
         st = GRIP_WARN_CLAMPED;
-    }
+    } /* grip-deviation: MISRA-15.7 load in range: no clamping */
 
     fz_kn = r_div(fz, KN);
     g_deg = r_mul(RAD2DEG, gamma);

@@ -136,7 +136,7 @@ grip_status_t grip_mf_thermal_init(grip_mf_thermal_state *s, const grip_mf_therm
     } else if (t_init > p->t_max) {
         t_init = p->t_max;
         st = GRIP_WARN_CLAMPED;
-    }
+    } /* grip-deviation: MISRA-15.7 temperature in range: no clamping */
     s->p = p;
     s->t = t_init;
     s->magic = THERMAL_MAGIC;

@@ -261,7 +261,9 @@ int candump_format(const grip_can_frame_t *frame, const char *ifname, char *buf,
         unsigned f = ((frame->flags & GRIP_CAN_FLAG_BRS) ? 1u : 0u) | ((frame->flags & GRIP_CAN_FLAG_ESI) ? 2u : 0u);
         n += snprintf(tmp + n, sizeof tmp - (size_t)n, "#%X", f);
     } else if ((frame->id & GRIP_CAN_ID_RTR) != 0u) {
-        n += snprintf(tmp + n, sizeof tmp - (size_t)n, "R");
+        /* candump writes the requested length after R when it is not 0 */
+        n += (frame->len != 0u) ? snprintf(tmp + n, sizeof tmp - (size_t)n, "R%u", (unsigned)frame->len)
+                                : snprintf(tmp + n, sizeof tmp - (size_t)n, "R");
     }
     if ((frame->id & GRIP_CAN_ID_RTR) == 0u) {
         for (i = 0; i < frame->len && i < (int)GRIP_CAN_MAX_DATA; i++) {
