@@ -23,9 +23,11 @@
 #include <time.h>
 
 #include "grip/grip_can.h"
+#include "grip/grip_est.h"
 #include "grip/grip_signals.h"
 #include "candump.h"
 #include "can_socket.h"
+#include "tir_reader.h"
 
 #define EXIT_USAGE 2    /* bad command line */
 #define EXIT_TABLE 3    /* signal table unreadable, or it does not match the log (DBC/map mismatch) */
@@ -48,6 +50,8 @@ typedef struct {
     long reorder_us;
     long long time_offset_us;
     unsigned long max_frames;
+    const char *est_tir;       /* --estimate: tire of both axles; NULL = inputs only */
+    const char *vehicle;       /* --vehicle: configuration preset */
     int skip_bad;
     int all_inputs;
     int quiet;
@@ -70,6 +74,14 @@ typedef struct {
     unsigned long msg_seen[GRIP_CAN_MAX_MESSAGES];
     unsigned long msg_dlc[GRIP_CAN_MAX_MESSAGES];
     int write_failed;
+    /* the estimator, when --estimate is given */
+    int est_on;
+    grip_mf_params tire;
+    grip_est_t est;
+    grip_est_output_t est_out;
+    grip_status_t est_status;
+    unsigned long est_errors;
+    unsigned long est_valid[3];   /* steps with beta, yaw_rate_ref, mu valid */
 } replay;
 
 static volatile sig_atomic_t stop_requested;
@@ -80,14 +92,66 @@ static void on_signal(int sig)
     stop_requested = 1;
 }
 
-/* ---- HOOK: estimator step ----------------------------------------------
- * Called once per estimator step with the time-aligned input sample, before
- * the sample is written. The estimator (a later issue) is called here; until
- * it exists the hook does nothing, and grip-replay writes the inputs only. */
+/* ---- estimator ----------------------------------------------------------
+ * Vehicle presets for --vehicle. rav4: Toyota RAV4 (XA40, 2013-2018) as the
+ * bundled comma2k19 drive; mass with driver and load, wheelbase and
+ * steering ratio as openpilot configures this car; CG split, height, yaw
+ * inertia, track and roll values are typical-SUV assumptions (docs/estimator.md).
+ * generic: grip_est_config_default (the simulator's passenger car). */
+static int vehicle_config(const char *name, const grip_mf_params *tire, int rate_hz, grip_est_config_t *cfg)
+{
+    if (grip_est_config_default(cfg, tire) != GRIP_OK) {
+        return -1;
+    }
+    cfg->rate_hz = (uint32_t)rate_hz;
+    if (name == NULL || strcmp(name, "rav4") == 0) {
+#if GRIP_ARITH_FIXED
+#define SI_QS(x) ((grip_real_t)((x) * 65536.0 + 0.5))
+#define SI_QL(x) ((grip_real_t)((x) * 256.0 + 0.5))
+#else
+#define SI_QS(x) ((grip_real_t)(x))
+#define SI_QL(x) ((grip_real_t)(x))
+#endif
+        cfg->mass = SI_QL(1640.0);
+        cfg->iz = SI_QL(2900.0);
+        cfg->lf = SI_QS(1.06);
+        cfg->lr = SI_QS(1.59);
+        cfg->track_f = SI_QS(1.57);
+        cfg->track_r = SI_QS(1.57);
+        cfg->h_cg = SI_QS(0.66);
+        cfg->steer_ratio = SI_QS(16.88);
+        cfg->wheel_radius = SI_QS(0.355);
+#undef SI_QS
+#undef SI_QL
+        return 0;
+    }
+    return (strcmp(name, "generic") == 0) ? 0 : -1;
+}
+
+/* Called once per estimator step with the time-aligned input sample, before
+ * the sample is written. */
 static void grip_replay_estimator_step(replay *r, const grip_input_sample_t *sample)
 {
-    (void)r;
-    (void)sample;
+    if (!r->est_on) {
+        return;
+    }
+    r->est_status = grip_est_step(&r->est, sample, &r->est_out);
+    if (r->est_status < 0) {
+        r->est_errors++;
+    }
+    r->est_valid[0] += (r->est_out.valid & GRIP_EST_V_BETA) != 0u;
+    r->est_valid[1] += (r->est_out.valid & GRIP_EST_V_YAW_REF) != 0u;
+    r->est_valid[2] += (r->est_out.valid & GRIP_EST_V_MU) != 0u;
+}
+
+static double real_to_si(grip_real_t v, int ql)
+{
+#if GRIP_ARITH_FIXED
+    return (double)v / (ql ? 256.0 : 65536.0);
+#else
+    (void)ql;
+    return (double)v;
+#endif
 }
 
 static void usage(FILE *f)
@@ -112,6 +176,9 @@ static void usage(FILE *f)
             "  -d, --duration S       live: stop after S seconds\n"
             "  -n, --frames N         stop after N frames\n"
             "      --idle-exit S      live: stop once no frame came for S seconds (after the first)\n"
+            "  -e, --estimate TIR     run the estimator each step (tire .tir on both axles) and\n"
+            "                         append its outputs to every row\n"
+            "      --vehicle NAME     estimator vehicle: rav4 (default) or generic\n"
             "  -q, --quiet            no summary\n"
             "exit: 0 ok, 2 usage, 3 table / DBC-map mismatch, 4 input, 5 output\n");
 }
@@ -171,6 +238,10 @@ static int parse_args(int argc, char **argv, options *o)
             o->dump = v;
         } else if (IS("-i", "--interface")) {
             o->iface = v;
+        } else if (IS("-e", "--estimate")) {
+            o->est_tir = v;
+        } else if (strcmp(a, "--vehicle") == 0) {
+            o->vehicle = v;
         } else if (IS("-s", "--step-ms")) {
             if (!parse_double(v, 0.001, 1000.0, &o->step_ms)) {
                 fprintf(stderr, "grip-replay: --step-ms must be 0.001..1000, not '%s'\n", v);
@@ -310,6 +381,10 @@ static void write_header(replay *r)
             fprintf(r->csv, ",%s,%s_fault", grip_input_name(i), grip_input_name(i));
         }
     }
+    if (r->est_on) {
+        fprintf(r->csv, ",est_status,est_valid,est_flags,vx,beta,yaw_rate,yaw_rate_ref,delta,mu,mu_conf,"
+                        "fy_front,fy_rear,util_front,util_rear,fy_margin_front");
+    }
     fprintf(r->csv, "\n");
 }
 
@@ -330,6 +405,15 @@ static void emit(replay *r, const grip_input_sample_t *s)
             format_value(v, sizeof v, s->value[i], i);
         }
         fprintf(r->csv, ",%s,%s", v, grip_sig_fault_str(s->fault[i]));
+    }
+    if (r->est_on) {
+        const grip_est_output_t *e = &r->est_out;
+        fprintf(r->csv, ",%d,%" PRIu32 ",%" PRIu32 ",%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g",
+                (int)r->est_status, e->valid, e->flags, real_to_si(e->vx, 0), real_to_si(e->beta, 0),
+                real_to_si(e->yaw_rate, 0), real_to_si(e->yaw_rate_ref, 0), real_to_si(e->delta, 0),
+                real_to_si(e->mu, 0), real_to_si(e->mu_conf, 0), real_to_si(e->fy_axle[0], 1),
+                real_to_si(e->fy_axle[1], 1), real_to_si(e->util_axle[0], 0), real_to_si(e->util_axle[1], 0),
+                real_to_si(e->fy_margin_front, 1));
     }
     if (fprintf(r->csv, "\n") < 0) {
         r->write_failed = 1;
@@ -427,6 +511,11 @@ static void summary(const replay *r, const can_sock *sock)
                 sock->down, sock->no_timestamp);
     } else {
         fprintf(stderr, "  drops          0 (file replay)\n");
+    }
+    if (r->est_on) {
+        fprintf(stderr, "  estimator      %" PRIu32 " steps, %lu errors; valid: beta %lu, yaw-rate reference %lu, "
+                "mu %lu; final mu %.3f (confidence %.2f)\n", st->samples, r->est_errors, r->est_valid[0],
+                r->est_valid[1], r->est_valid[2], real_to_si(r->est_out.mu, 0), real_to_si(r->est_out.mu_conf, 0));
     }
 }
 
@@ -635,6 +724,26 @@ int main(int argc, char **argv)
     }
     for (i = 0; i < (uint32_t)GRIP_IN_COUNT; i++) {
         r.write_input[i] = o.all_inputs || r.a.input_msg[i] != UINT32_MAX;
+    }
+    if (o.est_tir != NULL) {
+        char err[512];
+        grip_est_config_t ecfg;
+        int rate_hz = (int)(1000.0 / o.step_ms + 0.5);
+        if (grip_tir_read(o.est_tir, &r.tire, err, sizeof err) != 0) {
+            fprintf(stderr, "grip-replay: %s\n", err);
+            return EXIT_USAGE;
+        }
+        if (vehicle_config(o.vehicle, &r.tire, rate_hz, &ecfg) != 0) {
+            fprintf(stderr, "grip-replay: unknown --vehicle '%s' (rav4, generic)\n", o.vehicle);
+            return EXIT_USAGE;
+        }
+        st = grip_est_init(&r.est, &ecfg);
+        if (st != GRIP_OK) {
+            fprintf(stderr, "grip-replay: the estimator rejects this configuration (step %g ms = %d Hz, "
+                    "tire %s): %s\n", o.step_ms, rate_hz, o.est_tir, grip_status_str(st));
+            return EXIT_USAGE;
+        }
+        r.est_on = 1;
     }
     r.source = o.iface ? o.iface : o.log;
     r.csv = stdout;

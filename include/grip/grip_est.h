@@ -1,0 +1,194 @@
+/*
+ * grip_est.h - bounded-time onboard state estimator (grip issue 5).
+ *
+ * One call of grip_est_step per input sample (100 .. 1000 Hz) turns the ESC
+ * sensor set (grip_input_sample_t, grip_signals.h) into:
+ *   longitudinal speed, lateral speed and sideslip angle beta, the
+ *   yaw-rate reference of the linear bicycle model with stability factor
+ *   (seed 000, eqs 2.13-2.19), per wheel slip ratio, slip angle, vertical
+ *   load (longitudinal and lateral load transfer), Fx, Fy, Mz and friction
+ *   utilization, per axle Fy and utilization, the road friction mu with a
+ *   confidence, an understeer / oversteer indication and the front-axle
+ *   lateral force margin (for active front steering).
+ * Every output has a validity bit in grip_est_output_t.valid (and a flag
+ * word saying why not); invalid outputs are finite (usually 0).
+ *
+ * Method (docs/estimator.md): a 3-state extended Kalman filter
+ * x = [vy, r, mu] with the tire model of each axle in the process model,
+ * scalar sequential measurement updates of yaw rate, lateral and
+ * longitudinal acceleration in Joseph form, covariance kept in scaled
+ * units so that the same code runs in Q15.16; longitudinal speed from a
+ * complementary filter of ax and the wheel speeds. Fixed dimensions, no
+ * data-dependent loops, no heap: worst-case time is the time of every step.
+ *
+ * Axes: ISO 8855 (x forward, y left, z up); wheels FL FR RL RR (0..3);
+ * axles front, rear (0, 1). Tire forces are in the wheel (ISO-W) frame:
+ * alpha > 0 gives Fy < 0, kappa > 0 is driving.
+ *
+ * Formats (fixed build): speeds, angles, lengths, slips, utilization, mu,
+ * times QS; forces, moments, masses, inertia, stiffnesses QL.
+ */
+#ifndef GRIP_EST_H
+#define GRIP_EST_H
+
+#include <stdint.h>
+#include "grip_types.h"
+#include "grip_mf.h"
+#include "grip_signals.h"
+
+/* ---- tire model of an axle (tagged union: new models plug in here) ---- */
+typedef enum {
+    GRIP_EST_TIRE_NONE = 0,
+    GRIP_EST_TIRE_MF = 1,     /* grip_mf_eval (combined slip), implemented           */
+    GRIP_EST_TIRE_BRUSH = 2   /* Neo-FIALA (grip_brush.h): reserved, GRIP_ERR_PARAM now */
+} grip_est_tire_kind_t;
+
+typedef struct {
+    int32_t kind;                        /* grip_est_tire_kind_t */
+    union {
+        const grip_mf_params *mf;        /* kind == GRIP_EST_TIRE_MF (fitted LEFT convention, */
+                                         /* mirrored by the estimator on the right wheels)   */
+        const void *brush;               /* kind == GRIP_EST_TIRE_BRUSH                        */
+    } model;
+} grip_est_tire_t;
+
+/* ---- vehicle configuration (given once to grip_est_init) ---- */
+typedef struct {
+    grip_real_t mass;          /* QL kg, (0, 60000]                        */
+    grip_real_t iz;            /* QL kg m^2 yaw inertia, (0, 2e5]          */
+    grip_real_t lf;            /* QS m CG to front axle, (0, 10]           */
+    grip_real_t lr;            /* QS m CG to rear axle, (0, 10]            */
+    grip_real_t track_f;       /* QS m front track width, (0, 4]           */
+    grip_real_t track_r;       /* QS m rear track width, (0, 4]            */
+    grip_real_t h_cg;          /* QS m CG height, [0, 3]                   */
+    grip_real_t steer_ratio;   /* QS steering-wheel / road-wheel angle, [1, 100] */
+    grip_real_t wheel_radius;  /* QS m effective rolling radius the wheel speeds are
+                                * calibrated with, (0, 2]; checked and kept, not used
+                                * by this version (wheel speeds arrive in m/s)     */
+    grip_real_t roll_split_front; /* QS front share of lateral load transfer [0, 1] */
+    grip_real_t roll_gradient; /* QS rad of body roll per m/s^2 of ay, [0, 0.05]: the
+                                * accelerometer's gravity component g sin(roll) is removed */
+    uint32_t rate_hz;          /* step rate [Hz], [50, 2000] (exact in both builds,
+                                * unlike a Q15.16 period: 1 ms is not representable) */
+    uint32_t speed_ref_mu;     /* 1: the vehicle-speed input is a reference calibrated to
+                                * the wheel speeds (GNSS, a fused reference) and may drive
+                                * the longitudinal mu update; 0 (default): it never does.
+                                * A speedometer signal reads a few per cent off the wheel
+                                * speeds, i.e. shows slip that is not there (RAV4 log). */
+    grip_est_tire_t tire[2];   /* front, rear axle                          */
+} grip_est_config_t;
+
+/* ---- outputs ---- */
+/* Validity bits of grip_est_output_t.valid */
+#define GRIP_EST_V_VX        (1u << 0)   /* vx                                  */
+#define GRIP_EST_V_BETA      (1u << 1)   /* vy, beta                            */
+#define GRIP_EST_V_YAW       (1u << 2)   /* yaw_rate (filtered)                 */
+#define GRIP_EST_V_YAW_REF   (1u << 3)   /* yaw_rate_ref, yaw_error             */
+#define GRIP_EST_V_FZ        (1u << 4)   /* fz[] (load transfer from ax, ay)    */
+#define GRIP_EST_V_WHEEL(i)  (1u << (5 + (i)))   /* kappa, alpha, fx, fy, mz, util of wheel i */
+#define GRIP_EST_V_AXLE      (1u << 9)   /* fy_axle, util_axle                  */
+#define GRIP_EST_V_MU        (1u << 10)  /* mu with mu_conf >= 0.5              */
+#define GRIP_EST_V_STEER     (1u << 11)  /* steer_char (under/oversteer)        */
+#define GRIP_EST_V_MARGIN    (1u << 12)  /* fy_margin_front                     */
+
+/* Condition flags of grip_est_output_t.flags (why something is invalid) */
+#define GRIP_EST_F_STANDSTILL   (1u << 0)
+#define GRIP_EST_F_REVERSING    (1u << 1)
+#define GRIP_EST_F_LOW_SPEED    (1u << 2)   /* |vx| below the observer's minimum speed  */
+#define GRIP_EST_F_NO_WHEELS    (1u << 3)   /* no valid wheel speed (vx from ax only)   */
+#define GRIP_EST_F_NO_STEER     (1u << 4)   /* steering angle missing beyond hold time  */
+#define GRIP_EST_F_NO_YAW       (1u << 5)
+#define GRIP_EST_F_NO_AY        (1u << 6)
+#define GRIP_EST_F_NO_AX        (1u << 7)
+#define GRIP_EST_F_SATURATED    (1u << 8)   /* an input was at/beyond its sensor range  */
+#define GRIP_EST_F_STEER_LIMIT  (1u << 9)   /* road-wheel angle clamped (steering at lock) */
+#define GRIP_EST_F_WHEEL_LOCK   (1u << 10)  /* a wheel far slower than the vehicle      */
+#define GRIP_EST_F_WHEEL_SPIN   (1u << 11)  /* a wheel far faster than the vehicle      */
+#define GRIP_EST_F_EXCITED      (1u << 12)  /* this step adapted mu (sufficient excitation) */
+#define GRIP_EST_F_TIRE_ERROR   (1u << 13)  /* a tire model call failed (its wheel zero) */
+#define GRIP_EST_F_RESET        (1u << 14)  /* the lateral observer was (re)initialized  */
+
+typedef struct {
+    grip_real_t vx;              /* QS m/s longitudinal speed of the CG          */
+    grip_real_t vy;              /* QS m/s lateral speed of the CG               */
+    grip_real_t beta;            /* QS rad sideslip atan(vy/vx)                   */
+    grip_real_t yaw_rate;        /* QS rad/s filtered yaw rate                    */
+    grip_real_t yaw_rate_ref;    /* QS rad/s bicycle reference, friction limited  */
+    grip_real_t yaw_error;       /* QS rad/s yaw_rate - yaw_rate_ref              */
+    grip_real_t delta;           /* QS rad road-wheel steer angle                 */
+    grip_real_t kappa[4];        /* QS slip ratio (ISO, > 0 driving)              */
+    grip_real_t alpha[4];        /* QS rad slip angle (ISO-W)                     */
+    grip_real_t fz[4];           /* QL N vertical load                            */
+    grip_real_t fx[4];           /* QL N                                          */
+    grip_real_t fy[4];           /* QL N (wheel frame)                            */
+    grip_real_t mz[4];           /* QL N m                                        */
+    grip_real_t util[4];         /* QS friction utilization |F| / (mu mu0 Fz), [0, 1.5] */
+    grip_real_t fy_axle[2];      /* QL N front, rear (wheel frame, summed)        */
+    grip_real_t util_axle[2];    /* QS                                            */
+    grip_real_t mu;              /* QS road friction relative to the tire's own (1 = as fitted) */
+    grip_real_t mu_conf;         /* QS [0, 1] confidence of mu                    */
+    grip_real_t fy_margin_front; /* QL N mu mu0 Fz_front - |Fy_front| (AFS)        */
+    int32_t steer_char;          /* +1 understeer, -1 oversteer, 0 neutral        */
+    uint32_t valid;              /* GRIP_EST_V_* */
+    uint32_t flags;              /* GRIP_EST_F_* */
+} grip_est_output_t;
+
+/* ---- instance (all state; fixed size, no heap) ---- */
+#define GRIP_EST_NX 3
+typedef struct {
+    uint32_t magic;
+    grip_est_config_t cfg;
+    /* derived at init */
+    grip_real_t fz_static[2];   /* QL per wheel, front / rear  */
+    grip_real_t c_alpha[2];     /* QL N/rad per wheel at static load */
+    grip_real_t c_kappa[2];     /* QL N per wheel at static load */
+    grip_real_t mu0[2];         /* QS peak |F|/Fz of the tire at static load */
+    grip_real_t alpha_pk[2];    /* QS slip angle of that peak [rad] */
+    grip_real_t k_us;           /* QS stability factor A [s^2/m^2] times 100 */
+    grip_real_t q[GRIP_EST_NX]; /* QS process noise per step (scaled units) */
+    int32_t hold_steps;         /* steps an input is held after it became invalid */
+    int32_t lim_n;              /* steps of the friction-limit test */
+    int32_t nowheel_n;          /* steps vx stays valid without a speed reference */
+    grip_real_t rate;           /* QS step rate [1/s] */
+    grip_real_t ay_fac;         /* QS 1 / (1 + g roll_gradient) */
+    /* state */
+    grip_real_t vx;             /* QS */
+    grip_real_t x[GRIP_EST_NX]; /* QS vy [m/s], r [rad/s], mu [-] */
+    grip_real_t p[GRIP_EST_NX][GRIP_EST_NX]; /* QS covariance in scaled units */
+    grip_real_t hold[5];        /* QS last valid steer, yaw, ax, ay, vehicle speed */
+    int32_t age[5];             /* steps since each was valid (saturating) */
+    grip_real_t r_lin_f;        /* QS linear yaw-rate reference, low-passed (limit detection) */
+    int32_t lim_steps;          /* consecutive steps at the friction limit */
+    int32_t no_wheel_steps;
+    int32_t active;             /* lateral observer running */
+    int32_t vx_init;
+} grip_est_t;
+
+#define grip_est_config_default GRIP_TYPED(grip_est_config_default)
+#define grip_est_init GRIP_TYPED(grip_est_init)
+#define grip_est_step GRIP_TYPED(grip_est_step)
+#define grip_est_reset GRIP_TYPED(grip_est_reset)
+
+/* A mid-size passenger car (the simulator's 'passenger' set) with the given
+ * tire on both axles, rate_hz = 100. GRIP_ERR_NULL for NULL cfg. */
+grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_params *tire);
+
+/* Checks cfg (ranges above, tire kinds and parameter sets), copies it into
+ * est and derives the axle constants (cornering and slip stiffness, peak
+ * friction, stability factor) from the tire models at static load.
+ * GRIP_ERR_NULL, GRIP_ERR_PARAM (est is then unusable: step returns
+ * GRIP_ERR_STATE). */
+grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg);
+
+/* Forgets the dynamic state (speed, observer, held inputs); keeps the
+ * configuration. */
+grip_status_t grip_est_reset(grip_est_t *est);
+
+/* One estimator step. Invalid, stale, non-finite or saturated inputs are
+ * never used as numbers; missing inputs are held for 50 ms, then the
+ * outputs that need them lose their validity bits (flags say why) and come
+ * back once the inputs do. Returns GRIP_OK (possibly with outputs marked
+ * invalid), GRIP_ERR_NULL or GRIP_ERR_STATE (zero outputs, valid = 0). */
+grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip_est_output_t *out);
+
+#endif /* GRIP_EST_H */

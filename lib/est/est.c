@@ -1,0 +1,913 @@
+/*
+ * est.c - onboard vehicle-state and friction estimator (grip_est.h),
+ * written once for both arithmetics. Method and every constant:
+ * docs/estimator.md; float64 reference: tools/grip_tools/est_ref.py (the
+ * same steps in the same order).
+ *
+ * Per step: inputs (validity, hold, saturation) -> longitudinal speed
+ * (complementary filter) -> vertical loads -> four tire evaluations at the
+ * prior state -> analytic Jacobians -> EKF predict (x = [vy, r, mu]) ->
+ * scalar updates: yaw rate, ay, (ax when excited) -> outputs.
+ * No loop depends on data: every loop runs 3 or 4 times.
+ */
+#include "est_internal.h"
+
+/* ------------------------------------------------------------------ */
+/* small helpers */
+
+static int32_t r_to_int(grip_real_t a)
+{
+#if GRIP_ARITH_FIXED
+    return (a >= 0) ? (int32_t)((a + 32768) >> 16) : -(int32_t)((32768 - a) >> 16);
+#else
+    return (int32_t)((a >= 0.0f) ? (a + 0.5f) : (a - 0.5f));
+#endif
+}
+
+static grip_real_t r_from_int(int32_t n)
+{
+#if GRIP_ARITH_FIXED
+    return (grip_real_t)(n * 65536);
+#else
+    return (grip_real_t)n;
+#endif
+}
+
+static grip_real_t sym_clamp(grip_real_t x, grip_real_t m)
+{
+    return r_clamp(x, r_neg(m), m);
+}
+
+/* One tire evaluation through the axle's model (the tagged union). */
+static grip_status_t tire_eval(const grip_est_tire_t *t, const grip_mf_input *in, grip_mf_output *out)
+{
+    switch (t->kind) {
+    case GRIP_EST_TIRE_MF:
+        return grip_mf_eval(t->model.mf, in, out);
+    default:
+        out->fx = R_ZERO;
+        out->fy = R_ZERO;
+        out->mz = R_ZERO;
+        return GRIP_ERR_PARAM;
+    }
+}
+
+static int in_range(grip_real_t v, grip_real_t lo, grip_real_t hi)
+{
+    return r_is_finite(v) && v >= lo && v <= hi;
+}
+
+/* ------------------------------------------------------------------ */
+
+grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_params *tire)
+{
+    if (cfg == 0) {
+        return GRIP_ERR_NULL;
+    }
+    cfg->mass = RCL(1450.0);
+    cfg->iz = RCL(2450.0);
+    cfg->lf = RC(1.10);
+    cfg->lr = RC(1.60);
+    cfg->track_f = RC(1.55);
+    cfg->track_r = RC(1.53);
+    cfg->h_cg = RC(0.55);
+    cfg->steer_ratio = RC(15.5);
+    cfg->wheel_radius = RC(0.30);
+    cfg->roll_split_front = RC(0.60);
+    cfg->roll_gradient = RC(0.0088);
+    cfg->rate_hz = 100u;
+    cfg->speed_ref_mu = 0u;
+    cfg->tire[0].kind = GRIP_EST_TIRE_MF;
+    cfg->tire[0].model.mf = tire;
+    cfg->tire[1].kind = GRIP_EST_TIRE_MF;
+    cfg->tire[1].model.mf = tire;
+    return GRIP_OK;
+}
+
+static grip_status_t check_config(const grip_est_config_t *c)
+{
+    int a;
+    if (!in_range(c->mass, RCL(1.0), RCL(60000.0)) || !in_range(c->iz, RCL(1.0), RCL(200000.0)) ||
+        !in_range(c->lf, RC(0.05), RC(10.0)) || !in_range(c->lr, RC(0.05), RC(10.0)) ||
+        !in_range(c->track_f, RC(0.2), RC(4.0)) || !in_range(c->track_r, RC(0.2), RC(4.0)) ||
+        !in_range(c->h_cg, R_ZERO, RC(3.0)) || !in_range(c->steer_ratio, R_ONE, RC(100.0)) ||
+        !in_range(c->wheel_radius, RC(0.05), RC(2.0)) ||
+        !in_range(c->roll_split_front, R_ZERO, R_ONE) || !in_range(c->roll_gradient, R_ZERO, RC(0.05)) || c->rate_hz < 50u || c->rate_hz > 2000u ||
+        c->speed_ref_mu > 1u) {
+        return GRIP_ERR_PARAM;
+    }
+    for (a = 0; a < 2; ++a) {
+        if (c->tire[a].kind != GRIP_EST_TIRE_MF || c->tire[a].model.mf == 0) {
+            return GRIP_ERR_PARAM;
+        }
+        if (grip_mf_check_params(c->tire[a].model.mf) != GRIP_OK) {
+            return GRIP_ERR_PARAM;
+        }
+    }
+    return GRIP_OK;
+}
+
+grip_status_t grip_est_reset(grip_est_t *est)
+{
+    int i, j;
+    if (est == 0) {
+        return GRIP_ERR_NULL;
+    }
+    if (est->magic != EST_MAGIC) {
+        return GRIP_ERR_STATE;
+    }
+    est->vx = R_ZERO;
+    est->x[0] = R_ZERO;
+    est->x[1] = R_ZERO;
+    est->x[2] = RC(EST_MU_INIT);
+    for (i = 0; i < GRIP_EST_NX; ++i) {
+        for (j = 0; j < GRIP_EST_NX; ++j) {
+            est->p[i][j] = R_ZERO;
+        }
+    }
+    est->p[0][0] = RC(EST_P0_VY);
+    est->p[1][1] = RC(EST_P0_R);
+    est->p[2][2] = RC(EST_P0_MU);
+    for (i = 0; i < 5; ++i) {
+        est->hold[i] = R_ZERO;
+        est->age[i] = 1000000;
+    }
+    est->no_wheel_steps = 1000000;
+    est->r_lin_f = R_ZERO;
+    est->lim_steps = 0;
+    est->active = 0;
+    est->vx_init = 0;
+    return GRIP_OK;
+}
+
+grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
+{
+    grip_status_t st;
+    grip_real_t l, m_g;
+    int a, k;
+    if (est == 0 || cfg == 0) {
+        return GRIP_ERR_NULL;
+    }
+    est->magic = 0;
+    st = check_config(cfg);
+    if (st != GRIP_OK) {
+        return st;
+    }
+    est->cfg = *cfg;
+    l = r_add(cfg->lf, cfg->lr);
+    m_g = r_mul(RC(EST_G * 0.5), cfg->mass);              /* half the weight [N] */
+    est->fz_static[0] = r_mul(r_div(cfg->lr, l), m_g);
+    est->fz_static[1] = r_mul(r_div(cfg->lf, l), m_g);
+    for (a = 0; a < 2; ++a) {
+        grip_mf_input in;
+        grip_mf_output o1, o2;
+        grip_real_t best = R_ZERO;
+        est->alpha_pk[a] = RC(0.5);
+        in.kappa = R_ZERO;
+        in.alpha = RC(0.01);
+        in.gamma = R_ZERO;
+        in.fz = est->fz_static[a];
+        in.p = R_ZERO;
+        in.vx = RC(20.0);
+        if (tire_eval(&cfg->tire[a], &in, &o1) < 0) {
+            return GRIP_ERR_PARAM;
+        }
+        in.alpha = RC(-0.01);
+        if (tire_eval(&cfg->tire[a], &in, &o2) < 0) {
+            return GRIP_ERR_PARAM;
+        }
+        est->c_alpha[a] = r_div_keep(r_sub(o2.fy, o1.fy), RC(0.02));
+        in.alpha = R_ZERO;
+        in.kappa = RC(0.01);
+        if (tire_eval(&cfg->tire[a], &in, &o1) < 0) {
+            return GRIP_ERR_PARAM;
+        }
+        in.kappa = RC(-0.01);
+        if (tire_eval(&cfg->tire[a], &in, &o2) < 0) {
+            return GRIP_ERR_PARAM;
+        }
+        est->c_kappa[a] = r_div_keep(r_sub(o1.fx, o2.fx), RC(0.02));
+        /* peak lateral friction coefficient: alpha = 0.02 .. 0.5 rad */
+        in.kappa = R_ZERO;
+        for (k = 1; k <= 25; ++k) {
+            in.alpha = r_mul(RC(0.02), r_from_int(k));
+            if (tire_eval(&cfg->tire[a], &in, &o1) < 0) {
+                return GRIP_ERR_PARAM;
+            }
+            if (r_abs(r_div(o1.fy, in.fz)) > best) {
+                best = r_abs(r_div(o1.fy, in.fz));
+                est->alpha_pk[a] = in.alpha;
+            }
+        }
+        est->mu0[a] = best;
+        if (est->c_alpha[a] <= R_ZERO || est->c_kappa[a] <= R_ZERO || best < RC(0.05)) {
+            return GRIP_ERR_PARAM;
+        }
+    }
+    {
+        /* stability factor A = m (lr Cr - lf Cf) / (l^2 Cf Cr), Cf, Cr per axle
+         * (seed eq. 2.17 with K per tire = C / 2); stored as 100 A */
+        grip_real_t cf = r_mul(RC(2.0), est->c_alpha[0]);
+        grip_real_t cr = r_mul(RC(2.0), est->c_alpha[1]);
+        grip_real_t num = r_sub(r_mul(cfg->lr, cr), r_mul(cfg->lf, cf));   /* N (QL) */
+        grip_real_t a1 = r_div(num, cf);                                    /* m */
+        grip_real_t b100 = r_div(r_mul(RC(100.0), cfg->mass), cr);          /* 100 kg rad / N */
+        est->k_us = r_div(r_mul(a1, b100), r_mul(l, l));
+    }
+    est->rate = r_from_int((int32_t)cfg->rate_hz);
+    est->ay_fac = r_div(R_ONE, r_add(R_ONE, r_mul(RC(EST_G), cfg->roll_gradient)));
+    est->q[0] = r_div(RC(EST_Q_VY), est->rate);
+    est->q[1] = r_div(RC(EST_Q_R), est->rate);
+    est->q[2] = r_div(RC(EST_Q_MU), est->rate);
+    est->lim_n = r_to_int(r_mul(RC(EST_LIM_T), est->rate));
+    est->hold_steps = r_to_int(r_mul(RC(EST_HOLD_T), est->rate));
+    est->nowheel_n = r_to_int(r_mul(RC(EST_NOWHEEL_T), est->rate));
+    if (est->hold_steps < 1) {
+        est->hold_steps = 1;
+    }
+    est->magic = EST_MAGIC;
+    return grip_est_reset(est);
+}
+
+/* ------------------------------------------------------------------ */
+/* Kalman filter pieces (scaled units, see est_internal.h) */
+
+static const grip_real_t est_s[GRIP_EST_NX] = { RC(EST_S_VY), RC(EST_S_R), RC(EST_S_MU) };
+
+/* P <- F P F' + Q (F 3x3 scaled) */
+static void kf_predict(grip_est_t *e, grip_real_t f[GRIP_EST_NX][GRIP_EST_NX])
+{
+    grip_real_t fp[GRIP_EST_NX][GRIP_EST_NX];
+    int i, j, k;
+    for (i = 0; i < GRIP_EST_NX; ++i) {
+        for (j = 0; j < GRIP_EST_NX; ++j) {
+            grip_real_t s = R_ZERO;
+            for (k = 0; k < GRIP_EST_NX; ++k) {
+                s = r_add(s, r_mul(f[i][k], e->p[k][j]));
+            }
+            fp[i][j] = s;
+        }
+    }
+    for (i = 0; i < GRIP_EST_NX; ++i) {
+        for (j = i; j < GRIP_EST_NX; ++j) {
+            grip_real_t s = R_ZERO;
+            for (k = 0; k < GRIP_EST_NX; ++k) {
+                s = r_add(s, r_mul(fp[i][k], f[j][k]));
+            }
+            e->p[i][j] = s;
+            e->p[j][i] = s;
+        }
+        e->p[i][i] = r_add(e->p[i][i], e->q[i]);
+    }
+}
+
+/* Keeps P symmetric positive definite in the presence of rounding: diagonal
+ * within [P_MIN, P_MAX], every correlation below 0.99. */
+static void kf_condition(grip_est_t *e)
+{
+    grip_real_t sd[GRIP_EST_NX];
+    int i, j;
+    for (i = 0; i < GRIP_EST_NX; ++i) {
+        e->p[i][i] = r_clamp(e->p[i][i], RC(EST_P_MIN), RC(EST_P_MAX));
+        sd[i] = r_sqrt(e->p[i][i]);
+    }
+    for (i = 0; i < GRIP_EST_NX; ++i) {
+        for (j = i + 1; j < GRIP_EST_NX; ++j) {
+            grip_real_t b = r_mul(RC(0.99), r_mul(sd[i], sd[j]));
+            grip_real_t v = sym_clamp(e->p[i][j], b);
+            e->p[i][j] = v;
+            e->p[j][i] = v;
+        }
+    }
+}
+
+/* Scalar measurement update in Joseph form for an arbitrary gain:
+ * P' = (I - k h) P (I - k h)' + k r k'
+ *    = P - k ph' - ph k' + k (k s)'         with ph = P h', s = h ph + r,
+ * where k = ph / s, and k_mu = 0 when mu must not adapt (the Joseph form
+ * stays exact for that sub-optimal gain). nu: innovation (scaled).
+ * Adds k nu (in SI) to the state. */
+static void kf_update(grip_est_t *e, const grip_real_t h[GRIP_EST_NX], grip_real_t nu, grip_real_t r,
+                      int mu_ok)
+{
+    grip_real_t ph[GRIP_EST_NX], k[GRIP_EST_NX], ks[GRIP_EST_NX];
+    grip_real_t s = r;
+    grip_real_t lim;
+    int i, j;
+    for (i = 0; i < GRIP_EST_NX; ++i) {
+        grip_real_t v = R_ZERO;
+        for (j = 0; j < GRIP_EST_NX; ++j) {
+            v = r_add(v, r_mul(e->p[i][j], h[j]));
+        }
+        ph[i] = v;
+        s = r_add(s, r_mul(h[i], v));
+    }
+    for (i = 0; i < GRIP_EST_NX; ++i) {
+        k[i] = r_div(ph[i], s);
+        ks[i] = ph[i];
+    }
+    if (!mu_ok) {
+        k[2] = R_ZERO;
+        ks[2] = R_ZERO;
+    }
+    lim = r_mul(RC(EST_NU_SIGMA), r_sqrt(s));
+    nu = sym_clamp(nu, lim);
+    for (i = 0; i < GRIP_EST_NX; ++i) {
+        e->x[i] = r_add(e->x[i], r_mul(r_mul(k[i], nu), est_s[i]));
+    }
+    for (i = 0; i < GRIP_EST_NX; ++i) {
+        for (j = i; j < GRIP_EST_NX; ++j) {
+            grip_real_t v = r_sub(e->p[i][j], r_mul(k[i], ph[j]));
+            v = r_sub(v, r_mul(ph[i], k[j]));
+            v = r_add(v, r_mul(k[i], ks[j]));
+            e->p[i][j] = v;
+            e->p[j][i] = v;
+        }
+    }
+}
+
+/* ------------------------------------------------------------------ */
+
+enum { H_STEER = 0, H_YAW = 1, H_AX = 2, H_AY = 3, H_VS = 4 };
+
+static void zero_output(grip_est_output_t *out)
+{
+    int i;
+    out->vx = R_ZERO;
+    out->vy = R_ZERO;
+    out->beta = R_ZERO;
+    out->yaw_rate = R_ZERO;
+    out->yaw_rate_ref = R_ZERO;
+    out->yaw_error = R_ZERO;
+    out->delta = R_ZERO;
+    for (i = 0; i < 4; ++i) {
+        out->kappa[i] = R_ZERO;
+        out->alpha[i] = R_ZERO;
+        out->fz[i] = R_ZERO;
+        out->fx[i] = R_ZERO;
+        out->fy[i] = R_ZERO;
+        out->mz[i] = R_ZERO;
+        out->util[i] = R_ZERO;
+    }
+    out->fy_axle[0] = R_ZERO;
+    out->fy_axle[1] = R_ZERO;
+    out->util_axle[0] = R_ZERO;
+    out->util_axle[1] = R_ZERO;
+    out->mu = R_ZERO;
+    out->mu_conf = R_ZERO;
+    out->fy_margin_front = R_ZERO;
+    out->steer_char = 0;
+    out->valid = 0;
+    out->flags = 0;
+}
+
+/* Reads one QS input with its range; holds the last valid value for
+ * hold_steps. Returns 1 when a (fresh or held) value is usable. */
+static int take_input(grip_est_t *e, const grip_input_sample_t *in, int id, int slot, grip_real_t lim,
+                      uint32_t *flags)
+{
+    int ok = 0;
+    if (in->valid[id]) {
+        grip_real_t v = in->value[id];
+        if (r_is_finite(v)) {
+            if (r_abs(v) < lim) {
+                ok = 1;
+                e->hold[slot] = v;
+                e->age[slot] = 0;
+            } else {
+                *flags |= GRIP_EST_F_SATURATED;
+            }
+        }
+    }
+    if (!ok && e->age[slot] < 1000000) {
+        e->age[slot] += 1;
+    }
+    return e->age[slot] <= e->hold_steps;
+}
+
+grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip_est_output_t *out)
+{
+    static const int8_t side[4] = { 1, -1, 1, -1 };
+    const grip_est_config_t *c;
+    uint32_t flags = 0, valid = 0;
+    int steer_ok, yaw_ok, ax_ok, ay_ok, vs_ok;
+    int i, n_ws = 0, active, excited = 0, wheels_ok = 1, lock = 0, spin = 0;
+    grip_real_t delta, cd, sd, yaw, ax, ay, rate;
+    grip_real_t ws[4];
+    int ws_ok[4];
+    grip_real_t vmin = RC(1000.0), vmax = RC(-1000.0), vsum = R_ZERO, v_ref = R_ZERO;
+    grip_real_t vx, fz_sum_f;
+    grip_real_t xw[4], yw[4];
+    grip_real_t mu;
+
+    if (out == 0) {
+        return GRIP_ERR_NULL;
+    }
+    zero_output(out);
+    if (est == 0 || in == 0) {
+        return GRIP_ERR_NULL;
+    }
+    if (est->magic != EST_MAGIC) {
+        return GRIP_ERR_STATE;
+    }
+    c = &est->cfg;
+    rate = est->rate;
+
+    /* ---- inputs ---- */
+    steer_ok = take_input(est, in, GRIP_IN_STEER_ANGLE, H_STEER, r_mul(c->steer_ratio, RC(EST_DELTA_MAX * 2.0)),
+                          &flags);
+    yaw_ok = take_input(est, in, GRIP_IN_YAW_RATE, H_YAW, RC(EST_YAW_MAX), &flags);
+    ax_ok = take_input(est, in, GRIP_IN_AX, H_AX, RC(EST_ACC_MAX), &flags);
+    ay_ok = take_input(est, in, GRIP_IN_AY, H_AY, RC(EST_ACC_MAX), &flags);
+    vs_ok = take_input(est, in, GRIP_IN_VEHICLE_SPEED, H_VS, RC(EST_WS_MAX), &flags) &&
+            est->age[H_VS] == 0;
+    if (!steer_ok) {
+        flags |= GRIP_EST_F_NO_STEER;
+    }
+    if (!yaw_ok) {
+        flags |= GRIP_EST_F_NO_YAW;
+    }
+    if (!ax_ok) {
+        flags |= GRIP_EST_F_NO_AX;
+    }
+    if (!ay_ok) {
+        flags |= GRIP_EST_F_NO_AY;
+    }
+    delta = r_div(est->hold[H_STEER], c->steer_ratio);
+    if (r_abs(delta) > RC(EST_DELTA_MAX)) {
+        flags |= GRIP_EST_F_STEER_LIMIT;
+        delta = sym_clamp(delta, RC(EST_DELTA_MAX));
+    }
+    if (!steer_ok) {
+        delta = R_ZERO;
+    }
+    cd = r_cos(delta);
+    sd = r_sin(delta);
+    yaw = yaw_ok ? est->hold[H_YAW] : R_ZERO;
+    ax = ax_ok ? est->hold[H_AX] : R_ZERO;
+    /* the accelerometer rolls with the body: ay_meas = ay cos(phi) + g sin(phi),
+     * phi = roll_gradient * ay, so ay = ay_meas / (1 + g roll_gradient) */
+    ay = ay_ok ? r_mul(est->ay_fac, est->hold[H_AY]) : R_ZERO;
+
+    xw[0] = c->lf;
+    xw[1] = c->lf;
+    xw[2] = r_neg(c->lr);
+    xw[3] = r_neg(c->lr);
+    yw[0] = r_mul(RC(0.5), c->track_f);
+    yw[1] = r_neg(yw[0]);
+    yw[2] = r_mul(RC(0.5), c->track_r);
+    yw[3] = r_neg(yw[2]);
+
+    /* ---- longitudinal speed ---- */
+    {
+        grip_real_t r_now = est->active ? est->x[1] : yaw;
+        grip_real_t vy_now = est->active ? est->x[0] : R_ZERO;
+        grip_real_t vx_pred = r_add(est->vx, r_div(r_add(ax, r_mul(r_now, vy_now)), rate));
+        grip_real_t k = R_ZERO;
+        grip_real_t vcs[4];
+        int outl[4], n_good = 0;
+        for (i = 0; i < 4; ++i) {
+            grip_real_t v = in->value[GRIP_IN_WHEEL_SPEED_FL + i];
+            ws_ok[i] = in->valid[GRIP_IN_WHEEL_SPEED_FL + i] && r_is_finite(v) && r_abs(v) < RC(EST_WS_MAX);
+            if (in->valid[GRIP_IN_WHEEL_SPEED_FL + i] && !ws_ok[i]) {
+                flags |= GRIP_EST_F_SATURATED;
+            }
+            ws[i] = ws_ok[i] ? v : R_ZERO;
+            outl[i] = 0;
+            vcs[i] = R_ZERO;
+            if (ws_ok[i]) {
+                /* speed of the CG the wheel indicates (yaw-corrected, steered) */
+                grip_real_t vc = (i < 2) ? r_div_keep(ws[i], cd) : ws[i];
+                vc = r_add(vc, r_mul(r_now, yw[i]));
+                vcs[i] = vc;
+                n_ws += 1;
+                if (vx_pred > RC(EST_V_ON)) {
+                    if (vc < r_sub(r_mul(RC(1.0 - EST_WHEEL_DEV), vx_pred), RC(0.5))) {
+                        lock = 1;
+                        outl[i] = 1;
+                    }
+                    if (vc > r_add(r_mul(RC(1.0 + EST_WHEEL_DEV), vx_pred), RC(0.5))) {
+                        spin = 1;
+                        outl[i] = 1;
+                    }
+                }
+                if (!outl[i]) {
+                    n_good += 1;
+                }
+            } else {
+                wheels_ok = 0;
+            }
+        }
+        /* the reference uses the wheels that are not locked or spinning
+         * (all valid ones when every wheel is) */
+        for (i = 0; i < 4; ++i) {
+            if (ws_ok[i] && (!outl[i] || n_good == 0)) {
+                vmin = r_min(vmin, vcs[i]);
+                vmax = r_max(vmax, vcs[i]);
+                vsum = r_add(vsum, vcs[i]);
+            }
+        }
+        if (n_good > 0) {
+            n_ws = n_good;
+        }
+        if (lock) {
+            flags |= GRIP_EST_F_WHEEL_LOCK;
+        }
+        if (spin) {
+            flags |= GRIP_EST_F_WHEEL_SPIN;
+        }
+        if (vs_ok) {
+            v_ref = est->hold[H_VS];
+            k = RC(EST_K_HI);
+        } else if (n_ws > 0) {
+            static const grip_real_t inv_n[5] = { RC(0.0), RC(1.0), RC(0.5), RC(1.0 / 3.0), RC(0.25) };
+            if (ax < RC(-EST_AX_TH)) {
+                v_ref = vmax;
+            } else if (ax > RC(EST_AX_TH)) {
+                v_ref = vmin;
+            } else {
+                v_ref = r_mul(inv_n[n_ws], vsum);
+            }
+            {
+                /* wheels agree with each other: trust them (fully when they also
+                 * agree with the prediction, at K_MID when all of them disagree
+                 * with it, e.g. after a long loss); otherwise K_LO */
+                int agree = r_sub(vmax, vmin) <= r_add(RC(0.5), r_mul(RC(0.05), r_abs(vx_pred)));
+                k = agree ? ((lock || spin) ? RC(EST_K_MID) : RC(EST_K_HI)) : RC(EST_K_LO);
+            }
+        }
+        if (vs_ok || n_ws > 0) {
+            est->no_wheel_steps = 0;
+        } else {
+            flags |= GRIP_EST_F_NO_WHEELS;
+            if (est->no_wheel_steps < 1000000) {
+                est->no_wheel_steps += 1;
+            }
+        }
+        if (!est->vx_init) {
+            if (vs_ok || n_ws > 0) {
+                est->vx = v_ref;
+                est->vx_init = 1;
+            }
+        } else {
+            est->vx = r_add(vx_pred, r_mul(r_min(r_div(k, rate), R_ONE), r_sub(v_ref, vx_pred)));
+        }
+        if (n_ws > 0 && vmax < RC(EST_V_STAND) && vmin > RC(-EST_V_STAND) && !vs_ok) {
+            est->vx = R_ZERO;       /* standstill: stops ax-bias drift */
+        }
+        est->vx = sym_clamp(est->vx, RC(EST_WS_MAX));
+    }
+    vx = est->vx;
+    if (r_abs(vx) < RC(EST_V_STAND)) {
+        flags |= GRIP_EST_F_STANDSTILL;
+    }
+    if (vx < RC(-EST_V_STAND)) {
+        flags |= GRIP_EST_F_REVERSING;
+    }
+    if (est->vx_init && est->no_wheel_steps <= est->nowheel_n) {
+        valid |= GRIP_EST_V_VX;
+    }
+
+    /* ---- vertical loads (quasi-static load transfer from ax, ay) ---- */
+    {
+        grip_real_t l = r_add(c->lf, c->lr);
+        grip_real_t dlong = r_mul(r_div(c->h_cg, r_mul(RC(2.0), l)), r_mul(ax, c->mass));   /* per wheel */
+        grip_real_t may_h = r_mul(c->h_cg, r_mul(ay, c->mass));                            /* N m */
+        grip_real_t dlat_f = r_mul(c->roll_split_front, r_div_keep(may_h, c->track_f));
+        grip_real_t dlat_r = r_mul(r_sub(R_ONE, c->roll_split_front), r_div_keep(may_h, c->track_r));
+        out->fz[0] = r_sub(r_sub(est->fz_static[0], dlong), dlat_f);
+        out->fz[1] = r_add(r_sub(est->fz_static[0], dlong), dlat_f);
+        out->fz[2] = r_sub(r_add(est->fz_static[1], dlong), dlat_r);
+        out->fz[3] = r_add(r_add(est->fz_static[1], dlong), dlat_r);
+        for (i = 0; i < 4; ++i) {
+            out->fz[i] = r_max(out->fz[i], R_ZERO);
+        }
+        if (ax_ok && ay_ok) {
+            valid |= GRIP_EST_V_FZ;
+        }
+    }
+    fz_sum_f = r_add(out->fz[0], out->fz[1]);
+
+    /* ---- lateral observer on / off ---- */
+    active = est->active;
+    if (active && (vx < RC(EST_V_OFF) || !steer_ok || !(valid & GRIP_EST_V_VX))) {
+        active = 0;
+    }
+    if (!active && vx >= RC(EST_V_ON) && steer_ok && yaw_ok && (valid & GRIP_EST_V_VX)) {
+        active = 1;
+        est->x[0] = R_ZERO;
+        est->x[1] = yaw;
+        est->p[0][0] = RC(EST_P0_VY);
+        est->p[1][1] = RC(EST_P0_R);
+        est->p[0][1] = R_ZERO;
+        est->p[1][0] = R_ZERO;
+        est->p[0][2] = R_ZERO;
+        est->p[2][0] = R_ZERO;
+        est->p[1][2] = R_ZERO;
+        est->p[2][1] = R_ZERO;
+        flags |= GRIP_EST_F_RESET;
+    }
+    est->active = active;
+    if (!active) {
+        flags |= GRIP_EST_F_LOW_SPEED;
+        est->x[0] = R_ZERO;
+        est->x[1] = yaw;
+        est->r_lin_f = yaw;
+        est->lim_steps = 0;
+    }
+    mu = est->x[2];
+
+    if (active) {
+        grip_real_t jay[3] = { R_ZERO, R_ZERO, R_ZERO };   /* d(sum Fby)/d(vy, r, mu) [QL] */
+        grip_real_t jr[3] = { R_ZERO, R_ZERO, R_ZERO };    /* d(sum Mz_body)/d(vy, r, mu) */
+        grip_real_t jax_mu = R_ZERO;
+        grip_real_t sfx = R_ZERO, sfy = R_ZERO, smz = R_ZERO;
+        grip_real_t vy = est->x[0], r = est->x[1];
+        grip_real_t umax = R_ZERO, umax_x = R_ZERO, kappa_sum = R_ZERO;
+        int at_limit = 0;
+        grip_real_t f[GRIP_EST_NX][GRIP_EST_NX];
+        grip_real_t ay_m, ax_m, racc, dvy, dr, m = c->mass, mu_lb = RC(EST_MU_MIN);
+
+        for (i = 0; i < 4; ++i) {
+            int axle = i >> 1;
+            grip_real_t cdi = axle ? R_ONE : cd, sdi = axle ? R_ZERO : sd;
+            grip_real_t vcx = r_sub(vx, r_mul(r, yw[i]));
+            grip_real_t vcy = r_add(vy, r_mul(r, xw[i]));
+            grip_real_t vxw = r_add(r_mul(cdi, vcx), r_mul(sdi, vcy));
+            grip_real_t vyw = r_sub(r_mul(cdi, vcy), r_mul(sdi, vcx));
+            grip_real_t den = r_max(r_abs(vxw), RC(EST_V_OFF));
+            grip_real_t t = r_div(vyw, den);
+            grip_real_t alpha = r_atan(t);
+            grip_real_t kappa = R_ZERO;
+            grip_real_t lever = r_add(r_mul(xw[i], cdi), r_mul(yw[i], sdi));
+            grip_real_t c2, dady, dadr, ca, g, u, dfda, dfdmu, fxn, fyn, fzr;
+            grip_mf_input ti;
+            grip_mf_output to;
+            grip_status_t st;
+            if (ws_ok[i]) {
+                kappa = r_clamp(r_div(r_sub(ws[i], vxw), den), RC(-1.0), RC(1.5));
+            }
+            ti.kappa = r_clamp(r_div(kappa, mu), RC(-1.5), RC(1.5));
+            /* beyond the peak slip angle the model force is held at its peak:
+             * the falling branch would make vy and mu unobservable together */
+            ti.alpha = sym_clamp(r_div(alpha, mu), est->alpha_pk[axle]);
+            if (side[i] < 0) {
+                ti.alpha = r_neg(ti.alpha);   /* right wheel: mirror image of the LEFT-fitted tire */
+            }
+            ti.gamma = R_ZERO;
+            ti.fz = out->fz[i];
+            ti.p = R_ZERO;
+            ti.vx = vxw;
+            st = tire_eval(&c->tire[axle], &ti, &to);
+            if (st < 0) {
+                flags |= GRIP_EST_F_TIRE_ERROR;
+                to.fx = R_ZERO;
+                to.fy = R_ZERO;
+                to.mz = R_ZERO;
+            }
+            if (side[i] < 0) {
+                to.fy = r_neg(to.fy);
+                to.mz = r_neg(to.mz);
+            }
+            out->kappa[i] = kappa;
+            out->alpha[i] = alpha;
+            out->fx[i] = r_mul(mu, to.fx);
+            out->fy[i] = r_mul(mu, to.fy);
+            out->mz[i] = r_mul(mu, to.mz);
+            if (ws_ok[i] && st >= 0) {
+                valid |= GRIP_EST_V_WHEEL(i);
+            }
+            /* utilization and local slope */
+            if (out->fz[i] > RCL(50.0)) {
+                fxn = r_div(out->fx[i], out->fz[i]);
+                fyn = r_div(out->fy[i], out->fz[i]);
+                fzr = r_div(out->fz[i], est->fz_static[axle]);
+            } else {
+                fxn = R_ZERO;
+                fyn = R_ZERO;
+                fzr = R_ZERO;
+            }
+            u = r_div(r_sqrt(r_add(r_sq(fxn), r_sq(fyn))), r_mul(mu, est->mu0[axle]));
+            out->util[i] = r_min(u, RC(1.5));
+            g = r_max(RC(EST_G_MIN), r_sqrt(r_sub(R_ONE, r_min(u, R_ONE))));
+            ca = r_mul(fzr, est->c_alpha[axle]);                 /* N/rad at this load */
+            {
+                /* Excitation: the utilization the slips would cause on the
+                 * tire's own friction (mu = 1), never measured against the
+                 * estimate itself, which would let a falling mu excite its
+                 * own adaptation. */
+                grip_real_t cap = r_max(r_mul(est->mu0[axle], out->fz[i]), RCL(50.0));
+                grip_real_t ulin_y = r_div(r_mul(r_abs(alpha), r_mul(fzr, est->c_alpha[axle])), cap);
+                grip_real_t ulin_x = r_div(r_mul(r_abs(kappa), r_mul(fzr, est->c_kappa[axle])), cap);
+                umax = r_max(umax, r_max(ulin_y, ulin_x));
+                umax_x = r_max(umax_x, ulin_x);
+                kappa_sum = r_add(kappa_sum, kappa);
+            }
+            c2 = r_div(R_ONE, r_add(R_ONE, r_sq(sym_clamp(t, RC(100.0)))));
+            dady = r_div(r_mul(c2, cdi), den);                    /* d alpha / d vy  [s/m] */
+            dadr = r_div(r_mul(c2, lever), den);                  /* d alpha / d r   [s]   */
+            dfda = r_neg(r_mul(g, ca));                           /* d Fy / d alpha  [N/rad] */
+            dfdmu = r_div_keep(r_sub(out->fy[i], r_mul(alpha, dfda)), mu);   /* d Fy / d mu [N] */
+            {
+                grip_real_t dfy_dvy = r_mul(dady, dfda);
+                grip_real_t dfy_dr = r_mul(dadr, dfda);
+                jay[0] = r_add(jay[0], r_mul(cdi, dfy_dvy));
+                jay[1] = r_add(jay[1], r_mul(cdi, dfy_dr));
+                jay[2] = r_add(jay[2], r_mul(cdi, dfdmu));
+                jr[0] = r_add(jr[0], r_mul(lever, dfy_dvy));
+                jr[1] = r_add(jr[1], r_mul(lever, dfy_dr));
+                jr[2] = r_add(jr[2], r_mul(lever, dfdmu));
+            }
+            {
+                /* d Fx / d mu under similarity: (Fx - kappa dFx/dkappa) / mu */
+                grip_real_t dfxdk = r_mul(g, r_mul(fzr, est->c_kappa[axle]));
+                grip_real_t dfxdmu = r_div_keep(r_sub(out->fx[i], r_mul(kappa, dfxdk)), mu);
+                jax_mu = r_add(jax_mu, r_sub(r_mul(cdi, dfxdmu), r_mul(sdi, dfdmu)));
+            }
+            {
+                grip_real_t fbx = r_sub(r_mul(cdi, out->fx[i]), r_mul(sdi, out->fy[i]));
+                grip_real_t fby = r_add(r_mul(sdi, out->fx[i]), r_mul(cdi, out->fy[i]));
+                sfx = r_add(sfx, fbx);
+                sfy = r_add(sfy, fby);
+                smz = r_add(smz, r_add(r_sub(r_mul(xw[i], fby), r_mul(yw[i], fbx)), out->mz[i]));
+            }
+        }
+        out->fy_axle[0] = r_add(out->fy[0], out->fy[1]);
+        out->fy_axle[1] = r_add(out->fy[2], out->fy[3]);
+        for (i = 0; i < 2; ++i) {
+            grip_real_t fzx = r_add(out->fz[2 * i], out->fz[2 * i + 1]);
+            grip_real_t fxa = r_add(out->fx[2 * i], out->fx[2 * i + 1]);
+            if (fzx > RCL(100.0)) {
+                grip_real_t fxn = r_div(fxa, fzx), fyn = r_div(out->fy_axle[i], fzx);
+                out->util_axle[i] = r_min(r_div(r_sqrt(r_add(r_sq(fxn), r_sq(fyn))), r_mul(mu, est->mu0[i])),
+                                          RC(1.5));
+            }
+        }
+        ay_m = r_div(sfy, m);
+        ax_m = r_div(sfx, m);
+        racc = r_div(smz, c->iz);
+
+        excited = vx >= RC(EST_V_EXC) && umax >= RC(EST_EXC_U) && ay_ok && ax_ok &&
+                  r_add(r_abs(ax), r_abs(ay)) >= RC(EST_EXC_A);
+        {
+            /* friction-limit test, independent of the mu estimate: the yaw
+             * rate leaves the (lagged) linear bicycle reference by more than
+             * 15 % + 0.03 rad/s for 0.2 s with |a| >= 2 m/s^2 */
+            grip_real_t l = r_add(c->lf, c->lr);
+            grip_real_t av2 = r_mul(RC(0.01), r_mul(r_mul(est->k_us, vx), vx));
+            grip_real_t den = r_max(r_mul(l, r_add(R_ONE, av2)), r_mul(RC(0.1), l));
+            grip_real_t r_lin = r_div(r_mul(vx, delta), den);
+            grip_real_t a_tot = r_sqrt(r_add(r_sq(ax), r_sq(ay)));
+            est->r_lin_f = r_add(est->r_lin_f, r_mul(r_min(r_div(R_ONE, r_mul(RC(EST_LIM_TAU), rate)), R_ONE),
+                                                     r_sub(r_lin, est->r_lin_f)));
+            if (vx >= RC(EST_V_EXC) && yaw_ok && ax_ok && ay_ok && a_tot >= RC(EST_LIM_A) &&
+                r_abs(r_sub(yaw, est->r_lin_f)) >= r_add(r_mul(RC(EST_LIM_REL), r_abs(est->r_lin_f)), RC(EST_LIM_ABS))) {
+                if (est->lim_steps < 1000000) {
+                    est->lim_steps += 1;
+                }
+            } else {
+                est->lim_steps = 0;
+            }
+            at_limit = est->lim_steps >= est->lim_n;
+            if (at_limit) {
+                excited = 1;
+            }
+            /* the friction in use is a lower bound of the friction available */
+            mu_lb = (ax_ok && ay_ok) ? r_min(r_div(a_tot, r_mul(RC(EST_G), r_max(est->mu0[0], est->mu0[1]))),
+                                             RC(EST_MU_MAX))
+                                     : RC(EST_MU_MIN);
+        }
+
+        /* ---- predict ---- */
+        /* vy: kinematic process vy' = ay - r vx (the tire model enters
+         * through the ay measurement, so a flat tire curve at the limit
+         * leaves vy to the kinematics instead of to model errors); the
+         * model's ay stands in when the accelerometer is missing */
+        dvy = r_div(r_sub(ay_ok ? ay : ay_m, r_mul(r, vx)), rate);
+        dr = r_div(racc, rate);
+        {
+            grip_real_t a_vv = r_div(jay[0], m), a_vr = r_div(jay[1], m), a_vm = r_div(jay[2], m);
+            grip_real_t a_rv = r_div(jr[0], c->iz), a_rr = r_div(jr[1], c->iz), a_rm = r_div(jr[2], c->iz);
+            grip_real_t ay_pred, h[GRIP_EST_NX];
+            if (ay_ok) {
+                f[0][0] = R_ONE;
+                f[0][1] = r_mul(r_div(r_neg(vx), rate), RC(EST_S_R / EST_S_VY));
+                f[0][2] = R_ZERO;
+            } else {
+                f[0][0] = r_add(R_ONE, r_div(a_vv, rate));
+                f[0][1] = r_mul(r_div(r_sub(a_vr, vx), rate), RC(EST_S_R / EST_S_VY));
+                f[0][2] = r_mul(r_div(a_vm, rate), RC(EST_S_MU / EST_S_VY));
+            }
+            f[1][0] = r_mul(r_div(a_rv, rate), RC(EST_S_VY / EST_S_R));
+            f[1][1] = r_add(R_ONE, r_div(a_rr, rate));
+            f[1][2] = r_mul(r_div(a_rm, rate), RC(EST_S_MU / EST_S_R));
+            f[2][0] = R_ZERO;
+            f[2][1] = R_ZERO;
+            f[2][2] = R_ONE;
+            est->x[0] = r_add(vy, dvy);
+            est->x[1] = r_add(r, dr);
+            kf_predict(est, f);
+            kf_condition(est);
+            /* ---- updates ---- (each measurement predicted to first order at
+             * the current state from the forces at the prior point vy, r, mu) */
+            if (yaw_ok) {
+                h[0] = R_ZERO;
+                h[1] = R_ONE;
+                h[2] = R_ZERO;
+                /* mu does not adapt on the yaw rate: the yaw moment balance is
+                 * the most model-sensitive equation (Iz, lever arms, the
+                 * front/rear force split at the limit) and drove mu away
+                 * at the limit of the simulator's ramp steer */
+                kf_update(est, h, r_div(r_sub(yaw, est->x[1]), RC(EST_S_R)), RC(EST_R_YAW), 0);
+                kf_condition(est);
+            }
+            if (ay_ok) {
+                ay_pred = r_add(ay_m, r_add(r_mul(a_vv, r_sub(est->x[0], vy)), r_mul(a_vr, r_sub(est->x[1], r))));
+                ay_pred = r_add(ay_pred, r_mul(a_vm, r_sub(est->x[2], mu)));
+                h[0] = sym_clamp(r_mul(a_vv, RC(EST_S_VY / EST_S_AY)), RC(EST_H_MAX_VY));
+                h[1] = sym_clamp(r_mul(a_vr, RC(EST_S_R / EST_S_AY)), RC(EST_H_MAX));
+                h[2] = sym_clamp(r_mul(a_vm, RC(EST_S_MU / EST_S_AY)), RC(EST_H_MAX));
+                kf_update(est, h, r_div(r_sub(ay, ay_pred), RC(EST_S_AY)), RC(EST_R_AY), excited);
+                kf_condition(est);
+            }
+            /* longitudinal update only with an independent speed reference:
+             * from the wheel speeds alone, vx is biased by the very slip that
+             * carries the information (braking on the simulator's wet road
+             * drove mu to its upper bound) */
+            /* ... and only when the slips push the way the car accelerates:
+             * a speed reference that reads a few per cent off the wheel
+             * speeds (a speedometer calibration) makes slip of the wrong
+             * sign, which would otherwise drive mu down (RAV4 log). */
+            if (excited && (c->speed_ref_mu != 0u) && vs_ok && wheels_ok && umax_x >= RC(EST_EXC_U) &&
+                r_abs(ax) >= RC(EST_EXC_A) && r_mul(kappa_sum, ax) > R_ZERO) {
+                grip_real_t ax_pred = r_add(ax_m, r_mul(r_div(jax_mu, m), r_sub(est->x[2], mu)));
+                h[0] = R_ZERO;
+                h[1] = R_ZERO;
+                h[2] = sym_clamp(r_mul(r_div(jax_mu, m), RC(EST_S_MU / EST_S_AY)), RC(EST_H_MAX));
+                kf_update(est, h, r_div(r_sub(ax, ax_pred), RC(EST_S_AY)), RC(EST_R_AX), 1);
+                kf_condition(est);
+            }
+        }
+        /* state bounds */
+        est->x[2] = r_clamp(est->x[2], r_max(RC(EST_MU_MIN), mu_lb), RC(EST_MU_MAX));
+        est->x[0] = sym_clamp(est->x[0], r_add(r_mul(RC(0.5), r_abs(vx)), R_ONE));
+        est->x[1] = sym_clamp(est->x[1], RC(EST_YAW_MAX));
+        if (ay_ok && yaw_ok) {
+            valid |= GRIP_EST_V_BETA | GRIP_EST_V_AXLE;
+        }
+        if (!(valid & GRIP_EST_V_BETA)) {
+            valid &= ~(GRIP_EST_V_WHEEL(0) | GRIP_EST_V_WHEEL(1) | GRIP_EST_V_WHEEL(2) | GRIP_EST_V_WHEEL(3));
+        }
+        if (excited) {
+            flags |= GRIP_EST_F_EXCITED;
+        }
+    }
+    mu = est->x[2];
+
+    /* ---- outputs ---- */
+    out->vx = vx;
+    out->vy = active ? est->x[0] : R_ZERO;
+    out->beta = active ? r_atan(r_div(est->x[0], r_max(vx, RC(EST_V_OFF)))) : R_ZERO;
+    out->yaw_rate = active ? est->x[1] : yaw;
+    if (yaw_ok) {
+        valid |= GRIP_EST_V_YAW;
+    }
+    out->delta = delta;
+    out->mu = mu;
+    {
+        grip_real_t sig = r_mul(r_sqrt(est->p[2][2]), RC(EST_S_MU));
+        out->mu_conf = r_clamp(r_div(r_sub(RC(EST_CONF_S0), sig), RC(0.1)), R_ZERO, R_ONE);
+        if (out->mu_conf >= RC(0.5)) {
+            valid |= GRIP_EST_V_MU;
+        }
+    }
+    /* yaw-rate reference: steady-state bicycle (eq. 2.14 with 2.17), limited
+     * to what the road can carry: |r| <= mu mu0 g / vx */
+    if ((valid & GRIP_EST_V_VX) && steer_ok && vx >= RC(EST_V_ON)) {
+        grip_real_t l = r_add(c->lf, c->lr);
+        grip_real_t av2 = r_mul(RC(0.01), r_mul(r_mul(est->k_us, vx), vx));
+        grip_real_t den = r_max(r_mul(l, r_add(R_ONE, av2)), r_mul(RC(0.1), l));
+        grip_real_t rr = r_div(r_mul(vx, delta), den);
+        grip_real_t lim = r_div(r_mul(r_mul(mu, r_min(est->mu0[0], est->mu0[1])), RC(EST_G)), vx);
+        out->yaw_rate_ref = sym_clamp(rr, lim);
+        valid |= GRIP_EST_V_YAW_REF;
+        if (yaw_ok) {
+            grip_real_t d, thr, sgn;
+            out->yaw_error = r_sub(yaw, out->yaw_rate_ref);
+            sgn = (r_abs(out->yaw_rate_ref) > RC(0.01)) ? r_sign(out->yaw_rate_ref) : r_sign(yaw);
+            d = r_mul(sgn, r_sub(out->yaw_rate_ref, yaw));
+            thr = r_add(RC(0.03), r_mul(RC(0.1), r_abs(out->yaw_rate_ref)));
+            out->steer_char = (d > thr) ? 1 : ((r_neg(d) > thr) ? -1 : 0);
+            valid |= GRIP_EST_V_STEER;
+        }
+    }
+    if (active) {
+        out->fy_margin_front = r_sub(r_mul(r_mul(mu, est->mu0[0]), fz_sum_f), r_abs(out->fy_axle[0]));
+        if (valid & GRIP_EST_V_BETA) {
+            valid |= GRIP_EST_V_MARGIN;
+        }
+    }
+    out->valid = valid;
+    out->flags = flags;
+    return GRIP_OK;
+}

@@ -1,0 +1,66 @@
+/*
+ * est_internal.h - constants of the estimator (lib/est), shared by its
+ * files. Every value here is mirrored in tools/grip_tools/est_ref.py (the
+ * float64 reference) and documented in docs/estimator.md.
+ */
+#ifndef GRIP_EST_INTERNAL_H
+#define GRIP_EST_INTERNAL_H
+
+#include "grip/grip_est.h"
+#include "arith.h"
+
+#define EST_MAGIC 0x45535431u  /* "EST1" */
+
+#define EST_G        9.80665
+#define EST_V_ON     3.0     /* m/s: lateral observer starts above          */
+#define EST_V_OFF    2.5     /* m/s: and stops below                         */
+#define EST_V_STAND  0.3     /* m/s: standstill                               */
+#define EST_V_EXC    5.0     /* m/s: mu adapts only above                     */
+#define EST_HOLD_T   0.05    /* s: a missing input is held this long          */
+#define EST_NOWHEEL_T 0.5    /* s: vx stays valid this long without wheels    */
+#define EST_DELTA_MAX 0.7    /* rad: road-wheel angle limit (steering at lock) */
+#define EST_WS_MAX   120.0   /* m/s: wheel-speed range                        */
+#define EST_YAW_MAX  2.5     /* rad/s: gyro range used                        */
+#define EST_ACC_MAX  15.0    /* m/s^2: accelerometer range used               */
+#define EST_AX_TH    0.3     /* m/s^2: braking / driving wheel selection       */
+#define EST_K_HI     5.0     /* 1/s: wheel-speed gain of the vx filter         */
+#define EST_WHEEL_DEV 0.15   /* a wheel 15 % (+0.5 m/s) off the vehicle is locked / spinning */
+#define EST_K_LO     0.5     /* 1/s: gain when the wheels disagree             */
+#define EST_K_MID    1.5     /* 1/s: all wheels agree, but not with the prediction */
+#define EST_MU_MIN   0.1
+#define EST_MU_MAX   1.2
+#define EST_MU_INIT  1.0
+#define EST_EXC_U    0.5     /* utilization that counts as excitation          */
+#define EST_EXC_A    1.0     /* m/s^2: and at least this much acceleration     */
+#define EST_LIM_TAU  0.15    /* s: lag of the linear yaw reference in the limit test */
+#define EST_LIM_A    2.0     /* m/s^2: limit test needs this much acceleration  */
+#define EST_LIM_REL  0.15    /* limit: |r - r_lin| > 0.15 |r_lin| + 0.03 rad/s  */
+#define EST_LIM_ABS  0.03
+#define EST_LIM_T    0.2     /* s: ... for this long                              */
+#define EST_G_MIN    0.05    /* floor of the slope factor sqrt(1 - u)          */
+/* scaled units of the covariance (state i in units of S_i) */
+#define EST_S_VY     0.05    /* m/s   */
+#define EST_S_R      0.005   /* rad/s */
+#define EST_S_MU     0.02    /* -     */
+#define EST_S_AY     0.5     /* m/s^2 (lateral and longitudinal acceleration) */
+/* measurement noise (scaled units^2): yaw 0.006 rad/s, ay 0.4, ax 0.5 m/s^2 */
+#define EST_R_YAW    1.44
+#define EST_R_AY     0.64
+#define EST_R_AX     1.0
+/* continuous process noise per second (scaled units^2 / s):
+ * vy' 0.5 m/s^2 (kinematic: ay error, roll and bank), r' 0.3 rad/s^2, mu 0.05 /sqrt(s) */
+#define EST_Q_VY     100.0
+#define EST_Q_R      3600.0
+#define EST_Q_MU     6.25
+/* initial variances and bounds (scaled units^2) */
+#define EST_P0_VY    36.0
+#define EST_P0_R     16.0
+#define EST_P0_MU    225.0
+#define EST_P_MIN    0.01
+#define EST_P_MAX    400.0
+#define EST_H_MAX_VY 5.0     /* bounds of the measurement row (keeps h P h' < 32768) */
+#define EST_H_MAX    2.0
+#define EST_NU_SIGMA 4.0     /* innovations clamped to 4 sigma */
+#define EST_CONF_S0  0.15    /* mu confidence 1 at sigma <= 0.05, 0 at >= 0.15 */
+
+#endif

@@ -1,0 +1,114 @@
+/*
+ * bench_est.c - benchmark cases of the onboard estimator (grip_est.h).
+ * Integer-only in the fixed build: every input is a compile-time RC()
+ * constant.
+ *
+ *   est_step_worst   one grip_est_step on the worst-case path: observer
+ *                    active, excitation (mu adapts), all three measurement
+ *                    updates (yaw rate, ay, ax: the vehicle-speed input is
+ *                    valid, which the ax update needs), four tire
+ *                    evaluations, braking in a turn with every input valid
+ *   est_step_low     one step at standstill (observer off, no tire calls)
+ *
+ * Each case is a step of a running estimator (state kept between calls);
+ * bench_est_setup() initializes it and drives it into the case's regime.
+ * The lead wires bench_est_cases[] into the bench table and calls
+ * bench_est_setup() from bench_cases_setup().
+ */
+#include <string.h>
+
+#include "bench_cases.h"
+#include "grip/grip_est.h"
+#include "arith.h"
+#include "mf_params.h"
+
+extern const bench_case bench_est_cases[];
+extern const int bench_est_case_count;
+void bench_est_setup(void);
+
+static grip_est_t est_worst;
+static grip_est_t est_low;
+static grip_input_sample_t in_worst[BENCH_INPUTS];
+static grip_input_sample_t in_low;
+static volatile uint32_t est_sink;
+
+static const grip_mf_params *est_tire(void)
+{
+    int k;
+    for (k = 0; k < grip_test_tire_count; ++k) {
+        const char *a = grip_test_tires[k].name, *b = "PacejkaBook_Defaults";
+        while (*a != 0 && *a == *b) {
+            ++a;
+            ++b;
+        }
+        if (*a == 0 && *b == 0) {
+            return grip_test_tires[k].params;
+        }
+    }
+    return grip_test_tires[0].params;
+}
+
+/* braking in a left turn at 19.5 m/s: ay 6..7.5, ax -3 m/s^2, wheels ~10 % slow */
+static void worst_input(grip_input_sample_t *s, int i)
+{
+    static const grip_real_t swa[4] = { RC(1.2), RC(1.5), RC(1.8), RC(2.1) };
+    static const grip_real_t ay[4] = { RC(6.0), RC(6.5), RC(7.0), RC(7.5) };
+    int k;
+    memset(s, 0, sizeof *s);
+    s->value[GRIP_IN_WHEEL_SPEED_FL] = RC(17.3);
+    s->value[GRIP_IN_WHEEL_SPEED_FR] = RC(18.3);
+    s->value[GRIP_IN_WHEEL_SPEED_RL] = RC(17.5);
+    s->value[GRIP_IN_WHEEL_SPEED_RR] = RC(18.5);
+    s->value[GRIP_IN_STEER_ANGLE] = swa[i & 3];
+    s->value[GRIP_IN_YAW_RATE] = RC(0.33);
+    s->value[GRIP_IN_AX] = RC(-3.0);
+    s->value[GRIP_IN_AY] = ay[(i >> 2) & 3];
+    s->value[GRIP_IN_VEHICLE_SPEED] = RC(19.5);   /* enables the ax update */
+    for (k = 0; k <= GRIP_IN_VEHICLE_SPEED; ++k) {
+        s->valid[k] = 1;
+    }
+}
+
+void bench_est_setup(void)
+{
+    grip_est_config_t cfg;
+    grip_est_output_t out;
+    int i, k;
+    (void)grip_est_config_default(&cfg, est_tire());
+    (void)grip_est_init(&est_worst, &cfg);
+    (void)grip_est_init(&est_low, &cfg);
+    for (i = 0; i < BENCH_INPUTS; ++i) {
+        worst_input(&in_worst[i], i);
+    }
+    for (k = 0; k < 60; ++k) {
+        (void)grip_est_step(&est_worst, &in_worst[k % BENCH_INPUTS], &out);
+    }
+    memset(&in_low, 0, sizeof in_low);
+    for (k = 0; k < 8; ++k) {
+        in_low.valid[k] = 1;
+    }
+    for (k = 0; k < 10; ++k) {
+        (void)grip_est_step(&est_low, &in_low, &out);
+    }
+}
+
+static void b_est_worst(int i)
+{
+    grip_est_output_t out;
+    (void)grip_est_step(&est_worst, &in_worst[i], &out);
+    est_sink = out.valid ^ out.flags;
+}
+
+static void b_est_low(int i)
+{
+    grip_est_output_t out;
+    (void)i;
+    (void)grip_est_step(&est_low, &in_low, &out);
+    est_sink = out.valid ^ out.flags;
+}
+
+const bench_case bench_est_cases[] = {
+    { "est_step_worst", b_est_worst },
+    { "est_step_low", b_est_low },
+};
+const int bench_est_case_count = (int)(sizeof(bench_est_cases) / sizeof(bench_est_cases[0]));

@@ -1,0 +1,147 @@
+"""Tests of the estimator's float64 reference (grip_tools.est_ref): derived
+constants against their definitions, the Joseph update keeping the
+covariance symmetric positive definite, tracking on the internal
+single-track generator (vx, beta, mu after excitation), input handling
+(hold, NaN, standstill), and the golden writer's file format."""
+import math
+import os
+import tempfile
+import unittest
+
+import numpy as np
+
+from grip_tools import est_ref, golden_est
+
+
+def _params():
+    return golden_est.tire_params()
+
+
+class ConstantsTests(unittest.TestCase):
+    def test_derived_constants(self):
+        est = est_ref.Estimator(est_ref.config(_params()))
+        c = est.cfg
+        l = c["lf"] + c["lr"]
+        # static loads: m g lr / (2 l), m g lf / (2 l)
+        self.assertAlmostEqual(est.fz_static[0], c["mass"] * 9.80665 * c["lr"] / (2 * l))
+        self.assertAlmostEqual(est.fz_static[1], c["mass"] * 9.80665 * c["lf"] / (2 * l))
+        # cornering stiffness = -dFy/dalpha at 0 (central difference of the MF)
+        o = est_ref.mf.evaluate(_params(), 0.0, np.array([-1e-4, 1e-4]), 0.0, est.fz_static[0], None, 20.0)
+        ca = (o["fy"][0] - o["fy"][1]) / 2e-4
+        self.assertLess(abs(est.c_alpha[0] - ca) / ca, 0.01)
+        # stability factor (seed eq. 2.17, K per tire = C/2)
+        kf, kr = est.c_alpha[0], est.c_alpha[1]
+        a_seed = -c["mass"] / (2 * l * l) * (c["lf"] * kf - c["lr"] * kr) / (kf * kr)
+        self.assertAlmostEqual(est.k_us / 100.0, a_seed, places=10)
+        self.assertTrue(0.9 < est.mu0[0] < 1.2 and 0.9 < est.mu0[1] < 1.2)
+        # hold and limit-test step counts follow the rate
+        self.assertEqual(est.hold_steps, 5)
+        self.assertEqual(est_ref.Estimator(est_ref.config(_params(), rate_hz=1000)).hold_steps, 50)
+
+    def test_rejects_tire_without_stiffness(self):
+        p = dict(_params())
+        p["pky1"] = 0.0
+        with self.assertRaises(ValueError):
+            est_ref.Estimator(est_ref.config(p))
+
+
+class UpdateTests(unittest.TestCase):
+    def test_joseph_update_keeps_p_spd(self):
+        est = est_ref.Estimator(est_ref.config(_params()))
+        rng = np.random.default_rng(1)
+        for _ in range(200):
+            h = rng.normal(0, 1.5, 3)
+            est._update(h, rng.normal(0, 2), 0.5, bool(rng.integers(0, 2)))
+            est._condition()
+            self.assertTrue(np.allclose(est.P, est.P.T))
+            self.assertGreater(np.min(np.linalg.eigvalsh(est.P)), 0.0)
+
+    def test_mu_frozen_without_excitation(self):
+        est = est_ref.Estimator(est_ref.config(_params()))
+        mu0, p_mu = est.x[2], est.P[2, 2]
+        est._update(np.array([1.0, 0.2, 1.5]), 3.0, 0.64, False)
+        self.assertEqual(est.x[2], mu0)
+        self.assertAlmostEqual(est.P[2, 2], p_mu)
+
+
+class TrackingTests(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        t, v, ok, truth = golden_est.bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5))
+        cls.t, cls.truth = t, truth
+        cls.out = est_ref.run(est_ref.config(_params()), v, ok)
+
+    def test_speed(self):
+        vx = np.array([o["vx"] for o in self.out])
+        self.assertLess(np.max(np.abs(vx - self.truth["vx"])), 0.6)
+
+    def test_sideslip(self):
+        b = np.array([o["beta"] for o in self.out])
+        bt = np.arctan2(self.truth["vy"], self.truth["vx"])
+        rms = math.degrees(np.sqrt(np.mean((b - bt) ** 2)))
+        print(f"\n# generator: beta RMS {rms:.2f} deg", flush=True)
+        self.assertLess(rms, 3.0)
+
+    def test_mu_moves_toward_low_road(self):
+        mu = np.array([o["mu"] for o in self.out])
+        self.assertGreater(np.mean(mu[self.t < 3.0]), 0.9)
+        self.assertLess(mu[-1], 0.75)          # road 0.5 in the second half
+
+    def test_outputs_finite(self):
+        for o in self.out:
+            for k in ("vx", "vy", "beta", "yaw_rate", "yaw_rate_ref", "mu", "mu_conf", "fy_margin_front"):
+                self.assertTrue(math.isfinite(o[k]))
+            for k in ("fz", "fx", "fy", "mz", "kappa", "alpha", "util"):
+                self.assertTrue(np.all(np.isfinite(o[k])))
+
+
+class InputTests(unittest.TestCase):
+    def _sample(self, v=20.0):
+        value = np.zeros(est_ref.N_IN)
+        valid = np.zeros(est_ref.N_IN, dtype=np.uint8)
+        value[0:4] = v
+        valid[0:8] = 1
+        return value, valid
+
+    def test_nan_is_invalid_and_held(self):
+        est = est_ref.Estimator(est_ref.config(_params()))
+        value, valid = self._sample()
+        for _ in range(50):
+            est.step(value, valid)
+        value[est_ref.AY] = float("nan")
+        o = est.step(value, valid)
+        self.assertTrue(o["valid"] & est_ref.V_BETA)          # held
+        for _ in range(10):
+            o = est.step(value, valid)
+        self.assertFalse(o["valid"] & est_ref.V_BETA)
+        self.assertTrue(o["flags"] & est_ref.F_NO_AY)
+
+    def test_standstill(self):
+        est = est_ref.Estimator(est_ref.config(_params()))
+        value, valid = self._sample(0.0)
+        value[est_ref.AX] = 0.3
+        for _ in range(300):
+            o = est.step(value, valid)
+        self.assertEqual(o["vx"], 0.0)
+        self.assertTrue(o["flags"] & est_ref.F_STANDSTILL)
+        self.assertFalse(o["valid"] & est_ref.V_BETA)
+
+
+class GoldenTests(unittest.TestCase):
+    def test_sequence_file(self):
+        t, v, ok, _ = golden_est.bicycle_inputs(dt=0.01, duration=1.0)
+        with tempfile.TemporaryDirectory() as d:
+            golden_est.write_sequence(d, "unit", 0.01, t, v, ok, "test")
+            with open(os.path.join(d, "est_unit.txt")) as f:
+                lines = f.read().splitlines()
+        head = [ln for ln in lines if ln.startswith("#")]
+        rows = [ln.split() for ln in lines if not ln.startswith("#")]
+        cols = [ln for ln in head if ln.startswith("# columns:")][0].split()[2:]
+        self.assertEqual(len(rows), len(t))
+        self.assertEqual(len(cols), 19 + len(golden_est.out_columns()))
+        self.assertTrue(all(len(r) == len(cols) for r in rows))
+        self.assertEqual(int(rows[0][18]), 0xFF)    # the eight ESC inputs valid
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,344 @@
+/*
+ * test_est_robust.c - lib/est robustness: API errors, bad configuration,
+ * non-finite / invalid / stale / saturated inputs, standstill, reversing,
+ * wheel lock and spin, steering at lock, long input loss and recovery.
+ * Every step's outputs must be finite, flagged as documented in grip_est.h,
+ * and the estimator must come back (validity bits set again, beta near the
+ * undisturbed run) once the inputs recover.
+ *
+ * Inputs come from a steady circle at 20 m/s built in this file:
+ * yaw rate r = ay / vx, wheel speeds from vx -/+ r * track / 2.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "grip/grip_est.h"
+#include "mf_params.h"
+
+#if GRIP_ARITH_FIXED
+static grip_real_t qs(double v) { return (grip_real_t)lround(v * 65536.0); }
+static double dq(grip_real_t v) { return (double)v / 65536.0; }
+static double dl(grip_real_t v) { return (double)v / 256.0; }
+#else
+static grip_real_t qs(double v) { return (grip_real_t)v; }
+static double dq(grip_real_t v) { return (double)v; }
+static double dl(grip_real_t v) { return (double)v; }
+#endif
+
+static const grip_mf_params *tire(void)
+{
+    int k;
+    for (k = 0; k < grip_test_tire_count; ++k) {
+        if (strcmp(grip_test_tires[k].name, "PacejkaBook_Defaults") == 0) {
+            return grip_test_tires[k].params;
+        }
+    }
+    return 0;
+}
+
+static void make_est(grip_est_t *e)
+{
+    grip_est_config_t cfg;
+    assert_int_equal(grip_est_config_default(&cfg, tire()), GRIP_OK);
+    assert_int_equal(grip_est_init(e, &cfg), GRIP_OK);
+}
+
+/* steady circle: speed v [m/s], lateral acceleration ay; the steering-wheel
+ * angle of the linear bicycle model (l = 2.7 m, stability factor
+ * A = 3.7e-4 s^2/m^2 of the estimator's car and tire, steering ratio 15.5) */
+static void circle(grip_input_sample_t *s, double v, double ay)
+{
+    double r = (v > 0.1) ? ay / v : 0.0;
+    double swa = 15.5 * 2.7 * r / ((v > 0.1) ? v : 1.0) * (1.0 + 3.7e-4 * v * v);
+    int i;
+    memset(s, 0, sizeof *s);
+    s->value[GRIP_IN_WHEEL_SPEED_FL] = qs((v - r * 0.775) * cos(swa / 15.5));
+    s->value[GRIP_IN_WHEEL_SPEED_FR] = qs((v + r * 0.775) * cos(swa / 15.5));
+    s->value[GRIP_IN_WHEEL_SPEED_RL] = qs(v - r * 0.765);
+    s->value[GRIP_IN_WHEEL_SPEED_RR] = qs(v + r * 0.765);
+    s->value[GRIP_IN_STEER_ANGLE] = qs(swa);
+    s->value[GRIP_IN_YAW_RATE] = qs(r);
+    s->value[GRIP_IN_AX] = qs(0.0);
+    s->value[GRIP_IN_AY] = qs(ay);
+    for (i = 0; i < 8; ++i) {
+        s->valid[i] = 1;
+    }
+    for (i = 8; i < GRIP_IN_COUNT; ++i) {
+        s->fault[i] = GRIP_SIG_UNMAPPED;
+    }
+}
+
+static void assert_finite_out(const grip_est_output_t *o)
+{
+#if !GRIP_ARITH_FIXED
+    int i;
+    assert_true(isfinite(o->vx) && isfinite(o->vy) && isfinite(o->beta) && isfinite(o->yaw_rate));
+    assert_true(isfinite(o->yaw_rate_ref) && isfinite(o->mu) && isfinite(o->mu_conf));
+    assert_true(isfinite(o->fy_margin_front) && isfinite(o->yaw_error));
+    for (i = 0; i < 4; ++i) {
+        assert_true(isfinite(o->kappa[i]) && isfinite(o->alpha[i]) && isfinite(o->fz[i]));
+        assert_true(isfinite(o->fx[i]) && isfinite(o->fy[i]) && isfinite(o->mz[i]) && isfinite(o->util[i]));
+    }
+#endif
+    assert_true(dq(o->mu) >= 0.0 && dq(o->mu) <= 1.2 + 1e-4);
+    assert_true(dq(o->mu_conf) >= 0.0 && dq(o->mu_conf) <= 1.0 + 1e-4);
+    assert_true(fabs(dq(o->beta)) < 1.6);
+    assert_true(dl(o->fz[0]) >= 0.0);
+}
+
+static void run(grip_est_t *e, grip_input_sample_t *s, int n, grip_est_output_t *o)
+{
+    int k;
+    for (k = 0; k < n; ++k) {
+        assert_int_equal(grip_est_step(e, s, o), GRIP_OK);
+        assert_finite_out(o);
+    }
+}
+
+static void test_api_errors(void **state)
+{
+    grip_est_t e;
+    grip_est_config_t cfg;
+    grip_est_output_t o;
+    grip_input_sample_t s;
+    (void)state;
+    circle(&s, 20.0, 2.0);
+    assert_int_equal(grip_est_config_default(NULL, tire()), GRIP_ERR_NULL);
+    assert_int_equal(grip_est_init(NULL, &cfg), GRIP_ERR_NULL);
+    assert_int_equal(grip_est_init(&e, NULL), GRIP_ERR_NULL);
+    assert_int_equal(grip_est_step(&e, &s, NULL), GRIP_ERR_NULL);
+    assert_int_equal(grip_est_reset(NULL), GRIP_ERR_NULL);
+    memset(&e, 0, sizeof e);
+    assert_int_equal(grip_est_step(&e, &s, &o), GRIP_ERR_STATE);
+    assert_int_equal(o.valid, 0u);
+    assert_int_equal(grip_est_reset(&e), GRIP_ERR_STATE);
+    /* bad configurations */
+    grip_est_config_default(&cfg, tire());
+    cfg.mass = 0;
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_ERR_PARAM);
+    assert_int_equal(grip_est_step(&e, &s, &o), GRIP_ERR_STATE);
+    grip_est_config_default(&cfg, tire());
+    cfg.rate_hz = 10u;
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_ERR_PARAM);
+    grip_est_config_default(&cfg, tire());
+    cfg.tire[1].kind = GRIP_EST_TIRE_BRUSH;   /* not wired yet */
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_ERR_PARAM);
+    grip_est_config_default(&cfg, NULL);
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_ERR_PARAM);
+#if !GRIP_ARITH_FIXED
+    grip_est_config_default(&cfg, tire());
+    cfg.lf = NAN;
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_ERR_PARAM);
+#endif
+    make_est(&e);
+    assert_int_equal(grip_est_step(&e, NULL, &o), GRIP_ERR_NULL);
+    assert_int_equal(o.valid, 0u);
+}
+
+/* Steady circle: every output valid; outputs physically sensible. */
+static void test_steady_circle(void **state)
+{
+    grip_est_t e;
+    grip_est_output_t o;
+    grip_input_sample_t s;
+    (void)state;
+    make_est(&e);
+    circle(&s, 20.0, 4.0);
+    run(&e, &s, 300, &o);
+    assert_true(o.valid & GRIP_EST_V_VX);
+    assert_true(o.valid & GRIP_EST_V_BETA);
+    assert_true(o.valid & GRIP_EST_V_YAW_REF);
+    assert_true(o.valid & GRIP_EST_V_FZ);
+    assert_true(o.valid & GRIP_EST_V_WHEEL(0));
+    assert_true(fabs(dq(o.vx) - 20.0) < 0.05);
+    /* outer (right) wheels carry more load in a left turn */
+    assert_true(dl(o.fz[1]) > dl(o.fz[0]));
+    assert_true(dl(o.fz[3]) > dl(o.fz[2]));
+    /* the lateral forces carry the car: sum Fy ~ m ay within 10 % */
+    assert_true(fabs(dl(o.fy_axle[0]) + dl(o.fy_axle[1]) - 1450.0 * 4.0) < 580.0);
+    assert_true(dq(o.fy_margin_front) > 0.0);
+    printf("# circle 20 m/s, 4 m/s^2: beta %.3f deg, r_ref %.4f r %.4f, mu %.3f conf %.2f, steer %d\n",
+           dq(o.beta) * 57.2958, dq(o.yaw_rate_ref), dq(o.yaw_rate), dq(o.mu), dq(o.mu_conf), (int)o.steer_char);
+}
+
+/* Non-finite, saturated, invalid and stale inputs, then recovery. */
+static void test_bad_inputs_and_recovery(void **state)
+{
+    grip_est_t e;
+    grip_est_output_t o, ref;
+    grip_input_sample_t s, bad;
+    int id;
+    (void)state;
+    make_est(&e);
+    circle(&s, 20.0, 3.0);
+    run(&e, &s, 200, &ref);
+    for (id = 0; id < 8; ++id) {
+        bad = s;
+#if GRIP_ARITH_FIXED
+        bad.value[id] = INT32_MAX;          /* saturated / out of range */
+#else
+        bad.value[id] = (id & 1) ? NAN : INFINITY;
+#endif
+        run(&e, &bad, 3, &o);               /* shorter than the hold time */
+        if (id == GRIP_IN_STEER_ANGLE || id == GRIP_IN_YAW_RATE || id == GRIP_IN_AY) {
+            assert_true(o.valid & GRIP_EST_V_BETA);   /* held */
+        }
+        run(&e, &bad, 20, &o);              /* beyond the hold time */
+        if (id == GRIP_IN_STEER_ANGLE) {
+            assert_true(o.flags & GRIP_EST_F_NO_STEER);
+            assert_false(o.valid & GRIP_EST_V_BETA);
+            assert_false(o.valid & GRIP_EST_V_YAW_REF);
+        }
+        if (id == GRIP_IN_YAW_RATE) {
+            assert_true(o.flags & GRIP_EST_F_NO_YAW);
+            assert_false(o.valid & GRIP_EST_V_BETA);
+        }
+        if (id == GRIP_IN_AY) {
+            assert_true(o.flags & GRIP_EST_F_NO_AY);
+            assert_false(o.valid & GRIP_EST_V_BETA);
+            assert_false(o.valid & GRIP_EST_V_FZ);
+        }
+        if (id < 4) {
+            assert_false(o.valid & GRIP_EST_V_WHEEL(id));
+            assert_true(o.valid & GRIP_EST_V_VX);     /* three wheels left */
+        }
+        /* valid flag cleared instead: same handling */
+        bad = s;
+        bad.valid[id] = 0;
+        bad.value[id] = 0;
+        bad.fault[id] = GRIP_SIG_STALE;
+        run(&e, &bad, 20, &o);
+        run(&e, &s, 200, &o);               /* recovery */
+        printf("# input %d lost and back: beta %.5f (undisturbed %.5f) rad, mu %.3f, vx %.3f\n", id,
+               dq(o.beta), dq(ref.beta), dq(o.mu), dq(o.vx));
+        assert_true(o.valid & GRIP_EST_V_BETA);
+        assert_true(o.valid & GRIP_EST_V_WHEEL(0));
+        assert_true(fabs(dq(o.beta) - dq(ref.beta)) < 0.005);
+        assert_true(fabs(dq(o.vx) - 20.0) < 0.1);
+    }
+    /* every input gone for 2 s: nothing valid but finite, then recovery */
+    memset(&bad, 0, sizeof bad);
+    run(&e, &bad, 200, &o);
+    assert_false(o.valid & GRIP_EST_V_VX);
+    assert_false(o.valid & GRIP_EST_V_BETA);
+    assert_true(o.flags & GRIP_EST_F_NO_WHEELS);
+    run(&e, &s, 300, &o);
+    assert_true(o.valid & GRIP_EST_V_VX);
+    assert_true(o.valid & GRIP_EST_V_BETA);
+    assert_true(fabs(dq(o.beta) - dq(ref.beta)) < 0.005);
+}
+
+static void test_standstill_and_reversing(void **state)
+{
+    grip_est_t e;
+    grip_est_output_t o;
+    grip_input_sample_t s;
+    (void)state;
+    make_est(&e);
+    circle(&s, 0.0, 0.0);
+    s.value[GRIP_IN_STEER_ANGLE] = qs(2.0);
+    run(&e, &s, 100, &o);
+    assert_true(o.flags & GRIP_EST_F_STANDSTILL);
+    assert_true(o.valid & GRIP_EST_V_VX);
+    assert_false(o.valid & GRIP_EST_V_BETA);
+    assert_true(fabs(dq(o.vx)) < 1e-3);
+    assert_true(dl(o.fz[0]) > 3000.0);      /* static loads still given */
+    /* an accelerometer bias at standstill must not make the car move */
+    s.value[GRIP_IN_AX] = qs(0.3);
+    run(&e, &s, 500, &o);
+    assert_true(fabs(dq(o.vx)) < 1e-3);
+    /* reversing with a signed vehicle speed */
+    circle(&s, 2.0, 0.0);
+    s.value[GRIP_IN_VEHICLE_SPEED] = qs(-2.0);
+    s.valid[GRIP_IN_VEHICLE_SPEED] = 1;
+    s.fault[GRIP_IN_VEHICLE_SPEED] = GRIP_SIG_OK;
+    run(&e, &s, 200, &o);
+    assert_true(o.flags & GRIP_EST_F_REVERSING);
+    assert_false(o.valid & GRIP_EST_V_BETA);
+    assert_false(o.valid & GRIP_EST_V_YAW_REF);
+    assert_true(dq(o.vx) < -1.5);
+    /* forward again (straight: the synthetic circle's ax = 0 is not
+     * consistent with the side slip the observer builds up while it starts) */
+    circle(&s, 20.0, 0.0);
+    run(&e, &s, 400, &o);
+    assert_false(o.flags & GRIP_EST_F_REVERSING);
+    assert_true(o.valid & GRIP_EST_V_BETA);
+    assert_true(fabs(dq(o.vx) - 20.0) < 0.2);
+}
+
+static void test_wheel_lock_spin_steer_lock(void **state)
+{
+    grip_est_t e;
+    grip_est_output_t o;
+    grip_input_sample_t s, bad;
+    (void)state;
+    make_est(&e);
+    circle(&s, 20.0, 0.0);
+    run(&e, &s, 100, &o);
+    /* braking with the rear left wheel locked: vx follows the fastest wheel */
+    bad = s;
+    bad.value[GRIP_IN_AX] = qs(-4.0);
+    bad.value[GRIP_IN_WHEEL_SPEED_RL] = qs(0.0);
+    run(&e, &bad, 50, &o);
+    assert_true(o.flags & GRIP_EST_F_WHEEL_LOCK);
+    assert_true(dq(o.vx) > 17.0 && dq(o.vx) < 20.5);
+    assert_true(dq(o.kappa[2]) < -0.9);
+    /* driving with a front wheel spinning: vx follows the slowest wheel */
+    bad = s;
+    bad.value[GRIP_IN_AX] = qs(2.0);
+    bad.value[GRIP_IN_WHEEL_SPEED_FL] = qs(35.0);
+    run(&e, &bad, 50, &o);
+    assert_true(o.flags & GRIP_EST_F_WHEEL_SPIN);
+    assert_true(dq(o.kappa[0]) > 0.3);
+    assert_true(dq(o.util[0]) <= 1.5 + 1e-4);
+    /* steering at lock (beyond the road-wheel limit) */
+    bad = s;
+    bad.value[GRIP_IN_STEER_ANGLE] = qs(13.0);
+    run(&e, &bad, 50, &o);
+    assert_true(o.flags & GRIP_EST_F_STEER_LIMIT);
+    assert_true(fabs(dq(o.delta)) <= 0.7 + 1e-4);
+    run(&e, &s, 300, &o);
+    assert_false(o.flags & (GRIP_EST_F_WHEEL_LOCK | GRIP_EST_F_WHEEL_SPIN | GRIP_EST_F_STEER_LIMIT));
+    assert_true(fabs(dq(o.vx) - dq(o.vx)) < 1e-9);
+    assert_true(o.valid & GRIP_EST_V_BETA);
+}
+
+/* Reset keeps the configuration and restarts the observer; the instance
+ * stays within the 2 KiB state budget. */
+static void test_reset_keeps_config(void **state)
+{
+    grip_est_t e;
+    grip_est_output_t o;
+    grip_input_sample_t s;
+    (void)state;
+    make_est(&e);
+    circle(&s, 20.0, 3.0);
+    run(&e, &s, 100, &o);
+    assert_int_equal(grip_est_reset(&e), GRIP_OK);
+    run(&e, &s, 1, &o);
+    assert_true(o.flags & GRIP_EST_F_RESET);
+    run(&e, &s, 100, &o);
+    assert_true(o.valid & GRIP_EST_V_BETA);
+    printf("# sizeof(grip_est_t) = %u bytes, sizeof(grip_est_output_t) = %u bytes\n",
+           (unsigned)sizeof(grip_est_t), (unsigned)sizeof(grip_est_output_t));
+    assert_true(sizeof(grip_est_t) <= 2048u);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_api_errors),
+        cmocka_unit_test(test_steady_circle),
+        cmocka_unit_test(test_bad_inputs_and_recovery),
+        cmocka_unit_test(test_standstill_and_reversing),
+        cmocka_unit_test(test_wheel_lock_spin_steer_lock),
+        cmocka_unit_test(test_reset_keeps_config),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,527 @@
+"""Float64 reference of the onboard estimator (lib/est, include/grip/grip_est.h).
+
+The same algorithm as lib/est/est.c, step for step and in the same order,
+in float64: input hold and validity, longitudinal speed filter, load
+transfer, four Magic Formula evaluations (grip_tools.mf) at the prior
+state, analytic Jacobians, EKF predict of x = [vy, r, mu], scalar Joseph
+updates of yaw rate, ay and (when excited) ax. docs/estimator.md describes
+the method and every constant; the constants below are those of
+lib/est/est_internal.h.
+
+Use:
+    est = Estimator(config(tire_params))        # passenger car, 100 Hz
+    out = est.step(value, valid)                 # value[17], valid[17] per grip_signals.h
+"""
+import math
+
+import numpy as np
+
+from . import mf
+
+# grip_input_id_t
+WS = (0, 1, 2, 3)
+STEER, YAW, AX, AY, VSPEED = 4, 5, 6, 7, 8
+N_IN = 17
+
+G = 9.80665
+V_ON, V_OFF, V_STAND, V_EXC = 3.0, 2.5, 0.3, 5.0
+HOLD_T, NOWHEEL_T = 0.05, 0.5
+DELTA_MAX, WS_MAX, YAW_MAX, ACC_MAX = 0.7, 120.0, 2.5, 15.0
+AX_TH, K_HI, K_LO, K_MID, WHEEL_DEV = 0.3, 5.0, 0.5, 1.5, 0.15
+MU_MIN, MU_MAX, MU_INIT = 0.1, 1.2, 1.0
+LIM_TAU, LIM_A, LIM_REL, LIM_ABS, LIM_T, R_MU = 0.15, 2.0, 0.15, 0.03, 0.2, 16.0
+EXC_U, EXC_A, G_MIN = 0.5, 1.0, 0.05
+S = np.array([0.05, 0.005, 0.02])       # scaled units of vy, r, mu
+S_AY = 0.5
+R_YAW, R_AY, R_AX = 1.44, 0.64, 1.0
+Q_C = np.array([100.0, 3600.0, 6.25])
+P0 = np.array([36.0, 16.0, 225.0])
+P_MIN, P_MAX = 0.01, 400.0
+H_MAX_VY, H_MAX = 5.0, 2.0
+NU_SIGMA, CONF_S0 = 4.0, 0.15
+BIG = 1000000
+
+# validity and flag bits (grip_est.h)
+V_VX, V_BETA, V_YAW, V_YAW_REF, V_FZ = 1, 2, 4, 8, 16
+V_AXLE, V_MU, V_STEER, V_MARGIN = 1 << 9, 1 << 10, 1 << 11, 1 << 12
+F_STANDSTILL, F_REVERSING, F_LOW_SPEED, F_NO_WHEELS = 1, 2, 4, 8
+F_NO_STEER, F_NO_YAW, F_NO_AY, F_NO_AX = 16, 32, 64, 128
+F_SATURATED, F_STEER_LIMIT, F_WHEEL_LOCK, F_WHEEL_SPIN = 256, 512, 1024, 2048
+F_EXCITED, F_TIRE_ERROR, F_RESET = 4096, 8192, 16384
+
+
+def V_WHEEL(i):
+    return 1 << (5 + i)
+
+
+def config(tire_front, tire_rear=None, rate_hz=100, **kw):
+    """The passenger car of grip_est_config_default (the simulator's
+    'passenger' set) with tire parameter dicts (tir.load_params)."""
+    c = dict(mass=1450.0, iz=2450.0, lf=1.10, lr=1.60, track_f=1.55, track_r=1.53, h_cg=0.55,
+             steer_ratio=15.5, wheel_radius=0.30, roll_split_front=0.60, roll_gradient=0.0088,
+             rate_hz=int(rate_hz),
+             dt=1.0 / int(rate_hz),
+             speed_ref_mu=0,
+             tire=(tire_front, tire_rear if tire_rear is not None else tire_front))
+    c.update(kw)
+    return c
+
+
+def _clamp(x, lo, hi):
+    return min(max(x, lo), hi)
+
+
+def _tire(P, kappa, alpha, fz, vx):
+    """Vectorized grip_mf_eval (left-fitted convention, combined slip)."""
+    o = mf.evaluate(P, kappa, alpha, 0.0, fz, None, vx)
+    return np.asarray(o["fx"], float), np.asarray(o["fy"], float), np.asarray(o["mz"], float)
+
+
+class Estimator:
+    def __init__(self, cfg):
+        self.cfg = cfg
+        c = cfg
+        l = c["lf"] + c["lr"]
+        m_g = G * 0.5 * c["mass"]
+        self.fz_static = [c["lr"] / l * m_g, c["lf"] / l * m_g]
+        self.c_alpha, self.c_kappa, self.mu0 = [0.0, 0.0], [0.0, 0.0], [0.0, 0.0]
+        self.alpha_pk = [0.5, 0.5]
+        for a in range(2):
+            P = c["tire"][a]
+            fz = self.fz_static[a]
+            _, fy, _ = _tire(P, np.zeros(2), np.array([0.01, -0.01]), np.full(2, fz), np.full(2, 20.0))
+            self.c_alpha[a] = (fy[1] - fy[0]) / 0.02
+            fx, _, _ = _tire(P, np.array([0.01, -0.01]), np.zeros(2), np.full(2, fz), np.full(2, 20.0))
+            self.c_kappa[a] = (fx[0] - fx[1]) / 0.02
+            al = 0.02 * np.arange(1, 26)
+            _, fy, _ = _tire(P, np.zeros(25), al, np.full(25, fz), np.full(25, 20.0))
+            self.mu0[a] = float(np.max(np.abs(fy / fz)))
+            self.alpha_pk[a] = float(al[int(np.argmax(np.abs(fy / fz)))])
+            if self.c_alpha[a] <= 0 or self.c_kappa[a] <= 0 or self.mu0[a] < 0.05:
+                raise ValueError("tire model gives no cornering/slip stiffness or friction")
+        cf, cr = 2 * self.c_alpha[0], 2 * self.c_alpha[1]
+        self.k_us = 100.0 * c["mass"] * (c["lr"] * cr - c["lf"] * cf) / (l * l * cf * cr)
+        self.q = Q_C / c["rate_hz"]
+        self.ay_fac = 1.0 / (1.0 + G * c["roll_gradient"])
+        rate = c["rate_hz"]
+        self.lim_n = int(math.floor(LIM_T * rate + 0.5))
+        self.hold_steps = max(1, int(math.floor(HOLD_T * rate + 0.5)))
+        self.nowheel_steps = int(math.floor(NOWHEEL_T * rate + 0.5))
+        self.reset()
+
+    def reset(self):
+        self.vx = 0.0
+        self.x = np.array([0.0, 0.0, MU_INIT])
+        self.P = np.diag(P0).astype(float)
+        self.hold = [0.0] * 5
+        self.age = [BIG] * 5
+        self.no_wheel_steps = BIG
+        self.r_lin_f = 0.0
+        self.lim_steps = 0
+        self.active = False
+        self.vx_init = False
+
+    # -- Kalman pieces (scaled units) --
+    def _condition(self):
+        P = self.P
+        for i in range(3):
+            P[i, i] = _clamp(P[i, i], P_MIN, P_MAX)
+        sd = np.sqrt(np.diag(P))
+        for i in range(3):
+            for j in range(i + 1, 3):
+                b = 0.99 * sd[i] * sd[j]
+                P[i, j] = P[j, i] = _clamp(P[i, j], -b, b)
+
+    def _update(self, h, nu, r, mu_ok):
+        P = self.P
+        ph = P @ h
+        s = r + float(h @ ph)
+        k = ph / s
+        ks = ph.copy()
+        if not mu_ok:
+            k[2] = 0.0
+            ks[2] = 0.0
+        lim = NU_SIGMA * math.sqrt(max(s, 0.0))
+        nu = _clamp(nu, -lim, lim)
+        self.x = self.x + k * nu * S
+        Pn = P - np.outer(k, ph) - np.outer(ph, k) + np.outer(k, ks)
+        self.P = 0.5 * (Pn + Pn.T)
+
+    def _take(self, value, valid, idx, slot, lim, st):
+        ok = False
+        if valid[idx]:
+            v = float(value[idx])
+            if math.isfinite(v):
+                if abs(v) < lim:
+                    ok = True
+                    self.hold[slot] = v
+                    self.age[slot] = 0
+                else:
+                    st["flags"] |= F_SATURATED
+        if not ok and self.age[slot] < BIG:
+            self.age[slot] += 1
+        return self.age[slot] <= self.hold_steps
+
+    def step(self, value, valid):
+        c = self.cfg
+        dt = c["dt"]
+        st = {"flags": 0}
+        vbits = 0
+        o = dict(vx=0.0, vy=0.0, beta=0.0, yaw_rate=0.0, yaw_rate_ref=0.0, yaw_error=0.0, delta=0.0,
+                 kappa=np.zeros(4), alpha=np.zeros(4), fz=np.zeros(4), fx=np.zeros(4), fy=np.zeros(4),
+                 mz=np.zeros(4), util=np.zeros(4), fy_axle=np.zeros(2), util_axle=np.zeros(2), mu=0.0,
+                 mu_conf=0.0, fy_margin_front=0.0, steer_char=0)
+        steer_ok = self._take(value, valid, STEER, 0, c["steer_ratio"] * DELTA_MAX * 2.0, st)
+        yaw_ok = self._take(value, valid, YAW, 1, YAW_MAX, st)
+        ax_ok = self._take(value, valid, AX, 2, ACC_MAX, st)
+        ay_ok = self._take(value, valid, AY, 3, ACC_MAX, st)
+        vs_ok = self._take(value, valid, VSPEED, 4, WS_MAX, st) and self.age[4] == 0
+        flags = st["flags"]
+        if not steer_ok:
+            flags |= F_NO_STEER
+        if not yaw_ok:
+            flags |= F_NO_YAW
+        if not ax_ok:
+            flags |= F_NO_AX
+        if not ay_ok:
+            flags |= F_NO_AY
+        delta = self.hold[0] / c["steer_ratio"]
+        if abs(delta) > DELTA_MAX:
+            flags |= F_STEER_LIMIT
+            delta = _clamp(delta, -DELTA_MAX, DELTA_MAX)
+        if not steer_ok:
+            delta = 0.0
+        cd, sd = math.cos(delta), math.sin(delta)
+        yaw = self.hold[1] if yaw_ok else 0.0
+        ax = self.hold[2] if ax_ok else 0.0
+        ay = self.ay_fac * self.hold[3] if ay_ok else 0.0
+        xw = [c["lf"], c["lf"], -c["lr"], -c["lr"]]
+        yw = [0.5 * c["track_f"], -0.5 * c["track_f"], 0.5 * c["track_r"], -0.5 * c["track_r"]]
+
+        # longitudinal speed
+        r_now = self.x[1] if self.active else yaw
+        vy_now = self.x[0] if self.active else 0.0
+        vx_pred = self.vx + (ax + r_now * vy_now) * dt
+        ws, ws_ok = [0.0] * 4, [False] * 4
+        n_ws, vmin, vmax, vsum = 0, 1000.0, -1000.0, 0.0
+        lock = spin = False
+        wheels_ok = True
+        vcs, outl = [0.0] * 4, [False] * 4
+        n_good = 0
+        for i in range(4):
+            v = float(value[i])
+            ws_ok[i] = bool(valid[i]) and math.isfinite(v) and abs(v) < WS_MAX
+            if valid[i] and not ws_ok[i]:
+                flags |= F_SATURATED
+            ws[i] = v if ws_ok[i] else 0.0
+            if ws_ok[i]:
+                vc = ws[i] / cd if i < 2 else ws[i]
+                vc = vc + r_now * yw[i]
+                vcs[i] = vc
+                n_ws += 1
+                if vx_pred > V_ON:
+                    if vc < (1.0 - WHEEL_DEV) * vx_pred - 0.5:
+                        lock = True
+                        outl[i] = True
+                    if vc > (1.0 + WHEEL_DEV) * vx_pred + 0.5:
+                        spin = True
+                        outl[i] = True
+                if not outl[i]:
+                    n_good += 1
+            else:
+                wheels_ok = False
+        for i in range(4):
+            if ws_ok[i] and (not outl[i] or n_good == 0):
+                vmin, vmax, vsum = min(vmin, vcs[i]), max(vmax, vcs[i]), vsum + vcs[i]
+        if n_good > 0:
+            n_ws = n_good
+        if lock:
+            flags |= F_WHEEL_LOCK
+        if spin:
+            flags |= F_WHEEL_SPIN
+        k = 0.0
+        v_ref = 0.0
+        if vs_ok:
+            v_ref, k = self.hold[4], K_HI
+        elif n_ws > 0:
+            if ax < -AX_TH:
+                v_ref = vmax
+            elif ax > AX_TH:
+                v_ref = vmin
+            else:
+                v_ref = vsum / n_ws
+            agree = (vmax - vmin) <= 0.5 + 0.05 * abs(vx_pred)
+            k = ((K_MID if (lock or spin) else K_HI) if agree else K_LO)
+        if vs_ok or n_ws > 0:
+            self.no_wheel_steps = 0
+        else:
+            flags |= F_NO_WHEELS
+            if self.no_wheel_steps < BIG:
+                self.no_wheel_steps += 1
+        if not self.vx_init:
+            if vs_ok or n_ws > 0:
+                self.vx = v_ref
+                self.vx_init = True
+        else:
+            self.vx = vx_pred + min(k * dt, 1.0) * (v_ref - vx_pred)
+        if n_ws > 0 and vmax < V_STAND and vmin > -V_STAND and not vs_ok:
+            self.vx = 0.0
+        self.vx = _clamp(self.vx, -WS_MAX, WS_MAX)
+        vx = self.vx
+        if abs(vx) < V_STAND:
+            flags |= F_STANDSTILL
+        if vx < -V_STAND:
+            flags |= F_REVERSING
+        if self.vx_init and self.no_wheel_steps <= self.nowheel_steps:
+            vbits |= V_VX
+
+        # loads
+        l = c["lf"] + c["lr"]
+        m = c["mass"]
+        dlong = c["h_cg"] / (2 * l) * (ax * m)
+        may_h = c["h_cg"] * (ay * m)
+        dlat_f = c["roll_split_front"] * may_h / c["track_f"]
+        dlat_r = (1 - c["roll_split_front"]) * may_h / c["track_r"]
+        fzs = self.fz_static
+        fz = np.array([fzs[0] - dlong - dlat_f, fzs[0] - dlong + dlat_f,
+                       fzs[1] + dlong - dlat_r, fzs[1] + dlong + dlat_r])
+        fz = np.maximum(fz, 0.0)
+        o["fz"] = fz
+        if ax_ok and ay_ok:
+            vbits |= V_FZ
+        fz_sum_f = fz[0] + fz[1]
+
+        active = self.active
+        if active and (vx < V_OFF or not steer_ok or not (vbits & V_VX)):
+            active = False
+        if not active and vx >= V_ON and steer_ok and yaw_ok and (vbits & V_VX):
+            active = True
+            self.x[0], self.x[1] = 0.0, yaw
+            self.P[0, 0], self.P[1, 1] = P0[0], P0[1]
+            self.P[0, 1] = self.P[1, 0] = self.P[0, 2] = self.P[2, 0] = self.P[1, 2] = self.P[2, 1] = 0.0
+            flags |= F_RESET
+        self.active = active
+        if not active:
+            flags |= F_LOW_SPEED
+            self.x[0], self.x[1] = 0.0, yaw
+            self.r_lin_f = yaw
+            self.lim_steps = 0
+        mu = float(self.x[2])
+        excited = False
+
+        if active:
+            vy, r = float(self.x[0]), float(self.x[1])
+            cdi = np.array([cd, cd, 1.0, 1.0])
+            sdi = np.array([sd, sd, 0.0, 0.0])
+            xa, ya = np.array(xw), np.array(yw)
+            vcx = vx - r * ya
+            vcy = vy + r * xa
+            vxw = cdi * vcx + sdi * vcy
+            vyw = cdi * vcy - sdi * vcx
+            den = np.maximum(np.abs(vxw), V_OFF)
+            t = vyw / den
+            alpha = np.arctan(t)
+            kappa = np.array([_clamp((ws[i] - vxw[i]) / den[i], -1.0, 1.5) if ws_ok[i] else 0.0
+                              for i in range(4)])
+            lever = xa * cdi + ya * sdi
+            side = np.array([1.0, -1.0, 1.0, -1.0])
+            tk = np.clip(kappa / mu, -1.5, 1.5)
+            apk = np.array([self.alpha_pk[0], self.alpha_pk[0], self.alpha_pk[1], self.alpha_pk[1]])
+            ta = np.clip(alpha / mu, -apk, apk) * side
+            fx = np.zeros(4)
+            fy = np.zeros(4)
+            mz = np.zeros(4)
+            for a in range(2):
+                sl = slice(2 * a, 2 * a + 2)
+                fxa, fya, mza = _tire(c["tire"][a], tk[sl], ta[sl], fz[sl], vxw[sl])
+                fx[sl], fy[sl], mz[sl] = fxa, fya * side[sl], mza * side[sl]
+            fx, fy, mz = mu * fx, mu * fy, mu * mz
+            o.update(kappa=kappa, alpha=alpha, fx=fx, fy=fy, mz=mz)
+            for i in range(4):
+                if ws_ok[i]:
+                    vbits |= V_WHEEL(i)
+            axle = np.array([0, 0, 1, 1])
+            fzst = np.array([fzs[a] for a in axle])
+            mu0w = np.array([self.mu0[a] for a in axle])
+            caw = np.array([self.c_alpha[a] for a in axle])
+            ckw = np.array([self.c_kappa[a] for a in axle])
+            big = fz > 50.0
+            fxn = np.where(big, fx / np.where(big, fz, 1.0), 0.0)
+            fyn = np.where(big, fy / np.where(big, fz, 1.0), 0.0)
+            fzr = np.where(big, fz / fzst, 0.0)
+            u = np.sqrt(fxn ** 2 + fyn ** 2) / (mu * mu0w)
+            o["util"] = np.minimum(u, 1.5)
+            g = np.maximum(G_MIN, np.sqrt(1.0 - np.minimum(u, 1.0)))
+            ca = fzr * caw
+            # Excitation: the utilization the slips would cause on the tire's
+            # own friction (mu = 1), never measured against the estimate
+            # itself, which would let a falling mu excite its own adaptation.
+            cap = np.maximum(mu0w * fz, 50.0)
+            ulin_y = np.abs(alpha) * (fzr * caw) / cap
+            ulin_x = np.abs(kappa) * (fzr * ckw) / cap
+            umax = float(np.max(np.maximum(ulin_y, ulin_x)))
+            umax_x = float(np.max(ulin_x))
+            c2 = 1.0 / (1.0 + np.clip(t, -100.0, 100.0) ** 2)
+            dady = c2 * cdi / den
+            dadr = c2 * lever / den
+            dfda = -(g * ca)
+            dfdmu = (fy - alpha * dfda) / mu
+            dfy_dvy, dfy_dr = dady * dfda, dadr * dfda
+            jay = [float(np.sum(cdi * dfy_dvy)), float(np.sum(cdi * dfy_dr)), float(np.sum(cdi * dfdmu))]
+            jr = [float(np.sum(lever * dfy_dvy)), float(np.sum(lever * dfy_dr)), float(np.sum(lever * dfdmu))]
+            dfxdk = g * (fzr * ckw)
+            dfxdmu = (fx - kappa * dfxdk) / mu
+            jax_mu = float(np.sum(cdi * dfxdmu - sdi * dfdmu))
+            fbx = cdi * fx - sdi * fy
+            fby = sdi * fx + cdi * fy
+            sfx, sfy = float(np.sum(fbx)), float(np.sum(fby))
+            smz = float(np.sum(xa * fby - ya * fbx + mz))
+            o["fy_axle"] = np.array([fy[0] + fy[1], fy[2] + fy[3]])
+            for a in range(2):
+                fzx = fz[2 * a] + fz[2 * a + 1]
+                fxa = fx[2 * a] + fx[2 * a + 1]
+                if fzx > 100.0:
+                    o["util_axle"][a] = min(math.hypot(fxa / fzx, o["fy_axle"][a] / fzx) / (mu * self.mu0[a]), 1.5)
+            ay_m, ax_m, racc = sfy / m, sfx / m, smz / c["iz"]
+            excited = (vx >= V_EXC and umax >= EXC_U and ay_ok and ax_ok and abs(ax) + abs(ay) >= EXC_A)
+            av2 = 0.01 * self.k_us * vx * vx
+            den_l = max(l * (1 + av2), 0.1 * l)
+            r_lin = vx * delta / den_l
+            a_tot = math.sqrt(ax * ax + ay * ay)
+            self.r_lin_f += min(dt / LIM_TAU, 1.0) * (r_lin - self.r_lin_f)
+            if (vx >= V_EXC and yaw_ok and ax_ok and ay_ok and a_tot >= LIM_A
+                    and abs(yaw - self.r_lin_f) >= LIM_REL * abs(self.r_lin_f) + LIM_ABS):
+                self.lim_steps = min(self.lim_steps + 1, BIG)
+            else:
+                self.lim_steps = 0
+            at_limit = self.lim_steps >= self.lim_n
+            if at_limit:
+                excited = True
+
+            dvy = ((ay if ay_ok else ay_m) - r * vx) * dt
+            dr = racc * dt
+            a_vv, a_vr, a_vm = jay[0] / m, jay[1] / m, jay[2] / m
+            a_rv, a_rr, a_rm = jr[0] / c["iz"], jr[1] / c["iz"], jr[2] / c["iz"]
+            row0 = ([1.0, -vx * dt * (S[1] / S[0]), 0.0] if ay_ok else
+                    [1 + a_vv * dt, (a_vr - vx) * dt * (S[1] / S[0]), a_vm * dt * (S[2] / S[0])])
+            F = np.array([row0,
+                          [a_rv * dt * (S[0] / S[1]), 1 + a_rr * dt, a_rm * dt * (S[2] / S[1])],
+                          [0.0, 0.0, 1.0]])
+            self.x[0], self.x[1] = vy + dvy, r + dr
+            Pn = F @ self.P @ F.T
+            self.P = 0.5 * (Pn + Pn.T) + np.diag(self.q)
+            self._condition()
+            if yaw_ok:
+                self._update(np.array([0.0, 1.0, 0.0]), (yaw - self.x[1]) / S[1], R_YAW, False)
+                self._condition()
+            if ay_ok:
+                ay_pred = ay_m + a_vv * (self.x[0] - vy) + a_vr * (self.x[1] - r) + a_vm * (self.x[2] - mu)
+                h = np.array([_clamp(a_vv * S[0] / S_AY, -H_MAX_VY, H_MAX_VY),
+                              _clamp(a_vr * S[1] / S_AY, -H_MAX, H_MAX),
+                              _clamp(a_vm * S[2] / S_AY, -H_MAX, H_MAX)])
+                self._update(h, (ay - ay_pred) / S_AY, R_AY, excited)
+                self._condition()
+            # ... and only when the slips push the way the car accelerates
+            # (a speed reference a few per cent off the wheel speeds makes
+            # slip of the wrong sign, which would drive mu down: RAV4 log)
+            if (excited and self.cfg["speed_ref_mu"] and vs_ok and wheels_ok and umax_x >= EXC_U
+                    and abs(ax) >= EXC_A and float(np.sum(kappa)) * ax > 0.0):
+                ax_pred = ax_m + jax_mu / m * (self.x[2] - mu)
+                h = np.array([0.0, 0.0, _clamp(jax_mu / m * S[2] / S_AY, -H_MAX, H_MAX)])
+                self._update(h, (ax - ax_pred) / S_AY, R_AX, True)
+                self._condition()
+            # the friction in use is a lower bound of the friction available
+            mu_lb = min(a_tot / (G * max(self.mu0)), MU_MAX) if (ax_ok and ay_ok) else MU_MIN
+            self.x[2] = _clamp(self.x[2], max(MU_MIN, mu_lb), MU_MAX)
+            lim = 0.5 * abs(vx) + 1.0
+            self.x[0] = _clamp(self.x[0], -lim, lim)
+            self.x[1] = _clamp(self.x[1], -YAW_MAX, YAW_MAX)
+            if ay_ok and yaw_ok:
+                vbits |= V_BETA | V_AXLE
+            if not (vbits & V_BETA):
+                vbits &= ~(V_WHEEL(0) | V_WHEEL(1) | V_WHEEL(2) | V_WHEEL(3))
+            if excited:
+                flags |= F_EXCITED
+        mu = float(self.x[2])
+
+        o["vx"] = vx
+        o["vy"] = float(self.x[0]) if active else 0.0
+        o["beta"] = math.atan(self.x[0] / max(vx, V_OFF)) if active else 0.0
+        o["yaw_rate"] = float(self.x[1]) if active else yaw
+        if yaw_ok:
+            vbits |= V_YAW
+        o["delta"] = delta
+        o["mu"] = mu
+        sig = math.sqrt(self.P[2, 2]) * S[2]
+        o["mu_conf"] = _clamp((CONF_S0 - sig) / 0.1, 0.0, 1.0)
+        if o["mu_conf"] >= 0.5:
+            vbits |= V_MU
+        if (vbits & V_VX) and steer_ok and vx >= V_ON:
+            av2 = 0.01 * self.k_us * vx * vx
+            den = max(l * (1 + av2), 0.1 * l)
+            rr = vx * delta / den
+            lim = mu * min(self.mu0) * G / vx
+            o["yaw_rate_ref"] = _clamp(rr, -lim, lim)
+            vbits |= V_YAW_REF
+            if yaw_ok:
+                o["yaw_error"] = yaw - o["yaw_rate_ref"]
+                rref = o["yaw_rate_ref"]
+                sgn = math.copysign(1.0, rref) if abs(rref) > 0.01 else (0.0 if yaw == 0 else math.copysign(1.0, yaw))
+                d = sgn * (rref - yaw)
+                thr = 0.03 + 0.1 * abs(rref)
+                o["steer_char"] = 1 if d > thr else (-1 if -d > thr else 0)
+                vbits |= V_STEER
+        if active:
+            o["fy_margin_front"] = mu * self.mu0[0] * fz_sum_f - abs(o["fy_axle"][0])
+            if vbits & V_BETA:
+                vbits |= V_MARGIN
+        o["valid"] = vbits
+        o["flags"] = flags
+        o["excited"] = excited
+        return o
+
+
+# ---------------------------------------------------------------------------
+# Inputs from simulator files
+
+KMH = 1.0 / 3.6
+DEG = math.pi / 180.0
+
+
+def inputs_from_sensors(cols, bar_to_pa=1e5):
+    """grip input arrays (value (N, 17), valid (N, 17), time (N,)) from a
+    simulator sensors.csv (vehsim.model.read_csv): a channel's NaN rows
+    (not sampled in that row) hold its previous value, marked valid."""
+    t = np.asarray(cols["time"], float)
+    n = len(t)
+    value = np.zeros((n, N_IN))
+    valid = np.zeros((n, N_IN), dtype=np.uint8)
+    src = [("WheelSpeed_FL", 0, KMH), ("WheelSpeed_FR", 1, KMH), ("WheelSpeed_RL", 2, KMH),
+           ("WheelSpeed_RR", 3, KMH), ("SteeringAngle", STEER, DEG), ("YawRate", YAW, DEG),
+           ("LongAcc", AX, 1.0), ("LatAcc", AY, 1.0)]
+    for name, idx, f in src:
+        if name not in cols:
+            continue
+        x = np.asarray(cols[name], float) * f
+        last, ok = 0.0, False
+        for k in range(n):
+            if np.isfinite(x[k]):
+                last, ok = x[k], True
+            value[k, idx] = last if ok else 0.0
+            valid[k, idx] = 1 if ok else 0
+    if "BrakePressure" in cols:
+        x = np.asarray(cols["BrakePressure"], float) * bar_to_pa
+        last, ok = 0.0, False
+        for k in range(n):
+            if np.isfinite(x[k]):
+                last, ok = x[k], True
+            for idx in (9, 10, 11, 12):
+                value[k, idx] = last if ok else 0.0
+                valid[k, idx] = 1 if ok else 0
+    return t, value, valid
+
+
+def run(cfg, value, valid):
+    """Runs a whole sequence; returns the list of output dicts."""
+    est = Estimator(cfg)
+    return [est.step(value[k], valid[k]) for k in range(len(value))]
