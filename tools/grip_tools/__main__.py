@@ -15,6 +15,9 @@ COMMANDS = {
     "comma2k19": ("grip_tools.comma2k19", "comma2k19 raw CAN arrays -> candump log"),
     "tir2c": ("grip_tools.tir", "emit a grip_mf_params C definition from a .tir file"),
     "fit-mf": ("grip_tools.fit_mf", "identify Magic Formula coefficients from measured sweeps"),
+    "analyze": ("grip_tools.residual.cli", "measured data: residual analysis, effect attribution, model update"),
+    "golden-est": ("grip_tools.golden_est", "write golden vectors of the onboard estimator (est_ref over input sequences)"),
+    "est-eval": ("grip_tools.est_eval", "estimator accuracy on simulator manoeuvres: beta, mu, axle Fy (table + PNG)"),
 }
 
 

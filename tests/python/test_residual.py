@@ -1,0 +1,127 @@
+"""Residual analysis / effect attribution (tools/grip_tools/residual) on
+undeclared-effect data sets (tools/grip_tools/datasets.py): the tool is NOT
+told which effect is present; it must name it, halve the held-out error,
+and invent nothing on a data set without a hidden effect."""
+import os
+import tempfile
+import unittest
+
+import numpy as np
+
+from grip_tools import datasets, relax_ref
+from grip_tools.residual import attribution, io, report
+from grip_tools.residual.effects import TireModel
+
+EXPECT = {"thermal": "thermal", "relaxation": "relaxation", "slip_velocity": "slip_velocity_friction",
+          "load": "load_sensitivity", "bank": "road_bank"}
+
+
+class UndeclaredEffects(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.model = TireModel(datasets.base_params(), "mf61")
+        cls.results = {}
+        for kind in datasets.KINDS:
+            ds, truth = datasets.make(kind, seed=3)
+            cls.results[kind] = (ds, truth, attribution.analyse(cls.model, ds))
+
+    def _check(self, kind):
+        ds, truth, res = self.results[kind]
+        c = res.chosen
+        self.assertIsNotNone(c, f"{kind}: {attribution.verdict(res)}")
+        print(f"\n  {kind}: named {c.name}, score {c.score:.3f}, "
+              + ", ".join(f"{o} held-out RMS {res.base_ho_rms[o]:.1f} -> {c.ho_rms[o]:.1f} N" for o in ds.outputs))
+        self.assertEqual(c.name, EXPECT[kind])
+        self.assertLessEqual(c.score, 0.5)
+        # the most affected output's held-out RMS at least halves too
+        o = max(ds.outputs, key=lambda q: res.base_ho_rms[q])
+        self.assertLessEqual(c.ho_rms[o], 0.5 * res.base_ho_rms[o])
+        return c
+
+    def test_thermal(self):
+        c = self._check("thermal")
+        self.assertLess(c.params["a_mu"], 0.0)          # hot tyre: less grip
+
+    def test_relaxation(self):
+        c = self._check("relaxation")
+        self.assertTrue(0.2 < c.params["sigma_m"] < 1.0, c.params)   # truth 0.6 m (alpha), 0.3 m (kappa)
+
+    def test_slip_velocity(self):
+        c = self._check("slip_velocity")
+        self.assertGreater(c.params["c_vs_s_per_m"], 0.0)
+
+    def test_load(self):
+        c = self._check("load")
+        self.assertLess(c.params["c_dfz"], 0.0)
+
+    def test_bank(self):
+        c = self._check("bank")
+        self.assertAlmostEqual(c.params["sin_bank"], np.sin(np.radians(3.0)), delta=0.01)
+
+    def test_none_invents_nothing(self):
+        ds, _, res = self.results["none"]
+        print(f"\n  none: best {res.ranked[0].name} score {res.ranked[0].score:.4f}; {attribution.verdict(res)}")
+        self.assertIsNone(res.chosen)
+        self.assertIn("no effect", attribution.verdict(res))
+
+    def test_report_and_update(self):
+        ds, _, res = self.results["load"]
+        with tempfile.TemporaryDirectory() as d:
+            path, upd = report.write(res, ds, self.model, d)
+            with open(path) as f:
+                text = f.read()
+            self.assertIn("load_sensitivity", text)
+            self.assertTrue(os.path.exists(os.path.join(d, "residual_fy.png")))
+            self.assertIn("pdy2", upd["mf_update"])
+            self.assertLess(upd["mf_update"]["pdy2"], self.model.params["pdy2"])
+
+
+class Schema(unittest.TestCase):
+    def test_roundtrip_and_units(self):
+        ds, _ = datasets.make("none", seed=5)
+        with tempfile.TemporaryDirectory() as d:
+            p = os.path.join(d, "x.csv")
+            io.write_csv(p, ds)
+            with open(p) as f:
+                first = f.readline()
+            self.assertIn("fy[N]", first)
+            self.assertIn("alpha[rad]", first)
+            back = io.read_csv(p)
+            self.assertEqual(back.outputs, ["fx", "fy"])
+            np.testing.assert_allclose(back.ch["fy"], ds.ch["fy"], rtol=1e-8, atol=1e-6)
+            with open(p) as f:
+                lines = f.readlines()
+            lines[0] = lines[0].replace("alpha[rad]", "alpha[deg]")
+            with open(p, "w") as f:
+                f.writelines(lines)
+            with self.assertRaises(ValueError):
+                io.read_csv(p)
+
+    def test_block_split_is_contiguous(self):
+        tr, te = attribution.block_masks(1000, 8)
+        self.assertEqual(int(np.sum(np.diff(tr.astype(int)) != 0)), 7)
+        self.assertEqual(tr.sum() + te.sum(), 1000)
+
+
+class RelaxReference(unittest.TestCase):
+    def test_step_response_closed_form(self):
+        prm = relax_ref.RelaxParams(sigma_alpha=0.5, sigma_kappa=0.2, v_min=0.0)
+        n, dt, v = 100, 0.003, 12.0
+        _, at = relax_ref.simulate(prm, 0.0, 0.0, 0.0, 0.1, v, np.full(n, dt))
+        t = dt * np.arange(1, n + 1)
+        np.testing.assert_allclose(at, 0.1 * (1 - np.exp(-v * t / 0.5)), rtol=1e-12, atol=1e-15)
+
+    def test_lag_series_matches_simulate(self):
+        rng = np.random.default_rng(0)
+        t = np.cumsum(rng.uniform(0.001, 0.02, 300))
+        x = rng.uniform(-0.2, 0.2, 300)
+        v = rng.uniform(1, 30, 300)
+        y = relax_ref.lag_series(x, v, t, 0.4, v_min=0.5)
+        prm = relax_ref.RelaxParams(sigma_alpha=0.4, v_min=0.5)
+        held = np.concatenate([[x[0]], x[:-1]])
+        _, at = relax_ref.simulate(prm, 0.0, x[0], 0.0, held, v, np.diff(t, prepend=t[0]))
+        np.testing.assert_allclose(y, at, rtol=1e-12, atol=1e-14)
+
+
+if __name__ == "__main__":
+    unittest.main()

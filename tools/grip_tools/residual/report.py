@@ -1,0 +1,85 @@
+"""Report: Markdown + PNG figures, and the updated parameter set (JSON)."""
+import json
+import os
+
+import numpy as np
+
+from . import attribution
+
+
+def updated_params(res, model):
+    """JSON-able update: the chosen effect, its parameters, and where they go."""
+    if res.chosen is None:
+        return {"effect": None, "base": model.name}
+    c = res.chosen
+    upd = {"effect": c.name, "params": c.params, "onboard": c.onboard, "base": model.name}
+    if c.name == "load_sensitivity":
+        P = model.params
+        upd["mf_update"] = {"pdy2": P["pdy2"] + c.params["c_dfz"] * P["pdy1"],
+                            "pdx2": P["pdx2"] + c.params["c_dfz"] * P["pdx1"]}
+    if c.name == "relaxation":
+        upd["grip_relax_params"] = {"sigma_alpha": c.params["sigma_m"], "sigma_kappa": c.params["sigma_m"]}
+    if c.name == "thermal":
+        upd["grip_mf_thermal"] = {"kappa": 1.0 / c.params["tau_s"]}
+    return upd
+
+
+def figures(res, ds, outdir, prefix):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    files = []
+    from . import candidates
+    cands = candidates.derived(ds, res.base_pred)
+    for o in ds.outputs:
+        r0 = ds.ch[o] - res.base_pred[o]
+        top = [n for n, _, _ in res.dependence[o][:3]]
+        fig, axs = plt.subplots(1, len(top) + 1, figsize=(4 * (len(top) + 1), 3.4))
+        axs[0].plot(ds.t, r0, lw=0.5, label="before")
+        if res.chosen_pred is not None:
+            axs[0].plot(ds.t, ds.ch[o] - res.chosen_pred[o], lw=0.5, label=f"after ({res.chosen.name})")
+        axs[0].set_xlabel("t [s]")
+        axs[0].set_ylabel(f"residual {o} [{ds.units.get(o, '')}]")
+        axs[0].legend(fontsize=7)
+        for ax, n in zip(axs[1:], top):
+            ax.plot(cands[n], r0, ",", alpha=0.5)
+            ax.set_xlabel(n)
+        fig.tight_layout()
+        path = os.path.join(outdir, f"{prefix}residual_{o}.png")
+        fig.savefig(path, dpi=90)
+        plt.close(fig)
+        files.append(path)
+    return files
+
+
+def write(res, ds, model, outdir, title="Residual analysis", prefix=""):
+    os.makedirs(outdir, exist_ok=True)
+    figs = figures(res, ds, outdir, prefix)
+    upd = updated_params(res, model)
+    with open(os.path.join(outdir, f"{prefix}update.json"), "w") as f:
+        json.dump(upd, f, indent=2, default=float)
+    L = [f"# {title}", "", f"Data: {ds.meta.get('source', '?')}, {len(ds)} samples, "
+         f"{ds.t[-1] - ds.t[0]:.1f} s; outputs {', '.join(ds.outputs)}; model {model.name}.", "",
+         f"**Verdict:** {attribution.verdict(res)}", "",
+         "Held-out = odd contiguous time blocks (of 8); fit on the even ones.", "",
+         "| output | held-out RMS before | after | max before | after |", "|---|---|---|---|---|"]
+    for o in ds.outputs:
+        a = res.chosen.ho_rms[o] if res.chosen else res.base_ho_rms[o]
+        m = res.chosen.ho_max[o] if res.chosen else res.base_ho_max[o]
+        L.append(f"| {o} | {res.base_ho_rms[o]:.4g} | {a:.4g} | {res.base_ho_max[o]:.4g} | {m:.4g} |")
+    L += ["", "## Ranking (penalised held-out score, 1.0 = baseline)", "",
+          "| effect | k | score | penalised | accepted | parameters | onboard |", "|---|---|---|---|---|---|---|"]
+    for c in res.ranked:
+        L.append(f"| {c.name} | {c.k} | {c.score:.3f} | {c.penalised:.3f} | {'yes' if c.accepted else 'no'} | "
+                 + ", ".join(f"{k}={v:.4g}" for k, v in c.params.items()) + f" | {c.onboard} |")
+    for n, why in res.skipped:
+        L.append(f"| {n} | - | - | - | skipped | {why} | |")
+    L += ["", "## Evidence: residual dependence (baseline residual)", ""]
+    for o in ds.outputs:
+        L.append(f"- {o}: lag-1 autocorrelation {res.structure[o]:.2f}; strongest: "
+                 + ", ".join(f"{n} (r={r:+.2f}, rank r={rr:+.2f})" for n, r, rr in res.dependence[o][:6]))
+    L += [""] + [f"![{os.path.basename(p)}]({os.path.basename(p)})" for p in figs]
+    path = os.path.join(outdir, f"{prefix}report.md")
+    with open(path, "w") as f:
+        f.write("\n".join(L) + "\n")
+    return path, upd
