@@ -1,7 +1,11 @@
-"""The README's main job until the estimator replays the RAV4 log: evaluate
-the Magic Formula of a real tire with grip's C library (grip-tire, float and
-fixed builds) and with the float64 reference, print the error table and plot
-the curves.
+"""The README's main job, Python side (tools/scripts/main_job.sh runs the C
+programs first):
+
+1. --rav4 FLOAT.csv FIXED.csv: the estimator's outputs on the real RAV4
+   drive (grip-replay -e): validity, mu, and the yaw-rate reference against
+   the measured yaw rate, float and fixed; a PNG of the drive.
+2. the Magic Formula of a real tire with grip's C library (grip-tire, float
+   and fixed builds) against the float64 reference: error table and curves.
 
 Tire: Goodyear G275 MSA 335/65R22.5 at 60 psi, an MF-Tyre 5.x (PAC2002) file
 fitted to Calspan flat-belt measurements (tests/data/chrono-tir).
@@ -52,12 +56,75 @@ def run_grip_tire(binary, tire, rows):
     return {k: np.array([float(o[k]) for o in out]) for k in ("fx", "fy", "mz")}
 
 
+def read_replay(path):
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    if not rows or "est_status" not in rows[0]:
+        raise SystemExit(f"main job: {path} has no estimator columns (grip-replay -e)")
+
+    def col(k):
+        return np.array([float(r[k]) if r[k] != "" else np.nan for r in rows])
+    out = {k: col(k) for k in ("t_s", "yaw_rate", "yaw_rate_ref", "beta", "mu", "mu_conf", "vx", "ay",
+                               "steer_angle", "fy_front", "fy_rear", "est_status")}
+    out["valid"] = np.array([int(r["est_valid"]) for r in rows])
+    return out
+
+
+def rav4_report(paths, outdir):
+    """Estimator outputs on the RAV4 drive, float and fixed."""
+    runs = {a: read_replay(p) for a, p in zip(("float", "fixed"), paths)}
+    print("RAV4 drive through the estimator (grip-replay -e, 100 Hz):")
+    print(f"{'build':6s} {'steps':>6s} {'errors':>6s} {'beta ok':>8s} {'mu ok':>6s} {'max|beta|':>10s} "
+          f"{'yaw: rms(meas-ref)':>19s} {'corr':>5s} {'mean meas/ref [rad/s]':>22s}")
+    for a, r in runs.items():
+        yr, ref = r["yaw_rate"], r["yaw_rate_ref"]
+        ok = np.isfinite(yr) & np.isfinite(ref)
+        print(f"{a:6s} {len(yr):6d} {int(np.sum(r['est_status'] < 0)):6d} "
+              f"{int(np.sum((r['valid'] & 2) != 0)):8d} {int(np.sum((r['valid'] & 1024) != 0)):6d} "
+              f"{np.degrees(np.nanmax(np.abs(r['beta']))):8.2f} deg "
+              f"{np.sqrt(np.mean((yr[ok] - ref[ok]) ** 2)):15.4f} {np.corrcoef(yr[ok], ref[ok])[0, 1]:8.2f} "
+              f"{np.mean(yr[ok]):10.4f} / {np.mean(ref[ok]):.4f}")
+    f, x = runs["float"], runs["fixed"]
+    print(f"fixed vs float: max |beta| diff {np.nanmax(np.abs(f['beta'] - x['beta'])):.2e} rad, "
+          f"max |yaw ref| diff {np.nanmax(np.abs(f['yaw_rate_ref'] - x['yaw_rate_ref'])):.2e} rad/s, "
+          f"max |mu| diff {np.nanmax(np.abs(f['mu'] - x['mu'])):.2e}")
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    t = f["t_s"] - f["t_s"][0]
+    fig, ax = plt.subplots(4, 1, figsize=(11, 10), sharex=True)
+    ax[0].plot(t, f["vx"], label="vx estimate")
+    ax[0].set_ylabel("speed [m/s]")
+    ax[1].plot(t, f["yaw_rate"], lw=0.8, label="measured (CAN)")
+    ax[1].plot(t, f["yaw_rate_ref"], lw=0.8, label="bicycle reference (float)")
+    ax[1].plot(t, x["yaw_rate_ref"], "--", lw=0.8, label="bicycle reference (fixed)")
+    ax[1].set_ylabel("yaw rate [rad/s]")
+    ax[2].plot(t, np.degrees(f["beta"]), label="float")
+    ax[2].plot(t, np.degrees(x["beta"]), "--", label="fixed")
+    ax[2].set_ylabel("sideslip [deg]")
+    ax[3].plot(t, f["mu"], label="mu estimate")
+    ax[3].plot(t, f["mu_conf"], label="mu confidence")
+    ax[3].set_ylabel("mu [-]")
+    ax[3].set_xlabel("time [s]")
+    for a_ in ax:
+        a_.grid(True, alpha=0.3)
+        a_.legend(fontsize=8, loc="upper right")
+    fig.suptitle("grip estimator on the comma2k19 Toyota RAV4 drive (60 s of real CAN)")
+    fig.tight_layout()
+    fig.savefig(os.path.join(outdir, "rav4_estimator.png"), dpi=100)
+    print(f"wrote {outdir}/rav4_estimator.png")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="grip_tools main-job", description=__doc__)
     ap.add_argument("--outdir", default=os.path.join(ROOT, "build", "main-job"))
     ap.add_argument("--tir", default=TIRE)
+    ap.add_argument("--rav4", nargs=2, metavar=("FLOAT_CSV", "FIXED_CSV"),
+                    help="grip-replay -e outputs of the RAV4 log to report on first")
     args = ap.parse_args(argv)
     os.makedirs(args.outdir, exist_ok=True)
+    if args.rav4:
+        rav4_report(args.rav4, args.outdir)
     params = tir.load_params(args.tir)
     rows = sweeps(params)
     inputs = np.array([r[2:] for r in rows], dtype=float)
