@@ -55,7 +55,7 @@ step vm sh tests/vm/run_vcan_test.sh
 step python env GRIP_TIRE_BIN=build/float-gcc/bin/grip-tire .venv/bin/python tests/python/run.py
 # The command-line program again, on the fixed build.
 step python_grip_tire_fixed env GRIP_TIRE_BIN=build/fixed-gcc/bin/grip-tire \
-    .venv/bin/python tests/python/run.py test_grip_tire.py
+    .venv/bin/python tests/python/run.py 'test_grip_tire*.py'
 
 echo "total time $(( $(date +%s) - start )) s"
 echo "$passed passed, $failed failed"

@@ -23,6 +23,7 @@
 
 #include "grip/grip_mf.h"
 #include "grip/grip_types.h"
+#include "brush_params.h"
 #include "csv.h"
 #include "tir_reader.h"
 
@@ -49,6 +50,7 @@ static const int OUT_QL[N_OUT] = { 1, 1, 1 };
 typedef struct {
     const char *model;
     const char *tir;
+    const char *params;
     int pure;
     grip_tir_side side;
     int sae;
@@ -61,8 +63,11 @@ typedef struct {
 /* Everything a model keeps between rows. */
 typedef struct {
     int pure;
+    int sae;            /* brush family: convert SAE <-> ISO-W here */
+    int kappa_braking;  /* brush family: kappa given positive in braking */
     union {
         grip_mf_params mf;
+        grip_brush_tool brush;
     } u;
 } model_ctx;
 
@@ -142,9 +147,55 @@ static void mf_dump(const model_ctx *m, FILE *f)
     }
 }
 
-/* Further models (neofiala, fiala, brush, sakai) add one line each. */
+/* ---- brush family (neofiala, fiala, brush, sakai) -------------------- */
+
+static int brush_setup(const cli_options *o, model_ctx *m, char *err, size_t errlen)
+{
+    if (o->params == NULL) {
+        snprintf(err, errlen, "model '%s' needs a parameter file: --params FILE (docs/brush-models.md)",
+                 o->model);
+        return -1;
+    }
+    m->pure = o->pure;
+    m->sae = o->sae;
+    m->kappa_braking = o->kappa_braking;
+    /* the models are mirror-symmetric: --side changes nothing */
+    return grip_brush_params_read(o->params, o->model, &m->u.brush, err, errlen);
+}
+
+static grip_real_t neg(grip_real_t v)
+{
+    return (grip_real_t)(-v);
+}
+
+static grip_status_t brush_eval(const model_ctx *m, const grip_real_t in[N_IN], grip_real_t out[N_OUT])
+{
+    /* SAE J670 tyre axes differ from ISO-W in the signs of alpha, Fz, Fy
+     * and Mz (docs/magic-formula.md); kappa-braking negates kappa. */
+    grip_real_t kappa = m->kappa_braking ? neg(in[IN_KAPPA]) : in[IN_KAPPA];
+    grip_real_t alpha = m->sae ? neg(in[IN_ALPHA]) : in[IN_ALPHA];
+    grip_real_t fz = m->sae ? neg(in[IN_FZ]) : in[IN_FZ];
+    grip_status_t st = grip_brush_tool_eval(&m->u.brush, kappa, alpha, in[IN_GAMMA], fz, in[IN_VX],
+                                            &out[OUT_FX], &out[OUT_FY], &out[OUT_MZ]);
+    if (m->sae) {
+        out[OUT_FY] = neg(out[OUT_FY]);
+        out[OUT_MZ] = neg(out[OUT_MZ]);
+    }
+    return st;
+}
+
+static void brush_dump(const model_ctx *m, FILE *f)
+{
+    grip_brush_params_dump(&m->u.brush, f);
+}
+
 static const tire_model MODELS[] = {
     { "mf", "Magic Formula 5.2 / 6.1 / 6.2 from a .tir file (--tir)", mf_setup, mf_eval, mf_dump },
+    { "neofiala", "reduced Neo-FIALA brush model, closed form (--params)", brush_setup, brush_eval, brush_dump },
+    { "fiala", "classic FIALA lateral force and moment (--params)", brush_setup, brush_eval, brush_dump },
+    { "brush", "brush model, adhesive/sliding friction, n-th power pressure (--params)", brush_setup,
+      brush_eval, brush_dump },
+    { "sakai", "Sakai's combined-slip brush model (--params)", brush_setup, brush_eval, brush_dump },
 };
 #define N_MODELS (sizeof MODELS / sizeof MODELS[0])
 
@@ -168,6 +219,8 @@ static void usage(FILE *f)
     }
     fprintf(f,
             "  --tir FILE        property file of the mf model\n"
+            "  --params FILE     parameter file of the brush-family models (key = value, SI;\n"
+            "                    docs/brush-models.md)\n"
             "  --pure            pure-slip forces only (no combined-slip weighting)\n"
             "  --side left|right where the tyre is mounted (default left); a file\n"
             "                    fitted for the other side (TYRESIDE) is mirrored\n"
@@ -201,6 +254,8 @@ static int parse_args(int argc, char **argv, cli_options *o)
             o->model = argv[++i];
         } else if (strcmp(a, "--tir") == 0 && i + 1 < argc) {
             o->tir = argv[++i];
+        } else if (strcmp(a, "--params") == 0 && i + 1 < argc) {
+            o->params = argv[++i];
         } else if (strcmp(a, "--pure") == 0) {
             o->pure = 1;
         } else if (strcmp(a, "--side") == 0 && i + 1 < argc) {

@@ -1,0 +1,355 @@
+/*
+ * neofiala.c - reduced Neo-FIALA, pure and combined slip (seed 000, 5.1-5.40),
+ * and the brush model in braking/driving (2.67-2.92), both on the shared
+ * core (brush_core.c). Kinematics, normalization and every choice:
+ * docs/brush-models.md; float64 twin: kinematics / neofiala_cf / brush_cf in
+ * tools/grip_tools/brush.py.
+ */
+#include <stddef.h>
+
+#include "brush_internal.h"
+
+#define KN RCL(1000.0)
+
+/* ---- Neo-FIALA ------------------------------------------------------- */
+
+/* A_gamma of gamma_e = gamma + A_gamma gamma_e |gamma_e| (5.39-5.40):
+ * (2 h w / l^2) Ky c_gamma / G_my; 0 when G_my = 0. */
+static grip_real_t camber_a(const grip_neofiala_params *p)
+{
+    if (!(p->g_my > R_ZERO)) {
+        return R_ZERO;
+    }
+    return r_mul(r_div(r_mul(RC(2.0), r_mul(p->h, p->w)), r_sq(p->l)), r_mul(p->c_gamma, r_div(p->ky, p->g_my)));
+}
+
+static int nf_params_ok(const grip_neofiala_params *p)
+{
+    grip_real_t fmaxk;
+    grip_real_t kmax;
+    if (!r_is_finite(p->l) || !r_is_finite(p->w) || !r_is_finite(p->kx) || !r_is_finite(p->ky) ||
+        !r_is_finite(p->mu_s) || !r_is_finite(p->mu_d0) || !r_is_finite(p->a_v) || !r_is_finite(p->q0) ||
+        !r_is_finite(p->c_q) || !r_is_finite(p->c_qm) || !r_is_finite(p->c_xc) || !r_is_finite(p->xi) ||
+        !r_is_finite(p->eps) || !r_is_finite(p->g_mz) || !r_is_finite(p->a_x) ||
+        !r_is_finite(p->c_gamma) || !r_is_finite(p->h) || !r_is_finite(p->g_my) ||
+        !r_is_finite(p->fz_min) || !r_is_finite(p->fz_max) || !r_is_finite(p->alpha_max) ||
+        !r_is_finite(p->kappa_max) || !r_is_finite(p->gamma_max) || !r_is_finite(p->v_max)) {
+        return 0;
+    }
+    if (p->n < GRIP_BRUSH_N_MIN || p->n > GRIP_BRUSH_N_MAX) {
+        return 0;
+    }
+    if (!(p->l > R_ZERO && p->l <= RC(2.0) && p->w > R_ZERO && p->w <= RC(2.0))) {
+        return 0;
+    }
+    if (!(p->kx > R_ZERO && p->ky > R_ZERO)) {
+        return 0;
+    }
+    if (!(p->mu_d0 > R_ZERO && p->mu_d0 <= p->mu_s && p->mu_s <= RC(3.0))) {
+        return 0;                                     /* mu_s < mu_d is an error */
+    }
+    if (!(p->a_v >= R_ZERO && p->a_v <= RC(1.0))) {
+        return 0;
+    }
+    if (!(p->fz_min > R_ZERO && p->fz_min <= p->fz_max && p->fz_max <= RCL(100000.0))) {
+        return 0;
+    }
+    kmax = r_max(p->kx, p->ky);
+    if (!(r_div(kmax, r_mul(p->mu_s, p->fz_min)) <= RC(1000.0))) {
+        return 0;
+    }
+    if (!(p->alpha_max > R_ZERO && p->alpha_max <= RC(1.0) && p->gamma_max >= R_ZERO &&
+          p->gamma_max <= RC(0.35) && p->kappa_max > R_ZERO && p->kappa_max <= RC(10.0) &&
+          p->v_max > R_ZERO && p->v_max <= RC(150.0))) {
+        return 0;
+    }
+    fmaxk = r_mul(p->mu_s, r_div(p->fz_max, KN));    /* mu_s Fz_max [kN] */
+    if (!(r_abs(p->q0) <= RC(0.5) && r_mul(r_abs(p->c_q), fmaxk) <= RC(0.2) &&
+          r_mul(r_mul(r_abs(p->c_qm), fmaxk), p->l) <= RC(0.2) && r_mul(r_abs(p->c_xc), fmaxk) <= RC(0.1) &&
+          r_div(r_mul(r_abs(p->xi), fmaxk), p->l) <= RC(0.1))) {
+        return 0;
+    }
+    if (!(p->eps >= R_ZERO && r_mul(r_mul(p->eps, p->l), r_div(p->ky, KN)) <= RC(1.5))) {
+        return 0;
+    }
+    if (!(p->g_mz == R_ZERO || (p->g_mz > R_ZERO && r_div(r_mul(p->l, p->ky), p->g_mz) <= RC(1.5)))) {
+        return 0;
+    }
+    if (!(r_div(r_abs(p->a_x), r_mul(p->l, r_mul(p->mu_s, p->fz_min))) <= RC(0.1))) {
+        return 0;
+    }
+    if (!(r_abs(p->c_gamma) <= RC(2.0) && p->h >= R_ZERO && p->g_my >= R_ZERO)) {
+        return 0;
+    }
+    if (!(r_mul(RC(4.0), r_mul(r_abs(camber_a(p)), p->gamma_max)) <= RC(0.5))) {
+        return 0;
+    }
+    return 1;
+}
+
+grip_status_t grip_neofiala_check_params(const grip_neofiala_params *p)
+{
+    if (p == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    return nf_params_ok(p) ? GRIP_OK : GRIP_ERR_PARAM;
+}
+
+#define NF_MAGIC 0x4e464941u   /* "NFIA" */
+
+grip_status_t grip_neofiala_prepare(const grip_neofiala_params *p, grip_neofiala_model *m)
+{
+    if (m == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    m->magic = 0u;
+    if (p == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    if (!nf_params_ok(p)) {
+        return GRIP_ERR_PARAM;
+    }
+    m->p = *p;
+    m->inv1 = brush_core_recip(p->n + 1);
+    m->inv2 = brush_core_recip(p->n + 2);
+    m->inv3 = brush_core_recip(p->n + 3);
+    m->c = r_add(R_ONE, brush_core_recip(p->n));
+    m->kyg = (p->g_mz > R_ZERO) ? r_div(r_mul(p->l, p->ky), p->g_mz) : R_ZERO;
+    m->eky = r_mul(r_mul(p->eps, p->l), r_div(p->ky, KN));
+    m->cam_a = camber_a(p);
+    m->magic = NF_MAGIC;
+    return GRIP_OK;
+}
+
+grip_status_t grip_neofiala_eval(const grip_neofiala_params *p, grip_real_t kappa,
+                                 grip_real_t alpha, grip_real_t gamma, grip_real_t fz,
+                                 grip_real_t vx, grip_brush_out *out)
+{
+    grip_neofiala_model m;
+    grip_status_t st;
+    if (out == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    brush_out_zero(out);
+    st = grip_neofiala_prepare(p, &m);
+    if (st != GRIP_OK) {
+        return st;
+    }
+    return grip_neofiala_eval_model(&m, kappa, alpha, gamma, fz, vx, out);
+}
+
+grip_status_t grip_neofiala_eval_model(const grip_neofiala_model *m, grip_real_t kappa,
+                                       grip_real_t alpha, grip_real_t gamma, grip_real_t fz,
+                                       grip_real_t vx, grip_brush_out *out)
+{
+    grip_status_t st = GRIP_OK;
+    const grip_neofiala_params *p;
+    brush_problem pb;
+    brush_state s;
+    grip_real_t f0, f0k, fl, kxn, kyn, tc, ta, ge, teq, syt, sgn, sx, kf, k, dx, dy, h, cth, sth;
+    grip_real_t vs, mud, rd;
+
+    if (out == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    brush_out_zero(out);
+    if (m == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    if (m->magic != NF_MAGIC) {
+        return GRIP_ERR_STATE;
+    }
+    p = &m->p;
+    if (!r_is_finite(kappa) || !r_is_finite(alpha) || !r_is_finite(gamma) || !r_is_finite(fz) ||
+        !r_is_finite(vx)) {
+        return GRIP_ERR_INPUT;
+    }
+    if (!(fz > R_ZERO)) {
+        return GRIP_ERR_INPUT;
+    }
+    alpha = brush_clamp_sym(alpha, p->alpha_max, &st);
+    kappa = brush_clamp(kappa, r_neg(R_ONE), p->kappa_max, &st);
+    gamma = brush_clamp_sym(gamma, p->gamma_max, &st);
+    fz = brush_clamp(fz, p->fz_min, p->fz_max, &st);
+    vx = brush_clamp(r_abs(vx), R_ZERO, p->v_max, &st);
+
+    f0 = r_mul(p->mu_s, fz);                       /* QL: mu_s Fz */
+    f0k = r_mul(p->mu_s, r_div(fz, KN));           /* QS: mu_s Fz [kN] */
+    fl = r_mul(p->l, f0);                          /* QL: mu_s Fz l */
+    kxn = r_div(p->kx, f0);
+    kyn = r_div(p->ky, f0);
+    tc = brush_core_tanc(alpha);
+    ta = r_mul(alpha, tc);
+    /* gamma_e = 2 gamma / (1 + sqrt(1 - 4 A |gamma|)) (5.39-5.40) */
+    ge = (m->cam_a != R_ZERO)
+             ? r_div(r_add(gamma, gamma),
+                     r_add(R_ONE, r_sqrt(r_sub(R_ONE, r_mul(RC(4.0), r_mul(m->cam_a, r_abs(gamma)))))))
+             : gamma;
+    /* equivalent slope tan(alpha) + c_gamma gamma_e, and Ky times it formed
+     * from (Ky alpha) tan(alpha)/alpha so that small angles keep their
+     * relative precision in the fixed build */
+    teq = r_add(ta, r_mul(p->c_gamma, ge));
+    syt = r_add(r_mul(r_mul(kyn, alpha), tc), r_mul(r_mul(kyn, p->c_gamma), ge));
+    sgn = (syt < R_ZERO) ? r_neg(R_ONE) : R_ONE;   /* mirror: lateral excitation >= 0 */
+    teq = r_mul(sgn, teq);
+    syt = r_abs(syt);
+    sx = brush_slip_split(kappa, kxn, &kf, &k);
+    /* sliding direction (5.34) from the slip gradients, formed at 64 times
+     * their size for the resolution of small slips */
+    dx = brush_slip_split(kappa, RC(64.0), &kf, &k);
+    dy = r_mul(kf, r_mul(sgn, r_add(r_mul(r_mul(RC(64.0), alpha), tc), r_mul(r_mul(RC(64.0), p->c_gamma), ge))));
+    h = brush_core_hypot(dx, dy);
+    if (h > R_ZERO) {
+        cth = r_div(dx, h);
+        sth = r_div(dy, h);
+    } else {
+        cth = R_ZERO;
+        sth = R_ZERO;
+    }
+    /* sliding friction from the slip speed (5.35): Vs = |vx| sqrt(kappa^2 + tan^2) */
+    vs = r_mul(vx, brush_core_hypot(kappa, ta));
+    mud = r_max(r_sub(p->mu_d0, r_mul(p->a_v, vs)), R_ZERO);
+    rd = r_div(mud, p->mu_s);
+
+    pb.n = p->n;
+    pb.inv1 = m->inv1;
+    pb.inv2 = m->inv2;
+    pb.inv3 = m->inv3;
+    pb.c = m->c;
+    pb.sx = sx;
+    pb.kf = kf;
+    pb.k = k;
+    pb.teq = teq;
+    pb.syt = syt;
+    pb.ky = kyn;
+    pb.kyg = m->kyg;
+    pb.gn = (p->g_mz > R_ZERO) ? r_div(fl, p->g_mz) : R_ZERO;
+    pb.eky = m->eky;
+    pb.rdcc = r_mul(r_mul(rd, pb.c), cth);
+    pb.rdcs = r_mul(r_mul(rd, pb.c), sth);
+    pb.axn = r_div(p->a_x, fl);
+    pb.cqx = r_mul(p->c_q, f0k);
+    pb.cqm = r_mul(r_mul(p->c_qm, f0k), p->l);
+    pb.cxc = r_mul(p->c_xc, f0k);
+    pb.xin = r_div(r_mul(p->xi, f0k), p->l);
+    pb.q0 = p->q0;
+
+    brush_core_solve(&pb, &s);
+
+    out->fx = r_mul(s.fx, f0);
+    out->fy = r_mul(r_neg(r_mul(sgn, s.fy)), f0);
+    out->mz = r_mul(r_mul(sgn, s.mz), fl);
+    out->rh = s.rh;
+    return st;
+}
+
+/* ---- brush model, pure longitudinal slip ------------------------------ */
+
+static int brush_params_ok(const grip_brush_params *p)
+{
+    if (!r_is_finite(p->kx) || !r_is_finite(p->mu_s) || !r_is_finite(p->mu_d0) || !r_is_finite(p->a_v) ||
+        !r_is_finite(p->fz_min) || !r_is_finite(p->fz_max) || !r_is_finite(p->kappa_max) ||
+        !r_is_finite(p->v_max)) {
+        return 0;
+    }
+    if (p->n < GRIP_BRUSH_N_MIN || p->n > GRIP_BRUSH_N_MAX) {
+        return 0;
+    }
+    if (!(p->kx > R_ZERO && p->mu_d0 > R_ZERO && p->mu_d0 <= p->mu_s && p->mu_s <= RC(3.0))) {
+        return 0;
+    }
+    if (!(p->a_v >= R_ZERO && p->a_v <= RC(1.0))) {
+        return 0;
+    }
+    if (!(p->fz_min > R_ZERO && p->fz_min <= p->fz_max && p->fz_max <= RCL(100000.0))) {
+        return 0;
+    }
+    if (!(r_div(p->kx, r_mul(p->mu_s, p->fz_min)) <= RC(1000.0))) {
+        return 0;
+    }
+    if (!(p->kappa_max > R_ZERO && p->kappa_max <= RC(10.0) && p->v_max > R_ZERO && p->v_max <= RC(150.0))) {
+        return 0;
+    }
+    return 1;
+}
+
+grip_status_t grip_brush_check_params(const grip_brush_params *p)
+{
+    if (p == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    return brush_params_ok(p) ? GRIP_OK : GRIP_ERR_PARAM;
+}
+
+/* Below this 1 - rh the sliding speed (2.86) uses 1 - rh = VS_EPS. */
+#define VS_EPS RC(0.015625)
+
+grip_status_t grip_brush_eval(const grip_brush_params *p, grip_real_t kappa, grip_real_t fz,
+                              grip_real_t vx, grip_brush_out *out)
+{
+    grip_status_t st = GRIP_OK;
+    brush_problem pb;
+    brush_state s;
+    grip_real_t f0, sx, kf, k, kxn, vs, mud, slide, sg, fxn;
+
+    if (out == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    brush_out_zero(out);
+    if (p == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    if (!r_is_finite(kappa) || !r_is_finite(fz) || !r_is_finite(vx)) {
+        return GRIP_ERR_INPUT;
+    }
+    if (!brush_params_ok(p)) {
+        return GRIP_ERR_PARAM;
+    }
+    if (!(fz > R_ZERO)) {
+        return GRIP_ERR_INPUT;
+    }
+    kappa = brush_clamp(kappa, r_neg(R_ONE), p->kappa_max, &st);
+    fz = brush_clamp(fz, p->fz_min, p->fz_max, &st);
+    vx = brush_clamp(r_abs(vx), R_ZERO, p->v_max, &st);
+
+    f0 = r_mul(p->mu_s, fz);
+    kxn = r_div(p->kx, f0);
+    sx = brush_slip_split(kappa, kxn, &kf, &k);
+
+    /* boundary (2.90): 2 Kx S rh = c mu_s Fz D(rh), i.e. the core problem
+     * without lateral slip and couplings */
+    pb.n = p->n;
+    pb.inv1 = brush_core_recip(p->n + 1);
+    pb.inv2 = brush_core_recip(p->n + 2);
+    pb.inv3 = brush_core_recip(p->n + 3);
+    pb.c = r_add(R_ONE, brush_core_recip(p->n));
+    pb.sx = sx;
+    pb.kf = R_ONE;
+    pb.k = R_ONE;
+    pb.teq = R_ZERO;
+    pb.syt = R_ZERO;
+    pb.ky = R_ONE;
+    pb.kyg = R_ZERO;
+    pb.gn = R_ZERO;
+    pb.eky = R_ZERO;
+    pb.rdcc = R_ZERO;
+    pb.rdcs = R_ZERO;
+    pb.axn = R_ZERO;
+    pb.cqx = R_ZERO;
+    pb.cqm = R_ZERO;
+    pb.cxc = R_ZERO;
+    pb.xin = R_ZERO;
+    pb.q0 = R_ZERO;
+    brush_core_solve(&pb, &s);
+
+    /* mu_d = mu_d0 - a_v Vs, Vs = |kappa| V / (1 - rh) (2.85-2.87) */
+    vs = r_div(r_mul(r_abs(kappa), vx), r_max(r_sub(R_ONE, s.rh), VS_EPS));
+    mud = r_max(r_sub(p->mu_d0, r_mul(p->a_v, vs)), R_ZERO);
+    slide = brush_core_slide(s.rh, p->n, pb.inv1);
+    sg = r_sign(kappa);
+    /* (2.92): Fx = Kx S rh^2 + c mu_d Fz int_rh^1 D */
+    fxn = r_add(r_mul(pb.sx, r_sq(s.rh)), r_mul(r_mul(sg, r_div(mud, p->mu_s)), r_mul(pb.c, slide)));
+    out->fx = r_mul(fxn, f0);
+    out->rh = s.rh;
+    return st;
+}
