@@ -483,6 +483,8 @@ grip_status_t grip_mf_eval_pure(const grip_mf_params *p, const grip_mf_input *in
      * Mz through Mzr); MF 5.2 the pure lateral force itself. */
     if (op.mf52) {
         fy_ref = lat.fy0;
+    } else if (op.gy == R_ZERO) {
+        fy_ref = lat.fy0;                /* already at gamma = 0 */
     } else {
         mf_lat_pure(p, &op, R_ZERO, &lat0);
         fy_ref = lat0.fy0;
@@ -589,7 +591,11 @@ grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, gri
         } else {
             /* MF 6.x: Fy' = Gyk Fy0(gamma = 0) (4.E74); MF-Tyre keeps the
              * inclination in Gyk, the book evaluates Gyk at gamma = 0 too. */
-            mf_lat_pure(p, &op, R_ZERO, &lat0);
+            if (op.gy == R_ZERO) {
+                lat0 = lat;              /* already at gamma = 0: same function, same inputs */
+            } else {
+                mf_lat_pure(p, &op, R_ZERO, &lat0);
+            }
             fy_prime = r_mul(op.book ? mf_gyk(p, &op, R_ZERO) : gyk, lat0.fy0);
         }
         mz = r_add(r_sub(mzr, r_mul(t, fy_prime)), r_mul(s, fx));                                 /* 4.E71 */
