@@ -481,10 +481,8 @@ grip_status_t grip_mf_eval_pure(const grip_mf_params *p, const grip_mf_input *in
     mf_trail_coefs(p, &op, &lat, &tc);
     /* Mz0' = -t0 Fy0 (4.E32). MF 6.x uses Fy0 at gamma = 0 (camber acts on
      * Mz through Mzr); MF 5.2 the pure lateral force itself. */
-    if (op.mf52) {
-        fy_ref = lat.fy0;
-    } else if (op.gy == R_ZERO) {
-        fy_ref = lat.fy0;                /* already at gamma = 0 */
+    if (op.mf52 || (op.gy == R_ZERO)) {
+        fy_ref = lat.fy0;                /* MF 5.2, or already at gamma = 0 */
     } else {
         mf_lat_pure(p, &op, R_ZERO, &lat0);
         fy_ref = lat0.fy0;
