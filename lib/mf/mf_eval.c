@@ -461,6 +461,18 @@ static grip_status_t mf_begin(const grip_mf_params *p, const grip_mf_input *in, 
     return st;
 }
 
+/* The pure lateral force at gamma = 0 that the aligning moment of MF 6.x
+ * needs: lat itself when gamma already is 0 (same function, same inputs),
+ * else evaluated into buf. */
+static const mf_lat *mf_lat_gamma0(const grip_mf_params *p, const mf_op *op, const mf_lat *lat, mf_lat *buf)
+{
+    if (op->gy == R_ZERO) {
+        return lat;
+    }
+    mf_lat_pure(p, op, R_ZERO, buf);
+    return buf;
+}
+
 grip_status_t grip_mf_eval_pure(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out)
 {
     mf_op op;
@@ -481,12 +493,7 @@ grip_status_t grip_mf_eval_pure(const grip_mf_params *p, const grip_mf_input *in
     mf_trail_coefs(p, &op, &lat, &tc);
     /* Mz0' = -t0 Fy0 (4.E32). MF 6.x uses Fy0 at gamma = 0 (camber acts on
      * Mz through Mzr); MF 5.2 the pure lateral force itself. */
-    if (op.mf52 || (op.gy == R_ZERO)) {
-        fy_ref = lat.fy0;                /* MF 5.2, or already at gamma = 0 */
-    } else {
-        mf_lat_pure(p, &op, R_ZERO, &lat0);
-        fy_ref = lat0.fy0;
-    }
+    fy_ref = op.mf52 ? lat.fy0 : mf_lat_gamma0(p, &op, &lat, &lat0)->fy0;
     t0 = mf_trail_at(&op, &tc, tc.alpha_t);                                 /* 4.E33 */
     if (!op.book) {
         t0 = r_mul(t0, p->lfzo);         /* MF-Tyre scales the trail by LFZO */
@@ -589,12 +596,7 @@ grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, gri
         } else {
             /* MF 6.x: Fy' = Gyk Fy0(gamma = 0) (4.E74); MF-Tyre keeps the
              * inclination in Gyk, the book evaluates Gyk at gamma = 0 too. */
-            if (op.gy == R_ZERO) {
-                lat0 = lat;              /* already at gamma = 0: same function, same inputs */
-            } else {
-                mf_lat_pure(p, &op, R_ZERO, &lat0);
-            }
-            fy_prime = r_mul(op.book ? mf_gyk(p, &op, R_ZERO) : gyk, lat0.fy0);
+            fy_prime = r_mul(op.book ? mf_gyk(p, &op, R_ZERO) : gyk, mf_lat_gamma0(p, &op, &lat, &lat0)->fy0);
         }
         mz = r_add(r_sub(mzr, r_mul(t, fy_prime)), r_mul(s, fx));                                 /* 4.E71 */
     }
