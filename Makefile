@@ -227,7 +227,7 @@ bench: setup golden
 	@$(MAKE) --no-print-directory ARITH=fixed bench-host
 	@$(MAKE) --no-print-directory TARGET=m4f bench-image
 	@$(MAKE) --no-print-directory TARGET=m0p bench-image
-	@$(PYTOOLS) bench
+	@$(PYTOOLS) bench $(BENCH_ARGS)
 
 clean:
 	rm -rf build

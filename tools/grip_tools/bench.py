@@ -85,13 +85,20 @@ def qemu_counts(target, machine):
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="grip_tools bench", description=__doc__)
     ap.add_argument("--outdir", default=os.path.join(ROOT, "build/bench"))
+    ap.add_argument("--cases", default="",
+                    help="regular expression: only the matching cases (for quick measurements "
+                         "while optimizing; the image still runs every case once)")
+    ap.add_argument("--targets", default="m4f,m0p",
+                    help="comma-separated Cortex-M images to run (m4f, m0p, or empty for none)")
     args = ap.parse_args(argv)
     os.makedirs(args.outdir, exist_ok=True)
     ns = {a: host_ns(a) for a in ("float", "fixed")}
-    cases = list(ns["float"])
+    cases = [c for c in ns["float"] if re.search(args.cases, c)]
     ir = {a: {c: callgrind_ir(a, c) for c in cases} for a in ("float", "fixed")}
-    m4f = qemu_counts("m4f-float", "mps2-an386")
-    m0p = qemu_counts("m0p-fixed", "mps2-an385")
+    targets = [t for t in args.targets.split(",") if t]
+    none = {c: (float("nan"), float("nan")) for c in cases}
+    m4f = qemu_counts("m4f-float", "mps2-an386") if "m4f" in targets else none
+    m0p = qemu_counts("m0p-fixed", "mps2-an385") if "m0p" in targets else none
     header = ["case", "host ns float", "host ns fixed", "x86 instr float", "x86 instr fixed",
               "M4F instr mean", "M4F instr max", "M0+ instr mean", "M0+ instr max"]
     rows = []
