@@ -19,7 +19,10 @@ G = 9.81
 
 
 class TireModel:
-    def __init__(self, params, name="mf"):
+    kind = "tire"
+
+    def __init__(self, params, name="mf", tir_path=None):
+        self.tir_path = tir_path
         self.params = dict(params)
         self.name = name
         self.fnomin = float(params.get("fnomin", 4000.0))
@@ -33,6 +36,8 @@ class TireModel:
         for k in ("lmuy", "lmux", "lky", "lkx"):
             if k in over:
                 P[k] = P.get(k, 1.0) * over[k]
+        if "lmuv" in over:                     # absolute: the .tir LMUV of the updated set
+            P["lmuv"] = over["lmuv"]
         g = {k: over.get(k, ch.get(k, d)) for k, d in
              (("kappa", z), ("alpha", z), ("gamma", z), ("fz", z), ("vx", z + 10.0))}
         p = over.get("p", ch.get("p"))
@@ -43,7 +48,8 @@ class TireModel:
 
 class Effect:
     name = "?"
-    tire_only = True        # needs a tire-level model (TireModel)
+    level = "tire"          # "tire": needs a TireModel; "vehicle": a model listing it in
+                            # model.supports; "any": a term on the outputs (sensor effects)
     pnames = ()
     x0 = ()
     lo = ()
@@ -124,16 +130,24 @@ class Relaxation(Effect):
 
 
 class SlipVelocity(Effect):
+    """Friction falling with slip speed in the Magic Formula's own LMUV form,
+    LMU* = LMU / (1 + LMUV Vs / LONGVL), Vs = |vx| sqrt(kappa^2 + tan^2 alpha)
+    (lib/mf/mf_eval.c, mf.py): the fitted value is the .tir coefficient LMUV
+    itself, so the updated file runs in grip_mf unchanged. LMUV >= 0 (the C
+    library rejects a negative LMUV: friction rising with slip speed is not
+    representable)."""
     name = "slip_velocity_friction"
-    pnames = ("c_vs_s_per_m",)
+    pnames = ("lmuv",)
     x0 = (0.0,)
-    lo = (-0.5,)
-    hi = (2.0,)
-    onboard = "not yet in C (would be a mu(Vs) factor on LMUX/LMUY per step)"
+    lo = (0.0,)
+    hi = (50.0,)
+    onboard = "lib/mf: .tir LMUV (SCALING_COEFFICIENTS), grip_mf_params.lmuv"
 
     def predict(self, model, ds, x):
-        f = 1.0 / np.maximum(1.0 + x[0] * slip_speed(ds.ch), 0.05)
-        return model.predict(ds.ch, {"lmuy": f, "lmux": f})
+        return model.predict(ds.ch, {"lmuv": float(x[0])})
+
+    def starts(self):
+        return [np.array([s]) for s in (0.5, 5.0)]
 
 
 class LoadSensitivity(Effect):
@@ -219,7 +233,7 @@ class Bank(Effect):
 
 class Bias(Effect):
     name = "sensor_bias"
-    tire_only = False
+    level = "any"
     onboard = "signal table offset (grip_signals)"
 
     def n_params(self, ds):
@@ -238,7 +252,7 @@ class Bias(Effect):
 
 class Scale(Effect):
     name = "sensor_scale"
-    tire_only = False
+    level = "any"
     onboard = "signal table scale (grip_signals)"
 
     def n_params(self, ds):
@@ -261,7 +275,7 @@ class Scale(Effect):
 
 class Delay(Effect):
     name = "sensor_delay"
-    tire_only = False
+    level = "any"
     pnames = ("delay_s",)
     x0 = (0.0,)
     lo = (-0.5,)
@@ -277,6 +291,136 @@ class Delay(Effect):
         return [np.array([d]) for d in (-0.1, 0.0, 0.1)]
 
 
+# ---------------------------------------------------------------------------
+# Vehicle-level effects: terms of residual.vehicle.VehicleModel (switched on
+# through predict(ch, over)). Each simulation costs tens of ms, so the fit is
+# a few damped Gauss-Newton iterations with a forward-difference Jacobian
+# (k + 1 simulations per iteration), not a general least-squares search.
+
+class VehicleEffect(Effect):
+    level = "vehicle"
+    steps = ()
+    iters = 4
+
+    def over(self, x):
+        raise NotImplementedError
+
+    def predict(self, model, ds, x):
+        return model.predict(ds.ch, self.over(x))
+
+    def fit(self, model, ds, mask, scale):
+        outs = ds.outputs
+
+        def resid(x):
+            pr = self.predict(model, ds, x)
+            return np.concatenate([(ds.ch[o][mask] - pr[o][mask]) / scale[o] for o in outs])
+        best = None
+        for start in self.starts():
+            x, c = gauss_newton(resid, start, self.steps, self.lo, self.hi, self.iters, self.free(start))
+            if best is None or c < best[1]:
+                best = (x, c)
+        return best[0]
+
+    def free(self, start):
+        return np.ones(len(start), bool)
+
+
+def gauss_newton(resid, x0, steps, lo, hi, iters, free):
+    """Damped Gauss-Newton within bounds on the free parameters. Returns (x, cost)."""
+    x = np.array(x0, dtype=float)
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    r = resid(x)
+    cost = float(r @ r)
+    lam = 1e-3
+    for _ in range(iters):
+        J = np.zeros((len(r), len(x)))
+        for j in np.flatnonzero(free):
+            xp = x.copy()
+            h = steps[j] if xp[j] + steps[j] <= hi[j] else -steps[j]
+            xp[j] += h
+            J[:, j] = (resid(xp) - r) / h
+        A = J.T @ J
+        g = J.T @ r
+        improved = False
+        for _ in range(3):
+            dx = -np.linalg.solve(A + lam * np.diag(np.diag(A) + 1e-12), g)
+            xn = np.clip(x + dx, lo, hi)
+            rn = resid(xn)
+            cn = float(rn @ rn)
+            if cn < cost:
+                x, r, cost, lam, improved = xn, rn, cn, lam * 0.3, True
+                break
+            lam *= 10.0
+        if not improved or np.all(np.abs(dx) < 1e-3 * np.asarray(steps)):
+            break
+    return x, cost
+
+
+class VRelaxation(VehicleEffect):
+    name = "relaxation"
+    pnames = ("sigma_m",)
+    x0, lo, hi, steps = (0.3,), (0.02,), (5.0,), (0.05,)
+    iters = 3
+    onboard = "lib/relax (grip_relax.h) per tyre: sigma_alpha = sigma"
+
+    def over(self, x):
+        return {"sigma": float(x[0])}
+
+
+class VBank(VehicleEffect):
+    """Road plane (bank and grade, earth-fixed to the initial heading): two
+    parameters, since the lateral slope the body sees turns with the heading."""
+    name = "road_bank"
+    pnames = ("tan_bank", "tan_grade")
+    x0, lo, hi, steps = (0.0, 0.0), (-0.3, -0.3), (0.3, 0.3), (0.01, 0.01)
+    iters = 3
+    onboard = "estimator gravity input (lateral slope); not a tyre term"
+
+    def over(self, x):
+        return {"tan_bank": float(x[0]), "tan_grade": float(x[1])}
+
+
+class VAero(VehicleEffect):
+    name = "aero_load"
+    pnames = ("cla_add_m2",)
+    x0, lo, hi, steps = (0.0,), (-3.0,), (10.0,), (0.5,)
+    iters = 3
+    onboard = "vehicle configuration: downforce coefficient C_L A in the load model (lib/est), not a tyre parameter"
+
+    def over(self, x):
+        return {"cla_add": float(x[0])}
+
+
+class VThermal(VehicleEffect):
+    """Axle surface temperature, seed ch. 4 (W fixed at 1500 J/K: only a / W,
+    b / W and kappa are identifiable without a temperature channel); a
+    grid over kappa, Gauss-Newton on (a, b) at each, then on all three."""
+    name = "thermal"
+    pnames = ("a_mu_per_K", "b_k_per_K", "kappa_per_s")
+    lo, hi, steps = (-1.0, -1.0, 0.005), (1.0, 1.0, 5.0), (0.002, 0.002, 0.05)
+    W = 1500.0
+    onboard = ("lib/mf_thermal temperature state (w, kappa) per tyre; LMUY, LKY of lib/mf scaled by "
+               "1 + a (T - T0), 1 + b (T - T0)")
+
+    def over(self, x):
+        return {"thermal": (float(x[0]), float(x[1]), float(x[2]), self.W)}
+
+    def fit(self, model, ds, mask, scale):
+        outs = ds.outputs
+
+        def resid(x):
+            pr = self.predict(model, ds, x)
+            return np.concatenate([(ds.ch[o][mask] - pr[o][mask]) / scale[o] for o in outs])
+        best = None
+        for k in (0.05, 0.3):
+            x, c = gauss_newton(resid, [-0.002, -0.002, k], self.steps, self.lo, self.hi, 2,
+                                np.array([True, True, False]))
+            if best is None or c < best[1]:
+                best = (x, c)
+        x, _ = gauss_newton(resid, best[0], self.steps, self.lo, self.hi, 2, np.ones(3, bool))
+        return x
+
+
 def all_effects():
     return [Thermal(), Relaxation(), SlipVelocity(), LoadSensitivity(), Camber(), Pressure(),
-            AeroLoad(), Bank(), Bias(), Scale(), Delay()]
+            AeroLoad(), Bank(), VThermal(), VRelaxation(), VBank(), VAero(), Bias(), Scale(), Delay()]
