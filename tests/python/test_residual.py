@@ -19,7 +19,7 @@ EXPECT = {"thermal": "thermal", "relaxation": "relaxation", "slip_velocity": "sl
 class UndeclaredEffects(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        cls.model = TireModel(datasets.base_params(), "mf61")
+        cls.model = TireModel(datasets.base_params(), "mf61", datasets.TIR)
         cls.results = {}
         for kind in datasets.KINDS:
             ds, truth = datasets.make(kind, seed=3)
@@ -40,7 +40,10 @@ class UndeclaredEffects(unittest.TestCase):
 
     def test_thermal(self):
         c = self._check("thermal")
-        self.assertLess(c.params["a_mu"], 0.0)          # hot tyre: less grip
+        self.assertLess(c.params["a_mu_per_K"], 0.0)    # hot tyre: less grip
+        # truth (datasets.make): a/W = -0.007/600, b/W = -0.004/600, kappa = 0.03 1/s; the tool fixes W = 1500
+        self.assertAlmostEqual(c.params["a_mu_per_K"] / 1500.0, -0.007 / 600.0, delta=0.2 * 0.007 / 600.0)
+        self.assertAlmostEqual(c.params["kappa_per_s"], 0.03, delta=0.01)
 
     def test_relaxation(self):
         c = self._check("relaxation")
@@ -48,7 +51,7 @@ class UndeclaredEffects(unittest.TestCase):
 
     def test_slip_velocity(self):
         c = self._check("slip_velocity")
-        self.assertGreater(c.params["c_vs_s_per_m"], 0.0)
+        self.assertGreater(c.params["lmuv"], 0.0)          # the .tir LMUV (friction falls with Vs)
 
     def test_load(self):
         c = self._check("load")
@@ -72,8 +75,14 @@ class UndeclaredEffects(unittest.TestCase):
                 text = f.read()
             self.assertIn("load_sensitivity", text)
             self.assertTrue(os.path.exists(os.path.join(d, "residual_fy.png")))
-            self.assertIn("pdy2", upd["mf_update"])
-            self.assertLess(upd["mf_update"]["pdy2"], self.model.params["pdy2"])
+            self.assertIn("PDY2", upd["tir_update"])
+            self.assertLess(upd["tir_update"]["PDY2"], self.model.params["pdy2"])
+            # the written .tir carries the update and reads back through tir.py
+            from grip_tools import tir
+            P2 = tir.load_params(upd["tir_file"])
+            self.assertAlmostEqual(P2["pdy2"], upd["tir_update"]["PDY2"], places=9)
+            self.assertAlmostEqual(P2["pdx2"], upd["tir_update"]["PDX2"], places=9)
+            self.assertEqual(P2["pdy1"], self.model.params["pdy1"])
 
 
 class Schema(unittest.TestCase):

@@ -110,3 +110,137 @@ def make(kind, seed=1, noise=0.005):
     units = {"t": "s", "alpha": "rad", "kappa": "-", "gamma": "rad", "fz": "N", "vx": "m/s",
              "fx": "N", "fy": "N"}
     return Dataset(t, ds_ch, units, ["fx", "fy"], {"generator": "datasets.make", "seed": seed}), truth
+
+
+# ---------------------------------------------------------------------------
+# Vehicle-level undeclared-effect data sets from the reference simulator
+# (grip_tools.vehsim): the passenger car, driven open loop by a sum of sines
+# in steering-wheel angle with a speed controller, measured by the ESC sensor
+# models with noise (biases, delays, low-pass off unless the effect is a
+# sensor effect). The model under test is residual.vehicle.VehicleModel for
+# the same vehicle; it declares none of the effects below.
+#
+#   relaxation   vehsim Effects.relaxation = True (sigma = K / C from the .tir:
+#                0.48 m lateral for this tyre), 11 m/s, 0.5-2.2 Hz steering
+#   bank         road bank 4 % (2.3 deg), rise to the left
+#   aero         downforce C_L A = 2.5 m^2 (the model declares 0), 28-36 m/s
+#   thermal      seed ch. 4 tyre temperature in vehsim (its coefficients
+#                ax, bx, ay, by of mf_thermal; W = 250 J/K, kappa = 0.25 1/s
+#                so that the surface heats within the run), ay up to 6 m/s^2
+#   yaw_bias     yaw-rate sensor offset 0.4 deg/s (the clean truth)
+#   none         the clean truth, sensor noise only
+#
+# One batched vehsim run (relaxation off) carries the clean, bank, aero and
+# thermal members: vehsim's formulas broadcast per-member arrays for the bank
+# (Road.bank), the downforce (VehicleParams.cla) and the thermal coefficients
+# (ThermalParams fields), so four vehicles cost one integration; the
+# relaxation member needs its own run (the switch is global). RK4, h = 5 ms.
+
+VEH_KINDS = ("relaxation", "bank", "aero", "thermal", "yaw_bias", "none")
+VEH_DURATION = 6.0
+
+
+def _steer_profile(t_end, amps_deg, freqs, phases, turn_deg=None, t_in=0.4):
+    """SWA(t) [rad] per member: sum of sines plus a steady turn, with a smooth
+    0.4 s ramp-in from 0."""
+    amps = np.asarray(amps_deg, dtype=float) * np.pi / 180.0       # (N, K)
+    fr = np.asarray(freqs, dtype=float)
+    ph = np.asarray(phases, dtype=float)
+    turn = np.zeros(len(amps)) if turn_deg is None else np.radians(np.asarray(turn_deg, dtype=float))
+
+    def f(t):
+        env = 1.0 if t >= t_in else 0.5 * (1 - np.cos(np.pi * t / t_in))
+        return env * (turn + np.sum(amps * (np.sin(2 * np.pi * fr * t + ph) - np.sin(ph)), axis=1))
+    return f
+
+
+def _sensor_config(seed, yaw_bias_deg=0.0):
+    from .vehsim import sensors
+    cfg = sensors.SensorConfig(seed=seed)
+    for g in cfg.groups.values():
+        for c in g.channels:
+            c.bias = c.scale_error = c.delay = c.tau = c.deadband = 0.0
+    cfg.channel("YawRate").bias = yaw_bias_deg
+    return cfg
+
+
+def _measure(res, i, seed, yaw_bias_deg=0.0):
+    from .vehsim import sensors
+    data = sensors.measure(res.member(i), _sensor_config(seed, yaw_bias_deg))
+    t, swa = data.series("SteeringAngle")
+    _, yaw = data.series("YawRate")
+    _, ay = data.series("LatAcc")
+    ws = np.mean([data.series(f"WheelSpeed_{w}")[1] for w in ("FL", "FR", "RL", "RR")], axis=0) / 3.6
+    ch = {"t": t, "swa": np.radians(swa), "vx": ws, "r": np.radians(yaw), "ay": ay}
+    units = {"t": "s", "swa": "rad", "vx": "m/s", "r": "rad/s", "ay": "m/s2"}
+    return Dataset(t, ch, units, ["r", "ay"], {"generator": "datasets.vehicle_make"})
+
+
+def vehicle_base():
+    from .vehsim import vehicles
+    return vehicles.passenger()
+
+
+def vehicle_sets(seed=1, kinds=VEH_KINDS):
+    """{kind: (Dataset, truth)} for the requested kinds (two vehsim runs at most)."""
+    from .vehsim import manoeuvres, model as vm
+    rng = np.random.default_rng(seed)
+    veh = vehicle_base()
+    out = {}
+    # batch A: clean (also the sensor sets), bank, aero, thermal
+    members = [k for k in ("none", "bank", "aero", "thermal") if k in kinds or
+               (k == "none" and "yaw_bias" in kinds)]
+    T = VEH_DURATION
+    if members:
+        n = len(members)
+        spec = {"none": (20.0, 2.0, 1.0, 0.0), "bank": (18.0, 4.0, 1.0, -3.0), "aero": (32.0, 4.0, 1.1, 0.0),
+                "thermal": (16.0, 2.0, 2.0, 0.0)}     # v0, speed swing, ay scale, steady-turn ay
+        v0 = np.array([spec[k][0] for k in members])
+        dv = np.array([spec[k][1] for k in members])
+        freqs = np.array([[0.25, 0.55, 0.9, 1.4]] * n)
+        phases = rng.uniform(0, 2 * np.pi, (n, 4))
+        amps = np.zeros((n, 4))
+        turn = np.zeros(n)
+        for i, k in enumerate(members):
+            swa0 = abs(manoeuvres.linear_swa(veh, v0[i], 2.0 * spec[k][2])) * 180 / np.pi
+            amps[i] = swa0 * rng.uniform(0.5, 1.0, 4) / 2.0
+            turn[i] = manoeuvres.linear_swa(veh, v0[i], spec[k][3]) * 180 / np.pi
+        veh_a = veh.with_(cla=np.array([2.5 if k == "aero" else 0.0 for k in members]))
+        road = vm.Road(1.0, t_road=25.0)
+        road.bank = np.array([0.04 if k == "bank" else 0.0 for k in members])
+        thp = vm.default_thermal()
+        is_th = np.array([[1.0] if k == "thermal" else [0.0] for k in members])
+        for f in ("ax", "bx", "ay", "by"):
+            setattr(thp, f, getattr(thp, f) * is_th)
+        thp.t0, thp.w, thp.kappa = 25.0, 120.0, 0.2
+        eff = vm.Effects(relaxation=False, thermal=True, thermal_params=thp, t_init=25.0)
+
+        def vref(t, v0=v0, dv=dv):
+            return v0 + dv * np.sin(np.pi * min(t / T, 1.0)) ** 2
+        sc = vm.Scenario(n, v0, T, road, steer=_steer_profile(T, amps, freqs, phases, turn),
+                         controllers=[manoeuvres.SpeedHold(vref)], name="vehicle-sets")
+        res = vm.simulate(veh_a, sc, eff, h=5e-3, record_every=1)
+        truths = {"none": {}, "bank": {"tan_bank": 0.04}, "aero": {"cla": 2.5},
+                  "thermal": {"w": thp.w, "kappa": thp.kappa}}
+        for i, k in enumerate(members):
+            if k in kinds:
+                out[k] = (_measure(res, i, seed), dict(kind=k, sim=res.member(i), **truths[k]))
+                if k == "thermal":
+                    out[k][1]["t_max_degC"] = float(res["temp"][:, i].max())
+            if k == "none" and "yaw_bias" in kinds:
+                out["yaw_bias"] = (_measure(res, i, seed + 1000, yaw_bias_deg=0.4),
+                                   {"kind": "yaw_bias", "bias_rad_s": np.radians(0.4)})
+    if "relaxation" in kinds:
+        v0 = np.array([11.0])
+        freqs = np.array([[0.5, 0.9, 1.5, 2.2]])
+        phases = rng.uniform(0, 2 * np.pi, (1, 4))
+        swa0 = abs(manoeuvres.linear_swa(veh, 11.0, 2.0)) * 180 / np.pi
+        amps = swa0 * rng.uniform(0.5, 1.0, (1, 4)) / 2.0
+        sc = vm.Scenario(1, v0, T, vm.Road(1.0), steer=_steer_profile(T, amps, freqs, phases),
+                         controllers=[manoeuvres.SpeedHold(v0)], name="vehicle-relaxation")
+        res = vm.simulate(veh, sc, vm.Effects(relaxation=True), h=5e-3, record_every=1)
+        out["relaxation"] = (_measure(res, 0, seed), {"kind": "relaxation",
+                                                       "sigma_alpha_m": float(res["sigma_a"][:, 0].mean())})
+    for k, (ds, truth) in out.items():
+        ds.meta.update(source=f"datasets.vehicle_sets(seed={seed})['{k}'] (vehsim, passenger)")
+    return out

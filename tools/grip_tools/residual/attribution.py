@@ -77,9 +77,15 @@ def analyse(model, ds, effects=None, n_blocks=8, min_gain=0.05):
     structure = {o: candidates.autocorr(base_res[o]) for o in ds.outputs}
     ranked, skipped, preds = [], [], {}
     for e in effects:
+        kind = getattr(model, "kind", "tire" if isinstance(model, TireModel) else "vehicle")
+        if e.level == "tire" and kind != "tire":
+            continue                   # a tyre term; its vehicle-level form (if any) is listed
+        if e.level == "vehicle" and kind != "vehicle":
+            continue
+        if e.level == "vehicle" and e.name not in getattr(model, "supports", ()):
+            skipped.append((e.name, "not a term of this vehicle model"))
+            continue
         ok, why = e.applicable(ds)
-        if ok and e.tire_only and not isinstance(model, TireModel):
-            ok, why = False, "vehicle-level model: no tire term to modify"
         if not ok:
             skipped.append((e.name, why))
             continue

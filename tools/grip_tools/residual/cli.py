@@ -4,6 +4,7 @@ undeclared-effect data set, or the AV-21 log (axle forces from the motion).
 
   analyze DATA.csv --tir FILE.tir [-o OUTDIR]
   analyze --generate {thermal,relaxation,slip_velocity,load,bank,none} [-o OUTDIR]
+  analyze --vehicle {relaxation,bank,aero,thermal,yaw_bias,none} [-o OUTDIR]
   analyze --av21 [CSV] [--axle front|rear] [-o OUTDIR]
   analyze --rav4 LOG --replay build/float-gcc/bin/grip-replay [-o OUTDIR]
 """
@@ -20,6 +21,7 @@ def main(argv=None):
     ap.add_argument("data", nargs="?")
     ap.add_argument("--tir")
     ap.add_argument("--generate")
+    ap.add_argument("--vehicle", help="vehicle-level undeclared-effect set from vehsim (datasets.VEH_KINDS)")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--av21", action="store_true")
     ap.add_argument("--axle", default="front", choices=("front", "rear"))
@@ -31,7 +33,14 @@ def main(argv=None):
         from .. import datasets
         ds, _ = datasets.make(a.generate, a.seed)
         ds.meta["source"] = f"datasets.make('{a.generate}', seed={a.seed})"
-        model = TireModel(datasets.base_params(), "MagicFormula61_Paramerters.tir")
+        model = TireModel(datasets.base_params(), "MagicFormula61_Paramerters.tir", datasets.TIR)
+    elif a.vehicle:
+        from .. import datasets
+        from . import vehicle
+        if a.vehicle not in datasets.VEH_KINDS:
+            ap.error(f"--vehicle: one of {', '.join(datasets.VEH_KINDS)}")
+        ds, _ = datasets.vehicle_sets(a.seed, kinds=(a.vehicle,))[a.vehicle]
+        model = vehicle.VehicleModel(datasets.vehicle_base())
     elif a.av21:
         from . import av21
         ds, model = av21.load(a.data, a.axle)
@@ -43,7 +52,7 @@ def main(argv=None):
             ap.error("DATA.csv and --tir are required")
         from .. import tir
         ds = io.read_csv(a.data)
-        model = TireModel(tir.load_params(a.tir), a.tir)
+        model = TireModel(tir.load_params(a.tir), a.tir, a.tir)
     res = attribution.analyse(model, ds)
     path, upd = report.write(res, ds, model, a.outdir)
     print(attribution.verdict(res))

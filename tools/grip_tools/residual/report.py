@@ -7,20 +7,60 @@ import numpy as np
 from . import attribution
 
 
+def effect_update(name, params, model):
+    """Where the fitted parameters go onboard (JSON-able): .tir keys for
+    MF coefficients, grip_relax_params, grip_mf_thermal_params + the LMU/LK
+    temperature scaling."""
+    upd = {}
+    P = getattr(model, "params", None)
+    if name == "load_sensitivity" and P is not None:
+        upd["tir_update"] = {"PDY2": P["pdy2"] + params["c_dfz"] * P["pdy1"],
+                             "PDX2": P["pdx2"] + params["c_dfz"] * P["pdx1"]}
+    if name == "slip_velocity_friction":
+        upd["tir_update"] = {"LMUV": params["lmuv"]}
+    if name == "relaxation":
+        upd["grip_relax_params"] = {"sigma_alpha": params["sigma_m"], "sigma_kappa": params["sigma_m"]}
+    if name == "thermal" and P is not None:
+        from .effects import Thermal, thermal_params_from_mf
+        th = thermal_params_from_mf(P, params["a_mu_per_K"], params["b_k_per_K"], params["kappa_per_s"],
+                                    Thermal.W, Thermal.T0)
+        upd["grip_mf_thermal_params"] = th.as_dict()
+        upd["mf_scaling"] = {"LMUX, LMUY": f"x (1 + {params['a_mu_per_K']:.6g} (T - {Thermal.T0}))",
+                             "LKX, LKY": f"x (1 + {params['b_k_per_K']:.6g} (T - {Thermal.T0}))"}
+    return upd
+
+
+def write_tir(base_path, updates, out_path):
+    """Copy of the .tir file base_path with KEY = value lines replaced (or
+    added to [SCALING_COEFFICIENTS] when absent); line endings kept."""
+    with open(base_path, newline="") as f:
+        lines = f.readlines()
+    todo = {k.upper(): v for k, v in updates.items()}
+    out = []
+    for ln in lines:
+        key = ln.split("=", 1)[0].strip().upper() if "=" in ln and not ln.lstrip().startswith(("$", "!")) else None
+        if key in todo:
+            eol = "\r\n" if ln.endswith("\r\n") else "\n"
+            out.append(f"{key:<26s}= {float(todo.pop(key))!r:<18} $ updated by grip_tools analyze{eol}")
+        else:
+            out.append(ln)
+    if todo:
+        idx = next(i for i, ln in enumerate(out) if ln.strip().upper().startswith("[SCALING_COEFFICIENTS]"))
+        eol = "\r\n" if out[idx].endswith("\r\n") else "\n"
+        for k, v in todo.items():
+            out.insert(idx + 1, f"{k:<26s}= {float(v)!r:<18} $ added by grip_tools analyze{eol}")
+    with open(out_path, "w", newline="") as f:
+        f.writelines(out)
+    return out_path
+
+
 def updated_params(res, model):
     """JSON-able update: the chosen effect, its parameters, and where they go."""
     if res.chosen is None:
         return {"effect": None, "base": model.name}
     c = res.chosen
     upd = {"effect": c.name, "params": c.params, "onboard": c.onboard, "base": model.name}
-    if c.name == "load_sensitivity":
-        P = model.params
-        upd["mf_update"] = {"pdy2": P["pdy2"] + c.params["c_dfz"] * P["pdy1"],
-                            "pdx2": P["pdx2"] + c.params["c_dfz"] * P["pdx1"]}
-    if c.name == "relaxation":
-        upd["grip_relax_params"] = {"sigma_alpha": c.params["sigma_m"], "sigma_kappa": c.params["sigma_m"]}
-    if c.name == "thermal":
-        upd["grip_mf_thermal"] = {"kappa": 1.0 / c.params["tau_s"]}
+    upd.update(effect_update(c.name, c.params, model))
     return upd
 
 
@@ -56,6 +96,9 @@ def write(res, ds, model, outdir, title="Residual analysis", prefix=""):
     os.makedirs(outdir, exist_ok=True)
     figs = figures(res, ds, outdir, prefix)
     upd = updated_params(res, model)
+    tir_path = getattr(model, "tir_path", None)
+    if "tir_update" in upd and tir_path:
+        upd["tir_file"] = write_tir(tir_path, upd["tir_update"], os.path.join(outdir, f"{prefix}updated.tir"))
     with open(os.path.join(outdir, f"{prefix}update.json"), "w") as f:
         json.dump(upd, f, indent=2, default=float)
     L = [f"# {title}", "", f"Data: {ds.meta.get('source', '?')}, {len(ds)} samples, "
