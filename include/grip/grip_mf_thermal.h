@@ -137,6 +137,19 @@ grip_status_t grip_mf_thermal_init(grip_mf_thermal_state *s, const grip_mf_therm
 grip_status_t grip_mf_thermal_step(grip_mf_thermal_state *s, const grip_mf_thermal_inputs *in,
                                    grip_real_t dt, grip_mf_thermal_output *out);
 
+#define grip_mf_thermal_heat_step GRIP_TYPED(grip_mf_thermal_heat_step)
+/* Advance the surface temperature by one step of (4.6) with a heat flux q
+ * [W, QL, >= 0] the caller supplies (e.g. sqrt(Fx^2 + Fy^2) Vs from another
+ * tire model, such as the full Magic Formula of grip_mf.h), road temperature
+ * t_road [degC, QS, limited to [t_min, t_max]] and 0 <= dt <=
+ * GRIP_MF_THERMAL_DT_MAX: the same exact step grip_mf_thermal_step takes
+ * with its own q. *t_out is the new temperature. Returns GRIP_OK,
+ * GRIP_WARN_CLAMPED, GRIP_ERR_NULL, GRIP_ERR_STATE or GRIP_ERR_INPUT
+ * (non-finite or negative q, non-finite t_road, dt out of range); on error
+ * *t_out is zero and the state is unchanged. */
+grip_status_t grip_mf_thermal_heat_step(grip_mf_thermal_state *s, grip_real_t q, grip_real_t t_road,
+                                        grip_real_t dt, grip_real_t *t_out);
+
 #define grip_mf_thermal_forces GRIP_TYPED(grip_mf_thermal_forces)
 /* Forces [N, QL] at a given surface temperature t [degC, QS] (limited to
  * [t_min, t_max]), without touching the state's temperature. in->t_road is

@@ -265,6 +265,17 @@ static grip_real_t one_minus_exp_over_x(grip_real_t x)
     return g;
 }
 
+/* Exact step of (4.6) for q held over dt, T limited to [t_min, t_max]:
+ * T += phi (q / W - kappa (T - T_R)), phi = (1 - exp(-kappa dt)) / kappa;
+ * q / W is QL / QL -> K/s. The one place the temperature advances. */
+static grip_real_t advance(const grip_mf_thermal_params *p, grip_real_t t, grip_real_t q,
+                           grip_real_t t_road, grip_real_t dt, grip_status_t *st)
+{
+    grip_real_t phi = r_mul(dt, one_minus_exp_over_x(r_mul(p->kappa, dt)));
+    grip_real_t t_next = r_add(t, r_mul(phi, r_sub(r_div(q, p->w), r_mul(p->kappa, r_sub(t, t_road)))));
+    return clamp_warn(t_next, p->t_min, p->t_max, st);
+}
+
 grip_status_t grip_mf_thermal_step(grip_mf_thermal_state *s, const grip_mf_thermal_inputs *in,
                                    grip_real_t dt, grip_mf_thermal_output *out)
 {
@@ -275,7 +286,6 @@ grip_status_t grip_mf_thermal_step(grip_mf_thermal_state *s, const grip_mf_therm
     grip_real_t fy;
     grip_real_t vs;
     grip_real_t q;
-    grip_real_t phi;
     grip_real_t t_next;
 
     if (out == NULL) {
@@ -306,10 +316,7 @@ grip_status_t grip_mf_thermal_step(grip_mf_thermal_state *s, const grip_mf_therm
     vs = r_mul(c.v, r_hypot(r_mul(c.slip, r_cos(c.alpha)), r_sin(c.alpha)));
     /* q = sqrt(Fx^2 + Fy^2) Vs [W, QL]                            (4.2)-(4.3) */
     q = r_mul(vs, r_hypot(fx, fy));
-    /* exact step of (4.6) for q constant over dt: q / W is QL / QL -> K/s */
-    phi = r_mul(dt, one_minus_exp_over_x(r_mul(p->kappa, dt)));
-    t_next = r_add(s->t, r_mul(phi, r_sub(r_div(q, p->w), r_mul(p->kappa, r_sub(s->t, c.t_road)))));
-    t_next = clamp_warn(t_next, p->t_min, p->t_max, &st);
+    t_next = advance(p, s->t, q, c.t_road, dt, &st);
 
     out->fx = fx;
     out->fy = fy;
@@ -317,5 +324,33 @@ grip_status_t grip_mf_thermal_step(grip_mf_thermal_state *s, const grip_mf_therm
     out->vs = vs;
     out->t = t_next;
     s->t = t_next;
+    return st;
+}
+
+grip_status_t grip_mf_thermal_heat_step(grip_mf_thermal_state *s, grip_real_t q, grip_real_t t_road,
+                                        grip_real_t dt, grip_real_t *t_out)
+{
+    const grip_mf_thermal_params *p;
+    grip_status_t st = GRIP_OK;
+    grip_real_t tr;
+
+    if (t_out == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    *t_out = R_ZERO;
+    if (s == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    if (s->magic != THERMAL_MAGIC || s->p == NULL) {
+        return GRIP_ERR_STATE;
+    }
+    p = s->p;
+    if (!r_is_finite(dt) || dt < R_ZERO || dt > RC(GRIP_MF_THERMAL_DT_MAX) || !r_is_finite(q) ||
+        q < R_ZERO || !r_is_finite(t_road)) {
+        return GRIP_ERR_INPUT;
+    }
+    tr = clamp_warn(t_road, p->t_min, p->t_max, &st);
+    s->t = advance(p, s->t, q, tr, dt, &st);
+    *t_out = s->t;
     return st;
 }

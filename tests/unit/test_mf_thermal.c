@@ -352,6 +352,68 @@ static void test_equilibrium_and_stability(void **state)
     }
 }
 
+/* grip_mf_thermal_heat_step: the same temperature step with a heat flux
+ * from elsewhere. (1) fed with the q that grip_mf_thermal_step computed, it
+ * reproduces that step's temperature exactly (one implementation of 4.6);
+ * (2) for constant q it follows the analytic solution
+ * T = T_R + q/(kappa W) + (T0 - T_R - q/(kappa W)) exp(-kappa t);
+ * (3) bad input: error status, *t_out zero, state unchanged. */
+static void test_heat_step(void **state)
+{
+    grip_mf_thermal_state a, b;
+    grip_mf_thermal_output out;
+    grip_real_t t_b;
+    double kappa, w, q, t0 = 30.0, worst = 0.0;
+    int i;
+    (void)state;
+    load_params();
+    assert_int_equal(grip_mf_thermal_init(&a, &params, to_qs(t0)), GRIP_OK);
+    assert_int_equal(grip_mf_thermal_init(&b, &params, to_qs(t0)), GRIP_OK);
+    for (i = 0; i < 400; ++i) {
+        double ph = 0.05 * (double)i;
+        grip_mf_thermal_inputs in = mk_in(20.0, 0.08 * sin(ph), 0.1 * cos(0.7 * ph), 4600.0, 20.0);
+        grip_status_t sa = grip_mf_thermal_step(&a, &in, to_qs(0.01), &out);
+        grip_status_t sb = grip_mf_thermal_heat_step(&b, out.q, in.t_road, to_qs(0.01), &t_b);
+        assert_int_equal(sa, sb);
+        assert_true(t_b == out.t);
+    }
+    kappa = from_qs(params.kappa);
+    w = from_ql(params.w);
+    q = 2000.0;
+    assert_int_equal(grip_mf_thermal_init(&b, &params, to_qs(t0)), GRIP_OK);
+    for (i = 1; i <= 2000; ++i) {
+        double eq = 20.0 + q / (kappa * w);
+        double want = eq + (t0 - eq) * exp(-kappa * 0.01 * (double)i);
+        grip_status_t st = grip_mf_thermal_heat_step(&b, to_ql(q), to_qs(20.0), to_qs(0.01), &t_b);
+        assert_true(st == GRIP_OK || st == GRIP_WARN_CLAMPED);
+        if (st == GRIP_OK) {
+            worst = fmax(worst, fabs(from_qs(t_b) - want));
+        }
+    }
+    printf("#   heat step, constant q = 2 kW vs analytic (20 s): max |err| = %.3e K\n", worst);
+#if GRIP_ARITH_FIXED
+    assert_true(worst <= 0.02);
+#else
+    assert_true(worst <= 1e-3);
+#endif
+    {
+        grip_real_t before = b.t;
+        grip_mf_thermal_state u;
+        memset(&u, 0, sizeof(u));
+        assert_int_equal(grip_mf_thermal_heat_step(NULL, 0, 0, to_qs(0.01), &t_b), GRIP_ERR_NULL);
+        assert_int_equal(grip_mf_thermal_heat_step(&b, 0, 0, to_qs(0.01), NULL), GRIP_ERR_NULL);
+        assert_int_equal(grip_mf_thermal_heat_step(&u, 0, 0, to_qs(0.01), &t_b), GRIP_ERR_STATE);
+        assert_int_equal(grip_mf_thermal_heat_step(&b, to_ql(-1.0), 0, to_qs(0.01), &t_b), GRIP_ERR_INPUT);
+        assert_true(t_b == 0);
+        assert_int_equal(grip_mf_thermal_heat_step(&b, 0, 0, to_qs(-0.01), &t_b), GRIP_ERR_INPUT);
+#if !GRIP_ARITH_FIXED
+        assert_int_equal(grip_mf_thermal_heat_step(&b, NAN, 0, to_qs(0.01), &t_b), GRIP_ERR_INPUT);
+        assert_int_equal(grip_mf_thermal_heat_step(&b, 0, INFINITY, to_qs(0.01), &t_b), GRIP_ERR_INPUT);
+#endif
+        assert_true(b.t == before);
+    }
+}
+
 static void test_status_and_null(void **state)
 {
     grip_mf_thermal_state s;
@@ -508,6 +570,7 @@ int main(void)
         cmocka_unit_test(test_time_series_golden),
         cmocka_unit_test(test_cooling_is_exact),
         cmocka_unit_test(test_equilibrium_and_stability),
+        cmocka_unit_test(test_heat_step),
         cmocka_unit_test(test_status_and_null),
         cmocka_unit_test(test_invalid_params),
         cmocka_unit_test(test_clamping),
