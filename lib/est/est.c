@@ -10,6 +10,8 @@
  * scalar updates: yaw rate, ay, (ax when excited) -> outputs.
  * No loop depends on data: every loop runs 3 or 4 times.
  */
+#include <stddef.h>
+
 #include "est_internal.h"
 
 /* ------------------------------------------------------------------ */
@@ -61,7 +63,7 @@ static int in_range(grip_real_t v, grip_real_t lo, grip_real_t hi)
 
 grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_params *tire)
 {
-    if (cfg == 0) {
+    if (cfg == NULL) {
         return GRIP_ERR_NULL;
     }
     cfg->mass = RCL(1450.0);
@@ -97,7 +99,7 @@ static grip_status_t check_config(const grip_est_config_t *c)
         return GRIP_ERR_PARAM;
     }
     for (a = 0; a < 2; ++a) {
-        if (c->tire[a].kind != GRIP_EST_TIRE_MF || c->tire[a].model.mf == 0) {
+        if (c->tire[a].kind != GRIP_EST_TIRE_MF || c->tire[a].model.mf == NULL) {
             return GRIP_ERR_PARAM;
         }
         if (grip_mf_check_params(c->tire[a].model.mf) != GRIP_OK) {
@@ -110,7 +112,7 @@ static grip_status_t check_config(const grip_est_config_t *c)
 grip_status_t grip_est_reset(grip_est_t *est)
 {
     int i, j;
-    if (est == 0) {
+    if (est == NULL) {
         return GRIP_ERR_NULL;
     }
     if (est->magic != EST_MAGIC) {
@@ -145,7 +147,7 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
     grip_status_t st;
     grip_real_t l, m_g;
     int a, k;
-    if (est == 0 || cfg == 0) {
+    if (est == NULL || cfg == NULL) {
         return GRIP_ERR_NULL;
     }
     est->magic = 0;
@@ -391,7 +393,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     const grip_est_config_t *c;
     uint32_t flags = 0, valid = 0;
     int steer_ok, yaw_ok, ax_ok, ay_ok, vs_ok;
-    int i, n_ws = 0, active, excited = 0, wheels_ok = 1, lock = 0, spin = 0;
+    int i, n_ws = 0, active, excited, wheels_ok = 1, lock = 0, spin = 0;
     grip_real_t delta, cd, sd, yaw, ax, ay, rate;
     grip_real_t ws[4];
     int ws_ok[4];
@@ -400,11 +402,11 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     grip_real_t xw[4], yw[4];
     grip_real_t mu;
 
-    if (out == 0) {
+    if (out == NULL) {
         return GRIP_ERR_NULL;
     }
     zero_output(out);
-    if (est == 0 || in == 0) {
+    if (est == NULL || in == NULL) {
         return GRIP_ERR_NULL;
     }
     if (est->magic != EST_MAGIC) {
