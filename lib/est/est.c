@@ -10,6 +10,8 @@
  * scalar updates: yaw rate, ay, (ax when excited) -> outputs.
  * No loop depends on data: every loop runs 3 or 4 times.
  */
+#include <stddef.h>
+
 #include "est_internal.h"
 
 /* ------------------------------------------------------------------ */
@@ -61,7 +63,7 @@ static int in_range(grip_real_t v, grip_real_t lo, grip_real_t hi)
 
 grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_params *tire)
 {
-    if (cfg == 0) {
+    if (cfg == NULL) {
         return GRIP_ERR_NULL;
     }
     cfg->mass = RCL(1450.0);
@@ -97,7 +99,7 @@ static grip_status_t check_config(const grip_est_config_t *c)
         return GRIP_ERR_PARAM;
     }
     for (a = 0; a < 2; ++a) {
-        if (c->tire[a].kind != GRIP_EST_TIRE_MF || c->tire[a].model.mf == 0) {
+        if (c->tire[a].kind != GRIP_EST_TIRE_MF || c->tire[a].model.mf == NULL) {
             return GRIP_ERR_PARAM;
         }
         if (grip_mf_check_params(c->tire[a].model.mf) != GRIP_OK) {
@@ -110,7 +112,7 @@ static grip_status_t check_config(const grip_est_config_t *c)
 grip_status_t grip_est_reset(grip_est_t *est)
 {
     int i, j;
-    if (est == 0) {
+    if (est == NULL) {
         return GRIP_ERR_NULL;
     }
     if (est->magic != EST_MAGIC) {
@@ -145,7 +147,7 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
     grip_status_t st;
     grip_real_t l, m_g;
     int a, k;
-    if (est == 0 || cfg == 0) {
+    if (est == NULL || cfg == NULL) {
         return GRIP_ERR_NULL;
     }
     est->magic = 0;
@@ -391,7 +393,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     const grip_est_config_t *c;
     uint32_t flags = 0, valid = 0;
     int steer_ok, yaw_ok, ax_ok, ay_ok, vs_ok;
-    int i, n_ws = 0, active, excited = 0, wheels_ok = 1, lock = 0, spin = 0;
+    int i, n_ws = 0, active, excited, wheels_ok = 1, lock = 0, spin = 0;
     grip_real_t delta, cd, sd, yaw, ax, ay, rate;
     grip_real_t ws[4];
     int ws_ok[4];
@@ -400,11 +402,11 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     grip_real_t xw[4], yw[4];
     grip_real_t mu;
 
-    if (out == 0) {
+    if (out == NULL) {
         return GRIP_ERR_NULL;
     }
     zero_output(out);
-    if (est == 0 || in == 0) {
+    if (est == NULL || in == NULL) {
         return GRIP_ERR_NULL;
     }
     if (est->magic != EST_MAGIC) {
@@ -419,7 +421,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     yaw_ok = take_input(est, in, GRIP_IN_YAW_RATE, H_YAW, RC(EST_YAW_MAX), &flags);
     ax_ok = take_input(est, in, GRIP_IN_AX, H_AX, RC(EST_ACC_MAX), &flags);
     ay_ok = take_input(est, in, GRIP_IN_AY, H_AY, RC(EST_ACC_MAX), &flags);
-    vs_ok = take_input(est, in, GRIP_IN_VEHICLE_SPEED, H_VS, RC(EST_WS_MAX), &flags) &&
+    vs_ok = take_input(est, in, GRIP_IN_VEHICLE_SPEED, H_VS, RC(EST_WS_MAX), &flags) && /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
             est->age[H_VS] == 0;
     if (!steer_ok) {
         flags |= GRIP_EST_F_NO_STEER;
@@ -532,10 +534,10 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                 /* wheels agree with each other: trust them (fully when they also
                  * agree with the prediction, at K_MID when all of them disagree
                  * with it, e.g. after a long loss); otherwise K_LO */
-                int agree = r_sub(vmax, vmin) <= r_add(RC(0.5), r_mul(RC(0.05), r_abs(vx_pred)));
-                k = agree ? ((lock || spin) ? RC(EST_K_MID) : RC(EST_K_HI)) : RC(EST_K_LO);
+                int agree = r_sub(vmax, vmin) <= r_add(RC(0.5), r_mul(RC(0.05), r_abs(vx_pred))); /* grip-deviation: MISRA-10.3 comparison result 0/1 stored in an int flag */
+                k = agree ? ((lock || spin) ? RC(EST_K_MID) : RC(EST_K_HI)) : RC(EST_K_LO); /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
             }
-        }
+        } /* grip-deviation: MISRA-15.7 no speed reference: k stays 0, vx follows the prediction */
         if (vs_ok || n_ws > 0) {
             est->no_wheel_steps = 0;
         } else {
@@ -630,7 +632,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
 
         for (i = 0; i < 4; ++i) {
             int axle = i >> 1;
-            grip_real_t cdi = axle ? R_ONE : cd, sdi = axle ? R_ZERO : sd;
+            grip_real_t cdi = axle ? R_ONE : cd, sdi = axle ? R_ZERO : sd; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
             grip_real_t vcx = r_sub(vx, r_mul(r, yw[i]));
             grip_real_t vcy = r_add(vy, r_mul(r, xw[i]));
             grip_real_t vxw = r_add(r_mul(cdi, vcx), r_mul(sdi, vcy));
@@ -735,7 +737,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         out->fy_axle[0] = r_add(out->fy[0], out->fy[1]);
         out->fy_axle[1] = r_add(out->fy[2], out->fy[3]);
         for (i = 0; i < 2; ++i) {
-            grip_real_t fzx = r_add(out->fz[2 * i], out->fz[2 * i + 1]);
+            grip_real_t fzx = r_add(out->fz[2 * i], out->fz[2 * i + 1]); /* grip-deviation: bugprone-implicit-widening-of-multiplication-result i <= 1 */
             grip_real_t fxa = r_add(out->fx[2 * i], out->fx[2 * i + 1]);
             if (fzx > RCL(100.0)) {
                 grip_real_t fxn = r_div(fxa, fzx), fyn = r_div(out->fy_axle[i], fzx);
@@ -747,7 +749,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         ax_m = r_div(sfx, m);
         racc = r_div(smz, c->iz);
 
-        excited = vx >= RC(EST_V_EXC) && umax >= RC(EST_EXC_U) && ay_ok && ax_ok &&
+        excited = vx >= RC(EST_V_EXC) && umax >= RC(EST_EXC_U) && ay_ok && ax_ok && /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
                   r_add(r_abs(ax), r_abs(ay)) >= RC(EST_EXC_A);
         {
             /* friction-limit test, independent of the mu estimate: the yaw
@@ -768,7 +770,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
             } else {
                 est->lim_steps = 0;
             }
-            at_limit = est->lim_steps >= est->lim_n;
+            at_limit = est->lim_steps >= est->lim_n; /* grip-deviation: MISRA-10.3 comparison result 0/1 stored in an int flag */
             if (at_limit) {
                 excited = 1;
             }
@@ -897,7 +899,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
             sgn = (r_abs(out->yaw_rate_ref) > RC(0.01)) ? r_sign(out->yaw_rate_ref) : r_sign(yaw);
             d = r_mul(sgn, r_sub(out->yaw_rate_ref, yaw));
             thr = r_add(RC(0.03), r_mul(RC(0.1), r_abs(out->yaw_rate_ref)));
-            out->steer_char = (d > thr) ? 1 : ((r_neg(d) > thr) ? -1 : 0);
+            out->steer_char = (d > thr) ? 1 : ((r_neg(d) > thr) ? -1 : 0); /* grip-deviation: MISRA-10.6 tool: ?: of constants is not composite (8.10.3) */
             valid |= GRIP_EST_V_STEER;
         }
     }

@@ -5,7 +5,8 @@
 #   Cortex-M0+ fixed build  (-mcpu=cortex-m0plus, ARMv6-M) on -M mps2-an385
 #                           (a Cortex-M3: it executes the ARMv6-M subset)
 # The same program (tests/target/target_main.c) and vector subset
-# (gen_vectors.py: Magic Formula, Q15.16, MF 1989, MF thermal) also run on
+# (gen_vectors.py: Magic Formula, Q15.16, MF 1989, MF thermal, the brush
+# family, the relaxation transient, estimator sequences) also run on
 # the host; compare.py checks every output
 # against the golden reference with the host tests' tolerances, and the
 # fixed results of the M0+ and the host must be identical bit for bit.
@@ -43,7 +44,11 @@ for t in qemu-system-arm arm-none-eabi-gcc; do
 done
 
 # golden vectors (the Python reference) if this build root has none yet
-if [ ! -f "$BR/golden/mf_params.c" ] || [ ! -f "$BR/golden/q16.txt" ] || [ ! -f "$BR/golden/mf89.txt" ]; then
+need_golden=0
+for f in mf_params.c q16.txt mf89.txt mf_thermal.txt brush_neofiala.txt relax.txt est_bicycle_100hz.txt est_faults_100hz.txt; do
+    [ -f "$BR/golden/$f" ] || need_golden=1
+done
+if [ $need_golden = 1 ]; then
     make --no-print-directory BUILDROOT="$BR" golden >"$B/golden.log" 2>&1 || { sed 's/^/# /' "$B/golden.log" | tail -20; }
 fi
 if $PY tests/target/gen_vectors.py "$BR/golden" "$B/tv_vectors.h" >"$B/gen.log" 2>&1; then
@@ -126,12 +131,15 @@ check "host float (same subset)" "$B/host-float.out" float
 
 # fixed build: bit identity of every result word (and status) target vs host
 if cmp -s "$B/m0p.out" "$B/host-fixed.out"; then
-    tap ok "fixed build bit-identical on Cortex-M0+ and host ($(grep -c '^[MQFHS]' "$B/m0p.out") result lines, every word)"
+    tap ok "fixed build bit-identical on Cortex-M0+ and host ($(grep -c '^[MQFHSRLT]' "$B/m0p.out") result lines, every word)"
 else
     tap fail "fixed build differs between Cortex-M0+ and host"
     diff "$B/m0p.out" "$B/host-fixed.out" | head -10 | sed 's/^/# /'
 fi
 # float build: not required to be identical (FMA contraction, libm); say how close
-same=$(paste -d'|' "$B/m4f.out" "$B/host-float.out" | awk -F'|' '$1 ~ /^[MFHS]/ { t++; if ($1 == $2) s++ } END { printf "%d of %d", s, t }')
-echo "# float build: $same MF, MF89 and MF thermal result lines bit-identical on Cortex-M4F and host (not required)"
+for k in "MFHS:MF, MF89 and MF thermal" "R:brush-family" "L:relaxation" "T:estimator"; do
+    same=$(paste -d'|' "$B/m4f.out" "$B/host-float.out" | awk -F'|' -v re="^[${k%%:*}]" \
+        '$1 ~ re { t++; if ($1 == $2) s++ } END { printf "%d of %d", s, t }')
+    echo "# float build: $same ${k#*:} result lines bit-identical on Cortex-M4F and host (not required)"
+done
 finish

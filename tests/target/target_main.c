@@ -19,6 +19,15 @@
  *   F <golden row> <status> <Fy>               MF 1989
  *   H <golden row> <status> <Fx> <Fy>          MF thermal, forces at a temperature
  *   S <golden row> <status> <Fx> <Fy> <q> <T>  MF thermal time series (closed loop)
+ *   R <model> <golden row> <status> <Fx> <Fy> <Mz> <rh>
+ *                                              brush family (model 0 FIALA, 1 brush,
+ *                                              2 Sakai, 3 Neo-FIALA)
+ *   L <golden row> <status> <kappa'> <alpha'>  relaxation (closed loop per scenario)
+ *   N <sequence> <rate_hz> <name>              an estimator sequence starts
+ *   T <sequence> <golden row> <status> <45 output words in the golden file's
+ *     column order: vx vy beta yaw_rate yaw_rate_ref yaw_error delta mu mu_conf
+ *     fz[4] kappa[4] alpha[4] fx[4] fy[4] mz[4] util[4] fy_axle[2] util_axle[2]
+ *     fy_margin_front steer_char valid flags>  estimator step (closed loop)
  *   E <count of lines>
  */
 #include <stdint.h>
@@ -28,6 +37,9 @@
 #include "grip/grip_mf.h"
 #include "grip/grip_mf89.h"
 #include "grip/grip_mf_thermal.h"
+#include "grip/grip_brush.h"
+#include "grip/grip_relax.h"
+#include "grip/grip_est.h"
 #include "mf_params.h"
 #include "grip_bm.h"
 
@@ -38,12 +50,27 @@ typedef struct {
     int n;
 } tv_tire;
 
+typedef struct {
+    int id;
+    const char *name;
+    uint32_t rate_hz;
+    int first;
+    int n;
+} tv_seq;
+
 #include "tv_vectors.h"
 
 /* the thermal parameter words are copied into the struct in P-row order */
 typedef char tv_th_size_check[(sizeof(grip_mf_thermal_params) == TV_TH_NP * sizeof(grip_real_t)) ? 1 : -1];
+/* the brush parameter words are copied into the structs in P-row order
+ * (every field is a grip_real_t or an int32_t) */
+typedef char tv_fiala_size_check[(sizeof(grip_fiala_params) == sizeof tv_fiala_p[0]) ? 1 : -1];
+typedef char tv_brush_size_check[(sizeof(grip_brush_params) == sizeof tv_brush_p[0]) ? 1 : -1];
+typedef char tv_sakai_size_check[(sizeof(grip_sakai_params) == sizeof tv_sakai_p[0]) ? 1 : -1];
+typedef char tv_neofiala_size_check[(sizeof(grip_neofiala_params) == sizeof tv_neofiala_p[0]) ? 1 : -1];
+typedef char tv_relax_size_check[(sizeof(grip_relax_params) == sizeof tv_relax_p[0]) ? 1 : -1];
 
-static char line[256];
+static char line[512];
 static int pos;
 static uint32_t nlines;
 
@@ -109,6 +136,175 @@ static grip_q16_t q16(uint32_t f, uint32_t a, uint32_t b)
     case 7: return grip_q16_exp(x);
     default: return grip_q16_log(x);
     }
+}
+
+static void put_out(const grip_brush_out *o)
+{
+    put_hex(word(o->fx));
+    put_hex(word(o->fy));
+    put_hex(word(o->mz));
+    put_hex(word(o->rh));
+}
+
+/* brush family: FIALA, brush, Sakai, Neo-FIALA, parameter sets first */
+static void run_brush(void)
+{
+    static grip_fiala_params fi[TV_FIALA_NSETS];
+    static grip_brush_params br[TV_BRUSH_NSETS];
+    static grip_sakai_params sa[TV_SAKAI_NSETS];
+    static grip_neofiala_params nf[TV_NEOFIALA_NSETS];
+    int i;
+    memcpy(fi, tv_fiala_p, sizeof fi);
+    memcpy(br, tv_brush_p, sizeof br);
+    memcpy(sa, tv_sakai_p, sizeof sa);
+    memcpy(nf, tv_neofiala_p, sizeof nf);
+    for (i = 0; i < TV_BR_ROWS; i++) {
+        const uint32_t *r = tv_br[i];
+        uint32_t id = r[1];
+        grip_brush_out o;
+        grip_status_t s;
+        memset(&o, 0, sizeof o);
+        switch (r[0]) {
+        case 0:
+            s = grip_fiala_eval(&fi[id], real(r[4]), real(r[5]), &o);
+            break;
+        case 1:
+            s = grip_brush_eval(&br[id], real(r[4]), real(r[5]), real(r[6]), &o);
+            break;
+        case 2:
+            s = grip_sakai_eval(&sa[id], real(r[4]), real(r[5]), real(r[6]), &o);
+            break;
+        default:
+            s = grip_neofiala_eval(&nf[id], real(r[4]), real(r[5]), real(r[6]), real(r[7]), real(r[8]), &o);
+            break;
+        }
+        put_c('R');
+        put_hex(r[0]);
+        put_hex(r[3]);
+        put_hex((uint32_t)s);
+        put_out(&o);
+        flush();
+    }
+}
+
+/* relaxation length: every scenario from zero state, closed loop */
+static int run_relax(void)
+{
+    static grip_relax_params rp;
+    static grip_relax_state rs;
+    uint32_t scen = 0xFFFFFFFFu;
+    int i;
+    memcpy(&rp, tv_relax_p[0], sizeof rp);
+    for (i = 0; i < TV_RELAX_ROWS; i++) {
+        grip_real_t kt = 0;
+        grip_real_t at = 0;
+        grip_status_t s;
+        if (tv_relax[i][0] != scen) {
+            scen = tv_relax[i][0];
+            if (grip_relax_init(&rs, &rp, 0, 0) != GRIP_OK) {
+                put_s("X relax init failed");
+                flush();
+                return 1;
+            }
+        }
+        s = grip_relax_step(&rs, real(tv_relax[i][1]), real(tv_relax[i][2]), real(tv_relax[i][3]),
+                            real(tv_relax[i][4]), &kt, &at);
+        put_c('L');
+        put_hex(tv_relax[i][5]);
+        put_hex((uint32_t)s);
+        put_hex(word(kt));
+        put_hex(word(at));
+        flush();
+    }
+    return 0;
+}
+
+static void put_words(const grip_real_t *v, int n)
+{
+    int k;
+    for (k = 0; k < n; k++) {
+        put_hex(word(v[k]));
+    }
+}
+
+/* estimator: whole sequences, PacejkaBook_Defaults on both axles (as
+ * tests/unit/test_est_golden.c) */
+static int run_est(void)
+{
+    static grip_est_t est;
+    static grip_input_sample_t in;
+    static grip_est_output_t out;
+    const grip_mf_params *tp = NULL;
+    int q;
+    int k;
+    for (k = 0; k < grip_test_tire_count; k++) {
+        if (strcmp(grip_test_tires[k].name, "PacejkaBook_Defaults") == 0) {
+            tp = grip_test_tires[k].params;
+        }
+    }
+    if (tp == NULL && TV_EST_NSEQ > 0) {
+        put_s("X missing parameter set PacejkaBook_Defaults");
+        flush();
+        return 1;
+    }
+    for (q = 0; q < TV_EST_NSEQ; q++) {
+        const tv_seq *sq = &tv_est_seqs[q];
+        grip_est_config_t cfg;
+        int i;
+        if (grip_est_config_default(&cfg, tp) != GRIP_OK) {
+            put_s("X estimator configuration failed");
+            flush();
+            return 1;
+        }
+        cfg.rate_hz = sq->rate_hz;
+        if (grip_est_init(&est, &cfg) != GRIP_OK) {
+            put_s("X estimator init failed");
+            flush();
+            return 1;
+        }
+        put_c('N');
+        put_hex((uint32_t)sq->id);
+        put_hex(sq->rate_hz);
+        put_c(' ');
+        put_s(sq->name);
+        flush();
+        for (i = 0; i < sq->n; i++) {
+            const uint32_t *r = tv_est[sq->first + i];
+            grip_status_t s;
+            memset(&in, 0, sizeof in);
+            memset(&out, 0, sizeof out);
+            in.t_us = (int64_t)r[0];
+            in.step = (uint32_t)i;
+            for (k = 0; k < TV_EST_NIN; k++) {
+                in.value[k] = real(r[3 + k]);
+                in.valid[k] = (uint8_t)((r[1] >> k) & 1u);
+                in.fault[k] = (uint8_t)(in.valid[k] ? GRIP_SIG_OK : GRIP_SIG_MISSING);
+            }
+            s = grip_est_step(&est, &in, &out);
+            put_c('T');
+            put_hex((uint32_t)sq->id);
+            put_hex(r[2]);
+            put_hex((uint32_t)s);
+            put_hex(word(out.vx)); put_hex(word(out.vy)); put_hex(word(out.beta));
+            put_hex(word(out.yaw_rate)); put_hex(word(out.yaw_rate_ref)); put_hex(word(out.yaw_error));
+            put_hex(word(out.delta)); put_hex(word(out.mu)); put_hex(word(out.mu_conf));
+            put_words(out.fz, 4);
+            put_words(out.kappa, 4);
+            put_words(out.alpha, 4);
+            put_words(out.fx, 4);
+            put_words(out.fy, 4);
+            put_words(out.mz, 4);
+            put_words(out.util, 4);
+            put_words(out.fy_axle, 2);
+            put_words(out.util_axle, 2);
+            put_hex(word(out.fy_margin_front));
+            put_hex((uint32_t)out.steer_char);
+            put_hex(out.valid);
+            put_hex(out.flags);
+            flush();
+        }
+    }
+    return 0;
 }
 
 int main(void)
@@ -249,6 +445,10 @@ int main(void)
             put_hex(word(o.t));
             flush();
         }
+    }
+    run_brush();
+    if (run_relax() != 0 || run_est() != 0) {
+        return 1;
     }
     put_c('E');
     put_hex(nlines);
