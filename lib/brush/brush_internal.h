@@ -50,7 +50,6 @@ typedef struct {
     grip_real_t fx;
     grip_real_t fy;
     grip_real_t mz;
-    grip_real_t q;
     grip_real_t rh;
 } brush_state;
 
