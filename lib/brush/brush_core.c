@@ -74,8 +74,7 @@ static const grip_real_t k_tab[GRIP_BRUSH_N_MAX - 1][TAB_W] = {
 #endif
 };
 
-/* 1/m, m = 0..19 (entry 0 unused). */
-static const grip_real_t k_recip[20] = {
+const grip_real_t brush_core_recip_tab[20] = {
     RC(0.0), RC(1.0), RC(1.0 / 2.0), RC(1.0 / 3.0), RC(1.0 / 4.0), RC(1.0 / 5.0),
     RC(1.0 / 6.0), RC(1.0 / 7.0), RC(1.0 / 8.0), RC(1.0 / 9.0), RC(1.0 / 10.0),
     RC(1.0 / 11.0), RC(1.0 / 12.0), RC(1.0 / 13.0), RC(1.0 / 14.0), RC(1.0 / 15.0),
@@ -118,11 +117,6 @@ static const grip_real_t k_int[17] = {
     RC(0.0), RC(1.0), RC(2.0), RC(3.0), RC(4.0), RC(5.0), RC(6.0), RC(7.0), RC(8.0),
     RC(9.0), RC(10.0), RC(11.0), RC(12.0), RC(13.0), RC(14.0), RC(15.0), RC(16.0),
 };
-
-grip_real_t brush_core_recip(int32_t m)
-{
-    return (m >= 1 && m <= 19) ? k_recip[m] : R_ZERO;
-}
 
 grip_real_t brush_core_hypot(grip_real_t x, grip_real_t y)
 {
