@@ -486,8 +486,11 @@ static grip_status_t mf_begin(const grip_mf_params *p, const grip_mf_input *in, 
 }
 
 /* What both evaluations compute first: the operating point, the pure
- * longitudinal and lateral forces (with their common lateral factors) and
- * the aligning-moment coefficients. */
+ * longitudinal force and the common lateral factors (mf_pure_begin); then
+ * each caller evaluates Fy0 and the trail coefficients into the same struct
+ * (mf_lat_pure, mf_trail_coefs: called from the evaluations, not from the
+ * helper, so that the helper adds no frame to the deepest call path - the
+ * stack budget of the firmware, tests/firmware/check.sh). */
 typedef struct {
     mf_op op;
     mf_io io;
@@ -500,8 +503,8 @@ typedef struct {
 
 /* Status of the evaluation; the caller returns it at once when it is an
  * error or when io.zero (Fz <= 0: zero outputs). */
-static grip_status_t mf_pure_part(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out,
-                                  mf_pure *s)
+static grip_status_t mf_pure_begin(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out,
+                                   mf_pure *s)
 {
     grip_status_t st = mf_begin(p, in, out, &s->op, &s->io);
     if ((st < 0) || s->io.zero) {
@@ -509,8 +512,6 @@ static grip_status_t mf_pure_part(const grip_mf_params *p, const grip_mf_input *
     }
     mf_long_pure(p, &s->op, &s->lon);
     mf_lat_common_init(p, &s->op, &s->latc);
-    mf_lat_pure(p, &s->op, &s->latc, s->op.gy, &s->lat);
-    mf_trail_coefs(p, &s->op, &s->lat, &s->tc);
     return st;
 }
 
@@ -532,10 +533,12 @@ grip_status_t grip_mf_eval_pure(const grip_mf_params *p, const grip_mf_input *in
     grip_real_t fy_ref;
     grip_real_t t0;
     grip_real_t mz0;
-    grip_status_t st = mf_pure_part(p, in, out, &s);
+    grip_status_t st = mf_pure_begin(p, in, out, &s);
     if ((st < 0) || s.io.zero) {
         return st;
     }
+    mf_lat_pure(p, &s.op, &s.latc, s.op.gy, &s.lat);
+    mf_trail_coefs(p, &s.op, &s.lat, &s.tc);
     /* Mz0' = -t0 Fy0 (4.E32). MF 6.x uses Fy0 at gamma = 0 (camber acts on
      * Mz through Mzr); MF 5.2 the pure lateral force itself. */
     fy_ref = s.op.mf52 ? s.lat.fy0 : mf_lat_gamma0(p, &s)->fy0;
@@ -582,11 +585,13 @@ grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, gri
     grip_real_t t;
     grip_real_t mzr;
     grip_real_t sarm;
-    grip_status_t st = mf_pure_part(p, in, out, &s);
+    grip_status_t st = mf_pure_begin(p, in, out, &s);
     const mf_op *op = &s.op;
     if ((st < 0) || s.io.zero) {
         return st;
     }
+    mf_lat_pure(p, op, &s.latc, op->gy, &s.lat);
+    mf_trail_coefs(p, op, &s.lat, &s.tc);
 
     /* Fx = Gxa Fx0 (4.E50-E57). */
     {
