@@ -21,8 +21,9 @@
  * the implicit couplings of Neo-FIALA are eliminated exactly for a trial
  * adhesion boundary r_h, which leaves one scalar root solved by
  * GRIP_BRUSH_ROOT_ITERS Anderson-Bjorck steps on a tabulated variable
- * (at most 7 residual evaluations per call); powers |x|^n run a fixed loop of
- * GRIP_BRUSH_N_MAX steps. No loop count depends on data.
+ * (at most 7 residual evaluations per call); powers |x|^n are a short
+ * product chain per n (n <= 8) or a loop of GRIP_BRUSH_N_MAX steps (larger
+ * n). No loop count depends on data.
  *
  * Sign convention (inputs and outputs): ISO-W as grip's Magic Formula:
  * kappa > 0 driving (Fx > 0), kappa < 0 braking (kappa = -1: locked wheel);
@@ -51,8 +52,8 @@
 #include "grip_types.h"
 
 /* Supported pressure exponents n (integers). GRIP_BRUSH_N_MAX can be set
- * between 2 and 16 (-D or GRIP_CONFIG_FILE); it is the trip count of the
- * power loop, so a smaller value makes every evaluation cheaper. */
+ * between 2 and 16 (-D or GRIP_CONFIG_FILE); exponents above 8 use a power
+ * loop of GRIP_BRUSH_N_MAX steps instead of the product chains of n <= 8. */
 #define GRIP_BRUSH_N_MIN 2
 #ifndef GRIP_BRUSH_N_MAX
 #define GRIP_BRUSH_N_MAX 8

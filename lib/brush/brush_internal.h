@@ -50,7 +50,6 @@ typedef struct {
     grip_real_t fx;
     grip_real_t fy;
     grip_real_t mz;
-    grip_real_t q;
     grip_real_t rh;
 } brush_state;
 
@@ -76,9 +75,15 @@ grip_real_t brush_core_tanc(grip_real_t a);
 /* sin(a) / a for |a| <= 1 (1 at a = 0), likewise. */
 grip_real_t brush_core_sinc(grip_real_t a);
 
-#define brush_core_recip GRIP_TYPED(grip_brush_i_recip)
+#define brush_core_recip_tab GRIP_TYPED(grip_brush_i_recip_tab)
+/* 1/m, m = 0..19 (entry 0 unused; QS constants). */
+extern const grip_real_t brush_core_recip_tab[20];
+
 /* 1 / m for the integers m = 1 .. GRIP_BRUSH_N_MAX + 3 (QS constants). */
-grip_real_t brush_core_recip(int32_t m);
+static inline grip_real_t brush_core_recip(int32_t m)
+{
+    return (m >= 1 && m <= 19) ? brush_core_recip_tab[m] : R_ZERO;
+}
 
 /* Clamping helpers shared by the models. */
 static inline grip_real_t brush_clamp_sym(grip_real_t x, grip_real_t lim, grip_status_t *st)

@@ -23,17 +23,31 @@ static grip_real_t camber_a(const grip_neofiala_params *p)
     return r_mul(r_div(r_mul(RC(2.0), r_mul(p->h, p->w)), r_sq(p->l)), r_mul(p->c_gamma, r_div(p->ky, p->g_my)));
 }
 
+/* Every real field finite. Float: x - x is 0 for a finite x and NaN for an
+ * infinite or NaN one, and a NaN survives the sum, so one comparison tests
+ * all 24 fields (two operations a field instead of a test and a branch). */
+static int nf_params_finite(const grip_neofiala_params *p)
+{
+#if GRIP_ARITH_FIXED
+    (void)p;
+    return 1;
+#else
+    grip_real_t z = (p->l - p->l) + (p->w - p->w) + (p->kx - p->kx) + (p->ky - p->ky) +
+                    (p->mu_s - p->mu_s) + (p->mu_d0 - p->mu_d0) + (p->a_v - p->a_v) + (p->q0 - p->q0) +
+                    (p->c_q - p->c_q) + (p->c_qm - p->c_qm) + (p->c_xc - p->c_xc) + (p->xi - p->xi) +
+                    (p->eps - p->eps) + (p->g_mz - p->g_mz) + (p->a_x - p->a_x) +
+                    (p->c_gamma - p->c_gamma) + (p->h - p->h) + (p->g_my - p->g_my) +
+                    (p->fz_min - p->fz_min) + (p->fz_max - p->fz_max) + (p->alpha_max - p->alpha_max) +
+                    (p->kappa_max - p->kappa_max) + (p->gamma_max - p->gamma_max) + (p->v_max - p->v_max);
+    return (z == 0.0f) ? 1 : 0;
+#endif
+}
+
 static int nf_params_ok(const grip_neofiala_params *p)
 {
     grip_real_t fmaxk;
     grip_real_t kmax;
-    if (!r_is_finite(p->l) || !r_is_finite(p->w) || !r_is_finite(p->kx) || !r_is_finite(p->ky) ||
-        !r_is_finite(p->mu_s) || !r_is_finite(p->mu_d0) || !r_is_finite(p->a_v) || !r_is_finite(p->q0) ||
-        !r_is_finite(p->c_q) || !r_is_finite(p->c_qm) || !r_is_finite(p->c_xc) || !r_is_finite(p->xi) ||
-        !r_is_finite(p->eps) || !r_is_finite(p->g_mz) || !r_is_finite(p->a_x) ||
-        !r_is_finite(p->c_gamma) || !r_is_finite(p->h) || !r_is_finite(p->g_my) ||
-        !r_is_finite(p->fz_min) || !r_is_finite(p->fz_max) || !r_is_finite(p->alpha_max) ||
-        !r_is_finite(p->kappa_max) || !r_is_finite(p->gamma_max) || !r_is_finite(p->v_max)) {
+    if (!nf_params_finite(p)) {
         return 0;
     }
     if (p->n < GRIP_BRUSH_N_MIN || p->n > GRIP_BRUSH_N_MAX) {
@@ -97,6 +111,23 @@ grip_status_t grip_neofiala_check_params(const grip_neofiala_params *p)
 
 #define NF_MAGIC 0x4e464941u   /* "NFIA" */
 
+/* The load-independent constants of a valid set p (every field of *m but
+ * p and magic). */
+static void nf_derive(const grip_neofiala_params *p, grip_neofiala_model *m)
+{
+    m->inv1 = brush_core_recip(p->n + 1);
+    m->inv2 = brush_core_recip(p->n + 2);
+    m->inv3 = brush_core_recip(p->n + 3);
+    m->c = r_add(R_ONE, brush_core_recip(p->n));
+    m->kyg = (p->g_mz > R_ZERO) ? r_div(r_mul(p->l, p->ky), p->g_mz) : R_ZERO;
+    m->eky = r_mul(r_mul(p->eps, p->l), r_div(p->ky, KN));
+    m->cam_a = camber_a(p);
+}
+
+static grip_status_t nf_eval(const grip_neofiala_params *p, const grip_neofiala_model *d, grip_real_t kappa,
+                             grip_real_t alpha, grip_real_t gamma, grip_real_t fz, grip_real_t vx,
+                             grip_brush_out *out);
+
 grip_status_t grip_neofiala_prepare(const grip_neofiala_params *p, grip_neofiala_model *m)
 {
     if (m == NULL) {
@@ -110,13 +141,7 @@ grip_status_t grip_neofiala_prepare(const grip_neofiala_params *p, grip_neofiala
         return GRIP_ERR_PARAM;
     }
     m->p = *p;
-    m->inv1 = brush_core_recip(p->n + 1);
-    m->inv2 = brush_core_recip(p->n + 2);
-    m->inv3 = brush_core_recip(p->n + 3);
-    m->c = r_add(R_ONE, brush_core_recip(p->n));
-    m->kyg = (p->g_mz > R_ZERO) ? r_div(r_mul(p->l, p->ky), p->g_mz) : R_ZERO;
-    m->eky = r_mul(r_mul(p->eps, p->l), r_div(p->ky, KN));
-    m->cam_a = camber_a(p);
+    nf_derive(p, m);
     m->magic = NF_MAGIC;
     return GRIP_OK;
 }
@@ -125,30 +150,25 @@ grip_status_t grip_neofiala_eval(const grip_neofiala_params *p, grip_real_t kapp
                                  grip_real_t alpha, grip_real_t gamma, grip_real_t fz,
                                  grip_real_t vx, grip_brush_out *out)
 {
-    grip_neofiala_model m;
-    grip_status_t st;
+    grip_neofiala_model d;                /* only the derived constants are used */
     if (out == NULL) {
         return GRIP_ERR_NULL;
     }
     brush_out_zero(out);
-    st = grip_neofiala_prepare(p, &m);
-    if (st != GRIP_OK) {
-        return st;
+    if (p == NULL) {
+        return GRIP_ERR_NULL;
     }
-    return grip_neofiala_eval_model(&m, kappa, alpha, gamma, fz, vx, out);
+    if (!nf_params_ok(p)) {
+        return GRIP_ERR_PARAM;
+    }
+    nf_derive(p, &d);
+    return nf_eval(p, &d, kappa, alpha, gamma, fz, vx, out);
 }
 
 grip_status_t grip_neofiala_eval_model(const grip_neofiala_model *m, grip_real_t kappa,
                                        grip_real_t alpha, grip_real_t gamma, grip_real_t fz,
                                        grip_real_t vx, grip_brush_out *out)
 {
-    grip_status_t st = GRIP_OK;
-    const grip_neofiala_params *p;
-    brush_problem pb;
-    brush_state s;
-    grip_real_t f0, f0k, fl, kxn, kyn, tc, ta, ge, teq, syt, sgn, sx, kf, k, dx, dy, h, cth, sth;
-    grip_real_t vs, mud, rd;
-
     if (out == NULL) {
         return GRIP_ERR_NULL;
     }
@@ -159,7 +179,21 @@ grip_status_t grip_neofiala_eval_model(const grip_neofiala_model *m, grip_real_t
     if (m->magic != NF_MAGIC) {
         return GRIP_ERR_STATE;
     }
-    p = &m->p;
+    return nf_eval(&m->p, m, kappa, alpha, gamma, fz, vx, out);
+}
+
+/* One evaluation of the valid set p with the derived constants of d
+ * (nf_derive; d->p and d->magic are not read). out is zeroed already. */
+static grip_status_t nf_eval(const grip_neofiala_params *p, const grip_neofiala_model *d, grip_real_t kappa,
+                             grip_real_t alpha, grip_real_t gamma, grip_real_t fz, grip_real_t vx,
+                             grip_brush_out *out)
+{
+    grip_status_t st = GRIP_OK;
+    brush_problem pb;
+    brush_state s;
+    grip_real_t f0, f0k, fl, kxn, kyn, tc, ta, ge, teq, syt, sgn, sx, kf, k, dx, dy, h, cth, sth;
+    grip_real_t vs, mud, rd;
+
     if (!r_is_finite(kappa) || !r_is_finite(alpha) || !r_is_finite(gamma) || !r_is_finite(fz) ||
         !r_is_finite(vx)) {
         return GRIP_ERR_INPUT;
@@ -181,9 +215,9 @@ grip_status_t grip_neofiala_eval_model(const grip_neofiala_model *m, grip_real_t
     tc = brush_core_tanc(alpha);
     ta = r_mul(alpha, tc);
     /* gamma_e = 2 gamma / (1 + sqrt(1 - 4 A |gamma|)) (5.39-5.40) */
-    ge = (m->cam_a != R_ZERO)
+    ge = (d->cam_a != R_ZERO)
              ? r_div(r_add(gamma, gamma),
-                     r_add(R_ONE, r_sqrt(r_sub(R_ONE, r_mul(RC(4.0), r_mul(m->cam_a, r_abs(gamma)))))))
+                     r_add(R_ONE, r_sqrt(r_sub(R_ONE, r_mul(RC(4.0), r_mul(d->cam_a, r_abs(gamma)))))))
              : gamma;
     /* equivalent slope tan(alpha) + c_gamma gamma_e, and Ky times it formed
      * from (Ky alpha) tan(alpha)/alpha so that small angles keep their
@@ -212,19 +246,19 @@ grip_status_t grip_neofiala_eval_model(const grip_neofiala_model *m, grip_real_t
     rd = r_div(mud, p->mu_s);
 
     pb.n = p->n;
-    pb.inv1 = m->inv1;
-    pb.inv2 = m->inv2;
-    pb.inv3 = m->inv3;
-    pb.c = m->c;
+    pb.inv1 = d->inv1;
+    pb.inv2 = d->inv2;
+    pb.inv3 = d->inv3;
+    pb.c = d->c;
     pb.sx = sx;
     pb.kf = kf;
     pb.k = k;
     pb.teq = teq;
     pb.syt = syt;
     pb.ky = kyn;
-    pb.kyg = m->kyg;
+    pb.kyg = d->kyg;
     pb.gn = (p->g_mz > R_ZERO) ? r_div(fl, p->g_mz) : R_ZERO;
-    pb.eky = m->eky;
+    pb.eky = d->eky;
     pb.rdcc = r_mul(r_mul(rd, pb.c), cth);
     pb.rdcs = r_mul(r_mul(rd, pb.c), sth);
     pb.axn = r_div(p->a_x, fl);

@@ -107,31 +107,55 @@ static void mf_long_pure(const grip_mf_params *p, const mf_op *op, mf_long *out)
 }
 
 /* ---------------------------------------------------------------- Fy0 */
-static void mf_lat_pure(const grip_mf_params *p, const mf_op *op, grip_real_t g, mf_lat *out)
+
+/* The factors of the pure lateral force that do not depend on the
+ * inclination: formed once per evaluation, shared by Fy0 at gamma* and, for
+ * the aligning moment of MF 6.x, Fy0 at gamma = 0. */
+typedef struct {
+    grip_real_t kyb;     /* PKY1 (1 + PPY1 dpi)                                */
+    grip_real_t kyd;     /* 1 + PPY2 dpi                                       */
+    grip_real_t mub;     /* (PDY1 + PDY2 dfz)(1 + PPY3 dpi + PPY4 dpi^2)       */
+    grip_real_t svb;     /* (PVY1 + PVY2 dfz) LVY LMUY'                        */
+    grip_real_t shb;     /* (PHY1 + PHY2 dfz) LHY                              */
+    grip_real_t eyb;     /* PEY1 + PEY2 dfz                                    */
+    grip_real_t cy;      /* PCY1 LCY                                           */
+} mf_lat_common;
+
+static void mf_lat_common_init(const grip_mf_params *p, const mf_op *op, mf_lat_common *c)
+{
+    grip_real_t dfz = op->dfz;
+    grip_real_t dpi = op->dpi;
+    c->kyb = r_mul(p->pky1, r_add(R_ONE, r_mul(p->ppy1, dpi)));
+    c->kyd = r_add(R_ONE, r_mul(p->ppy2, dpi));
+    c->mub = r_mul(r_add(p->pdy1, r_mul(p->pdy2, dfz)), r_add(R_ONE, r_add(r_mul(p->ppy3, dpi), r_mul(p->ppy4, r_sq(dpi)))));
+    c->svb = r_mul(r_mul(r_add(p->pvy1, r_mul(p->pvy2, dfz)), p->lvy), op->lmuy_p);
+    c->shb = r_mul(r_add(p->phy1, r_mul(p->phy2, dfz)), p->lhy);
+    c->eyb = r_add(p->pey1, r_mul(p->pey2, dfz));
+    c->cy = r_mul(p->pcy1, p->lcy);                                                               /* 4.E21 */
+}
+
+/* Pure lateral force at inclination g (gamma*, scaled for MF 5.2). */
+static void mf_lat_pure(const grip_mf_params *p, const mf_op *op, const mf_lat_common *c, grip_real_t g,
+                        mf_lat *out)
 {
     grip_real_t dfz = op->dfz;
     grip_real_t dpi = op->dpi;
     grip_real_t g2 = r_sq(g);
     /* Cornering stiffness (4.E25); the arctangent of a quotient whose
      * denominator PKY2 + PKY5 gamma^2 may pass through zero. */
-    grip_real_t den = r_mul(r_add(p->pky2, r_mul(MF6_ONLY(op, p->pky5), g2)), r_add(R_ONE, r_mul(p->ppy2, dpi)));
+    grip_real_t den = r_mul(r_add(p->pky2, r_mul(MF6_ONLY(op, p->pky5), g2)), c->kyd);
     /* Kya / Fz = PKY1 (Fz0' / Fz) sin(PKY4 atan(...)) (...): the sine divided
      * by Fz / Fz0' (finite as Fz -> 0, where the sine is ~ PKY4 Fz / Fz0'). */
-    grip_real_t kya = r_mul(r_mul(r_mul(r_mul(p->pky1, r_add(R_ONE, r_mul(p->ppy1, dpi))),
-                                        r_sub(R_ONE, r_mul(p->pky3, r_abs(g)))),
+    grip_real_t kya = r_mul(r_mul(r_mul(c->kyb, r_sub(R_ONE, r_mul(p->pky3, r_abs(g)))),
                                   mf_div_lim(r_sin(r_mul(p->pky4, mf_atan_ratio(op->fzp, den))), op->fzp, MF_LIM_B)),
                             p->lky);
-    grip_real_t muy = r_mul(r_mul(r_mul(r_add(p->pdy1, r_mul(p->pdy2, dfz)),                      /* 4.E23 */
-                                        r_add(R_ONE, r_add(r_mul(p->ppy3, dpi), r_mul(p->ppy4, r_sq(dpi))))),
-                                  r_sub(R_ONE, r_mul(p->pdy3, g2))),
-                            op->lmuy_s);
+    grip_real_t muy = r_mul(r_mul(c->mub, r_sub(R_ONE, r_mul(p->pdy3, g2))), op->lmuy_s);         /* 4.E23 */
     grip_real_t dy = muy;                                                                         /* 4.E22 */
     grip_real_t svyg = r_mul(r_mul(r_mul(r_add(p->pvy3, r_mul(p->pvy4, dfz)), g), op->kyc), op->lmuy_p); /* 4.E28 */
-    grip_real_t svy = r_add(r_mul(r_mul(r_add(p->pvy1, r_mul(p->pvy2, dfz)), p->lvy), op->lmuy_p),
-                            svyg);                                                                /* 4.E29 */
-    grip_real_t shy = r_mul(r_add(p->phy1, r_mul(p->phy2, dfz)), p->lhy);
+    grip_real_t svy = r_add(c->svb, svyg);                                                        /* 4.E29 */
+    grip_real_t shy = c->shb;
     grip_real_t ay;
-    grip_real_t cy = r_mul(p->pcy1, p->lcy);                                                      /* 4.E21 */
+    grip_real_t cy = c->cy;
     grip_real_t ey;
     grip_real_t by;
     if (op->mf52) {
@@ -148,7 +172,7 @@ static void mf_lat_pure(const grip_mf_params *p, const mf_op *op, grip_real_t g,
     shy = r_mul(shy, op->smooth);
     svy = r_mul(svy, op->smooth);
     ay = r_add(op->alpha, shy);                                                                   /* 4.E20 */
-    ey = r_mul(r_mul(r_add(p->pey1, r_mul(p->pey2, dfz)),
+    ey = r_mul(r_mul(c->eyb,
                      r_sub(r_add(R_ONE, r_mul(MF6_ONLY(op, p->pey5), g2)),
                            r_mul(r_add(p->pey3, r_mul(p->pey4, g)), mf_sign1(ay)))),
                p->ley);                                                                           /* 4.E24 */
@@ -461,48 +485,72 @@ static grip_status_t mf_begin(const grip_mf_params *p, const grip_mf_input *in, 
     return st;
 }
 
-/* The pure lateral force at gamma = 0 that the aligning moment of MF 6.x
- * needs: lat itself when gamma already is 0 (same function, same inputs),
- * else evaluated into buf. */
-static const mf_lat *mf_lat_gamma0(const grip_mf_params *p, const mf_op *op, const mf_lat *lat, mf_lat *buf)
+/* What both evaluations compute first: the operating point, the pure
+ * longitudinal force and the common lateral factors (mf_pure_begin); then
+ * each caller evaluates Fy0 and the trail coefficients into the same struct
+ * (mf_lat_pure, mf_trail_coefs: called from the evaluations, not from the
+ * helper, so that the helper adds no frame to the deepest call path - the
+ * stack budget of the firmware, tests/firmware/check.sh). */
+typedef struct {
+    mf_op op;
+    mf_io io;
+    mf_long lon;
+    mf_lat_common latc;
+    mf_lat lat;          /* at gamma*                                          */
+    mf_lat lat0;         /* at gamma = 0, filled by mf_lat_gamma0 if needed    */
+    mf_trail tc;
+} mf_pure;
+
+/* Status of the evaluation; the caller returns it at once when it is an
+ * error or when io.zero (Fz <= 0: zero outputs). */
+static grip_status_t mf_pure_begin(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out,
+                                   mf_pure *s)
 {
-    if (op->gy == R_ZERO) {
-        return lat;
+    grip_status_t st = mf_begin(p, in, out, &s->op, &s->io);
+    if ((st < 0) || s->io.zero) {
+        return st;
     }
-    mf_lat_pure(p, op, R_ZERO, buf);
-    return buf;
+    mf_long_pure(p, &s->op, &s->lon);
+    mf_lat_common_init(p, &s->op, &s->latc);
+    return st;
+}
+
+/* The pure lateral force at gamma = 0 that the aligning moment of MF 6.x
+ * needs: s->lat itself when gamma already is 0 (same function, same
+ * inputs), else evaluated into s->lat0 (sharing s->latc). */
+static const mf_lat *mf_lat_gamma0(const grip_mf_params *p, mf_pure *s)
+{
+    if (s->op.gy == R_ZERO) {
+        return &s->lat;
+    }
+    mf_lat_pure(p, &s->op, &s->latc, R_ZERO, &s->lat0);
+    return &s->lat0;
 }
 
 grip_status_t grip_mf_eval_pure(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out)
 {
-    mf_op op;
-    mf_io io;
-    mf_long lon;
-    mf_lat lat;
-    mf_lat lat0;
-    mf_trail tc;
+    mf_pure s;
     grip_real_t fy_ref;
     grip_real_t t0;
     grip_real_t mz0;
-    grip_status_t st = mf_begin(p, in, out, &op, &io);
-    if ((st < 0) || io.zero) {
+    grip_status_t st = mf_pure_begin(p, in, out, &s);
+    if ((st < 0) || s.io.zero) {
         return st;
     }
-    mf_long_pure(p, &op, &lon);
-    mf_lat_pure(p, &op, op.gy, &lat);
-    mf_trail_coefs(p, &op, &lat, &tc);
+    mf_lat_pure(p, &s.op, &s.latc, s.op.gy, &s.lat);
+    mf_trail_coefs(p, &s.op, &s.lat, &s.tc);
     /* Mz0' = -t0 Fy0 (4.E32). MF 6.x uses Fy0 at gamma = 0 (camber acts on
      * Mz through Mzr); MF 5.2 the pure lateral force itself. */
-    fy_ref = op.mf52 ? lat.fy0 : mf_lat_gamma0(p, &op, &lat, &lat0)->fy0;
-    t0 = mf_trail_at(&op, &tc, tc.alpha_t);                                 /* 4.E33 */
-    if (!op.book) {
+    fy_ref = s.op.mf52 ? s.lat.fy0 : mf_lat_gamma0(p, &s)->fy0;
+    t0 = mf_trail_at(&s.op, &s.tc, s.tc.alpha_t);                          /* 4.E33 */
+    if (!s.op.book) {
         t0 = r_mul(t0, p->lfzo);         /* MF-Tyre scales the trail by LFZO */
     }
     /* Mzr0 = Dr cos(Cr atan(Br alpha_r)) cos'(alpha) (4.E36; Dr carries a
      * cos(alpha) of its own, 4.E47). */
-    mz0 = r_sub(r_mul(mf_residual_at(&tc, tc.alpha_r), op.cosa), r_mul(t0, fy_ref));  /* 4.E31 */
-    mz0 = r_mul(mz0, op.smooth);                                            /* low speed */
-    return mf_finish(p, &op, &io, st, lon.fx0, lat.fy0, mz0, out);
+    mz0 = r_sub(r_mul(mf_residual_at(&s.tc, s.tc.alpha_r), s.op.cosa), r_mul(t0, fy_ref));  /* 4.E31 */
+    mz0 = r_mul(mz0, s.op.smooth);                                          /* low speed */
+    return mf_finish(p, &s.op, &s.io, st, s.lon.fx0, s.lat.fy0, mz0, out);
 }
 
 /* Magnitude of the equivalent slip angle of the combined aligning moment
@@ -527,12 +575,7 @@ static grip_real_t mf_alpha_eq(const mf_op *op, grip_real_t a, grip_real_t kxk, 
 
 grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out)
 {
-    mf_op op;
-    mf_io io;
-    mf_long lon;
-    mf_lat lat;
-    mf_lat lat0;
-    mf_trail tc;
+    mf_pure s;
     grip_real_t fx;
     grip_real_t fy;
     grip_real_t mz;
@@ -541,64 +584,65 @@ grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, gri
     grip_real_t fy_prime;
     grip_real_t t;
     grip_real_t mzr;
-    grip_real_t s;
-    grip_status_t st = mf_begin(p, in, out, &op, &io);
-    if ((st < 0) || io.zero) {
+    grip_real_t sarm;
+    grip_status_t st = mf_pure_begin(p, in, out, &s);
+    const mf_op *op = &s.op;
+    if ((st < 0) || s.io.zero) {
         return st;
     }
-    mf_long_pure(p, &op, &lon);
-    mf_lat_pure(p, &op, op.gy, &lat);
-    mf_trail_coefs(p, &op, &lat, &tc);
+    mf_lat_pure(p, op, &s.latc, op->gy, &s.lat);
+    mf_trail_coefs(p, op, &s.lat, &s.tc);
 
     /* Fx = Gxa Fx0 (4.E50-E57). */
     {
-        grip_real_t bxa = r_mul(r_mul(r_add(p->rbx1, r_mul(MF6_ONLY(&op, p->rbx3), r_sq(op.gx))),
-                                      r_cos_atan(r_mul(p->rbx2, op.kappa))),
+        grip_real_t bxa = r_mul(r_mul(r_add(p->rbx1, r_mul(MF6_ONLY(op, p->rbx3), r_sq(op->gx))),
+                                      r_cos_atan(r_mul(p->rbx2, op->kappa))),
                                 p->lxal);                                                         /* 4.E54 */
-        grip_real_t exa = r_min(r_add(p->rex1, r_mul(p->rex2, op.dfz)), R_ONE);                   /* 4.E56 */
-        grip_real_t as = r_add(op.alpha, p->rhx1);                                                /* 4.E53 */
+        grip_real_t exa = r_min(r_add(p->rex1, r_mul(p->rex2, op->dfz)), R_ONE);                   /* 4.E56 */
+        grip_real_t as = r_add(op->alpha, p->rhx1);                                                /* 4.E53 */
         grip_real_t gxa = mf_div_lim(mf_cos_curve(bxa, p->rcx1, exa, as), mf_cos_curve(bxa, p->rcx1, exa, p->rhx1),
                                      MF_LIM_G);                                                   /* 4.E51-52 */
-        fx = r_mul(gxa, lon.fx0);
+        fx = r_mul(gxa, s.lon.fx0);
     }
 
     /* Fy = Gyk Fy0 + SVyk (4.E58-E67). */
     {
-        grip_real_t dvyk = r_mul(r_mul(lat.muy,
-                                       r_add(r_add(p->rvy1, r_mul(p->rvy2, op.dfz)), r_mul(p->rvy3, op.gy))),
-                                 r_cos_atan(r_mul(p->rvy4, op.alpha)));                        /* 4.E67 */
-        svyk = r_mul(r_mul(r_mul(dvyk, r_sin(r_mul(p->rvy5, r_atan(r_mul(p->rvy6, op.kappa))))), p->lvyka),
-                     op.smooth);                                                                  /* 4.E66 */
-        gyk = mf_gyk(p, &op, op.gy);
-        fy = r_add(r_mul(gyk, lat.fy0), svyk);
+        grip_real_t dvyk = r_mul(r_mul(s.lat.muy,
+                                       r_add(r_add(p->rvy1, r_mul(p->rvy2, op->dfz)), r_mul(p->rvy3, op->gy))),
+                                 r_cos_atan(r_mul(p->rvy4, op->alpha)));                        /* 4.E67 */
+        svyk = r_mul(r_mul(r_mul(dvyk, r_sin(r_mul(p->rvy5, r_atan(r_mul(p->rvy6, op->kappa))))), p->lvyka),
+                     op->smooth);                                                                  /* 4.E66 */
+        gyk = mf_gyk(p, op, op->gy);
+        fy = r_add(r_mul(gyk, s.lat.fy0), svyk);
     }
 
     /* Mz = -t Fy' + Mzr + s Fx (4.E71-E78). */
     {
-        grip_real_t ar_eq = mf_alpha_eq(&op, tc.alpha_r, lon.kxk, lat.kya);
-        grip_real_t at_eq = mf_alpha_eq(&op, tc.alpha_t, lon.kxk, lat.kya);
+        grip_real_t ar_eq = mf_alpha_eq(op, s.tc.alpha_r, s.lon.kxk, s.lat.kya);
+        grip_real_t at_eq = mf_alpha_eq(op, s.tc.alpha_t, s.lon.kxk, s.lat.kya);
         /* s / R0 = SSZ1 + SSZ2 Fy / Fz0 + (SSZ3 + SSZ4 dfz) gamma; MF-Tyre uses
          * FNOMIN for Fz0, the book Fz0' (4.E76). */
-        grip_real_t fy_rel = r_mul(fy, op.book ? op.fzp : op.fz);
-        s = r_mul(r_add(r_add(p->ssz1, r_mul(p->ssz2, fy_rel)), r_mul(r_add(p->ssz3, r_mul(p->ssz4, op.dfz)), op.gz)),
-                  p->ls);
-        mzr = mf_residual_at(&tc, ar_eq);                                                         /* 4.E75 */
-        t = mf_trail_at(&op, &tc, at_eq);                                                         /* 4.E73 */
-        if (op.book) {
-            mzr = r_mul(mzr, op.cosa);   /* the book keeps cos'(alpha) in the combined Mzr too */
+        grip_real_t fy_rel = r_mul(fy, op->book ? op->fzp : op->fz);
+        sarm = r_mul(r_add(r_add(p->ssz1, r_mul(p->ssz2, fy_rel)),
+                           r_mul(r_add(p->ssz3, r_mul(p->ssz4, op->dfz)), op->gz)),
+                     p->ls);
+        mzr = mf_residual_at(&s.tc, ar_eq);                                                         /* 4.E75 */
+        t = mf_trail_at(op, &s.tc, at_eq);                                                         /* 4.E73 */
+        if (op->book) {
+            mzr = r_mul(mzr, op->cosa);   /* the book keeps cos'(alpha) in the combined Mzr too */
         } else {
             t = r_mul(t, p->lfzo);       /* MF-Tyre scales the trail by LFZO */
         }
-        t = r_mul(t, op.smooth);         /* low speed */
-        mzr = r_mul(mzr, op.smooth);
-        if (op.mf52) {
+        t = r_mul(t, op->smooth);         /* low speed */
+        mzr = r_mul(mzr, op->smooth);
+        if (op->mf52) {
             fy_prime = r_sub(fy, svyk);  /* MF 5.2: Fy' = Fy - SVyk */
         } else {
             /* MF 6.x: Fy' = Gyk Fy0(gamma = 0) (4.E74); MF-Tyre keeps the
              * inclination in Gyk, the book evaluates Gyk at gamma = 0 too. */
-            fy_prime = r_mul(op.book ? mf_gyk(p, &op, R_ZERO) : gyk, mf_lat_gamma0(p, &op, &lat, &lat0)->fy0);
+            fy_prime = r_mul(op->book ? mf_gyk(p, op, R_ZERO) : gyk, mf_lat_gamma0(p, &s)->fy0);
         }
-        mz = r_add(r_sub(mzr, r_mul(t, fy_prime)), r_mul(s, fx));                                 /* 4.E71 */
+        mz = r_add(r_sub(mzr, r_mul(t, fy_prime)), r_mul(sarm, fx));                                 /* 4.E71 */
     }
-    return mf_finish(p, &op, &io, st, fx, fy, mz, out);
+    return mf_finish(p, op, &s.io, st, fx, fy, mz, out);
 }

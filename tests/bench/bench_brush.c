@@ -32,6 +32,14 @@ static const grip_neofiala_params k_nf_lat = {
     RC(0.0), RC(0.0), RC(0.1), RC(0.0), RC(0.0012), RC(0.02), RCL(15000.0), RCL(2.0),
     RC(0.0), RC(0.0), RCL(0.0), RCL(500.0), RCL(10000.0), RC(0.6), RC(1.0), RC(0.2), RC(60.0),
 };
+/* As k_nf, with n = 7 (the longest power chain) and the Mz-dependent skew
+ * and centre shift as well (c_qm, xi != 0: the moment equation is the
+ * quadratic, one square root more per residual): the most expensive path. */
+static const grip_neofiala_params k_nf_all = {
+    RC(0.16), RC(0.19), RCL(95000.0), RCL(72000.0), RC(1.15), RC(0.95), RC(0.003), 7,
+    RC(0.05), RC(0.01), RC(0.05), RC(0.002), RC(0.001), RC(0.02), RCL(15000.0), RCL(2.0),
+    RC(0.15), RC(0.02), RCL(200000.0), RCL(500.0), RCL(10000.0), RC(0.6), RC(1.0), RC(0.2), RC(60.0),
+};
 static const grip_brush_params k_br = {
     RCL(80000.0), RC(1.1), RC(0.9), RC(0.005), 4, RCL(200.0), RCL(10000.0), RC(1.0), RC(60.0),
 };
@@ -69,10 +77,12 @@ static void b_neofiala_combined(int i)
 
 static grip_neofiala_model m_nf;
 static grip_neofiala_model m_nf_lat;
+static grip_neofiala_model m_nf_all;
 
 void bench_brush_setup(void)
 {
     (void)grip_neofiala_prepare(&k_nf, &m_nf);
+    (void)grip_neofiala_prepare(&k_nf_all, &m_nf_all);
     (void)grip_neofiala_prepare(&k_nf_lat, &m_nf_lat);
 }
 
@@ -81,6 +91,14 @@ static void b_neofiala_combined_model(int i)
 {
     grip_brush_out o;
     (void)grip_neofiala_eval_model(&m_nf, k_kappa[i], k_alpha[i], k_gamma[i], k_fz[i], RC(20.0), &o);
+    bsink = o.mz;
+}
+
+/* every coupling active, n = 7 (k_nf_all), prepared */
+static void b_neofiala_allcoupled_model(int i)
+{
+    grip_brush_out o;
+    (void)grip_neofiala_eval_model(&m_nf_all, k_kappa[i], k_alpha[i], k_gamma[i], k_fz[i], RC(20.0), &o);
     bsink = o.mz;
 }
 
@@ -123,6 +141,7 @@ static void b_fiala(int i)
 const bench_case bench_brush_cases[] = {
     { "neofiala_combined", b_neofiala_combined },
     { "neofiala_combined_model", b_neofiala_combined_model },
+    { "neofiala_allcoupled_model", b_neofiala_allcoupled_model },
     { "neofiala_lateral", b_neofiala_lateral },
     { "neofiala_lateral_model", b_neofiala_lateral_model },
     { "brush_fx", b_brush },

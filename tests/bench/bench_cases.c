@@ -37,6 +37,8 @@ static void b_r_div(int i) { rsink = r_div(r_in[i], r_add(r_abs(r_in[(i + 3) % B
 static void b_r_sqrt(int i) { rsink = r_sqrt(r_abs(r_in[i])); }
 static void b_r_atan2(int i) { rsink = r_atan2(r_in[i], r_in[(i + 7) % BENCH_INPUTS]); }
 static void b_r_sin(int i) { rsink = r_sin(r_in[i]); }
+static void b_r_atan(int i) { rsink = r_atan(r_in[i]); }
+static void b_r_cos(int i) { rsink = r_cos(r_in[i]); }
 static void b_r_exp(int i) { rsink = r_exp(r_mul(r_in[i], RC(0.125))); }
 
 /* Magic Formula: a MF 6.1 passenger-car file (the longest equations) and
@@ -144,6 +146,7 @@ const bench_case bench_cases[] = {
     { "mf52_combined_fx_fy_mz", b_mf52_combined },
     { "r_mul", b_r_mul }, { "r_div", b_r_div }, { "r_sqrt", b_r_sqrt },
     { "r_atan2", b_r_atan2 }, { "r_sin", b_r_sin }, { "r_exp", b_r_exp },
+    { "r_atan", b_r_atan }, { "r_cos", b_r_cos },
     { "q16_mul", b_mul },   { "q16_div", b_div }, { "q16_sqrt", b_sqrt },
     { "q16_atan", b_atan }, { "q16_atan2", b_atan2 }, { "q16_sin", b_sin },
     { "q16_cos", b_cos },   { "q16_exp", b_exp }, { "q16_log", b_log },

@@ -291,6 +291,40 @@ static void test_non_finite(void **s)
         pn = neofiala_set();
     }
 }
+
+/* Every real field of a Neo-FIALA set non-finite in turn: the set is
+ * rejected by check, prepare and the validating evaluation (the float build
+ * tests all 24 fields with one sum of x - x). */
+static void test_neofiala_non_finite_fields(void **s)
+{
+    const float bad[3] = { NAN, INFINITY, -INFINITY };
+    grip_neofiala_params pn = neofiala_set();
+    grip_real_t *const fields[24] = {
+        &pn.l, &pn.w, &pn.kx, &pn.ky, &pn.mu_s, &pn.mu_d0, &pn.a_v, &pn.q0, &pn.c_q, &pn.c_qm, &pn.c_xc,
+        &pn.xi, &pn.eps, &pn.g_mz, &pn.a_x, &pn.c_gamma, &pn.h, &pn.g_my, &pn.fz_min, &pn.fz_max,
+        &pn.alpha_max, &pn.kappa_max, &pn.gamma_max, &pn.v_max,
+    };
+    grip_neofiala_model m;
+    grip_brush_out o;
+    int i;
+    int j;
+    (void)s;
+    assert_int_equal(grip_neofiala_check_params(&pn), GRIP_OK);
+    for (j = 0; j < 24; ++j) {
+        for (i = 0; i < 3; ++i) {
+            grip_real_t keep = *fields[j];
+            *fields[j] = bad[i];
+            assert_int_equal(grip_neofiala_check_params(&pn), GRIP_ERR_PARAM);
+            assert_int_equal(grip_neofiala_prepare(&pn, &m), GRIP_ERR_PARAM);
+            assert_int_equal(grip_neofiala_eval_model(&m, -0.1f, 0.1f, 0.0f, 4000.0f, 10.0f, &o), GRIP_ERR_STATE);
+            assert_zero_out(&o);
+            assert_int_equal(grip_neofiala_eval(&pn, -0.1f, 0.1f, 0.0f, 4000.0f, 10.0f, &o), GRIP_ERR_PARAM);
+            assert_zero_out(&o);
+            *fields[j] = keep;
+        }
+    }
+    assert_int_equal(grip_neofiala_eval(&pn, -0.1f, 0.1f, 0.0f, 4000.0f, 10.0f, &o), GRIP_OK);
+}
 #endif
 
 /* Any finite input: OK or clamped, finite outputs bounded by the friction. */
@@ -485,6 +519,7 @@ int main(void)
         cmocka_unit_test(test_bad_params),
 #if !GRIP_ARITH_FIXED
         cmocka_unit_test(test_non_finite),
+        cmocka_unit_test(test_neofiala_non_finite_fields),
 #endif
         cmocka_unit_test(test_extreme_finite),
         cmocka_unit_test(test_mirror),

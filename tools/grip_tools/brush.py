@@ -298,7 +298,8 @@ def dgsp(x, n, q):
 
 
 def _powgeo(a, n):
-    """a^n and 1 + a + ... + a^(n-1) in one fixed loop (as the C code)."""
+    """a^n and 1 + a + ... + a^(n-1) (float or array a). The C library forms
+    the same by a product chain per n (pow_geo in lib/brush/brush_core.c)."""
     p = 1.0
     g = 0.0
     for _ in range(n):
@@ -457,6 +458,24 @@ def table_rh(n, y):
     return tab[j] + (t - j) * (tab[j + 1] - tab[j])
 
 
+class _ScalarOps:
+    """Operations of nf_state on Python floats."""
+    where = staticmethod(lambda c, a, b: a if c else b)
+    maximum = staticmethod(max)
+    clip = staticmethod(lambda x, lo, hi: min(max(x, lo), hi))
+    sqrt = staticmethod(math.sqrt)
+    hypot = staticmethod(math.hypot)
+
+
+class _ArrayOps:
+    """The same on numpy arrays (elementwise, broadcast)."""
+    where = staticmethod(np.where)
+    maximum = staticmethod(np.maximum)
+    clip = staticmethod(np.clip)
+    sqrt = staticmethod(np.sqrt)
+    hypot = staticmethod(np.hypot)
+
+
 def nf_state(rh, K):
     """Everything at a trial boundary rh. For fixed rh the couplings
     q = q0 + c_q Fx + c_qm Mz, x_c/l = 1/2 + c_xc Fx - xi Mz / l^2,
@@ -466,7 +485,13 @@ def nf_state(rh, K):
     F(rh) = [Lmax(rh) - |adhesive stress gradient at rh|] / (1 - q u)
     (decreasing in rh, zero at the boundary) and the state. Stress
     gradients are carried as s = K g (units of mu_s Fz): sx = Kx gx,
-    sy = Ky gy, as the fixed-point C code does."""
+    sy = Ky gy, as the fixed-point C code does.
+
+    One implementation for both uses: rh a float and K of floats (the scalar
+    closed form, brentq, the proof against quadrature), or rh a numpy array
+    and K of arrays or floats (neofiala_vec, the fitting tool); every branch
+    is a `where` whose both sides are finite."""
+    xp = _ArrayOps if isinstance(rh, np.ndarray) else _ScalarOps
     n, c = K["n"], K["c"]
     sx, kf, k = K["sx"], K["kf"], K["k"]
     rdcc, rdcs = K["rdcc"], K["rdcs"]
@@ -483,11 +508,10 @@ def nf_state(rh, K):
     i10 = 0.25 * (ab0 + ab1)
     i11 = -0.25 * (ab1 + ab2)
     om = 1.0 - rh
-    if om >= IT_EPS:
-        it0 = 0.25 * (ab0 - ab1) / om
-        it1 = 0.25 * (ab2 - ab1) / om
-    else:
-        it0 = it1 = 0.0
+    ok = om >= IT_EPS
+    som = xp.where(ok, om, 1.0)
+    it0 = xp.where(ok, 0.25 * (ab0 - ab1) / som, 0.0)
+    it1 = xp.where(ok, 0.25 * (ab2 - ab1) / som, 0.0)
     r2 = rh * rh
     r3 = r2 * rh
     # Fx = A + B q and q = q0 + cqx Fx + cqm m  ->  q = qa + qb m
@@ -524,58 +548,63 @@ def nf_state(rh, K):
     n0 = m1a - xca * fya + ga * za
     n1 = m1b - (xca * fyb + xcb * fya) + (ga * zb + gb * za)
     n2 = -xcb * fyb + gb * zb
-    bq = max(1.0 - n1, M_BMIN)
-    if n2 == 0.0:
-        m = n0 / bq
-    else:
-        disc = max(bq * bq - 4.0 * n2 * n0, 0.0)
-        m = 2.0 * n0 / (bq + math.sqrt(disc))
+    bq = xp.maximum(1.0 - n1, M_BMIN)
+    disc = xp.maximum(bq * bq - 4.0 * n2 * n0, 0.0)
+    m = xp.where(n2 == 0.0, n0 / bq, 2.0 * n0 / (bq + xp.sqrt(disc)))
     q = qa + qb * m
     sy = sya + syb * m
     fy = fya + fyb * m
     fx = fxa + fxb * m
     syr = sy - eky * fy * k * (1.0 - k * rh)            # lateral stress gradient at rh
-    fac = 1.0 if rh <= 0.5 else om / rh
-    qc = min(max(q, -Q_MAX), Q_MAX)     # only active off the root (trial rh far from it)
-    res = c * fac * g - _hypot(sx, syr) / (1.0 - qc * u)
+    fac = xp.where(rh <= 0.5, 1.0, om / xp.where(rh > 0.0, rh, 1.0))
+    qc = xp.clip(q, -Q_MAX, Q_MAX)      # only active off the root (trial rh far from it)
+    res = c * fac * g - xp.hypot(sx, syr) / (1.0 - qc * u)
     return res, dict(fx=fx, fy=fy, mz=m, q=q, gy=ga + gb * m, rh=rh, slope=bq)
 
 
-def _ab_root(f, fa, fb, iters):
-    """Anderson-Bjorck regula falsi on [0, 1] in y with f(1) = fa > 0 >= f(0) = fb,
-    a fixed number of steps (lib/brush/brush_core.c). f returns (value, state).
-    The result is not evaluated again: the states of the last two evaluated
-    points are combined along their secant, weight w = f1 / (f1 - f2) (the
-    outputs are smooth in y, so this is as accurate as a further step).
-    Returns (y, interpolated state)."""
-    a, b = 1.0, 0.0
-    side = 0
-    last = []
+_STATE_KEYS = ("fx", "fy", "mz", "q", "gy", "rh")
 
-    def secant():
-        d = fb - fa
-        t = min(max(fb / d, 0.0), 1.0) if d < 0.0 else 0.5
-        return b + t * (a - b)
 
+def _fixed_root(K, r0, s0, s_unc, iters):
+    """The C library's fixed iteration (brush_core_solve in
+    lib/brush/brush_core.c), elementwise on numpy arrays (0-d for one case):
+    Anderson-Bjorck regula falsi on [0, 1] in y = lmax / (n + 1), rh =
+    table_rh(n, y), from f(1) = r0 > 0 (the state at rh = 0, s0) and f(0)
+    replaced by the uncoupled value -s_unc / (1 - q0) (always < 0; the true
+    value is <= 0, so [0, 1] stays a bracket), `iters` steps. The result is
+    not evaluated again: the states of the last two evaluated points are
+    combined along their secant, weight w = f1 / (f1 - f2) (the outputs are
+    smooth in y, so this is as accurate as a further step). Meaningful where
+    r0 > 0 and s_unc > 0 (nf_solve, neofiala_vec select the other cases)."""
+    n = K["n"]
+    fa = np.array(r0, dtype=float)
+    fb = -np.where(s_unc > 0, s_unc, 1.0) / (1.0 - K["q0"])
+    ya, yb = np.ones_like(fa), np.zeros_like(fa)
+    side = np.zeros_like(fa)
+    s_prev = s_last = s0
+    f1 = f2 = np.zeros_like(fa)
     for _ in range(iters):
-        x = secant()
-        fx, st = f(x)
-        last = (last + [(x, fx, st)])[-2:]
-        if fx > 0.0:
-            if side > 0:
-                mfac = 1.0 - fx / fa if fa > 0.0 else 0.0
-                fb *= mfac if mfac > 0.0 else 0.5
-            a, fa, side = x, fx, 1
-        else:
-            if side < 0 and fb < 0.0:
-                mfac = 1.0 - fx / fb
-                fa *= mfac if mfac > 0.0 else 0.5
-            b, fb, side = x, fx, -1
-    (x1, f1, s1), (x2, f2, s2) = last
-    w = min(max(f1 / (f1 - f2), W_MIN), W_MAX) if f1 != f2 else 1.0
-    st = {k: s1[k] + w * (s2[k] - s1[k]) for k in ("fx", "fy", "mz", "q", "rh", "gy")}
-    st["slope"] = s2["slope"]
-    return x1 + w * (x2 - x1), st
+        d = fb - fa
+        t = np.where(d < 0.0, np.clip(fb / np.where(d < 0.0, d, -1.0), 0.0, 1.0), 0.5)
+        y = yb + t * (ya - yb)
+        fx, st = nf_state(_table_rh_vec(n, y), K)
+        s_prev, s_last = s_last, st
+        f1, f2 = f2, fx
+        pos = fx > 0.0
+        mfa = np.where(fa > 0.0, 1.0 - fx / np.where(fa > 0.0, fa, 1.0), 0.0)
+        fb = np.where(pos & (side > 0), np.where(mfa > 0.0, mfa * fb, 0.5 * fb), fb)
+        mfb = 1.0 - fx / np.where(fb < 0.0, fb, -1.0)
+        fa_new = np.where(~pos & (side < 0) & (fb < 0.0), np.where(mfb > 0.0, mfb * fa, 0.5 * fa), fa)
+        ya = np.where(pos, y, ya)
+        yb = np.where(pos, yb, y)
+        fa = np.where(pos, fx, fa_new)
+        fb = np.where(pos, fb, fx)
+        side = np.where(pos, 1.0, -1.0)
+    dd = f1 - f2
+    w = np.where(dd != 0.0, np.clip(f1 / np.where(dd != 0.0, dd, 1.0), W_MIN, W_MAX), 1.0)
+    out = {k: s_prev[k] + w * (s_last[k] - s_prev[k]) for k in _STATE_KEYS}
+    out["slope"] = s_last["slope"]
+    return out
 
 
 def nf_solve(K, solver="exact", iters=ROOT_ITERS):
@@ -592,13 +621,9 @@ def nf_solve(K, solver="exact", iters=ROOT_ITERS):
             return nf_state(1.0, K)[1]
         rh = optimize.brentq(f, 0.0, 1.0, xtol=1e-16, rtol=1e-15, maxiter=500)
         return nf_state(rh, K)[1]
-    # Fixed iteration of the C library: y = lmax / (n + 1) is the variable
-    # (rh = table_rh(n, y)); f(y = 0), i.e. rh = 1, is replaced by the
-    # uncoupled value -s_unc / (1 - q0) (always < 0; the true value is <= 0,
-    # so [0, 1] stays a bracket).
-    n = K["n"]
-    f = lambda y: nf_state(table_rh(n, y), K)
-    return _ab_root(f, r0, -s_unc / (1.0 - K["q0"]), iters)[1]
+    # Fixed iteration of the C library (the same code as neofiala_vec, on 0-d arrays)
+    st = _fixed_root(K, r0, s0, s_unc, iters)
+    return {k: float(v) for k, v in st.items()}
 
 
 def _to_iso(K, st, warn):
@@ -940,6 +965,31 @@ def random_inputs(rng, p):
     return kappa, alpha, gamma, fz, vx
 
 
+def convergence_study(seed, cases=10000, iters=(4, 5, 6, 7)):
+    """Truncation error of the fixed iteration over the valid range: `cases`
+    random sets and inputs (random_neofiala / random_inputs, every third
+    without couplings), max over Fx, Fy (/ mu_s Fz) and Mz (/ mu_s Fz l) of
+    |fixed - exact| for each step count; also the number of cases above
+    1e-6 and the smallest slope 1 - n1 of the moment equation at the root.
+    Returns {iters: (max_err, count_above_1e-6)}, min_slope."""
+    rng = np.random.default_rng(seed)
+    worst = {it: [0.0, 0] for it in iters}
+    min_slope = math.inf
+    for i in range(cases):
+        p = random_neofiala(rng, couplings=(i % 3 != 0))
+        x = random_inputs(rng, p)
+        kappa, alpha, gamma, fz, vx, _ = _clamp_inputs(p, *x)
+        K = kinematics(p, kappa, alpha, gamma, fz, vx)
+        ex = nf_solve(K, "exact")
+        min_slope = min(min_slope, ex["slope"])
+        for it in iters:
+            fx = nf_solve(K, "fixed", it)
+            e = max(abs(fx["fx"] - ex["fx"]), abs(fx["fy"] - ex["fy"]), abs(fx["mz"] - ex["mz"]))
+            worst[it][0] = max(worst[it][0], e)
+            worst[it][1] += int(e > 1e-6)
+    return {it: tuple(v) for it, v in worst.items()}, min_slope
+
+
 def main(argv=None):
     import argparse
     ap = argparse.ArgumentParser(prog="grip_tools brush-verify", description=
@@ -948,7 +998,20 @@ def main(argv=None):
     ap.add_argument("--cases", type=int, default=12, help="random cases per n")
     ap.add_argument("--write-table", nargs="?", const=os.path.join("lib", "brush", "brush_table.h"),
                     metavar="PATH", help="write the C inverse tables (default lib/brush/brush_table.h)")
+    ap.add_argument("--study", metavar="SEEDS", help="instead: convergence study of the fixed iteration, "
+                    "--cases sets per seed (comma-separated seeds; docs/brush-models.md uses 21,22,23,24 "
+                    "with --cases 10000)")
+    ap.add_argument("--iters", default="4,5,6,7", help="step counts of the study")
     args = ap.parse_args(argv)
+    if args.study:
+        its = tuple(int(v) for v in args.iters.split(","))
+        print(f"{'seed':>5} {'cases':>6} " + " ".join(f"{f'{it} steps':>18}" for it in its) + "  min slope")
+        for seed in (int(v) for v in args.study.split(",")):
+            res, slope = convergence_study(seed, args.cases, its)
+            print(f"{seed:5d} {args.cases:6d} " + " ".join(f"{res[it][0]:9.2e} ({res[it][1]:5d})" for it in its)
+                  + f"  {slope:.3f}", flush=True)
+        print("max |fixed - exact| of Fx, Fy / (mu_s Fz), Mz / (mu_s Fz l); in brackets: cases above 1e-6")
+        return 0
     if args.write_table:
         with open(args.write_table, "w") as f:
             f.write(render_table_header())
@@ -1036,9 +1099,9 @@ def quantized(model, p):
 
 
 # ---------------------------------------------------------------------------
-# Vectorized twin of the C library's algorithm (fixed iteration), float64,
-# for the fitting tool. Equal to neofiala_cf(..., solver="fixed") to rounding
-# (tests/python/test_brush.py).
+# Vectorized Neo-FIALA with the C library's algorithm (fixed iteration),
+# float64, for the fitting tool: the vectorized kinematics, then the same
+# nf_state and _fixed_root as neofiala_cf(..., solver="fixed").
 
 def _table_rh_vec(n, y):
     tab = _TABLES.get(n)
@@ -1048,69 +1111,6 @@ def _table_rh_vec(n, y):
     t = np.clip(y, 0.0, 1.0) * TABLE_M
     j = np.minimum(t.astype(int), TABLE_M - 1)
     return tab[j] + (t - j) * (tab[j + 1] - tab[j])
-
-
-def _nf_state_vec(rh, K):
-    n, c = K["n"], K["c"]
-    sx, kf, k = K["sx"], K["kf"], K["k"]
-    rdcc, rdcs, eky = K["rdcc"], K["rdcs"], K["eky"]
-    u = 2.0 * rh - 1.0
-    a = np.abs(u)
-    p = np.ones_like(a)
-    g = np.zeros_like(a)
-    for _ in range(n):
-        g = g + p
-        p = p * a
-    u2 = u * u
-    u3 = u2 * u
-    ab0 = (1.0 - u) - (1.0 - p * u) * K["inv1"]
-    ab1 = (1.0 - u2) * 0.5 - (1.0 - p * u2) * K["inv2"]
-    ab2 = (1.0 - u3) / 3.0 - (1.0 - p * u3) * K["inv3"]
-    i00, i01 = 0.5 * ab0, -0.5 * ab1
-    i10, i11 = 0.25 * (ab0 + ab1), -0.25 * (ab1 + ab2)
-    om = 1.0 - rh
-    ok = om >= IT_EPS
-    som = np.where(ok, om, 1.0)
-    it0 = np.where(ok, 0.25 * (ab0 - ab1) / som, 0.0)
-    it1 = np.where(ok, 0.25 * (ab2 - ab1) / som, 0.0)
-    r2 = rh * rh
-    r3 = r2 * rh
-    a_ = sx * r2 + rdcc * i00
-    b_ = rdcc * i01
-    dq = 1.0 - K["cqx"] * b_
-    qa = (K["q0"] + K["cqx"] * a_) / dq
-    qb = K["cqm"] / dq
-    fxa, fxb = a_ + b_ * qa, b_ * qb
-    ga, gb = kf * K["teq"], -kf * K["gn"]
-    sya, syb = kf * K["ky"] * K["teq"], -kf * K["kyg"]
-    ida, idb = i00 + i01 * qa, i01 * qb
-    ixa, ixb = i10 + i11 * qa, i11 * qb
-    ita, itb = it0 + it1 * qa, it1 * qb
-    den = 1.0 + eky * (k * r2 - 2.0 / 3.0 * k * k * r3)
-    fya = (r2 * sya + rdcs * ida) / den
-    fyb = (r2 * syb + rdcs * idb) / den
-    w2 = k * r3 / 3.0 - k * k * r3 * rh / 4.0
-    m1a = 2.0 * (r3 / 3.0 * sya - eky * w2 * fya) + rdcs * ixa
-    m1b = 2.0 * (r3 / 3.0 * syb - eky * w2 * fyb) + rdcs * ixb
-    xca = 0.5 + K["cxc"] * fxa
-    xcb = K["cxc"] * fxb - K["xin"]
-    za = 2.0 / 3.0 * sx * r3 + rdcc * rh * ita + K["axn"] * rh
-    zb = rdcc * rh * itb
-    n0 = m1a - xca * fya + ga * za
-    n1 = m1b - (xca * fyb + xcb * fya) + (ga * zb + gb * za)
-    n2 = -xcb * fyb + gb * zb
-    bq = np.maximum(1.0 - n1, M_BMIN)
-    disc = np.maximum(bq * bq - 4.0 * n2 * n0, 0.0)
-    m = np.where(n2 == 0.0, n0 / bq, 2.0 * n0 / (bq + np.sqrt(disc)))
-    q = qa + qb * m
-    sy = sya + syb * m
-    fy = fya + fyb * m
-    fx = fxa + fxb * m
-    syr = sy - eky * fy * k * (1.0 - k * rh)
-    fac = np.where(rh <= 0.5, 1.0, om / np.where(rh > 0.0, rh, 1.0))
-    qc = np.clip(q, -Q_MAX, Q_MAX)
-    res = c * fac * g - np.hypot(sx, syr) / (1.0 - qc * u)
-    return res, np.stack([fx, fy, m, rh])
 
 
 def neofiala_vec(p, kappa, alpha, gamma, fz, vx, iters=ROOT_ITERS):
@@ -1150,37 +1150,12 @@ def neofiala_vec(p, kappa, alpha, gamma, fz, vx, iters=ROOT_ITERS):
              kyg=(p.ky * p.l / p.g_mz) if p.g_mz > 0 else 0.0, gn=(f0 * p.l / p.g_mz) if p.g_mz > 0 else 0.0 * f0,
              axn=p.a_x / (f0 * p.l), cqx=p.c_q * f0, cqm=p.c_qm * f0 * p.l, cxc=p.c_xc * f0, xin=p.xi * f0 / p.l,
              q0=p.q0)
-    r0, s0 = _nf_state_vec(np.zeros_like(kappa), K)
+    r0, s0 = nf_state(np.zeros_like(kappa), K)
     s_unc = np.hypot(K["sx"], kf * ky * teq)
-    fa = r0.copy()
-    fb = -np.where(s_unc > 0, s_unc, 1.0) / (1.0 - p.q0)
-    ya, yb = np.ones_like(fa), np.zeros_like(fa)
-    side = np.zeros_like(fa)
-    s_prev = s_last = s0
-    f1 = f2 = np.zeros_like(fa)
-    for _ in range(iters):
-        d = fb - fa
-        t = np.where(d < 0.0, np.clip(fb / np.where(d < 0.0, d, -1.0), 0.0, 1.0), 0.5)
-        y = yb + t * (ya - yb)
-        fx, st = _nf_state_vec(_table_rh_vec(n, y), K)
-        s_prev, s_last = s_last, st
-        f1, f2 = f2, fx
-        pos = fx > 0.0
-        mfa = np.where(fa > 0.0, 1.0 - fx / np.where(fa > 0.0, fa, 1.0), 0.0)
-        fb = np.where(pos & (side > 0), np.where(mfa > 0.0, mfa * fb, 0.5 * fb), fb)
-        mfb = 1.0 - fx / np.where(fb < 0.0, fb, -1.0)
-        fa_new = np.where(~pos & (side < 0) & (fb < 0.0), np.where(mfb > 0.0, mfb * fa, 0.5 * fa), fa)
-        ya = np.where(pos, y, ya)
-        yb = np.where(pos, yb, y)
-        fa = np.where(pos, fx, fa_new)
-        fb = np.where(pos, fb, fx)
-        side = np.where(pos, 1.0, -1.0)
-    dd = f1 - f2
-    w = np.where(dd != 0.0, np.clip(f1 / np.where(dd != 0.0, dd, 1.0), W_MIN, W_MAX), 1.0)
-    st = s_prev + w * (s_last - s_prev)
+    st = _fixed_root(K, r0, s0, s_unc, iters)
     slide = r0 <= 0.0
     noslip = (~slide) & (s_unc <= 0.0)
-    s1 = _nf_state_vec(np.ones_like(kappa), K)[1]
-    st = np.where(slide, s0, np.where(noslip, s1, st))
-    fxn, fyn, mzn, rh = st
+    s1 = nf_state(np.ones_like(kappa), K)[1]
+    st = {k: np.where(slide, s0[k], np.where(noslip, s1[k], st[k])) for k in ("fx", "fy", "mz", "rh")}
+    fxn, fyn, mzn, rh = st["fx"], st["fy"], st["mz"], st["rh"]
     return dict(fx=fxn * f0, fy=-sgn * fyn * f0, mz=sgn * mzn * f0 * p.l, rh=np.clip(rh, 0.0, 1.0))
