@@ -13,8 +13,8 @@
  * Every output has a validity bit in grip_est_output_t.valid (and a flag
  * word saying why not); invalid outputs are finite (usually 0).
  *
- * Method (docs/estimator.md): a 3-state extended Kalman filter
- * x = [vy, r, mu] with the tire model of each axle in the process model,
+ * Method (docs/estimator.md): a 4-state extended Kalman filter
+ * x = [vy, r, mu, yaw-rate sensor bias] with the tire model of each axle in the process model,
  * scalar sequential measurement updates of yaw rate, lateral and
  * longitudinal acceleration in Joseph form, covariance kept in scaled
  * units so that the same code runs in Q15.16; longitudinal speed from a
@@ -127,6 +127,8 @@ typedef struct {
     grip_real_t util_axle[2];    /* QS                                            */
     grip_real_t mu;              /* QS road friction relative to the tire's own (1 = as fitted) */
     grip_real_t mu_conf;         /* QS [0, 1] confidence of mu                    */
+    grip_real_t yaw_rate_bias;   /* QS rad/s estimated yaw-rate sensor offset (removed
+                                  * from yaw_rate, yaw_error); valid with V_YAW      */
     grip_real_t fy_margin_front; /* QL N mu mu0 Fz_front - |Fy_front| (AFS)        */
     int32_t steer_char;          /* +1 understeer, -1 oversteer, 0 neutral        */
     uint32_t valid;              /* GRIP_EST_V_* */
@@ -134,7 +136,7 @@ typedef struct {
 } grip_est_output_t;
 
 /* ---- instance (all state; fixed size, no heap) ---- */
-#define GRIP_EST_NX 3
+#define GRIP_EST_NX 4
 typedef struct {
     uint32_t magic;
     grip_est_config_t cfg;
@@ -153,7 +155,7 @@ typedef struct {
     grip_real_t ay_fac;         /* QS 1 / (1 + g roll_gradient) */
     /* state */
     grip_real_t vx;             /* QS */
-    grip_real_t x[GRIP_EST_NX]; /* QS vy [m/s], r [rad/s], mu [-] */
+    grip_real_t x[GRIP_EST_NX]; /* QS vy [m/s], r [rad/s], mu [-], gyro bias [0.001 rad/s] */
     grip_real_t p[GRIP_EST_NX][GRIP_EST_NX]; /* QS covariance in scaled units */
     grip_real_t hold[5];        /* QS last valid steer, yaw, ax, ay, vehicle speed */
     int32_t age[5];             /* steps since each was valid (saturating) */

@@ -6,7 +6,7 @@
  *
  * Per step: inputs (validity, hold, saturation) -> longitudinal speed
  * (complementary filter) -> vertical loads -> four tire evaluations at the
- * prior state -> analytic Jacobians -> EKF predict (x = [vy, r, mu]) ->
+ * prior state -> analytic Jacobians -> EKF predict (x = [vy, r, mu, gyro bias]) ->
  * scalar updates: yaw rate, ay, (ax when excited) -> outputs.
  * No loop depends on data: every loop runs 3 or 4 times.
  */
@@ -122,6 +122,7 @@ grip_status_t grip_est_reset(grip_est_t *est)
     est->x[0] = R_ZERO;
     est->x[1] = R_ZERO;
     est->x[2] = RC(EST_MU_INIT);
+    est->x[3] = R_ZERO;
     for (i = 0; i < GRIP_EST_NX; ++i) {
         for (j = 0; j < GRIP_EST_NX; ++j) {
             est->p[i][j] = R_ZERO;
@@ -130,6 +131,7 @@ grip_status_t grip_est_reset(grip_est_t *est)
     est->p[0][0] = RC(EST_P0_VY);
     est->p[1][1] = RC(EST_P0_R);
     est->p[2][2] = RC(EST_P0_MU);
+    est->p[3][3] = RC(EST_P0_B);
     for (i = 0; i < 5; ++i) {
         est->hold[i] = R_ZERO;
         est->age[i] = 1000000;
@@ -221,6 +223,7 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
     est->q[0] = r_div(RC(EST_Q_VY), est->rate);
     est->q[1] = r_div(RC(EST_Q_R), est->rate);
     est->q[2] = r_div(RC(EST_Q_MU), est->rate);
+    est->q[3] = r_div(RC(EST_Q_B), est->rate);
     est->lim_n = r_to_int(r_mul(RC(EST_LIM_T), est->rate));
     est->hold_steps = r_to_int(r_mul(RC(EST_HOLD_T), est->rate));
     est->nowheel_n = r_to_int(r_mul(RC(EST_NOWHEEL_T), est->rate));
@@ -234,14 +237,20 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
 /* ------------------------------------------------------------------ */
 /* Kalman filter pieces (scaled units, see est_internal.h) */
 
-static const grip_real_t est_s[GRIP_EST_NX] = { RC(EST_S_VY), RC(EST_S_R), RC(EST_S_MU) };
+/* state unit of each state: SI, except the gyro bias, which is kept in its
+ * scaled unit (0.001 rad/s) so that its small per-step corrections survive
+ * Q15.16 (1 LSB = 1.5e-5 rad/s in SI) */
+static const grip_real_t est_s[GRIP_EST_NX] = { RC(EST_S_VY), RC(EST_S_R), RC(EST_S_MU), R_ONE };
 
-/* P <- F P F' + Q (F 3x3 scaled) */
-static void kf_predict(grip_est_t *e, grip_real_t f[GRIP_EST_NX][GRIP_EST_NX])
+/* P <- F P F' + Q in scaled units. Only the rows of vy and r of F are
+ * given (f, 2 x 4): mu and the gyro bias are random walks (identity rows),
+ * so their block of P only gets its process noise; this keeps the
+ * temporaries at 2 x 4 (stack: the step's frame is the deepest part). */
+static void kf_predict(grip_est_t *e, grip_real_t f[2][GRIP_EST_NX])
 {
-    grip_real_t fp[GRIP_EST_NX][GRIP_EST_NX];
+    grip_real_t fp[2][GRIP_EST_NX];
     int i, j, k;
-    for (i = 0; i < GRIP_EST_NX; ++i) {
+    for (i = 0; i < 2; ++i) {
         for (j = 0; j < GRIP_EST_NX; ++j) {
             grip_real_t s = R_ZERO;
             for (k = 0; k < GRIP_EST_NX; ++k) {
@@ -250,15 +259,20 @@ static void kf_predict(grip_est_t *e, grip_real_t f[GRIP_EST_NX][GRIP_EST_NX])
             fp[i][j] = s;
         }
     }
-    for (i = 0; i < GRIP_EST_NX; ++i) {
+    for (i = 0; i < 2; ++i) {
         for (j = i; j < GRIP_EST_NX; ++j) {
-            grip_real_t s = R_ZERO;
-            for (k = 0; k < GRIP_EST_NX; ++k) {
-                s = r_add(s, r_mul(fp[i][k], f[j][k]));
+            grip_real_t s = fp[i][j];          /* rows 2, 3 of F are identity rows */
+            if (j < 2) {
+                s = R_ZERO;
+                for (k = 0; k < GRIP_EST_NX; ++k) {
+                    s = r_add(s, r_mul(fp[i][k], f[j][k]));
+                }
             }
             e->p[i][j] = s;
             e->p[j][i] = s;
         }
+    }
+    for (i = 0; i < GRIP_EST_NX; ++i) {
         e->p[i][i] = r_add(e->p[i][i], e->q[i]);
     }
 }
@@ -286,11 +300,12 @@ static void kf_condition(grip_est_t *e)
 /* Scalar measurement update in Joseph form for an arbitrary gain:
  * P' = (I - k h) P (I - k h)' + k r k'
  *    = P - k ph' - ph k' + k (k s)'         with ph = P h', s = h ph + r,
- * where k = ph / s, and k_mu = 0 when mu must not adapt (the Joseph form
- * stays exact for that sub-optimal gain). nu: innovation (scaled).
+ * where k = ph / s, and k_mu = 0 when mu must not adapt, k_b = 0 when the
+ * gyro bias must not (the Joseph form stays exact for that sub-optimal
+ * gain). nu: innovation (scaled).
  * Adds k nu (in SI) to the state. */
 static void kf_update(grip_est_t *e, const grip_real_t h[GRIP_EST_NX], grip_real_t nu, grip_real_t r,
-                      int mu_ok)
+                      int mu_ok, int b_ok)
 {
     grip_real_t ph[GRIP_EST_NX], k[GRIP_EST_NX], ks[GRIP_EST_NX];
     grip_real_t s = r;
@@ -311,6 +326,10 @@ static void kf_update(grip_est_t *e, const grip_real_t h[GRIP_EST_NX], grip_real
     if (!mu_ok) {
         k[2] = R_ZERO;
         ks[2] = R_ZERO;
+    }
+    if (!b_ok) {
+        k[3] = R_ZERO;
+        ks[3] = R_ZERO;
     }
     lim = r_mul(RC(EST_NU_SIGMA), r_sqrt(s));
     nu = sym_clamp(nu, lim);
@@ -357,6 +376,7 @@ static void zero_output(grip_est_output_t *out)
     out->util_axle[1] = R_ZERO;
     out->mu = R_ZERO;
     out->mu_conf = R_ZERO;
+    out->yaw_rate_bias = R_ZERO;
     out->fy_margin_front = R_ZERO;
     out->steer_char = 0;
     out->valid = 0;
@@ -393,7 +413,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     const grip_est_config_t *c;
     uint32_t flags = 0, valid = 0;
     int steer_ok, yaw_ok, ax_ok, ay_ok, vs_ok;
-    int i, n_ws = 0, active, excited, wheels_ok = 1, lock = 0, spin = 0;
+    int i, n_ws = 0, active, excited, wheels_ok = 1, lock = 0, spin = 0, stand = 0, at_rest = 0;
     grip_real_t delta, cd, sd, yaw, ax, ay, rate;
     grip_real_t ws[4];
     int ws_ok[4];
@@ -445,7 +465,8 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     }
     cd = r_cos(delta);
     sd = r_sin(delta);
-    yaw = yaw_ok ? est->hold[H_YAW] : R_ZERO;
+    /* yaw rate with the estimated gyro bias (state x[3]) removed */
+    yaw = yaw_ok ? r_sub(est->hold[H_YAW], r_mul(RC(EST_S_B), est->x[3])) : R_ZERO;
     ax = ax_ok ? est->hold[H_AX] : R_ZERO;
     /* the accelerometer rolls with the body: ay_meas = ay cos(phi) + g sin(phi),
      * phi = roll_gradient * ay, so ay = ay_meas / (1 + g roll_gradient) */
@@ -554,7 +575,12 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         } else {
             est->vx = r_add(vx_pred, r_mul(r_min(r_div(k, rate), R_ONE), r_sub(v_ref, vx_pred)));
         }
-        if (n_ws > 0 && vmax < RC(EST_V_STAND) && vmin > RC(-EST_V_STAND) && !vs_ok) {
+        stand = n_ws > 0 && vmax < RC(EST_V_STAND) && vmin > RC(-EST_V_STAND);
+        /* the gyro reads its bias at rest: every wheel at rest and the car
+         * (nearly) stopped already by the prediction (wheels locked at speed
+         * are not a standstill) */
+        at_rest = stand && r_abs(vx_pred) < RC(EST_V_ON);
+        if (stand && !vs_ok) {
             est->vx = R_ZERO;       /* standstill: stops ax-bias drift */
         }
         est->vx = sym_clamp(est->vx, RC(EST_WS_MAX));
@@ -597,16 +623,17 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     }
     if (!active && vx >= RC(EST_V_ON) && steer_ok && yaw_ok && (valid & GRIP_EST_V_VX)) {
         active = 1;
+        int j;
         est->x[0] = R_ZERO;
         est->x[1] = yaw;
+        for (i = 0; i < 2; ++i) {
+            for (j = 0; j < GRIP_EST_NX; ++j) {
+                est->p[i][j] = R_ZERO;
+                est->p[j][i] = R_ZERO;
+            }
+        }
         est->p[0][0] = RC(EST_P0_VY);
         est->p[1][1] = RC(EST_P0_R);
-        est->p[0][1] = R_ZERO;
-        est->p[1][0] = R_ZERO;
-        est->p[0][2] = R_ZERO;
-        est->p[2][0] = R_ZERO;
-        est->p[1][2] = R_ZERO;
-        est->p[2][1] = R_ZERO;
         flags |= GRIP_EST_F_RESET;
     }
     est->active = active;
@@ -616,6 +643,20 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         est->x[1] = yaw;
         est->r_lin_f = yaw;
         est->lim_steps = 0;
+        /* gyro bias: random walk; at standstill (every wheel at rest) the
+         * yaw rate is zero and the gyro reads its bias */
+        est->p[3][3] = r_add(est->p[3][3], est->q[3]);
+        if (at_rest && yaw_ok && wheels_ok && ax_ok && r_abs(ax) < RC(EST_B_AX)) {
+            grip_real_t h[GRIP_EST_NX];
+            h[0] = R_ZERO;
+            h[1] = R_ZERO;
+            h[2] = R_ZERO;
+            h[3] = RC(EST_S_B / EST_S_R);
+            kf_update(est, h, r_div(r_sub(est->hold[H_YAW], r_mul(RC(EST_S_B), est->x[3])), RC(EST_S_R)),
+                      RC(EST_R_YAW), 0, 1);
+            kf_condition(est);
+            est->x[3] = sym_clamp(est->x[3], RC(EST_B_MAX / EST_S_B));
+        }
     }
     mu = est->x[2];
 
@@ -625,9 +666,9 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         grip_real_t jax_mu = R_ZERO;
         grip_real_t sfx = R_ZERO, sfy = R_ZERO, smz = R_ZERO;
         grip_real_t vy = est->x[0], r = est->x[1];
-        grip_real_t umax = R_ZERO, umax_x = R_ZERO, kappa_sum = R_ZERO;
-        int at_limit = 0;
-        grip_real_t f[GRIP_EST_NX][GRIP_EST_NX];
+        grip_real_t umax = R_ZERO, umax_x = R_ZERO, kappa_sum = R_ZERO, umax_est = R_ZERO;
+        int at_limit = 0, b_ok;
+        grip_real_t f[2][GRIP_EST_NX];   /* rows vy, r of the transition (mu, bias: identity) */
         grip_real_t ay_m, ax_m, racc, dvy, dr, m = c->mass, mu_lb = RC(EST_MU_MIN);
 
         for (i = 0; i < 4; ++i) {
@@ -691,6 +732,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
             }
             u = r_div(r_sqrt(r_add(r_sq(fxn), r_sq(fyn))), r_mul(mu, est->mu0[axle]));
             out->util[i] = r_min(u, RC(1.5));
+            umax_est = r_max(umax_est, out->util[i]);
             g = r_max(RC(EST_G_MIN), r_sqrt(r_sub(R_ONE, r_min(u, R_ONE))));
             ca = r_mul(fzr, est->c_alpha[axle]);                 /* N/rad at this load */
             {
@@ -785,6 +827,11 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
          * through the ay measurement, so a flat tire curve at the limit
          * leaves vy to the kinematics instead of to model errors); the
          * model's ay stands in when the accelerometer is missing */
+        /* the gyro bias adapts only where the tire model is trusted (linear
+         * range, no locked or spinning wheel, no hard braking or driving, no
+         * friction-limit indication); else it would absorb the model's errors */
+        b_ok = umax_est < RC(EST_B_U) && r_abs(ay) < RC(EST_B_A) && r_abs(ax) < RC(EST_B_AX) && !lock && !spin &&
+               !at_limit;
         dvy = r_div(r_sub(ay_ok ? ay : ay_m, r_mul(r, vx)), rate);
         dr = r_div(racc, rate);
         {
@@ -795,17 +842,17 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                 f[0][0] = R_ONE;
                 f[0][1] = r_mul(r_div(r_neg(vx), rate), RC(EST_S_R / EST_S_VY));
                 f[0][2] = R_ZERO;
+                f[0][3] = R_ZERO;
             } else {
                 f[0][0] = r_add(R_ONE, r_div(a_vv, rate));
                 f[0][1] = r_mul(r_div(r_sub(a_vr, vx), rate), RC(EST_S_R / EST_S_VY));
                 f[0][2] = r_mul(r_div(a_vm, rate), RC(EST_S_MU / EST_S_VY));
+                f[0][3] = R_ZERO;
             }
             f[1][0] = r_mul(r_div(a_rv, rate), RC(EST_S_VY / EST_S_R));
             f[1][1] = r_add(R_ONE, r_div(a_rr, rate));
             f[1][2] = r_mul(r_div(a_rm, rate), RC(EST_S_MU / EST_S_R));
-            f[2][0] = R_ZERO;
-            f[2][1] = R_ZERO;
-            f[2][2] = R_ONE;
+            f[1][3] = R_ZERO;
             est->x[0] = r_add(vy, dvy);
             est->x[1] = r_add(r, dr);
             kf_predict(est, f);
@@ -816,11 +863,13 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                 h[0] = R_ZERO;
                 h[1] = R_ONE;
                 h[2] = R_ZERO;
+                h[3] = RC(EST_S_B / EST_S_R);   /* the gyro reads r + bias */
                 /* mu does not adapt on the yaw rate: the yaw moment balance is
                  * the most model-sensitive equation (Iz, lever arms, the
                  * front/rear force split at the limit) and drove mu away
                  * at the limit of the simulator's ramp steer */
-                kf_update(est, h, r_div(r_sub(yaw, est->x[1]), RC(EST_S_R)), RC(EST_R_YAW), 0);
+                kf_update(est, h, r_div(r_sub(yaw, est->x[1]), RC(EST_S_R)),
+                          RC(EST_R_YAW), 0, b_ok);
                 kf_condition(est);
             }
             if (ay_ok) {
@@ -829,7 +878,16 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                 h[0] = sym_clamp(r_mul(a_vv, RC(EST_S_VY / EST_S_AY)), RC(EST_H_MAX_VY));
                 h[1] = sym_clamp(r_mul(a_vr, RC(EST_S_R / EST_S_AY)), RC(EST_H_MAX));
                 h[2] = sym_clamp(r_mul(a_vm, RC(EST_S_MU / EST_S_AY)), RC(EST_H_MAX));
-                kf_update(est, h, r_div(r_sub(ay, ay_pred), RC(EST_S_AY)), RC(EST_R_AY), excited);
+                h[3] = R_ZERO;
+                {
+                    /* at the friction limit the tire model is least certain: the
+                     * ay noise grows 10x from utilization 0.8 to 1, leaving vy to
+                     * the kinematics there */
+                    grip_real_t ulim = r_clamp(r_div(r_sub(umax_est, RC(EST_U_R0)), RC(1.0 - EST_U_R0)),
+                                               R_ZERO, R_ONE);
+                    grip_real_t r_ay = r_mul(RC(EST_R_AY), r_add(R_ONE, r_mul(RC(EST_R_LIM), ulim)));
+                    kf_update(est, h, r_div(r_sub(ay, ay_pred), RC(EST_S_AY)), r_ay, excited, b_ok);
+                }
                 kf_condition(est);
             }
             /* longitudinal update only with an independent speed reference:
@@ -846,14 +904,16 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                 h[0] = R_ZERO;
                 h[1] = R_ZERO;
                 h[2] = sym_clamp(r_mul(r_div(jax_mu, m), RC(EST_S_MU / EST_S_AY)), RC(EST_H_MAX));
-                kf_update(est, h, r_div(r_sub(ax, ax_pred), RC(EST_S_AY)), RC(EST_R_AX), 1);
+                h[3] = R_ZERO;
+                kf_update(est, h, r_div(r_sub(ax, ax_pred), RC(EST_S_AY)), RC(EST_R_AX), 1, b_ok);
                 kf_condition(est);
             }
         }
         /* state bounds */
         est->x[2] = r_clamp(est->x[2], r_max(RC(EST_MU_MIN), mu_lb), RC(EST_MU_MAX));
-        est->x[0] = sym_clamp(est->x[0], r_add(r_mul(RC(0.5), r_abs(vx)), R_ONE));
+        est->x[0] = sym_clamp(est->x[0], r_add(r_mul(RC(EST_VY_K), r_abs(vx)), R_ONE));
         est->x[1] = sym_clamp(est->x[1], RC(EST_YAW_MAX));
+        est->x[3] = sym_clamp(est->x[3], RC(EST_B_MAX / EST_S_B));
         if (ay_ok && yaw_ok) {
             valid |= GRIP_EST_V_BETA | GRIP_EST_V_AXLE;
         }
@@ -876,6 +936,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     }
     out->delta = delta;
     out->mu = mu;
+    out->yaw_rate_bias = r_mul(RC(EST_S_B), est->x[3]);
     {
         grip_real_t sig = r_mul(r_sqrt(est->p[2][2]), RC(EST_S_MU));
         out->mu_conf = r_clamp(r_div(r_sub(RC(EST_CONF_S0), sig), RC(0.1)), R_ZERO, R_ONE);

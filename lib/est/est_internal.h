@@ -42,6 +42,7 @@
 #define EST_S_VY     0.05    /* m/s   */
 #define EST_S_R      0.005   /* rad/s */
 #define EST_S_MU     0.02    /* -     */
+#define EST_S_B      0.001   /* rad/s (gyro bias) */
 #define EST_S_AY     0.5     /* m/s^2 (lateral and longitudinal acceleration) */
 /* measurement noise (scaled units^2): yaw 0.006 rad/s, ay 0.4, ax 0.5 m/s^2 */
 #define EST_R_YAW    1.44
@@ -52,10 +53,19 @@
 #define EST_Q_VY     100.0
 #define EST_Q_R      3600.0
 #define EST_Q_MU     6.25
+#define EST_Q_B      0.25    /* gyro bias random walk 0.0005 rad/s /sqrt(s) */
 /* initial variances and bounds (scaled units^2) */
 #define EST_P0_VY    36.0
 #define EST_P0_R     16.0
 #define EST_P0_MU    225.0
+#define EST_P0_B     100.0   /* gyro bias sigma 0.01 rad/s at start */
+#define EST_B_MAX    0.05    /* rad/s: bound of the gyro bias state */
+#define EST_U_R0     0.8     /* ay noise grows from R_AY at this utilization ... */
+#define EST_R_LIM    9.0     /* ... to (1 + R_LIM) R_AY at utilization 1 */
+#define EST_B_U      0.5     /* gyro bias adapts below this model utilization ... */
+#define EST_B_A      4.0     /* ... below this |ay| [m/s^2] ... */
+#define EST_B_AX     1.0     /* ... and below this |ax| [m/s^2] */
+#define EST_VY_K     1.0     /* |vy| <= VY_K |vx| + 1 m/s (sideslip up to ~45 deg: spins) */
 #define EST_P_MIN    0.01
 #define EST_P_MAX    400.0
 #define EST_H_MAX_VY 5.0     /* bounds of the measurement row (keeps h P h' < 32768) */

@@ -74,7 +74,7 @@ static double from_ql(grip_real_t v) { return (double)v; }
 #define C_MASK 18
 #define C_OUT 19
 enum {
-    O_VX = 0, O_VY, O_BETA, O_YAW, O_YAWREF, O_YAWERR, O_DELTA, O_MU, O_MUCONF,
+    O_VX = 0, O_VY, O_BETA, O_YAW, O_YAWREF, O_YAWBIAS, O_DELTA, O_MU, O_MUCONF,
     O_FZ = 9, O_KAPPA = 13, O_ALPHA = 17, O_FX = 21, O_FY = 25, O_MZ = 29, O_UTIL = 33,
     O_FYAX = 37, O_UTILAX = 39, O_MARGIN = 41, O_STEERCHAR = 42, O_VALID = 43, O_FLAGS = 44,
     O_COUNT = 45
@@ -104,7 +104,7 @@ static void run_sequence(const seq_t *sq)
     grip_est_t est;
     grip_est_output_t out;
     grip_input_sample_t in;
-    err_stats e_vx, e_beta, e_yaw, e_ref, e_mu, e_conf, e_fz, e_fy, e_alpha, e_kappa, e_fx;
+    err_stats e_vx, e_beta, e_yaw, e_bias, e_ref, e_mu, e_conf, e_fz, e_fy, e_alpha, e_kappa, e_fx;
     double fy_peak = 0.0;
     long rows = 0, mask_diff = 0;
     int n, i;
@@ -125,6 +125,7 @@ static void run_sequence(const seq_t *sq)
     err_init(&e_vx, "vx", 1.0);
     err_init(&e_beta, "beta", 0.01);
     err_init(&e_yaw, "yaw_rate", 0.01);
+    err_init(&e_bias, "yaw_rate_bias", 0.001);
     err_init(&e_ref, "yaw_rate_ref", 0.01);
     err_init(&e_mu, "mu", 0.1);
     err_init(&e_conf, "mu_conf", 0.1);
@@ -153,6 +154,7 @@ static void run_sequence(const seq_t *sq)
         err_add(&e_vx, from_qs(out.vx), W(O_VX), golden_num(&g, C_T), 0, 0);
         err_add(&e_beta, from_qs(out.beta), W(O_BETA), golden_num(&g, C_T), 0, 0);
         err_add(&e_yaw, from_qs(out.yaw_rate), W(O_YAW), golden_num(&g, C_T), 0, 0);
+        err_add(&e_bias, from_qs(out.yaw_rate_bias), W(O_YAWBIAS), golden_num(&g, C_T), 0, 0);
         err_add(&e_ref, from_qs(out.yaw_rate_ref), W(O_YAWREF), golden_num(&g, C_T), 0, 0);
         err_add(&e_mu, from_qs(out.mu), W(O_MU), golden_num(&g, C_T), 0, 0);
         err_add(&e_conf, from_qs(out.mu_conf), W(O_MUCONF), golden_num(&g, C_T), 0, 0);
@@ -178,6 +180,7 @@ static void run_sequence(const seq_t *sq)
     err_print(&e_vx, "m/s");
     err_print(&e_beta, "rad");
     err_print(&e_yaw, "rad/s");
+    err_print(&e_bias, "rad/s");
     err_print(&e_ref, "rad/s");
     err_print(&e_mu, "-");
     err_print(&e_conf, "-");
@@ -191,6 +194,7 @@ static void run_sequence(const seq_t *sq)
     assert_true(e_vx.max_abs <= TOL(2e-4, 3e-3));
     assert_true(e_beta.max_abs <= TOL(5e-5, 3e-3));
     assert_true(e_yaw.max_abs <= TOL(5e-6, 2e-4));
+    assert_true(e_bias.max_abs <= TOL(5e-6, 2e-4));
     assert_true(e_ref.max_abs <= TOL(1e-4, 3e-3));
     assert_true(e_mu.max_abs <= TOL(2e-4, 6e-3));
     assert_true(e_fz.max_abs <= TOL(0.02, 0.5));

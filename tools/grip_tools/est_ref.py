@@ -31,11 +31,20 @@ AX_TH, K_HI, K_LO, K_MID, WHEEL_DEV = 0.3, 5.0, 0.5, 1.5, 0.15
 MU_MIN, MU_MAX, MU_INIT = 0.1, 1.2, 1.0
 LIM_TAU, LIM_A, LIM_REL, LIM_ABS, LIM_T, R_MU = 0.15, 2.0, 0.15, 0.03, 0.2, 16.0
 EXC_U, EXC_A, G_MIN = 0.5, 1.0, 0.05
-S = np.array([0.05, 0.005, 0.02])       # scaled units of vy, r, mu
+S = np.array([0.05, 0.005, 0.02, 0.001])  # scaled units of vy, r, mu, gyro bias
+# states are SI except the gyro bias, which is kept in its scaled unit
+# (0.001 rad/s) so that its small per-step corrections survive Q15.16
+S_X = np.array([0.05, 0.005, 0.02, 1.0])
+B_UNIT = 0.001
 S_AY = 0.5
 R_YAW, R_AY, R_AX = 1.44, 0.64, 1.0
-Q_C = np.array([100.0, 3600.0, 6.25])
-P0 = np.array([36.0, 16.0, 225.0])
+Q_C = np.array([100.0, 3600.0, 6.25, 0.25])
+P0 = np.array([36.0, 16.0, 225.0, 100.0])
+NX = 4
+B_MAX = 50.0            # gyro bias bound [0.001 rad/s]
+U_R0, R_LIM = 0.8, 9.0
+B_U, B_A, B_AX = 0.5, 4.0, 1.0  # gyro bias adapts below this model utilization, |ay|, |ax| [m/s^2]
+VY_K = 1.0              # |vy| <= VY_K |vx| + 1 m/s
 P_MIN, P_MAX = 0.01, 400.0
 H_MAX_VY, H_MAX = 5.0, 2.0
 NU_SIGMA, CONF_S0 = 4.0, 0.15
@@ -111,7 +120,7 @@ class Estimator:
 
     def reset(self):
         self.vx = 0.0
-        self.x = np.array([0.0, 0.0, MU_INIT])
+        self.x = np.array([0.0, 0.0, MU_INIT, 0.0])
         self.P = np.diag(P0).astype(float)
         self.hold = [0.0] * 5
         self.age = [BIG] * 5
@@ -124,15 +133,15 @@ class Estimator:
     # -- Kalman pieces (scaled units) --
     def _condition(self):
         P = self.P
-        for i in range(3):
+        for i in range(NX):
             P[i, i] = _clamp(P[i, i], P_MIN, P_MAX)
         sd = np.sqrt(np.diag(P))
-        for i in range(3):
-            for j in range(i + 1, 3):
+        for i in range(NX):
+            for j in range(i + 1, NX):
                 b = 0.99 * sd[i] * sd[j]
                 P[i, j] = P[j, i] = _clamp(P[i, j], -b, b)
 
-    def _update(self, h, nu, r, mu_ok):
+    def _update(self, h, nu, r, mu_ok, b_ok=True):
         P = self.P
         ph = P @ h
         s = r + float(h @ ph)
@@ -141,9 +150,12 @@ class Estimator:
         if not mu_ok:
             k[2] = 0.0
             ks[2] = 0.0
+        if not b_ok:
+            k[3] = 0.0
+            ks[3] = 0.0
         lim = NU_SIGMA * math.sqrt(max(s, 0.0))
         nu = _clamp(nu, -lim, lim)
-        self.x = self.x + k * nu * S
+        self.x = self.x + k * nu * S_X
         Pn = P - np.outer(k, ph) - np.outer(ph, k) + np.outer(k, ks)
         self.P = 0.5 * (Pn + Pn.T)
 
@@ -170,7 +182,7 @@ class Estimator:
         o = dict(vx=0.0, vy=0.0, beta=0.0, yaw_rate=0.0, yaw_rate_ref=0.0, yaw_error=0.0, delta=0.0,
                  kappa=np.zeros(4), alpha=np.zeros(4), fz=np.zeros(4), fx=np.zeros(4), fy=np.zeros(4),
                  mz=np.zeros(4), util=np.zeros(4), fy_axle=np.zeros(2), util_axle=np.zeros(2), mu=0.0,
-                 mu_conf=0.0, fy_margin_front=0.0, steer_char=0)
+                 mu_conf=0.0, yaw_rate_bias=0.0, fy_margin_front=0.0, steer_char=0)
         steer_ok = self._take(value, valid, STEER, 0, c["steer_ratio"] * DELTA_MAX * 2.0, st)
         yaw_ok = self._take(value, valid, YAW, 1, YAW_MAX, st)
         ax_ok = self._take(value, valid, AX, 2, ACC_MAX, st)
@@ -192,7 +204,8 @@ class Estimator:
         if not steer_ok:
             delta = 0.0
         cd, sd = math.cos(delta), math.sin(delta)
-        yaw = self.hold[1] if yaw_ok else 0.0
+        # yaw rate corrected by the estimated gyro bias (state x[3])
+        yaw = self.hold[1] - B_UNIT * self.x[3] if yaw_ok else 0.0
         ax = self.hold[2] if ax_ok else 0.0
         ay = self.ay_fac * self.hold[3] if ay_ok else 0.0
         xw = [c["lf"], c["lf"], -c["lr"], -c["lr"]]
@@ -264,7 +277,12 @@ class Estimator:
                 self.vx_init = True
         else:
             self.vx = vx_pred + min(k * dt, 1.0) * (v_ref - vx_pred)
-        if n_ws > 0 and vmax < V_STAND and vmin > -V_STAND and not vs_ok:
+        stand = n_ws > 0 and vmax < V_STAND and vmin > -V_STAND
+        # the gyro reads its bias at rest: every wheel at rest and the car
+        # (nearly) stopped already by the prediction (wheels locked at speed
+        # are not a standstill)
+        at_rest = stand and abs(vx_pred) < V_ON
+        if stand and not vs_ok:
             self.vx = 0.0
         self.vx = _clamp(self.vx, -WS_MAX, WS_MAX)
         vx = self.vx
@@ -297,8 +315,10 @@ class Estimator:
         if not active and vx >= V_ON and steer_ok and yaw_ok and (vbits & V_VX):
             active = True
             self.x[0], self.x[1] = 0.0, yaw
+            for i in range(2):
+                for j in range(NX):
+                    self.P[i, j] = self.P[j, i] = 0.0
             self.P[0, 0], self.P[1, 1] = P0[0], P0[1]
-            self.P[0, 1] = self.P[1, 0] = self.P[0, 2] = self.P[2, 0] = self.P[1, 2] = self.P[2, 1] = 0.0
             flags |= F_RESET
         self.active = active
         if not active:
@@ -306,6 +326,14 @@ class Estimator:
             self.x[0], self.x[1] = 0.0, yaw
             self.r_lin_f = yaw
             self.lim_steps = 0
+            # gyro bias: random walk; at standstill (every wheel at rest) the
+            # yaw rate is zero, so the gyro reads its bias
+            self.P[3, 3] = self.P[3, 3] + self.q[3]
+            if at_rest and yaw_ok and wheels_ok and ax_ok and abs(ax) < B_AX:
+                self._update(np.array([0.0, 0.0, 0.0, S[3] / S[1]]), (self.hold[1] - B_UNIT * self.x[3]) / S[1], R_YAW,
+                             False)
+                self._condition()
+                self.x[3] = _clamp(self.x[3], -B_MAX, B_MAX)
         mu = float(self.x[2])
         excited = False
 
@@ -398,28 +426,40 @@ class Estimator:
             if at_limit:
                 excited = True
 
+            # the gyro bias adapts only where the tire model is trusted
+            # (linear range), else it would absorb model errors at the limit
+            # (and not with a locked or spinning wheel, hard braking or driving,
+            # or the yaw-rate limit test set)
+            b_ok = (float(np.max(o["util"])) < B_U and abs(ay) < B_A and abs(ax) < B_AX and not lock
+                    and not spin and not at_limit)
             dvy = ((ay if ay_ok else ay_m) - r * vx) * dt
             dr = racc * dt
             a_vv, a_vr, a_vm = jay[0] / m, jay[1] / m, jay[2] / m
             a_rv, a_rr, a_rm = jr[0] / c["iz"], jr[1] / c["iz"], jr[2] / c["iz"]
             row0 = ([1.0, -vx * dt * (S[1] / S[0]), 0.0] if ay_ok else
                     [1 + a_vv * dt, (a_vr - vx) * dt * (S[1] / S[0]), a_vm * dt * (S[2] / S[0])])
-            F = np.array([row0,
-                          [a_rv * dt * (S[0] / S[1]), 1 + a_rr * dt, a_rm * dt * (S[2] / S[1])],
-                          [0.0, 0.0, 1.0]])
+            F = np.array([row0 + [0.0],
+                          [a_rv * dt * (S[0] / S[1]), 1 + a_rr * dt, a_rm * dt * (S[2] / S[1]), 0.0],
+                          [0.0, 0.0, 1.0, 0.0],
+                          [0.0, 0.0, 0.0, 1.0]])
             self.x[0], self.x[1] = vy + dvy, r + dr
             Pn = F @ self.P @ F.T
             self.P = 0.5 * (Pn + Pn.T) + np.diag(self.q)
             self._condition()
             if yaw_ok:
-                self._update(np.array([0.0, 1.0, 0.0]), (yaw - self.x[1]) / S[1], R_YAW, False)
+                self._update(np.array([0.0, 1.0, 0.0, S[3] / S[1]]), (self.hold[1] - self.x[1] - B_UNIT * self.x[3]) / S[1],
+                             R_YAW, False, b_ok)
                 self._condition()
             if ay_ok:
                 ay_pred = ay_m + a_vv * (self.x[0] - vy) + a_vr * (self.x[1] - r) + a_vm * (self.x[2] - mu)
                 h = np.array([_clamp(a_vv * S[0] / S_AY, -H_MAX_VY, H_MAX_VY),
                               _clamp(a_vr * S[1] / S_AY, -H_MAX, H_MAX),
-                              _clamp(a_vm * S[2] / S_AY, -H_MAX, H_MAX)])
-                self._update(h, (ay - ay_pred) / S_AY, R_AY, excited)
+                              _clamp(a_vm * S[2] / S_AY, -H_MAX, H_MAX), 0.0])
+                # at the friction limit the tire model is least certain: the ay
+                # noise grows 10x from utilization 0.8 to 1, leaving vy to the
+                # kinematics there
+                ulim = _clamp((float(np.max(o["util"])) - U_R0) / (1.0 - U_R0), 0.0, 1.0)
+                self._update(h, (ay - ay_pred) / S_AY, R_AY * (1.0 + R_LIM * ulim), excited, b_ok)
                 self._condition()
             # ... and only when the slips push the way the car accelerates
             # (a speed reference a few per cent off the wheel speeds makes
@@ -427,15 +467,16 @@ class Estimator:
             if (excited and self.cfg["speed_ref_mu"] and vs_ok and wheels_ok and umax_x >= EXC_U
                     and abs(ax) >= EXC_A and float(np.sum(kappa)) * ax > 0.0):
                 ax_pred = ax_m + jax_mu / m * (self.x[2] - mu)
-                h = np.array([0.0, 0.0, _clamp(jax_mu / m * S[2] / S_AY, -H_MAX, H_MAX)])
-                self._update(h, (ax - ax_pred) / S_AY, R_AX, True)
+                h = np.array([0.0, 0.0, _clamp(jax_mu / m * S[2] / S_AY, -H_MAX, H_MAX), 0.0])
+                self._update(h, (ax - ax_pred) / S_AY, R_AX, True, b_ok)
                 self._condition()
             # the friction in use is a lower bound of the friction available
             mu_lb = min(a_tot / (G * max(self.mu0)), MU_MAX) if (ax_ok and ay_ok) else MU_MIN
             self.x[2] = _clamp(self.x[2], max(MU_MIN, mu_lb), MU_MAX)
-            lim = 0.5 * abs(vx) + 1.0
+            lim = VY_K * abs(vx) + 1.0
             self.x[0] = _clamp(self.x[0], -lim, lim)
             self.x[1] = _clamp(self.x[1], -YAW_MAX, YAW_MAX)
+            self.x[3] = _clamp(self.x[3], -B_MAX, B_MAX)
             if ay_ok and yaw_ok:
                 vbits |= V_BETA | V_AXLE
             if not (vbits & V_BETA):
@@ -452,6 +493,7 @@ class Estimator:
             vbits |= V_YAW
         o["delta"] = delta
         o["mu"] = mu
+        o["yaw_rate_bias"] = B_UNIT * float(self.x[3])
         sig = math.sqrt(self.P[2, 2]) * S[2]
         o["mu_conf"] = _clamp((CONF_S0 - sig) / 0.1, 0.0, 1.0)
         if o["mu_conf"] >= 0.5:
