@@ -84,7 +84,7 @@ typedef struct {
     grip_real_t rate_step[GRIP_MON_N];       /* QS largest physical change per step */
     grip_real_t lim[GRIP_MON_N];  /* QS physical range */
     int32_t n_frozen[GRIP_MON_N];
-    int32_t n_deb, n_heal, n_lost, n_steady;
+    int32_t n_deb, n_heal, n_lost, n_steady, n_unst;
     /* per signal */
     grip_real_t fol[GRIP_MON_N];  /* spike follower */
     grip_real_t x1[GRIP_MON_N], x2[GRIP_MON_N];   /* previous accepted values */
@@ -94,7 +94,7 @@ typedef struct {
     uint8_t have[GRIP_MON_N], hist[GRIP_MON_N], latch[GRIP_MON_N], seen[GRIP_MON_N];
     /* shared */
     grip_real_t ax_f, dv_f, v_prev, ax_prev, dax_f, r_lin_f, r_prev, dr_f;
-    int32_t ax_steady, r_steady;
+    int32_t ax_steady, r_steady, unst;
     uint8_t v_have, r_have, init_f, pad_;
 } grip_monitor_t;
 
@@ -119,8 +119,11 @@ grip_status_t grip_monitor_reset(grip_monitor_t *mon);
 /* One step on one sample, in place: the valid flag of a signal judged
  * faulty (latched, or a spike this step) is cleared, its value set to 0 and
  * its fault to GRIP_SIG_FAULT; other inputs are left as they are. est_prev
- * is the estimator's previous output or NULL (used only for the speed when
- * fewer than two wheel speeds are usable). rep may be NULL.
+ * is the estimator's previous output or NULL: its speed is used when fewer
+ * than two wheel speeds are usable, and its sideslip (|beta| > 0.1 rad) or
+ * oversteer indication holds the model checks (ay, ax, steering) off for
+ * 1 s (in a spin those models do not hold; without est_prev there is no
+ * such hold: docs/faults.md). rep may be NULL.
  * GRIP_ERR_NULL (mon or sample NULL), GRIP_ERR_STATE (mon not initialized:
  * every monitored input of the sample is then marked invalid, fault
  * GRIP_SIG_FAULT, and rep says all of them faulty). */

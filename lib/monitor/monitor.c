@@ -62,9 +62,11 @@ static const grip_real_t FROZEN_MOVE_[GRIP_MON_N] = { RC(0.5), RC(0.5), RC(0.5),
 #define ST_A_MAX 2.0
 #define VS_ABS 1.0
 #define VS_REL 0.05
-#define DR_TAU 0.05
-#define DR_MAX 0.25
-#define DAX_MAX 4.0
+#define DR_TAU 0.1
+#define DR_MAX 0.15
+#define DAX_MAX 3.0
+#define BETA_UNST 0.1
+#define UNST_MS 1000
 #define DIFF_MAX 10.0
 #define STEADY_MS 500
 #define DEB_MS 100
@@ -172,6 +174,7 @@ grip_status_t grip_monitor_reset(grip_monitor_t *mon)
     mon->dr_f = R_ZERO;
     mon->ax_steady = 0;
     mon->r_steady = 0;
+    mon->unst = 0;
     mon->v_have = 0u;
     mon->r_have = 0u;
     mon->init_f = 0u;
@@ -208,6 +211,7 @@ grip_status_t grip_monitor_init(grip_monitor_t *mon, const grip_monitor_config_t
     mon->n_heal = steps_of(HEAL_MS, cfg->rate_hz);
     mon->n_lost = steps_of(FOLLOW_LOST_MS, cfg->rate_hz);
     mon->n_steady = steps_of(STEADY_MS, cfg->rate_hz);
+    mon->n_unst = steps_of(UNST_MS, cfg->rate_hz);
     mon->magic = MON_MAGIC;
     return grip_monitor_reset(mon);
 }
@@ -383,12 +387,12 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
 
     /* steadiness of ax */
     if (ok[IN_AX]) {
-        grip_real_t d = r_min(r_abs(r_sub(x[IN_AX], m->ax_prev)), RC(DIFF_MAX));
+        grip_real_t d = r_clamp(r_sub(x[IN_AX], m->ax_prev), RC(-DIFF_MAX), RC(DIFF_MAX));
         m->dax_f = r_add(m->dax_f, r_mul(m->a_ax, r_sub(r_mul(d, rate), m->dax_f)));
         m->ax_prev = x[IN_AX];
         m->ax_f = r_add(m->ax_f, r_mul(m->a_ax, r_sub(x[IN_AX], m->ax_f)));
     }
-    m->ax_steady = (ok[IN_AX] && m->dax_f < RC(DAX_MAX)) ? inc_sat(m->ax_steady) : 0;
+    m->ax_steady = (ok[IN_AX] && r_abs(m->dax_f) < RC(DAX_MAX)) ? inc_sat(m->ax_steady) : 0;
 
     /* -- wheels: each against the median of the other three -- */
     calm = n_good >= 3 && spread <= r_add(RC(CALM_ABS), r_mul(RC(CALM_REL), vx));
@@ -430,11 +434,12 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
 
     /* -- yaw rate against the rear-wheel difference -- */
     wheel_sus = sus[0] || sus[1] || sus[2] || sus[3];
-    rw_ok = use[2] && use[3] && !wheel_sus;
+    /* trusted only without braking / driving and with the wheels agreeing */
+    rw_ok = use[2] && use[3] && !wheel_sus && calm && r_abs(ax_m) < RC(YAW_AX_MAX);
     if (rw_ok) {
         r_w = r_div(r_sub(x[3], x[2]), c->track_r);
     }
-    if (moving && ok[IN_YAW] && rw_ok && calm && r_abs(ax_m) < RC(YAW_AX_MAX)) {
+    if (moving && ok[IN_YAW] && rw_ok) {
         res[IN_YAW] = r_sub(x[IN_YAW], r_w);
         if (exceeds(res[IN_YAW], RC(YAW_ABS), RC(YAW_REL), r_w)) {
             sus[IN_YAW] = 1;
@@ -449,7 +454,7 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
         rc_ok = 0;
     }
     if (rc_ok && m->r_have) {
-        grip_real_t d = r_min(r_abs(r_sub(r_c, m->r_prev)), RC(DIFF_MAX));
+        grip_real_t d = r_clamp(r_sub(r_c, m->r_prev), RC(-DIFF_MAX), RC(DIFF_MAX));
         m->dr_f = r_add(m->dr_f, r_mul(m->a_dr, r_sub(r_mul(d, rate), m->dr_f)));
     }
     if (rc_ok) {
@@ -458,8 +463,20 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
     } else {
         m->r_have = 0u;
     }
-    m->r_steady = (rc_ok && m->dr_f < RC(DR_MAX)) ? inc_sat(m->r_steady) : 0;
+    m->r_steady = (rc_ok && r_abs(m->dr_f) < RC(DR_MAX)) ? inc_sat(m->r_steady) : 0;
     r_steady = m->r_steady >= m->n_steady;
+
+    /* unstable driving (the estimator sees a large sideslip or oversteer):
+     * the sideslip rate, ay - r vx, and the bicycle model are then unbounded */
+    if (est_prev != 0 &&
+        (((est_prev->valid & GRIP_EST_V_BETA) != 0u && r_is_finite(est_prev->beta) &&
+          r_abs(est_prev->beta) > RC(BETA_UNST)) ||
+         ((est_prev->valid & GRIP_EST_V_STEER) != 0u && est_prev->steer_char < 0))) {
+        m->unst = m->n_unst;
+    } else if (m->unst > 0) {
+        m->unst -= 1;
+    }
+    r_steady = r_steady && m->unst == 0;
 
     /* -- ay against r vx (r from the wheels when they give it) -- */
     if (moving && ok[IN_AY] && rc_ok && r_steady) {

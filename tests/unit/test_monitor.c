@@ -71,13 +71,15 @@ static double from_qs(grip_real_t v) { return (double)v; }
 #define C_IN 1
 #define C_MASK 18
 #define C_EVX 19
-#define C_EVOK 20
-#define C_CODE 21
-#define C_FAULTY 30
-#define C_DROPPED 31
-#define C_DET 32
-#define C_RES 33
-#define C_COUNT 42
+#define C_EBETA 20
+#define C_ESTEER 21
+#define C_EVALID 22
+#define C_CODE 23
+#define C_FAULTY 32
+#define C_DROPPED 33
+#define C_DET 34
+#define C_RES 35
+#define C_COUNT 44
 
 typedef struct {
     const char *file;
@@ -120,9 +122,11 @@ static void run_sequence(const seq_t *sq)
             in.fault[i] = in.valid[i] ? GRIP_SIG_OK : GRIP_SIG_MISSING;
         }
         est.vx = to_qs(golden_num(&g, C_EVX));
-        est.valid = (golden_num(&g, C_EVOK) != 0.0) ? GRIP_EST_V_VX : 0u;
+        est.beta = to_qs(golden_num(&g, C_EBETA));
+        est.steer_char = (int32_t)golden_num(&g, C_ESTEER);
+        est.valid = (uint32_t)golden_num(&g, C_EVALID);
         orig = in;
-        assert_int_equal(grip_monitor_step(&mon, &in, &est, &rep), GRIP_OK);
+        assert_int_equal(grip_monitor_step(&mon, &in, (est.valid != 0u) ? &est : NULL, &rep), GRIP_OK);
         for (i = 0; i < GRIP_MON_N; ++i) {
             if ((double)rep.code[i] != golden_num(&g, C_CODE + i)) {
                 differ = 1;
@@ -177,7 +181,7 @@ static const seq_t SEQS[] = {
     { "monitor_ws_rr_100hz.txt", 100u },     { "monitor_steer_100hz.txt", 100u },
     { "monitor_yaw_100hz.txt", 100u },       { "monitor_ax_100hz.txt", 100u },
     { "monitor_ay_100hz.txt", 100u },        { "monitor_wheels_lost.txt", 100u },
-    { "monitor_mixed_1khz.txt", 1000u },
+    { "monitor_yaw_chain_100hz.txt", 100u }, { "monitor_mixed_1khz.txt", 1000u },
 };
 
 static void test_golden(void **state)

@@ -13,14 +13,17 @@ Input sequences (the C test replays exactly the same rows):
                    signal, one after the other (0.6 s each, 1 s apart);
                    signals ws_fl ws_fr ws_rl ws_rr steer yaw ax ay
   wheels_lost      three wheel speeds lost for 1 s: the monitor takes the
-                   estimator's previous vx (est_ref run in the loop; its vx
-                   and V_VX bit are input columns)
+                   estimator's previous vx (est_ref run in the loop)
+  yaw_chain_100hz  the yaw-rate faults with est_ref in the loop (its beta
+                   and understeer indication hold the model checks off)
   mixed_1khz       the generator at 1 kHz (mu 0.6) with a yaw-rate offset,
                    a frozen steering angle, ay noise and NaN / out-of-range
                    values with the valid flag set
 
 Each row: time, 17 input values, the valid mask (bit i = input i valid),
-est_vx, est_vx_valid, then the reference outputs: code[0..8], faulty mask,
+est_vx, est_beta, est_steer_char, est_valid (the fields of the previous
+estimator output the monitor reads; est_valid 0 = no estimator output
+given), then the reference outputs: code[0..8], faulty mask,
 dropped mask, detected, resid[0..8] (the residual of each plausibility
 check, 0 where it did not run). Configuration: monitor_ref.config() (the passenger
 car of grip_monitor_config_default) at the sequence's rate.
@@ -84,20 +87,45 @@ def si_mag(sig):
     return dict(offset=m["offset"] * si, scale=m["scale"], spike=m["spike"] * si, noise=m["noise"] * si)
 
 
+EST_BITS = est_ref.V_VX | est_ref.V_BETA | est_ref.V_STEER
+
+
+def est_dict(col):
+    """The estimator-output fields the monitor reads, from a golden row."""
+    vx, beta, steer_char, valid = col
+    return {"vx": vx, "beta": beta, "steer_char": steer_char, "valid": valid} if valid else None
+
+
+def est_col(o):
+    return (float(o["vx"]), float(o["beta"]), int(o["steer_char"]), int(o["valid"]) & EST_BITS)
+
+
 def run_monitor(value, valid, rate, est_cols=None):
     mon = monitor_ref.Monitor(monitor_ref.config(rate_hz=rate))
     outs = []
     for k in range(len(value)):
-        est = None
-        if est_cols is not None and est_cols[k][1]:
-            est = {"vx": est_cols[k][0], "valid": est_ref.V_VX}
+        est = est_dict(est_cols[k]) if est_cols is not None else None
         outs.append(mon.step(value[k], valid[k], est))
     return outs
 
 
+def run_chain(value, valid, rate):
+    """monitor_ref -> est_ref in the loop; returns the estimator columns
+    each monitor step saw (the previous estimator output)."""
+    est = est_ref.Estimator(est_ref.config(golden_est.tire_params(), rate_hz=rate))
+    mon = monitor_ref.Monitor(monitor_ref.config(rate_hz=rate))
+    cols, prev = [], (0.0, 0.0, 0, 0)
+    for k in range(len(value)):
+        cols.append(prev)
+        rep = mon.step(value[k], valid[k], est_dict(prev))
+        prev = est_col(est.step(rep["value"], rep["valid"]))
+    return cols
+
+
 def write_sequence(outdir, name, rate, t, value, valid, note, est_cols=None):
     outs = run_monitor(value, valid, rate, est_cols)
-    in_cols = ["t"] + [f"in{i}" for i in range(est_ref.N_IN)] + ["valid_mask", "est_vx", "est_vx_valid"]
+    in_cols = (["t"] + [f"in{i}" for i in range(est_ref.N_IN)] +
+               ["valid_mask", "est_vx", "est_beta", "est_steer_char", "est_valid"])
     out_cols = ([f"code{s}" for s in range(monitor_ref.N_MON)] + ["faulty", "dropped", "detected"] +
                 [f"resid{s}" for s in range(monitor_ref.N_MON)])
     text = header("grip_tools.golden_monitor", monitor_ref.Monitor, SEED, in_cols + out_cols,
@@ -107,8 +135,8 @@ def write_sequence(outdir, name, rate, t, value, valid, note, est_cols=None):
         mask = int(sum(int(valid[k, i]) << i for i in range(est_ref.N_IN)))
         o = outs[k]
         dropped = sum(1 << s for s in range(monitor_ref.N_MON) if valid[k, s] and not o["valid"][s])
-        ev = est_cols[k] if est_cols is not None else (0.0, 0)
-        vals = ([float(t[k])] + [float(x) for x in value[k]] + [mask, float(ev[0]), int(ev[1])] +
+        ev = est_cols[k] if est_cols is not None else (0.0, 0.0, 0, 0)
+        vals = ([float(t[k])] + [float(x) for x in value[k]] + [mask, ev[0], ev[1], int(ev[2]), int(ev[3])] +
                 [int(c) for c in o["code"]] + [int(o["faulty"]), int(dropped), int(bool(o["detected"]))] +
                 [float(r) for r in o["res"]])
         lines.append(" ".join(_fmt(x) for x in vals))
@@ -134,17 +162,13 @@ def sequences():
     v, ok = v0.copy(), ok0.copy()
     ok[300:400, 0:3] = 0
     v[300:400, 0:3] = 0.0
-    cfg = est_ref.config(golden_est.tire_params(), rate_hz=100)
-    est = est_ref.Estimator(cfg)
-    mon = monitor_ref.Monitor(monitor_ref.config(rate_hz=100))
-    est_cols, prev = [], None
-    for k in range(len(t)):
-        est_cols.append((float(prev["vx"]), int(bool(prev["valid"] & est_ref.V_VX))) if prev else (0.0, 0))
-        e = {"vx": est_cols[-1][0], "valid": est_ref.V_VX} if est_cols[-1][1] else None
-        rep = mon.step(v[k], ok[k], e)
-        prev = est.step(rep["value"], rep["valid"])
-    seqs.append(("wheels_lost", 100, t, v, ok, "three wheel speeds lost 3..4 s, estimator vx in the loop",
-                 est_cols))
+    seqs.append(("wheels_lost", 100, t, v, ok, "three wheel speeds lost 3..4 s, estimator in the loop",
+                 run_chain(v, ok, 100)))
+    # the yaw-rate faults again with the estimator in the loop (unstable-driving hold)
+    name, _, t_, v, ok, _, _ = seqs[1 + 5]
+    assert name == "yaw_100hz"
+    seqs.append(("yaw_chain_100hz", 100, t_, v, ok, "seven yaw-rate faults, estimator in the loop",
+                 run_chain(v, ok, 100)))
     # 1 kHz
     t, v, ok, _ = golden_est.bicycle_inputs(dt=0.001, duration=4.0, mu_road=(0.6, 0.6), seed=SEED + 1)
     rng = np.random.default_rng([SEED, 99])

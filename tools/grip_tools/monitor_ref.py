@@ -54,7 +54,7 @@ BIG = 1000000
 # fault code bits (grip_monitor.h GRIP_MON_C_*)
 C_LOST, C_RANGE, C_SPIKE, C_NOISE, C_FROZEN, C_PLAUS = 1, 2, 4, 8, 16, 32
 SIG_FAULT = 5        # grip_sig_fault_t GRIP_SIG_FAULT
-V_VX = 1             # grip_est.h GRIP_EST_V_VX
+V_VX, V_BETA, V_STEER = 1, 2, 1 << 11   # grip_est.h GRIP_EST_V_*
 
 # physical range |x| <= LIM (the estimator's limits; steering: 1.4 rad road wheel x ratio)
 WS_MAX, YAW_MAX, ACC_MAX, DELTA_MAX = 120.0, 2.5, 15.0, 0.7
@@ -80,9 +80,10 @@ AX_TAU, AX_ABS, AX_REL = 0.1, 0.8, 0.15
 ST_TAU, ST_ABS, ST_REL, ST_A_MAX = 0.15, 0.04, 0.20, 2.0
 VS_ABS, VS_REL = 1.0, 0.05
 # steadiness: the yaw rate (ax) has changed slower than this for STEADY_T
-DR_TAU, DR_MAX = 0.05, 0.25                   # |dr/dt| low-passed [s, rad/s^2]
-DAX_MAX = 4.0                                 # |dax/dt| low-passed [m/s^3]
+DR_TAU, DR_MAX = 0.1, 0.15                    # dr/dt low-passed [s, rad/s^2]
+DAX_MAX = 3.0                                 # dax/dt low-passed (AX_TAU) [m/s^3]
 STEADY_T = 0.5
+BETA_UNST, UNST_T = 0.1, 1.0                  # |beta| of the estimator [rad], hold [s]
 DIFF_MAX = 10.0      # a step difference is clamped to this before it is turned into a rate
 DEB_T = 0.1          # residual debounce [s]
 HEAL_T = 1.0         # a latched signal is released after its checks pass this long
@@ -118,6 +119,7 @@ class Monitor:
         self.n_heal = _steps(HEAL_T, rate)
         self.n_lost = _steps(FOLLOW_LOST_T, rate)
         self.n_steady = _steps(STEADY_T, rate)
+        self.n_unst = _steps(UNST_T, rate)
         self.a_noise = min(1.0 / (NOISE_TAU * rate), 1.0)
         self.a_ax = min(1.0 / (AX_TAU * rate), 1.0)
         self.a_st = min(1.0 / (ST_TAU * rate), 1.0)
@@ -149,14 +151,15 @@ class Monitor:
         self.v_prev = 0.0
         self.v_have = 0
         self.ax_prev = 0.0
-        self.dax_f = 0.0              # low-passed |dax/dt|
+        self.dax_f = 0.0              # low-passed dax/dt
         self.ax_steady = 0            # steps ax has been steady
         self.r_lin_f = 0.0            # lagged bicycle yaw rate
         self.r_prev = 0.0             # previous consensus yaw rate
         self.r_have = 0
-        self.dr_f = 0.0               # low-passed |dr/dt|
+        self.dr_f = 0.0               # low-passed dr/dt
         self.r_steady = 0             # steps the yaw rate has been steady
         self.init_f = 0
+        self.unst = 0                 # steps left of the unstable-driving hold
         self.seen = [0] * N_MON       # the input has been valid since reset
 
     # -- one step --
@@ -249,10 +252,10 @@ class Monitor:
 
         # steadiness of ax
         if ok[AX]:
-            self.dax_f += self.a_ax * (min(abs(x[AX] - self.ax_prev), DIFF_MAX) * rate - self.dax_f)
+            self.dax_f += self.a_ax * (_clamp(x[AX] - self.ax_prev, -DIFF_MAX, DIFF_MAX) * rate - self.dax_f)
             self.ax_prev = x[AX]
             self.ax_f += self.a_ax * (x[AX] - self.ax_f)
-        self.ax_steady = min(self.ax_steady + 1, BIG) if (ok[AX] and self.dax_f < DAX_MAX) else 0
+        self.ax_steady = min(self.ax_steady + 1, BIG) if (ok[AX] and abs(self.dax_f) < DAX_MAX) else 0
 
         # -- wheels: each against the median of the others (|ax| small) --
         calm = n_good >= 3 and spread <= CALM_ABS + CALM_REL * vx
@@ -283,9 +286,10 @@ class Monitor:
 
         # -- yaw rate against the rear-wheel speed difference --
         wheel_sus = sus[0] or sus[1] or sus[2] or sus[3]
-        rw_ok = use[2] and use[3] and not wheel_sus
+        # trusted only without braking / driving and with the wheels agreeing
+        rw_ok = use[2] and use[3] and not wheel_sus and calm and abs(ax_m) < YAW_AX_MAX
         r_w = (x[3] - x[2]) / c["track_r"] if rw_ok else 0.0
-        if moving and ok[YAW] and rw_ok and calm and abs(ax_m) < YAW_AX_MAX:
+        if moving and ok[YAW] and rw_ok:
             e = x[YAW] - r_w
             res[YAW] = e
             if abs(e) > YAW_ABS + YAW_REL * abs(r_w):
@@ -298,10 +302,19 @@ class Monitor:
         else:
             r_c, rc_ok = 0.0, False
         if rc_ok and self.r_have:
-            self.dr_f += self.a_dr * (min(abs(r_c - self.r_prev), DIFF_MAX) * rate - self.dr_f)
+            self.dr_f += self.a_dr * (_clamp(r_c - self.r_prev, -DIFF_MAX, DIFF_MAX) * rate - self.dr_f)
         self.r_prev, self.r_have = (r_c, 1) if rc_ok else (self.r_prev, 0)
-        self.r_steady = min(self.r_steady + 1, BIG) if (rc_ok and self.dr_f < DR_MAX) else 0
+        self.r_steady = min(self.r_steady + 1, BIG) if (rc_ok and abs(self.dr_f) < DR_MAX) else 0
         r_steady = self.r_steady >= self.n_steady
+
+        # unstable driving (the estimator sees a large sideslip or oversteer):
+        # the sideslip rate, ay - r vx, and the bicycle model are then unbounded
+        if est is not None and (((est["valid"] & V_BETA) and abs(est["beta"]) > BETA_UNST) or
+                                ((est["valid"] & V_STEER) and est["steer_char"] < 0)):
+            self.unst = self.n_unst
+        elif self.unst > 0:
+            self.unst -= 1
+        r_steady = r_steady and self.unst == 0
 
         # -- ay against r vx (r from the wheels when they can give it) --
         if moving and ok[AY] and rc_ok and r_steady:
