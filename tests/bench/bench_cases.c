@@ -68,6 +68,9 @@ void bench_brush_setup(void) __attribute__((weak));
 extern const bench_case bench_est_cases[] __attribute__((weak));
 extern const int bench_est_case_count __attribute__((weak));
 void bench_est_setup(void) __attribute__((weak));
+extern const bench_case bench_monitor_cases[] __attribute__((weak));
+extern const int bench_monitor_case_count __attribute__((weak));
+void bench_monitor_setup(void) __attribute__((weak));
 
 const bench_case *bench_all[BENCH_MAX_CASES];
 int bench_all_count;
@@ -94,10 +97,14 @@ void bench_cases_setup(void)
     if (bench_est_setup != 0) {
         bench_est_setup();
     }
+    if (bench_monitor_setup != 0) {
+        bench_monitor_setup();
+    }
     bench_all_count = 0;
     bench_list(bench_cases, &bench_case_count);
     bench_list(bench_brush_cases, &bench_brush_case_count);
     bench_list(bench_est_cases, &bench_est_case_count);
+    bench_list(bench_monitor_cases, &bench_monitor_case_count);
 }
 
 static void mf_setup(void)

@@ -21,6 +21,7 @@ COMMANDS = {
     "analyze": ("grip_tools.residual.cli", "measured data: residual analysis, effect attribution, model update"),
     "golden-est": ("grip_tools.golden_est", "write golden vectors of the onboard estimator (est_ref over input sequences)"),
     "est-eval": ("grip_tools.est_eval", "estimator accuracy on simulator manoeuvres: beta, mu, axle Fy (table + PNG)"),
+    "faults": ("grip_tools.faults", "fault injection on the ESC inputs: monitor + estimator, fault table, false alarms"),
 }
 
 

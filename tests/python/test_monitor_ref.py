@@ -1,0 +1,146 @@
+"""Tests of the sensor-plausibility monitor's float64 reference
+(grip_tools.monitor_ref) and of the fault tool's injection
+(grip_tools.faults.inject, inputs): a consistent synthetic drive raises
+nothing; offsets, spikes, noise and dropouts are caught with the expected
+code on the faulted signal; a latched signal is dropped and healed; the
+injection changes exactly the faulted channel inside its window, at the
+CAN resolution. (The C code follows the reference through
+tests/unit/test_monitor.c; tests/unit/test_monitor_checks.c tests every
+check of the C code on the same kind of drive.)"""
+import math
+import unittest
+
+import numpy as np
+
+from grip_tools import faults, monitor_ref as MR
+
+
+def drive(n=600, fault=None):
+    """22 m/s, slow weave; fault(k, values) may edit the SI values (list of
+    17) and return a valid list."""
+    mon = MR.Monitor(MR.config())
+    reps = []
+    rng = np.random.default_rng(3)
+    for k in range(n):
+        t = k / 100.0
+        V = 22.0
+        r = 0.08 * math.sin(2 * math.pi * 0.2 * t)
+        d = r * 2.7 * (1 + 3.68e-4 * V * V) / V
+        v = [(V - r * 0.775) * math.cos(d), (V + r * 0.775) * math.cos(d), V - r * 0.765, V + r * 0.765,
+             d * 15.5, r, 0.0, r * V * (1 + 9.80665 * 0.0088)] + [0.0] * 9
+        v = [x + float(rng.normal(0, s)) for x, s in zip(v, [0.01] * 4 + [0.002, 0.002, 0.03, 0.03] + [0] * 9)]
+        valid = [1] * 8 + [0] * 9
+        if fault is not None:
+            valid = fault(k, v) or valid
+        reps.append(mon.step(v, valid, None))
+    return reps
+
+
+class MonitorTests(unittest.TestCase):
+    def test_clean_drive_no_code(self):
+        reps = drive()
+        self.assertFalse(any(r["detected"] for r in reps))
+        self.assertTrue(all(r["valid"][:8] == [1] * 8 for r in reps))
+
+    def _first(self, reps, sig, bits, k0=300):
+        for k in range(k0, len(reps)):
+            if reps[k]["code"][sig] & bits:
+                return (k - k0) / 100.0
+        return None
+
+    def test_offsets(self):
+        for sig, off in ((MR.YAW, 5 * math.pi / 180), (MR.AY, 1.5), (2, 1.5), (MR.STEER, 15 * math.pi / 180)):
+            def f(k, v, sig=sig, off=off):
+                if 300 <= k < 400:
+                    v[sig] += off
+            reps = drive(fault=f)
+            t = self._first(reps, sig, MR.C_PLAUS)
+            self.assertIsNotNone(t, MR.NAMES[sig])
+            self.assertLessEqual(t, 0.2, MR.NAMES[sig])
+            # dropped while latched, released 1 s after the fault ends
+            self.assertEqual(reps[350]["valid"][sig], 0)
+            self.assertEqual(reps[-1]["faulty"], 0)
+            # no other signal judged implausible
+            others = [r["code"][s] & (MR.C_PLAUS | MR.C_NOISE | MR.C_FROZEN) for r in reps for s in range(9) if s != sig]
+            self.assertFalse(any(others), MR.NAMES[sig])
+
+    def test_spike_dropped_at_once(self):
+        def f(k, v):
+            if k == 300:
+                v[MR.YAW] += 0.7
+        reps = drive(fault=f)
+        self.assertTrue(reps[300]["code"][MR.YAW] & MR.C_SPIKE)
+        self.assertEqual(reps[300]["valid"][MR.YAW], 0)
+        self.assertEqual(reps[300]["value"][MR.YAW], 0.0)
+        self.assertEqual(reps[301]["valid"][MR.YAW], 1)    # a single spike is not latched
+
+    def test_noise_burst(self):
+        rng = np.random.default_rng(9)
+
+        def f(k, v):
+            if 300 <= k < 400:
+                v[MR.AY] += float(rng.normal(0, 1.5))
+        t = self._first(drive(fault=f), MR.AY, MR.C_NOISE | MR.C_SPIKE)
+        self.assertIsNotNone(t)
+        self.assertLessEqual(t, 0.2)
+
+    def test_dropout_is_lost_not_unmapped(self):
+        def f(k, v):
+            if 300 <= k < 400:
+                valid = [1] * 8 + [0] * 9
+                valid[MR.STEER] = 0
+                return valid
+            return None
+        reps = drive(fault=f)
+        self.assertTrue(reps[300]["code"][MR.STEER] & MR.C_LOST)
+        # the vehicle-speed input is never there: unmapped, no code
+        self.assertFalse(any(r["code"][MR.VSPEED] for r in reps))
+
+    def test_nonfinite_is_range(self):
+        def f(k, v):
+            if k == 300:
+                v[MR.AX] = math.nan
+        reps = drive(fault=f)
+        self.assertTrue(reps[300]["code"][MR.AX] & MR.C_RANGE)
+        self.assertEqual(reps[300]["valid"][MR.AX], 1)   # the monitor drops what it judges; the
+        # estimator rejects a non-finite value itself (its own check)
+
+
+class InjectionTests(unittest.TestCase):
+    def cols(self):
+        t = np.arange(0, 3.0, 0.01)
+        return {"time": t, "YawRate": 10.0 + 0.0 * t, "LatAcc": np.full(len(t), 2.0),
+                "SteeringAngle": np.full(len(t), 5.0), "LongAcc": np.zeros(len(t)),
+                **{f"WheelSpeed_{w}": np.full(len(t), 80.0) for w in ("FL", "FR", "RL", "RR")}}
+
+    def test_offset_only_in_window(self):
+        c = self.cols()
+        sig = faults.SIGNALS[5]
+        out, drop = faults.inject(c, sig, "offset", 1.0, 2.0, [1])
+        y = out["YawRate"]
+        self.assertTrue(np.all(y[(c["time"] >= 1.0 - 1e-9) & (c["time"] < 2.0 - 1e-9)] == 15.0))
+        self.assertTrue(np.all(y[c["time"] < 1.0 - 1e-9] == 10.0))
+        self.assertTrue(np.all(y[c["time"] >= 2.0 - 1e-9] == 10.0))
+        self.assertTrue(np.all(out["LatAcc"] == c["LatAcc"]))
+        self.assertFalse(drop.any())
+
+    def test_noise_at_can_resolution_and_deterministic(self):
+        c = self.cols()
+        a, _ = faults.inject(c, faults.SIGNALS[4], "noise", 1.0, 2.0, [2, 4])
+        b, _ = faults.inject(c, faults.SIGNALS[4], "noise", 1.0, 2.0, [2, 4])
+        self.assertTrue(np.array_equal(a["SteeringAngle"], b["SteeringAngle"]))
+        q = a["SteeringAngle"] / 0.1
+        self.assertTrue(np.allclose(q, np.round(q), atol=1e-6))
+
+    def test_dropout_stale_after_three_periods(self):
+        c = self.cols()
+        out, drop = faults.inject(c, faults.SIGNALS[7], "dropout", 1.0, 2.0, [3])
+        t, value, valid = faults.inputs(out, drop, faults.SIGNALS[7][1])
+        k0 = int(np.searchsorted(t, 1.0 - 1e-9))
+        self.assertEqual(list(valid[k0:k0 + 3, 7]), [1, 1, 1])
+        self.assertTrue(np.all(valid[k0 + 3:k0 + 100, 7] == 0))
+        self.assertEqual(valid[k0 + 100, 7], 1)
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,439 @@
+"""Fault injection on the ESC inputs of the onboard estimator.
+
+    python -m grip_tools faults --out docs/faults          # table + false alarms
+    python -m grip_tools faults --out DIR --only yaw        # a subset (regex on the case name)
+
+For each ESC input signal (four wheel speeds, steering-wheel angle, yaw
+rate, ax, ay; the reference simulator has no vehicle-speed signal, so that
+input stays unmapped as in est-eval) and each fault type (dropout,
+stuck-at, spike, offset, scale, delay, noise burst), the fault is injected
+into the reference simulator's sensor outputs during a manoeuvre (start
+mid-manoeuvre, fixed duration, then removed). The faulty samples go
+through the float64 references monitor_ref (the plausibility monitor) and
+est_ref (the estimator) in the order of the firmware data flow
+CAN -> signals -> monitor -> estimator; the C code follows both references
+through the golden tests (test_monitor.c, test_est_golden.c).
+
+Everything is deterministic: fixed simulator settings, fixed sensor-noise
+seed, fixed fault-noise seeds. Simulator runs are cached in
+build/faults-cache (keyed by the scenario; --no-cache to rerun).
+
+Outputs: <out>/faults.json (every number), <out>/table.md (the fault
+table), <out>/false_alarms.md (the monitor on the fault-free suite).
+docs/faults.md explains the method and quotes the summary.
+"""
+import argparse
+import hashlib
+import json
+import math
+import os
+import re
+import sys
+import time
+
+import numpy as np
+
+from . import est_ref, golden_est, monitor_ref
+
+DEG = math.pi / 180.0
+KMH = 1.0 / 3.6
+SEED = 11                  # sensor noise seed (simulator), fixed
+FAULT_SEED = 2026          # noise-burst seeds derive from this
+H_SIM = 2e-3               # RK4 step of the simulator runs
+STALE_STEPS = 3            # the signal layer's stale_periods (grip-replay default)
+FAULT_T = 1.0              # fault duration [s]
+DELAY_T = 0.2              # delay fault [s]
+SPIKE_EVERY = 10           # one spike sample every 10 samples (100 ms)
+DET_T = 0.2                # detection target [s]
+BETA_RMS, BETA_MAX, MU_TOL = 0.5, 1.5, 0.1   # accuracy targets [deg, deg, -]
+
+# Representative scenarios: (name, manoeuvre, surface, builder kwargs, fault start [s])
+SCENARIOS = [
+    ("step-steer dry", "step-steer", "dry", dict(duration=4.0), 1.0),
+    ("step-steer wet", "step-steer", "wet", dict(duration=4.0), 1.0),
+    ("sine-dwell dry", "sine-dwell", "dry", dict(amp_deg=100.0), 0.8),
+    ("sine-dwell wet", "sine-dwell", "wet", dict(amp_deg=50.0), 0.8),
+    ("brake-in-turn dry", "brake-in-turn", "dry", dict(), 2.5),
+    ("brake-in-turn wet", "brake-in-turn", "wet", dict(), 2.5),
+]
+
+# Signals: (name, input id, sensors.csv column, SI per CSV unit, CAN resolution [CSV unit], lo, hi)
+SIGNALS = [
+    ("ws_fl", 0, "WheelSpeed_FL", KMH, 0.01, 0.0, 655.35),
+    ("ws_fr", 1, "WheelSpeed_FR", KMH, 0.01, 0.0, 655.35),
+    ("ws_rl", 2, "WheelSpeed_RL", KMH, 0.01, 0.0, 655.35),
+    ("ws_rr", 3, "WheelSpeed_RR", KMH, 0.01, 0.0, 655.35),
+    ("steer", est_ref.STEER, "SteeringAngle", DEG, 0.1, -3276.8, 3276.7),
+    ("yaw", est_ref.YAW, "YawRate", DEG, 0.01, -327.68, 327.67),
+    ("ax", est_ref.AX, "LongAcc", 1.0, 0.01, -327.68, 327.67),
+    ("ay", est_ref.AY, "LatAcc", 1.0, 0.01, -327.68, 327.67),
+]
+
+# Fault magnitudes in the CSV units (km/h, deg, deg/s, m/s^2), fixed before
+# any result was seen: offset, scale factor, spike height, noise-burst sigma.
+MAG = {
+    "ws": dict(offset=5.4, scale=1.10, spike=29.0, noise=3.6),     # 1.5 m/s, +10 %, 8 m/s, 1 m/s
+    "steer": dict(offset=15.0, scale=1.3, spike=90.0, noise=10.0),
+    "yaw": dict(offset=5.0, scale=1.3, spike=40.0, noise=3.0),
+    "ax": dict(offset=1.5, scale=1.3, spike=10.0, noise=1.5),
+    "ay": dict(offset=1.5, scale=1.3, spike=10.0, noise=1.5),
+}
+FAULTS = ("dropout", "stuck", "spike", "offset", "scale", "delay", "noise")
+
+# Fault-free suite for the false-alarm rate: every manoeuvre of the
+# simulator that runs at speed, on three surfaces, default settings.
+SUITE_MANOEUVRES = ("coast", "step-steer", "ramp-steer", "sine-dwell", "fishhook", "brake-in-turn",
+                    "mu-step", "mu-split-brake")
+SUITE_SURFACES = ("dry", "wet", "snow")
+
+
+def _mag(signame):
+    return MAG["ws"] if signame.startswith("ws") else MAG[signame]
+
+
+# ---------------------------------------------------------------------------
+# simulator runs (cached)
+
+def _cache_path(cache, key):
+    h = hashlib.sha256(key.encode()).hexdigest()[:16]
+    return os.path.join(cache, f"sim_{h}.npz")
+
+
+def simulate(manoeuvre, surface, kw, cache=None):
+    """Sensor columns (sensors.csv layout, 100 Hz rows) and truth at the
+    row times for one run; cached as npz."""
+    key = json.dumps([manoeuvre, surface, kw, SEED, H_SIM], sort_keys=True)
+    path = _cache_path(cache, key) if cache else None
+    if path and os.path.exists(path):
+        z = np.load(path)
+        cols = {k[2:]: z[k] for k in z.files if k.startswith("s_")}
+        truth = {k[2:]: z[k] for k in z.files if k.startswith("t_")}
+        return cols, truth
+    from .vehsim import manoeuvres as M, model as VM, sensors, vehicles
+    veh = vehicles.passenger()
+    kw = dict(kw)
+    if manoeuvre in ("sine-dwell", "fishhook") and "amp_deg" not in kw:
+        # default amplitude of the simulator CLI: 5 x (sine) / 6.5 x (fishhook) SWA(0.3 g), dry value
+        kw["amp_deg"] = min((5.0 if manoeuvre == "sine-dwell" else 6.5) * SWA03, 270.0)
+    sc = M.build(manoeuvre, veh, surface=surface, **kw)
+    res = VM.simulate(veh, sc, h=H_SIM)
+    tr = res.member(0)
+    sd = sensors.measure(tr, sensors.SensorConfig(seed=SEED))
+    times = np.unique(np.concatenate([g["time"] for g in sd.groups.values()]))
+    cols = {"time": times}
+    for gname, g in sd.groups.items():
+        idx = np.searchsorted(times, g["time"])
+        for ch in sd.config.groups[gname].channels:
+            col = np.full(len(times), np.nan)
+            col[idx] = g[ch.name]
+            cols[ch.name] = col
+    t = np.asarray(tr["time"], float)
+
+    def at(name):
+        return np.interp(times, t, np.asarray(tr[name], float))
+
+    truth = {"time": times, "beta": at("beta"), "vx": at("vx"), "r": at("r"), "ay": at("ay"),
+             "mu": np.mean([at(f"mu_road_{w}") for w in ("fl", "fr", "rl", "rr")], axis=0)}
+    if path:
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        np.savez(path, **{"s_" + k: v for k, v in cols.items()}, **{"t_" + k: v for k, v in truth.items()})
+    return cols, truth
+
+
+# SWA at 0.3 g of the passenger car (docs/simulator.md, swa_at_03g: 20.5 deg);
+# a constant so that the suite does not rerun the FMVSS 126 ramp.
+SWA03 = 20.5
+
+
+# ---------------------------------------------------------------------------
+# fault injection (on the sensor columns, in CSV units, then the CAN resolution)
+
+def inject(cols, signal, fault, t0, t1, seed):
+    """Returns (cols', dropout_rows): a copy of the sensor columns with the
+    fault on `signal` for t0 <= t < t1. Dropout is returned as row indices
+    (frames missing: the signal layer holds the value, then marks it stale)."""
+    name, idx, col, si, q, lo, hi = signal
+    mag = _mag(name)
+    out = dict(cols)
+    x = np.asarray(cols[col], float).copy()
+    t = np.asarray(cols["time"], float)
+    win = (t >= t0 - 1e-9) & (t < t1 - 1e-9) & np.isfinite(x)
+    rows = np.nonzero(win)[0]
+    drop = np.zeros(len(t), bool)
+    if fault == "dropout":
+        drop[rows] = True
+        return out, drop
+    y = x.copy()
+    if fault == "stuck":
+        y[rows] = x[rows[0]]
+    elif fault == "spike":
+        for j, k in enumerate(rows[::SPIKE_EVERY]):
+            y[k] = x[k] + (mag["spike"] if j % 2 == 0 else -mag["spike"])
+    elif fault == "offset":
+        y[rows] = x[rows] + mag["offset"]
+    elif fault == "scale":
+        y[rows] = x[rows] * mag["scale"]
+    elif fault == "delay":
+        nd = int(round(DELAY_T / 0.01))
+        for k in rows:
+            y[k] = x[max(k - nd, 0)]
+    elif fault == "noise":
+        rng = np.random.default_rng(seed)
+        y[rows] = x[rows] + rng.normal(0.0, mag["noise"], size=len(rows))
+    else:
+        raise ValueError(fault)
+    y[rows] = np.round(np.clip(y[rows], lo, hi) / q) * q
+    out[col] = y
+    return out, drop
+
+
+def inputs(cols, drop=None, drop_idx=None):
+    t, value, valid = est_ref.inputs_from_sensors(cols)
+    if drop is not None and drop.any():
+        rows = np.nonzero(drop)[0]
+        # frames missing: held and still valid for STALE_STEPS, then stale (invalid, value 0)
+        for k in rows[STALE_STEPS:]:
+            valid[k, drop_idx] = 0
+            value[k, drop_idx] = 0.0
+        for k in rows[:STALE_STEPS]:
+            value[k, drop_idx] = value[rows[0] - 1, drop_idx]
+    return t, value, valid
+
+
+# ---------------------------------------------------------------------------
+# running monitor -> estimator
+
+def est_config():
+    # as est-eval: the passenger car, PacejkaBook_Defaults, 100 Hz
+    return est_ref.config(golden_est.tire_params(), rate_hz=100, speed_ref_mu=1)
+
+
+_EST_CFG = None
+
+
+def run_chain(value, valid, monitor=True):
+    """monitor_ref -> est_ref over a sequence; returns arrays."""
+    global _EST_CFG
+    if _EST_CFG is None:
+        _EST_CFG = est_config()
+    est = est_ref.Estimator(_EST_CFG)
+    mon = monitor_ref.Monitor(monitor_ref.config(rate_hz=100))
+    n = len(value)
+    r = {k: np.zeros(n) for k in ("beta", "mu", "vx", "yaw")}
+    r["valid"] = np.zeros(n, np.int64)
+    r["flags"] = np.zeros(n, np.int64)
+    r["faulty"] = np.zeros(n, np.int64)
+    r["detected"] = np.zeros(n, bool)
+    r["codes"] = np.zeros((n, monitor_ref.N_MON), np.int64)
+    r["finite"] = np.ones(n, bool)
+    r["res"] = []
+    prev = None
+    for k in range(n):
+        if monitor:
+            rep = mon.step(value[k], valid[k], prev)
+            v_in, ok_in = rep["value"], rep["valid"]
+            r["faulty"][k] = rep["faulty"]
+            r["detected"][k] = rep["detected"]
+            r["codes"][k] = rep["code"]
+            r["res"].append(rep["res"])
+        else:
+            v_in, ok_in = value[k], valid[k]
+        o = est_ref.Estimator.step(est, v_in, ok_in)
+        prev = o
+        r["beta"][k], r["mu"][k], r["vx"][k], r["yaw"][k] = o["beta"], o["mu"], o["vx"], o["yaw_rate"]
+        r["valid"][k], r["flags"][k] = o["valid"], o["flags"]
+        fin = True
+        for key in ("vx", "vy", "beta", "yaw_rate", "yaw_rate_ref", "yaw_error", "delta", "mu", "mu_conf",
+                    "fy_margin_front"):
+            fin = fin and math.isfinite(o[key])
+        for key in ("kappa", "alpha", "fz", "fx", "fy", "mz", "util", "fy_axle", "util_axle"):
+            fin = fin and bool(np.all(np.isfinite(o[key])))
+        r["finite"][k] = fin
+    return r
+
+
+# ---------------------------------------------------------------------------
+# metrics
+
+def errors(run, truth, sel):
+    """beta RMS / max [deg] over the rows of sel where beta is valid and the
+    true speed is above 5 m/s (as est-eval); mu max error over the rows where
+    mu is valid (V_MU); the share of sel where beta is valid."""
+    okb = sel & ((run["valid"] & est_ref.V_BETA) != 0) & (truth["vx"] > 5.0)
+    out = {"beta_valid_pct": 100.0 * okb.sum() / max(sel.sum(), 1)}
+    if okb.any():
+        e = (run["beta"] - truth["beta"])[okb] / DEG
+        out["beta_rms"] = float(np.sqrt(np.mean(e ** 2)))
+        out["beta_max"] = float(np.max(np.abs(e)))
+    else:
+        out["beta_rms"] = out["beta_max"] = None
+    okm = sel & ((run["valid"] & est_ref.V_MU) != 0)
+    out["mu_max"] = float(np.max(np.abs(run["mu"] - truth["mu"])[okm])) if okm.any() else None
+    return out
+
+
+def within(e):
+    ok = True
+    if e["beta_rms"] is not None:
+        ok = ok and e["beta_rms"] <= BETA_RMS and e["beta_max"] <= BETA_MAX
+    if e["mu_max"] is not None:
+        ok = ok and e["mu_max"] <= MU_TOL
+    return ok
+
+
+def no_worse(e, b):
+    """Fault run no worse than the fault-free run (beta RMS + 0.1 deg, max +
+    0.3 deg, mu error + 0.05)."""
+    ok = True
+    if e["beta_rms"] is not None and b["beta_rms"] is not None:
+        ok = ok and e["beta_rms"] <= b["beta_rms"] + 0.1 and e["beta_max"] <= b["beta_max"] + 0.3
+    if e["mu_max"] is not None:
+        ok = ok and e["mu_max"] <= (b["mu_max"] if b["mu_max"] is not None else MU_TOL) + 0.05
+    return ok
+
+
+def unflagged(run, base, truth, sel):
+    """Rows of sel where the fault run shows beta valid beyond 1.5 deg error
+    (or mu valid beyond 0.1) while the fault-free run is inside at that row."""
+    eb = np.abs(run["beta"] - truth["beta"]) / DEG
+    ebb = np.abs(base["beta"] - truth["beta"]) / DEG
+    vb = ((run["valid"] & est_ref.V_BETA) != 0) & (truth["vx"] > 5.0)
+    em = np.abs(run["mu"] - truth["mu"])
+    emb = np.abs(base["mu"] - truth["mu"])
+    vm = (run["valid"] & est_ref.V_MU) != 0
+    bad = sel & ((vb & (eb > BETA_MAX) & (ebb <= BETA_MAX)) | (vm & (em > MU_TOL) & (emb <= MU_TOL)))
+    return int(bad.sum())
+
+
+def evaluate_case(t, run, base, truth, t0, t1, sig_idx):
+    during = (t >= t0) & (t < t1)
+    after = t >= t1
+    d = {"during": errors(run, truth, during), "after": errors(run, truth, after),
+         "base_during": errors(base, truth, during), "base_after": errors(base, truth, after)}
+    det = np.nonzero(run["detected"] & (t >= t0 - 1e-9) & (t < t1 + DET_T))[0]
+    d["det_t"] = float(t[det[0]] - t0) if len(det) else None
+    iso = [k for k in np.nonzero(run["codes"][:, sig_idx] != 0)[0] if t0 - 1e-9 <= t[k] < t1 + DET_T]
+    d["iso_t"] = float(t[iso[0]] - t0) if iso else None
+    others = run["codes"].copy()
+    others[:, sig_idx] = 0
+    d["other_flagged"] = [monitor_ref.NAMES[s] for s in range(monitor_ref.N_MON)
+                          if ((others[:, s] & ~monitor_ref.C_LOST) != 0)[during | after].any()]
+    d["nonfinite"] = int((~run["finite"]).sum())
+    d["unflagged_rows"] = unflagged(run, base, truth, during | after)
+    d["within"] = within(d["during"]) and within(d["after"])
+    d["no_worse"] = no_worse(d["during"], d["base_during"]) and no_worse(d["after"], d["base_after"])
+    if d["det_t"] is not None and d["det_t"] <= DET_T:
+        d["verdict"] = "detected"
+    elif d["within"]:
+        d["verdict"] = "within targets"
+    elif d["no_worse"]:
+        d["verdict"] = "as fault-free"
+    else:
+        d["verdict"] = "NEITHER"
+    return d
+
+
+# ---------------------------------------------------------------------------
+
+def _scenario(args):
+    si, cache, only = args
+    scn, man, surf, kw, t0 = SCENARIOS[si]
+    cols, truth = simulate(man, surf, kw, cache)
+    t, v, ok = inputs(cols)
+    base = run_chain(v, ok)
+    base_nomon = run_chain(v, ok, monitor=False)
+    out = {"baseline": {"during": errors(base, truth, (t >= t0) & (t < t0 + FAULT_T)),
+                        "after": errors(base, truth, t >= t0 + FAULT_T),
+                        "all": errors(base, truth, t >= 0),
+                        "false_alarm_rows": int(base["detected"].sum()),
+                        "nomon_all": errors(base_nomon, truth, t >= 0)}, "cases": {}}
+    t1 = t0 + FAULT_T
+    for gi, sig in enumerate(SIGNALS):
+        for fi, fault in enumerate(FAULTS):
+            case = f"{sig[0]} {fault}"
+            if only and not re.search(only, f"{scn} {case}"):
+                continue
+            c2, drop = inject(cols, sig, fault, t0, t1, [FAULT_SEED, si, gi, fi])
+            tt, vv, oo = inputs(c2, drop, sig[1])
+            run = run_chain(vv, oo)
+            d = evaluate_case(tt, run, base, truth, t0, t1, sig[1])
+            nm = run_chain(vv, oo, monitor=False)
+            d["nomon_during"] = errors(nm, truth, (tt >= t0) & (tt < t1))
+            d["nomon_after"] = errors(nm, truth, tt >= t1)
+            d["nomon_nonfinite"] = int((~nm["finite"]).sum())
+            out["cases"][case] = d
+            print(f"faults: {scn:18s} {case:14s} det {d['det_t']} {d['verdict']} "
+                  f"beta {d['during']['beta_rms']}/{d['during']['beta_max']} "
+                  f"(no monitor {d['nomon_during']['beta_rms']}/{d['nomon_during']['beta_max']})",
+                  file=sys.stderr, flush=True)
+    return scn, out
+
+
+def fault_table(cache, only=None, jobs=2):
+    # simulate first (cached), one at a time, then evaluate in parallel
+    for scn, man, surf, kw, t0 in SCENARIOS:
+        simulate(man, surf, kw, cache)
+    tasks = [(si, cache, only) for si in range(len(SCENARIOS))]
+    if jobs > 1:
+        import multiprocessing
+        with multiprocessing.Pool(jobs) as pool:
+            done = pool.map(_scenario, tasks, chunksize=1)
+    else:
+        done = [_scenario(tk) for tk in tasks]
+    return {scn: out for scn, out in done}
+
+
+def false_alarms(cache, log=sys.stderr):
+    rows = {}
+    for man in SUITE_MANOEUVRES:
+        for surf in SUITE_SURFACES:
+            cols, truth = simulate(man, surf, {}, cache)
+            t, v, ok = inputs(cols)
+            run = run_chain(v, ok)
+            det = run["detected"]
+            per = {monitor_ref.NAMES[s]: int(((run["codes"][:, s] & ~monitor_ref.C_LOST) != 0).sum())
+                   for s in range(monitor_ref.N_MON)}
+            dropped = int(sum(((run["codes"][:, s] & ~monitor_ref.C_LOST) != 0).sum()
+                              for s in range(monitor_ref.N_MON)))
+            rows[f"{man} {surf}"] = {"rows": int(len(t)), "alarm_rows": int(det.sum()),
+                                     "per_signal": {k: v for k, v in per.items() if v},
+                                     "signal_rows_dropped": dropped,
+                                     "max_beta_true_deg": float(np.max(np.abs(truth["beta"])) / DEG),
+                                     "res_max": _res_max(run["res"])}
+            print(f"faults: suite {man} {surf}: {det.sum()} alarm rows of {len(t)} {per}", file=log)
+    return rows
+
+
+def _res_max(res):
+    """Largest |residual| of each plausibility check over a run."""
+    arr = np.abs(np.array(res, float)) if len(res) else np.zeros((1, monitor_ref.N_MON))
+    return {monitor_ref.NAMES[s]: round(float(arr[:, s].max()), 4) for s in range(monitor_ref.N_MON)}
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="grip_tools faults", description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--out", default="build/faults")
+    ap.add_argument("--cache", default="build/faults-cache")
+    ap.add_argument("--no-cache", action="store_true")
+    ap.add_argument("--only", default=None, help="regular expression on 'scenario signal fault'")
+    ap.add_argument("--skip-suite", action="store_true", help="no false-alarm suite")
+    ap.add_argument("--skip-table", action="store_true", help="no fault table")
+    ap.add_argument("--jobs", type=int, default=2, help="parallel processes for the fault table")
+    a = ap.parse_args(argv)
+    os.makedirs(a.out, exist_ok=True)
+    cache = None if a.no_cache else a.cache
+    t_start = time.time()
+    res = {}
+    if not a.skip_table:
+        res["faults"] = fault_table(cache, a.only, a.jobs)
+    if not a.skip_suite:
+        res["suite"] = false_alarms(cache)
+    with open(os.path.join(a.out, "faults.json"), "w") as f:
+        json.dump(res, f, indent=1)
+    print(f"faults: done in {time.time() - t_start:.0f} s", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
