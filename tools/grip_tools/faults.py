@@ -410,6 +410,72 @@ def _res_max(res):
     return {monitor_ref.NAMES[s]: round(float(arr[:, s].max()), 4) for s in range(monitor_ref.N_MON)}
 
 
+def _f(x, fmt=".2f"):
+    return "-" if x is None else format(x, fmt)
+
+
+def summary(res):
+    """Counts over every fault case."""
+    c = {"cases": 0, "detected": 0, "within targets": 0, "as fault-free": 0, "NEITHER": 0,
+         "nonfinite": 0, "unflagged_cases": 0, "isolated": 0, "det_any": 0}
+    for scn, r in res.get("faults", {}).items():
+        for case, d in r["cases"].items():
+            c["cases"] += 1
+            c[d["verdict"]] += 1
+            c["nonfinite"] += d["nonfinite"]
+            c["unflagged_cases"] += 1 if d["unflagged_rows"] else 0
+            c["isolated"] += 1 if d["iso_t"] is not None and d["iso_t"] <= DET_T else 0
+            c["det_any"] += 1 if d["det_t"] is not None else 0
+    return c
+
+
+def write_tables(res, out):
+    lines = []
+    if "faults" in res:
+        sm = summary(res)
+        lines += [f"Fault cases: {sm['cases']}; detected within {DET_T * 1000:.0f} ms: {sm['detected']}; "
+                  f"not detected in time but beta and mu within the targets: {sm['within targets']}; "
+                  f"neither, but no worse than the fault-free run: {sm['as fault-free']}; "
+                  f"neither: {sm['NEITHER']}. Faulted signal itself flagged within {DET_T * 1000:.0f} ms: "
+                  f"{sm['isolated']}. Non-finite outputs: {sm['nonfinite']}. Cases with unflagged invalid "
+                  f"output rows: {sm['unflagged_cases']}.", ""]
+        for scn, r in res["faults"].items():
+            b = r["baseline"]
+            lines += [f"### {scn}", "",
+                      f"Fault-free run: beta RMS/max during the fault window {_f(b['during']['beta_rms'])} / "
+                      f"{_f(b['during']['beta_max'])} deg, after {_f(b['after']['beta_rms'])} / "
+                      f"{_f(b['after']['beta_max'])} deg; mu max error (V_MU rows) during {_f(b['during']['mu_max'])}, "
+                      f"after {_f(b['after']['mu_max'])}; monitor alarm rows {b['false_alarm_rows']}.", "",
+                      "| fault | detected [s] | own signal [s] | other signals flagged | beta RMS / max during [deg] "
+                      "| beta valid during | beta RMS / max after [deg] | mu max err during / after | "
+                      "without monitor: beta during | unflagged rows | verdict |",
+                      "|" + "---|" * 11]
+            for case, d in r["cases"].items():
+                du, af, nm = d["during"], d["after"], d["nomon_during"]
+                lines.append("| " + " | ".join([
+                    case, _f(d["det_t"]), _f(d["iso_t"]), ", ".join(d["other_flagged"]) or "-",
+                    f"{_f(du['beta_rms'])} / {_f(du['beta_max'])}", f"{du['beta_valid_pct']:.0f} %",
+                    f"{_f(af['beta_rms'])} / {_f(af['beta_max'])}", f"{_f(du['mu_max'])} / {_f(af['mu_max'])}",
+                    f"{_f(nm['beta_rms'])} / {_f(nm['beta_max'])}", str(d["unflagged_rows"]),
+                    ("**NEITHER**" if d["verdict"] == "NEITHER" else d["verdict"])]) + " |")
+            lines.append("")
+    with open(os.path.join(out, "table.md"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+    if "suite" in res:
+        rows = ["| run | steps | max true beta [deg] | steps with an alarm | signals (steps) | largest residual per check |",
+                "|---|---|---|---|---|---|"]
+        tot = al = 0
+        for name, d in res["suite"].items():
+            tot += d["rows"]
+            al += d["alarm_rows"]
+            rm = ", ".join(f"{k} {v:.2f}" for k, v in d["res_max"].items() if v > 0)
+            rows.append(f"| {name} | {d['rows']} | {d['max_beta_true_deg']:.1f} | {d['alarm_rows']} | "
+                        f"{', '.join(f'{k} ({v})' for k, v in d['per_signal'].items()) or '-'} | {rm} |")
+        rows += ["", f"Total: {al} steps with an alarm of {tot} ({100.0 * al / max(tot, 1):.2f} %)."]
+        with open(os.path.join(out, "false_alarms.md"), "w") as f:
+            f.write("\n".join(rows) + "\n")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="grip_tools faults", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -431,6 +497,9 @@ def main(argv=None):
         res["suite"] = false_alarms(cache)
     with open(os.path.join(a.out, "faults.json"), "w") as f:
         json.dump(res, f, indent=1)
+    write_tables(res, a.out)
+    if "faults" in res:
+        print(json.dumps(summary(res)))
     print(f"faults: done in {time.time() - t_start:.0f} s", file=sys.stderr)
     return 0
 
