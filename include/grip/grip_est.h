@@ -80,33 +80,33 @@ typedef struct {
 
 /* ---- outputs ---- */
 /* Validity bits of grip_est_output_t.valid */
-#define GRIP_EST_V_VX        (1u << 0)   /* vx                                  */
-#define GRIP_EST_V_BETA      (1u << 1)   /* vy, beta                            */
-#define GRIP_EST_V_YAW       (1u << 2)   /* yaw_rate (filtered)                 */
-#define GRIP_EST_V_YAW_REF   (1u << 3)   /* yaw_rate_ref, yaw_error             */
-#define GRIP_EST_V_FZ        (1u << 4)   /* fz[] (load transfer from ax, ay)    */
-#define GRIP_EST_V_WHEEL(i)  (1u << (5 + (i)))   /* kappa, alpha, fx, fy, mz, util of wheel i */
-#define GRIP_EST_V_AXLE      (1u << 9)   /* fy_axle, util_axle                  */
-#define GRIP_EST_V_MU        (1u << 10)  /* mu with mu_conf >= 0.5              */
-#define GRIP_EST_V_STEER     (1u << 11)  /* steer_char (under/oversteer)        */
-#define GRIP_EST_V_MARGIN    (1u << 12)  /* fy_margin_front                     */
+#define GRIP_EST_V_VX        ((uint32_t)1u << 0)   /* vx                                  */
+#define GRIP_EST_V_BETA      ((uint32_t)1u << 1)   /* vy, beta                            */
+#define GRIP_EST_V_YAW       ((uint32_t)1u << 2)   /* yaw_rate (filtered)                 */
+#define GRIP_EST_V_YAW_REF   ((uint32_t)1u << 3)   /* yaw_rate_ref, yaw_error             */
+#define GRIP_EST_V_FZ        ((uint32_t)1u << 4)   /* fz[] (load transfer from ax, ay)    */
+#define GRIP_EST_V_WHEEL(i)  ((uint32_t)1u << (5u + (uint32_t)(i)))   /* kappa, alpha, fx, fy, mz, util of wheel i */
+#define GRIP_EST_V_AXLE      ((uint32_t)1u << 9)   /* fy_axle, util_axle                  */
+#define GRIP_EST_V_MU        ((uint32_t)1u << 10)  /* mu with mu_conf >= 0.5              */
+#define GRIP_EST_V_STEER     ((uint32_t)1u << 11)  /* steer_char (under/oversteer)        */
+#define GRIP_EST_V_MARGIN    ((uint32_t)1u << 12)  /* fy_margin_front                     */
 
 /* Condition flags of grip_est_output_t.flags (why something is invalid) */
-#define GRIP_EST_F_STANDSTILL   (1u << 0)
-#define GRIP_EST_F_REVERSING    (1u << 1)
-#define GRIP_EST_F_LOW_SPEED    (1u << 2)   /* |vx| below the observer's minimum speed  */
-#define GRIP_EST_F_NO_WHEELS    (1u << 3)   /* no valid wheel speed (vx from ax only)   */
-#define GRIP_EST_F_NO_STEER     (1u << 4)   /* steering angle missing beyond hold time  */
-#define GRIP_EST_F_NO_YAW       (1u << 5)
-#define GRIP_EST_F_NO_AY        (1u << 6)
-#define GRIP_EST_F_NO_AX        (1u << 7)
-#define GRIP_EST_F_SATURATED    (1u << 8)   /* an input was at/beyond its sensor range  */
-#define GRIP_EST_F_STEER_LIMIT  (1u << 9)   /* road-wheel angle clamped (steering at lock) */
-#define GRIP_EST_F_WHEEL_LOCK   (1u << 10)  /* a wheel far slower than the vehicle      */
-#define GRIP_EST_F_WHEEL_SPIN   (1u << 11)  /* a wheel far faster than the vehicle      */
-#define GRIP_EST_F_EXCITED      (1u << 12)  /* this step adapted mu (sufficient excitation) */
-#define GRIP_EST_F_TIRE_ERROR   (1u << 13)  /* a tire model call failed (its wheel zero) */
-#define GRIP_EST_F_RESET        (1u << 14)  /* the lateral observer was (re)initialized  */
+#define GRIP_EST_F_STANDSTILL   ((uint32_t)1u << 0)
+#define GRIP_EST_F_REVERSING    ((uint32_t)1u << 1)
+#define GRIP_EST_F_LOW_SPEED    ((uint32_t)1u << 2)   /* |vx| below the observer's minimum speed  */
+#define GRIP_EST_F_NO_WHEELS    ((uint32_t)1u << 3)   /* no valid wheel speed (vx from ax only)   */
+#define GRIP_EST_F_NO_STEER     ((uint32_t)1u << 4)   /* steering angle missing beyond hold time  */
+#define GRIP_EST_F_NO_YAW       ((uint32_t)1u << 5)
+#define GRIP_EST_F_NO_AY        ((uint32_t)1u << 6)
+#define GRIP_EST_F_NO_AX        ((uint32_t)1u << 7)
+#define GRIP_EST_F_SATURATED    ((uint32_t)1u << 8)   /* an input was at/beyond its sensor range  */
+#define GRIP_EST_F_STEER_LIMIT  ((uint32_t)1u << 9)   /* road-wheel angle clamped (steering at lock) */
+#define GRIP_EST_F_WHEEL_LOCK   ((uint32_t)1u << 10)  /* a wheel far slower than the vehicle      */
+#define GRIP_EST_F_WHEEL_SPIN   ((uint32_t)1u << 11)  /* a wheel far faster than the vehicle      */
+#define GRIP_EST_F_EXCITED      ((uint32_t)1u << 12)  /* this step adapted mu (sufficient excitation) */
+#define GRIP_EST_F_TIRE_ERROR   ((uint32_t)1u << 13)  /* a tire model call failed (its wheel zero) */
+#define GRIP_EST_F_RESET        ((uint32_t)1u << 14)  /* the lateral observer was (re)initialized  */
 
 typedef struct {
     grip_real_t vx;              /* QS m/s longitudinal speed of the CG          */
