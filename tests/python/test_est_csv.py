@@ -203,6 +203,23 @@ class CsvModeTests(unittest.TestCase):
         self.assertTrue(all(math.isfinite(float(r["beta"])) for r in rows))
         self.assertIn("vehicle_speed", rows[0])
 
+    def test_est_eval_c_path(self):
+        """est_eval's writer and reader (the C columns of the accuracy table)
+        give the same numbers as the direct run, and the fixed/float ratio
+        ignores metrics whose float error is below its floor."""
+        from grip_tools import est_eval
+        b = self.binary("float")
+        p = os.path.join(self.tmp.name, "ee.csv")
+        est_eval.write_input_csv(p, self.t, self.value[:, :13], self.valid[:, :13])
+        r = np.array([x["beta"] for x in est_ref.run(est_ref.config(golden_est.tire_params()),
+                                                     self.value, self.valid)])
+        o = est_eval.run_c(b, TIR, p)   # vehicle generic: est_ref.config's car
+        self.assertLessEqual(float(np.max(np.abs(o["beta"] - r))), TOL["float"]["beta"])
+        q, which = est_eval.fixed_float_ratio({"beta_rms_deg": 0.5, "mu_err_1s": 0.001},
+                                              {"beta_rms_deg": 0.6, "mu_err_1s": 0.01})
+        self.assertAlmostEqual(q, 1.2)
+        self.assertEqual(which, "beta_rms_deg")
+
 
 if __name__ == "__main__":
     unittest.main()

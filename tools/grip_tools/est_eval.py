@@ -247,7 +247,8 @@ def table_c(results, c_results, notes):
     build per run, and the fixed/float ratio."""
     builds = [a for a in ("float", "fixed") if any(a in c for c in c_results.values())]
     hdr = ["run", "beta RMS [deg] ref / " + " / ".join(builds), "beta max [deg]",
-           "Fy front RMS [% peak]", "Fy rear RMS [% peak]", "mu err @ t0+1 s", "fixed/float (worst metric)"]
+           "Fy front RMS [% peak]", "Fy rear RMS [% peak]", "mu err @ t0+1 s", "fixed/float (worst metric)",
+           "max |C - est_ref| beta [rad] / mu, " + " / ".join(builds)]
     lines = ["| " + " | ".join(hdr) + " |", "|" + "---|" * len(hdr)]
 
     def f(x, fmt):
@@ -264,6 +265,8 @@ def table_c(results, c_results, notes):
             cells.append("-" if q is None else f"{q:.3f} ({which})")
         else:
             cells.append("-")
+        cells.append(", ".join(f"{f(c[a].get('dev_beta_max_rad'), '.1e')} / {f(c[a].get('dev_mu_max'), '.1e')}"
+                               for a in builds if a in c))
         lines.append("| " + " | ".join(cells) + " |")
     out = "\n".join(lines) + "\n"
     if notes:
@@ -486,7 +489,12 @@ def main(argv=None):
         est = estimate(d)
         ests.append(est)
         results[name] = evaluate(d, est)
-        c_results[name] = {k: evaluate(d, e) for k, e in estimate_c(d, bins).items()}
+        c_ests = estimate_c(d, bins)
+        c_results[name] = {k: evaluate(d, e) for k, e in c_ests.items()}
+        for k, e in c_ests.items():
+            # how far the C build is from est_ref on the same inputs
+            c_results[name][k]["dev_beta_max_rad"] = float(np.max(np.abs(e["beta"] - est["beta"])))
+            c_results[name][k]["dev_mu_max"] = float(np.max(np.abs(e["mu"] - est["mu"])))
         if "float" in c_results[name] and "fixed" in c_results[name]:
             q, which = fixed_float_ratio(c_results[name]["float"], c_results[name]["fixed"])
             c_results[name]["fixed_float_ratio"] = q
