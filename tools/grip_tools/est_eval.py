@@ -248,7 +248,7 @@ def table_c(results, c_results, notes):
     builds = [a for a in ("float", "fixed") if any(a in c for c in c_results.values())]
     hdr = ["run", "beta RMS [deg] ref / " + " / ".join(builds), "beta max [deg]",
            "Fy front RMS [% peak]", "Fy rear RMS [% peak]", "mu err @ t0+1 s", "fixed/float (worst metric)",
-           "max |C - est_ref| beta [rad] / mu, " + " / ".join(builds)]
+           "max abs(C - est_ref) beta [rad] / mu, " + " / ".join(builds)]
     lines = ["| " + " | ".join(hdr) + " |", "|" + "---|" * len(hdr)]
 
     def f(x, fmt):
