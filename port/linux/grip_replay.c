@@ -5,6 +5,7 @@
  *
  *   grip-replay [options] LOG            a candump -l log ("-" = stdin)
  *   grip-replay [options] -i IFACE       a live SocketCAN interface
+ *   grip-replay -e TIR [options] --csv FILE   estimator inputs from a CSV file
  *
  * Frames go through the sample assembler of lib/can (grip_can.h): signal
  * table lookup, DLC / checksum / counter / range checks, staleness, and
@@ -12,10 +13,13 @@
  * estimator hook (grip_replay_estimator_step, below) and written as a CSV
  * row; a summary with frame, decode-error, stale-signal and drop counts
  * goes to stderr. docs/can.md is the manual (options, CSV columns, exit
- * codes).
+ * codes). In --csv mode each row of the file is one estimator step
+ * (docs/estimator.md, "CSV input"), the CAN path is not used, and the output
+ * has the same columns as in CAN mode.
  */
 #include <errno.h>
 #include <inttypes.h>
+#include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -52,6 +56,9 @@ typedef struct {
     unsigned long max_frames;
     const char *est_tir;       /* --estimate: tire of both axles; NULL = inputs only */
     const char *vehicle;       /* --vehicle: configuration preset */
+    const char *vehicle_file;  /* --vehicle-file: key = value overrides of the preset */
+    const char *csv_in;        /* --csv: estimator inputs from a CSV file instead of CAN */
+    int step_given;            /* --step-ms was given */
     int skip_bad;
     int all_inputs;
     int quiet;
@@ -82,6 +89,12 @@ typedef struct {
     grip_status_t est_status;
     unsigned long est_errors;
     unsigned long est_valid[3];   /* steps with beta, yaw_rate_ref, mu valid */
+    double mass_si;               /* vehicle mass [kg] (model lateral acceleration column) */
+    /* --csv mode */
+    unsigned long csv_rows;
+    unsigned long csv_bad_dt;     /* rows whose time step differs from --step-ms by > 1 % */
+    unsigned long csv_valid[GRIP_IN_COUNT];
+    unsigned long csv_range[GRIP_IN_COUNT];
 } replay;
 
 static volatile sig_atomic_t stop_requested;
@@ -93,11 +106,48 @@ static void on_signal(int sig)
 }
 
 /* ---- estimator ----------------------------------------------------------
- * Vehicle presets for --vehicle. rav4: Toyota RAV4 (XA40, 2013-2018) as the
- * bundled comma2k19 drive; mass with driver and load, wheelbase and
- * steering ratio as openpilot configures this car; CG split, height, yaw
- * inertia, track and roll values are typical-SUV assumptions (docs/estimator.md).
- * generic: grip_est_config_default (the simulator's passenger car). */
+ * Vehicle presets for --vehicle.
+ * rav4: Toyota RAV4 (XA40, 2013-2018) as the bundled comma2k19 drive; mass
+ *   with driver and load, wheelbase and steering ratio as openpilot
+ *   configures this car; CG split, height, yaw inertia, track and roll
+ *   values are typical-SUV assumptions (docs/estimator.md).
+ * av21: Dallara AV-21 (Indy Autonomous Challenge) as in the deep-dynamics
+ *   logs: mass 790 kg, lf 1.248 m, lr 1.7328 m from that repository's
+ *   vehicle file; steering ratio 1 because its logs carry the ROAD-WHEEL
+ *   angle (fed as the steering input); yaw inertia 1000 kg m^2 (the
+ *   repository identifies 500-2000), track 1.6 m, CG height 0.30 m, roll
+ *   split 0.5 and roll gradient 0.001 rad per m/s^2 are race-car
+ *   assumptions (docs/estimator.md).
+ * generic: grip_est_config_default (the simulator's passenger car).
+ * --vehicle-file then overrides single values (key = value, SI units). */
+static grip_real_t si_qs(double x)
+{
+#if GRIP_ARITH_FIXED
+    return (grip_real_t)floor(x * 65536.0 + 0.5);
+#else
+    return (grip_real_t)x;
+#endif
+}
+
+static grip_real_t si_ql(double x)
+{
+#if GRIP_ARITH_FIXED
+    return (grip_real_t)floor(x * 256.0 + 0.5);
+#else
+    return (grip_real_t)x;
+#endif
+}
+
+static double real_to_si(grip_real_t v, int ql)
+{
+#if GRIP_ARITH_FIXED
+    return (double)v / (ql ? 256.0 : 65536.0);
+#else
+    (void)ql;
+    return (double)v;
+#endif
+}
+
 static int vehicle_config(const char *name, const grip_mf_params *tire, int rate_hz, grip_est_config_t *cfg)
 {
     if (grip_est_config_default(cfg, tire) != GRIP_OK) {
@@ -105,27 +155,145 @@ static int vehicle_config(const char *name, const grip_mf_params *tire, int rate
     }
     cfg->rate_hz = (uint32_t)rate_hz;
     if (name == NULL || strcmp(name, "rav4") == 0) {
-#if GRIP_ARITH_FIXED
-#define SI_QS(x) ((grip_real_t)((x) * 65536.0 + 0.5))
-#define SI_QL(x) ((grip_real_t)((x) * 256.0 + 0.5))
-#else
-#define SI_QS(x) ((grip_real_t)(x))
-#define SI_QL(x) ((grip_real_t)(x))
-#endif
-        cfg->mass = SI_QL(1640.0);
-        cfg->iz = SI_QL(2900.0);
-        cfg->lf = SI_QS(1.06);
-        cfg->lr = SI_QS(1.59);
-        cfg->track_f = SI_QS(1.57);
-        cfg->track_r = SI_QS(1.57);
-        cfg->h_cg = SI_QS(0.66);
-        cfg->steer_ratio = SI_QS(16.88);
-        cfg->wheel_radius = SI_QS(0.355);
-#undef SI_QS
-#undef SI_QL
+        cfg->mass = si_ql(1640.0);
+        cfg->iz = si_ql(2900.0);
+        cfg->lf = si_qs(1.06);
+        cfg->lr = si_qs(1.59);
+        cfg->track_f = si_qs(1.57);
+        cfg->track_r = si_qs(1.57);
+        cfg->h_cg = si_qs(0.66);
+        cfg->steer_ratio = si_qs(16.88);
+        cfg->wheel_radius = si_qs(0.355);
+        return 0;
+    }
+    if (strcmp(name, "av21") == 0) {
+        cfg->mass = si_ql(790.0);
+        cfg->iz = si_ql(1000.0);
+        cfg->lf = si_qs(1.248);
+        cfg->lr = si_qs(1.7328);
+        cfg->track_f = si_qs(1.6);
+        cfg->track_r = si_qs(1.6);
+        cfg->h_cg = si_qs(0.30);
+        cfg->steer_ratio = si_qs(1.0);
+        cfg->wheel_radius = si_qs(0.30);
+        cfg->roll_split_front = si_qs(0.5);
+        cfg->roll_gradient = si_qs(0.001);
         return 0;
     }
     return (strcmp(name, "generic") == 0) ? 0 : -1;
+}
+
+/* Reads a vehicle file: lines `key = value` (SI units), '#' comments, blank
+ * lines. Keys: mass, iz, lf, lr, track (both), track_f, track_r, h_cg,
+ * steer_ratio, wheel_radius, roll_split_front, roll_gradient, speed_ref_mu.
+ * The estimator's init checks the ranges. */
+static int vehicle_file(const char *path, grip_est_config_t *cfg)
+{
+    static const struct {
+        const char *key;
+        int ql;   /* 1 QL, 0 QS, 2 integer 0/1 */
+    } keys[] = { { "mass", 1 }, { "iz", 1 }, { "lf", 0 }, { "lr", 0 }, { "track", 0 }, { "track_f", 0 },
+                 { "track_r", 0 }, { "h_cg", 0 }, { "steer_ratio", 0 }, { "wheel_radius", 0 },
+                 { "roll_split_front", 0 }, { "roll_gradient", 0 }, { "speed_ref_mu", 2 } };
+    char line[512];
+    unsigned long lineno = 0;
+    FILE *f = fopen(path, "r");
+    if (f == NULL) {
+        fprintf(stderr, "grip-replay: cannot open vehicle file %s: %s\n", path, strerror(errno));
+        return -1;
+    }
+    while (fgets(line, sizeof line, f) != NULL) {
+        char key[64];
+        char *p = line;
+        char *eq;
+        char *end;
+        size_t n;
+        size_t k;
+        double v;
+        lineno++;
+        if ((eq = strchr(line, '#')) != NULL) {
+            *eq = '\0';
+        }
+        while (*p == ' ' || *p == '\t') {
+            p++;
+        }
+        if (*p == '\0' || *p == '\n' || *p == '\r') {
+            continue;
+        }
+        eq = strchr(p, '=');
+        if (eq == NULL) {
+            fprintf(stderr, "grip-replay: %s:%lu: expected key = value\n", path, lineno);
+            fclose(f);
+            return -1;
+        }
+        n = (size_t)(eq - p);
+        while (n > 0 && (p[n - 1] == ' ' || p[n - 1] == '\t')) {
+            n--;
+        }
+        if (n == 0 || n >= sizeof key) {
+            fprintf(stderr, "grip-replay: %s:%lu: bad key\n", path, lineno);
+            fclose(f);
+            return -1;
+        }
+        memcpy(key, p, n);
+        key[n] = '\0';
+        errno = 0;
+        v = strtod(eq + 1, &end);
+        while (*end == ' ' || *end == '\t' || *end == '\r' || *end == '\n') {
+            end++;
+        }
+        if (errno != 0 || end == eq + 1 || *end != '\0' || !isfinite(v) || fabs(v) > 1e6) {
+            fprintf(stderr, "grip-replay: %s:%lu: %s: not a number\n", path, lineno, key);
+            fclose(f);
+            return -1;
+        }
+        for (k = 0; k < sizeof keys / sizeof keys[0]; k++) {
+            if (strcmp(key, keys[k].key) == 0) {
+                break;
+            }
+        }
+        if (k == sizeof keys / sizeof keys[0]) {
+            fprintf(stderr, "grip-replay: %s:%lu: unknown key '%s' (mass iz lf lr track track_f track_r h_cg "
+                    "steer_ratio wheel_radius roll_split_front roll_gradient speed_ref_mu)\n", path, lineno, key);
+            fclose(f);
+            return -1;
+        }
+        if (strcmp(key, "mass") == 0) {
+            cfg->mass = si_ql(v);
+        } else if (strcmp(key, "iz") == 0) {
+            cfg->iz = si_ql(v);
+        } else if (strcmp(key, "lf") == 0) {
+            cfg->lf = si_qs(v);
+        } else if (strcmp(key, "lr") == 0) {
+            cfg->lr = si_qs(v);
+        } else if (strcmp(key, "track") == 0) {
+            cfg->track_f = si_qs(v);
+            cfg->track_r = si_qs(v);
+        } else if (strcmp(key, "track_f") == 0) {
+            cfg->track_f = si_qs(v);
+        } else if (strcmp(key, "track_r") == 0) {
+            cfg->track_r = si_qs(v);
+        } else if (strcmp(key, "h_cg") == 0) {
+            cfg->h_cg = si_qs(v);
+        } else if (strcmp(key, "steer_ratio") == 0) {
+            cfg->steer_ratio = si_qs(v);
+        } else if (strcmp(key, "wheel_radius") == 0) {
+            cfg->wheel_radius = si_qs(v);
+        } else if (strcmp(key, "roll_split_front") == 0) {
+            cfg->roll_split_front = si_qs(v);
+        } else if (strcmp(key, "roll_gradient") == 0) {
+            cfg->roll_gradient = si_qs(v);
+        } else {
+            if (v != 0.0 && v != 1.0) {
+                fprintf(stderr, "grip-replay: %s:%lu: speed_ref_mu must be 0 or 1\n", path, lineno);
+                fclose(f);
+                return -1;
+            }
+            cfg->speed_ref_mu = (uint32_t)v;
+        }
+    }
+    fclose(f);
+    return 0;
 }
 
 /* Called once per estimator step with the time-aligned input sample, before
@@ -144,21 +312,12 @@ static void grip_replay_estimator_step(replay *r, const grip_input_sample_t *sam
     r->est_valid[2] += (r->est_out.valid & GRIP_EST_V_MU) != 0u;
 }
 
-static double real_to_si(grip_real_t v, int ql)
-{
-#if GRIP_ARITH_FIXED
-    return (double)v / (ql ? 256.0 : 65536.0);
-#else
-    (void)ql;
-    return (double)v;
-#endif
-}
-
 static void usage(FILE *f)
 {
     fprintf(f,
             "usage: grip-replay [options] LOG        replay a candump -l log ('-' = stdin)\n"
             "       grip-replay [options] -i IFACE   read a live SocketCAN interface\n"
+            "       grip-replay -e TIR [options] --csv FILE   estimator inputs from a CSV file\n"
             "options:\n"
             "  -t, --table FILE       signal table, text form from `grip_tools can-table --text`\n"
             "                         (default: built-in table rav4)\n"
@@ -178,7 +337,18 @@ static void usage(FILE *f)
             "      --idle-exit S      live: stop once no frame came for S seconds (after the first)\n"
             "  -e, --estimate TIR     run the estimator each step (tire .tir on both axles) and\n"
             "                         append its outputs to every row\n"
-            "      --vehicle NAME     estimator vehicle: rav4 (default) or generic\n"
+            "      --vehicle NAME     estimator vehicle: rav4 (default), av21 or generic\n"
+            "      --vehicle-file F   override vehicle values: lines `key = value` (SI): mass iz lf lr\n"
+            "                         track track_f track_r h_cg steer_ratio wheel_radius\n"
+            "                         roll_split_front roll_gradient speed_ref_mu (0/1)\n"
+            "      --csv FILE         estimator inputs from FILE ('-' = stdin) instead of CAN: one row per\n"
+            "                         estimator step (every --step-ms), '#' lines skipped, a header row\n"
+            "                         naming the columns: t_s [s], wheel_speed_fl wheel_speed_fr\n"
+            "                         wheel_speed_rl wheel_speed_rr [m/s], steer_angle [rad, steering\n"
+            "                         wheel], yaw_rate [rad/s], ax ay [m/s^2], optional vehicle_speed\n"
+            "                         [m/s], brake_pressure_fl.. [Pa], brake_torque_fl.. [N m]; ISO axes\n"
+            "                         (left positive). An empty or NaN cell = not valid in that step;\n"
+            "                         other columns are ignored. Needs -e.\n"
             "  -q, --quiet            no summary\n"
             "exit: 0 ok, 2 usage, 3 table / DBC-map mismatch, 4 input, 5 output\n");
 }
@@ -242,11 +412,16 @@ static int parse_args(int argc, char **argv, options *o)
             o->est_tir = v;
         } else if (strcmp(a, "--vehicle") == 0) {
             o->vehicle = v;
+        } else if (strcmp(a, "--vehicle-file") == 0) {
+            o->vehicle_file = v;
+        } else if (strcmp(a, "--csv") == 0) {
+            o->csv_in = v;
         } else if (IS("-s", "--step-ms")) {
             if (!parse_double(v, 0.001, 1000.0, &o->step_ms)) {
                 fprintf(stderr, "grip-replay: --step-ms must be 0.001..1000, not '%s'\n", v);
                 return -1;
             }
+            o->step_given = 1;
         } else if (IS("-j", "--jump-ms")) {
             if (!parse_double(v, 0.001, 100000.0, &o->jump_ms)) {
                 fprintf(stderr, "grip-replay: --jump-ms must be 0.001..100000, not '%s'\n", v);
@@ -298,6 +473,17 @@ static int parse_args(int argc, char **argv, options *o)
         }
 #undef IS
         i += takes;
+    }
+    if (o->csv_in != NULL) {
+        if (o->log != NULL || o->iface != NULL) {
+            fprintf(stderr, "grip-replay: --csv replaces the CAN log / interface: give only one source\n");
+            return -1;
+        }
+        if (o->est_tir == NULL) {
+            fprintf(stderr, "grip-replay: --csv needs the estimator (-e TIR)\n");
+            return -1;
+        }
+        return 0;
     }
     if ((o->log == NULL) == (o->iface == NULL)) {
         fprintf(stderr, "grip-replay: give either a log file or -i IFACE (try --help)\n");
@@ -383,7 +569,7 @@ static void write_header(replay *r)
     }
     if (r->est_on) {
         fprintf(r->csv, ",est_status,est_valid,est_flags,vx,beta,yaw_rate,yaw_rate_ref,delta,mu,mu_conf,"
-                        "fy_front,fy_rear,util_front,util_rear,fy_margin_front");
+                        "fy_front,fy_rear,util_front,util_rear,fy_margin_front,yaw_rate_bias,ay_model");
     }
     fprintf(r->csv, "\n");
 }
@@ -408,12 +594,26 @@ static void emit(replay *r, const grip_input_sample_t *s)
     }
     if (r->est_on) {
         const grip_est_output_t *e = &r->est_out;
+        /* the tire model's lateral acceleration sum Fy / m (body frame: the
+         * front wheels' forces turned by the road-wheel angle), the
+         * quantity the estimator's ay measurement update predicts */
+        double d = real_to_si(e->delta, 0);
+        double fyb = 0.0;
+        for (i = 0; i < 4u; i++) {
+            double fx = real_to_si(e->fx[i], 1);
+            double fy = real_to_si(e->fy[i], 1);
+            fyb += (i < 2u) ? fx * sin(d) + fy * cos(d) : fy;
+        }
         fprintf(r->csv, ",%d,%" PRIu32 ",%" PRIu32 ",%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g",
                 (int)r->est_status, e->valid, e->flags, real_to_si(e->vx, 0), real_to_si(e->beta, 0),
                 real_to_si(e->yaw_rate, 0), real_to_si(e->yaw_rate_ref, 0), real_to_si(e->delta, 0),
                 real_to_si(e->mu, 0), real_to_si(e->mu_conf, 0), real_to_si(e->fy_axle[0], 1),
                 real_to_si(e->fy_axle[1], 1), real_to_si(e->util_axle[0], 0), real_to_si(e->util_axle[1], 0),
                 real_to_si(e->fy_margin_front, 1));
+        fprintf(r->csv, ",%.6g,", real_to_si(e->yaw_rate_bias, 0));
+        if ((e->valid & GRIP_EST_V_AXLE) != 0u && r->mass_si > 0.0) {
+            fprintf(r->csv, "%.6g", fyb / r->mass_si);
+        }
     }
     if (fprintf(r->csv, "\n") < 0) {
         r->write_failed = 1;
@@ -582,6 +782,246 @@ static int run_file(replay *r)
     return 0;
 }
 
+/* ---- CSV input (--csv) ----------------------------------------------------------
+ * One row per estimator step; docs/estimator.md "CSV input" is the schema. */
+
+#define CSV_LINE_MAX 8192
+#define CSV_MAX_COLS 256
+
+/* Splits line (modified in place) at commas; returns the number of cells. */
+static int csv_split(char *line, char **cell, int max)
+{
+    int n = 0;
+    char *p = line;
+    size_t len = strlen(line);
+    while (len > 0 && (line[len - 1] == '\n' || line[len - 1] == '\r')) {
+        line[--len] = '\0';
+    }
+    for (;;) {
+        char *c = strchr(p, ',');
+        if (n < max) {
+            cell[n] = p;
+        }
+        n++;
+        if (c == NULL) {
+            break;
+        }
+        *c = '\0';
+        p = c + 1;
+    }
+    return n;
+}
+
+static char *trim(char *s)
+{
+    size_t n;
+    while (*s == ' ' || *s == '\t') {
+        s++;
+    }
+    n = strlen(s);
+    while (n > 0 && (s[n - 1] == ' ' || s[n - 1] == '\t')) {
+        s[--n] = '\0';
+    }
+    return s;
+}
+
+/* The SI value v as the build's input format; 0 if not representable. */
+static int to_input(double v, uint32_t input, grip_real_t *out)
+{
+#if GRIP_ARITH_FIXED
+    double q = floor(v * (grip_input_is_ql(input) ? 256.0 : 65536.0) + 0.5);
+    if (!(q >= -2147483647.0 && q <= 2147483647.0)) {
+        return 0;
+    }
+    *out = (grip_real_t)q;
+#else
+    (void)input;
+    if (!(fabs(v) <= 3.0e38)) {
+        return 0;
+    }
+    *out = (grip_real_t)v;
+#endif
+    return 1;
+}
+
+static int run_csv(replay *r)
+{
+    static char line[CSV_LINE_MAX + 2];
+    char *cell[CSV_MAX_COLS];
+    int col_input[CSV_MAX_COLS];   /* input id of each column, -1 ignored, -2 time */
+    int ncol = 0;
+    int have_header = 0;
+    int t_col = -1;
+    unsigned long lineno = 0;
+    double t_prev = 0.0;
+    const double step_s = r->opt->step_ms * 1e-3;
+    FILE *f = stdin;
+    int status = 0;
+    int k;
+    if (strcmp(r->opt->csv_in, "-") != 0) {
+        f = fopen(r->opt->csv_in, "r");
+        if (f == NULL) {
+            fprintf(stderr, "grip-replay: cannot open %s: %s\n", r->opt->csv_in, strerror(errno));
+            return EXIT_INPUT;
+        }
+    }
+    while (fgets(line, sizeof line, f) != NULL) {
+        size_t n = strlen(line);
+        int nc;
+        lineno++;
+        if (n > 0 && line[n - 1] != '\n' && !feof(f)) {
+            fprintf(stderr, "grip-replay: %s:%lu: line longer than %d characters\n", r->opt->csv_in, lineno,
+                    CSV_LINE_MAX);
+            status = EXIT_INPUT;
+            break;
+        }
+        if (line[0] == '#' || line[strspn(line, " \t\r\n")] == '\0') {
+            continue;
+        }
+        nc = csv_split(line, cell, CSV_MAX_COLS);
+        if (nc > CSV_MAX_COLS) {
+            fprintf(stderr, "grip-replay: %s:%lu: more than %d columns\n", r->opt->csv_in, lineno, CSV_MAX_COLS);
+            status = EXIT_INPUT;
+            break;
+        }
+        if (!have_header) {
+            uint32_t seen[GRIP_IN_COUNT];
+            memset(seen, 0, sizeof seen);
+            ncol = nc;
+            for (k = 0; k < nc; k++) {
+                const char *name = trim(cell[k]);
+                int32_t id = grip_input_find(name, (uint32_t)(strlen(name) < 32 ? strlen(name) : 32));
+                col_input[k] = -1;
+                if (strcmp(name, "t_s") == 0 || strcmp(name, "t") == 0 || strcmp(name, "time") == 0) {
+                    if (t_col >= 0) {
+                        fprintf(stderr, "grip-replay: %s:%lu: two time columns\n", r->opt->csv_in, lineno);
+                        status = EXIT_INPUT;
+                    }
+                    t_col = k;
+                    col_input[k] = -2;
+                } else if (id >= 0 && strlen(name) <= 32) {
+                    if (seen[id]++) {
+                        fprintf(stderr, "grip-replay: %s:%lu: column %s twice\n", r->opt->csv_in, lineno, name);
+                        status = EXIT_INPUT;
+                    }
+                    col_input[k] = (int)id;
+                    r->write_input[id] = 1;
+                }
+            }
+            if (t_col < 0) {
+                fprintf(stderr, "grip-replay: %s:%lu: no time column (t_s) in the header\n", r->opt->csv_in,
+                        lineno);
+                status = EXIT_INPUT;
+            }
+            if (status != 0) {
+                break;
+            }
+            if (r->opt->all_inputs) {
+                for (k = 0; k < GRIP_IN_COUNT; k++) {
+                    r->write_input[k] = 1;
+                }
+            }
+            write_header(r);
+            have_header = 1;
+            continue;
+        }
+        {
+            grip_input_sample_t s;
+            double t;
+            char *end;
+            if (nc != ncol) {
+                fprintf(stderr, "grip-replay: %s:%lu: %d cells, the header has %d\n", r->opt->csv_in, lineno,
+                        nc, ncol);
+                status = EXIT_INPUT;
+                break;
+            }
+            (void)grip_input_sample_clear(&s);
+            errno = 0;
+            t = strtod(trim(cell[t_col]), &end);
+            if (errno != 0 || end == cell[t_col] || *end != '\0' || !isfinite(t) || fabs(t) > 9.0e12) {
+                fprintf(stderr, "grip-replay: %s:%lu: bad time '%s'\n", r->opt->csv_in, lineno, cell[t_col]);
+                status = EXIT_INPUT;
+                break;
+            }
+            if (r->csv_rows > 0 && fabs((t - t_prev) - step_s) > 0.01 * step_s) {
+                r->csv_bad_dt++;
+            }
+            t_prev = t;
+            s.t_us = (int64_t)floor(t * 1e6 + 0.5);
+            s.step = (uint32_t)r->csv_rows;
+            for (k = 0; k < ncol; k++) {
+                const char *c;
+                double v;
+                uint32_t id;
+                if (col_input[k] < 0) {
+                    continue;
+                }
+                id = (uint32_t)col_input[k];
+                c = trim(cell[k]);
+                s.fault[id] = GRIP_SIG_MISSING;
+                if (*c == '\0') {
+                    continue;
+                }
+                errno = 0;
+                v = strtod(c, &end);
+                if (end == c || *end != '\0') {
+                    fprintf(stderr, "grip-replay: %s:%lu: column %s: not a number '%s'\n", r->opt->csv_in, lineno,
+                            grip_input_name(id), c);
+                    status = EXIT_INPUT;
+                    break;
+                }
+                if (isnan(v)) {
+                    continue;
+                }
+                if (!isfinite(v) || !to_input(v, id, &s.value[id])) {
+                    s.value[id] = 0;
+                    s.fault[id] = GRIP_SIG_RANGE;
+                    r->csv_range[id]++;
+                    continue;
+                }
+                s.valid[id] = 1;
+                s.fault[id] = GRIP_SIG_OK;
+                r->csv_valid[id]++;
+            }
+            if (status != 0) {
+                break;
+            }
+            r->csv_rows++;
+            emit(r, &s);
+        }
+    }
+    if (status == 0 && ferror(f)) {
+        fprintf(stderr, "grip-replay: cannot read %s: %s\n", r->opt->csv_in, strerror(errno));
+        status = EXIT_INPUT;
+    }
+    if (status == 0 && !have_header) {
+        fprintf(stderr, "grip-replay: %s: no header row\n", r->opt->csv_in);
+        status = EXIT_INPUT;
+    }
+    if (f != stdin) {
+        fclose(f);
+    }
+    return status;
+}
+
+static void summary_csv(const replay *r)
+{
+    uint32_t i;
+    fprintf(stderr, "grip-replay: %s (CSV input), step %g ms: %lu rows, %lu with a time step off by > 1 %%\n",
+            r->opt->csv_in, r->opt->step_ms, r->csv_rows, r->csv_bad_dt);
+    fprintf(stderr, "  %-18s %8s %8s %8s\n", "input", "valid", "missing", "range");
+    for (i = 0; i < (uint32_t)GRIP_IN_COUNT; i++) {
+        if (r->write_input[i]) {
+            fprintf(stderr, "  %-18s %8lu %8lu %8lu\n", grip_input_name(i), r->csv_valid[i],
+                    r->csv_rows - r->csv_valid[i] - r->csv_range[i], r->csv_range[i]);
+        }
+    }
+    fprintf(stderr, "  estimator      %lu steps, %lu errors; valid: beta %lu, yaw-rate reference %lu, "
+            "mu %lu; final mu %.3f (confidence %.2f), yaw-rate bias %.5f rad/s\n", r->csv_rows, r->est_errors,
+            r->est_valid[0], r->est_valid[1], r->est_valid[2], real_to_si(r->est_out.mu, 0),
+            real_to_si(r->est_out.mu_conf, 0), real_to_si(r->est_out.yaw_rate_bias, 0));
+}
+
 static double mono_s(void)
 {
     struct timespec ts;
@@ -708,8 +1148,13 @@ int main(int argc, char **argv)
     }
     memset(&r, 0, sizeof r);
     r.opt = &o;
-    if (load_table(o.table_path, &r.table) != 0) {
+    if (o.csv_in != NULL) {
+        /* no CAN: inputs straight from the file */
+    } else if (load_table(o.table_path, &r.table) != 0) {
         return EXIT_TABLE;
+    }
+    if (o.csv_in != NULL) {
+        goto estimator;
     }
     cfg.step_us = (uint32_t)(o.step_ms * 1000.0 + 0.5);
     cfg.stale_periods = (uint32_t)o.stale;
@@ -725,6 +1170,7 @@ int main(int argc, char **argv)
     for (i = 0; i < (uint32_t)GRIP_IN_COUNT; i++) {
         r.write_input[i] = o.all_inputs || r.a.input_msg[i] != UINT32_MAX;
     }
+estimator:
     if (o.est_tir != NULL) {
         char err[512];
         grip_est_config_t ecfg;
@@ -734,9 +1180,13 @@ int main(int argc, char **argv)
             return EXIT_USAGE;
         }
         if (vehicle_config(o.vehicle, &r.tire, rate_hz, &ecfg) != 0) {
-            fprintf(stderr, "grip-replay: unknown --vehicle '%s' (rav4, generic)\n", o.vehicle);
+            fprintf(stderr, "grip-replay: unknown --vehicle '%s' (rav4, av21, generic)\n", o.vehicle);
             return EXIT_USAGE;
         }
+        if (o.vehicle_file != NULL && vehicle_file(o.vehicle_file, &ecfg) != 0) {
+            return EXIT_USAGE;
+        }
+        r.mass_si = real_to_si(ecfg.mass, 1);
         st = grip_est_init(&r.est, &ecfg);
         if (st != GRIP_OK) {
             fprintf(stderr, "grip-replay: the estimator rejects this configuration (step %g ms = %d Hz, "
@@ -745,7 +1195,7 @@ int main(int argc, char **argv)
         }
         r.est_on = 1;
     }
-    r.source = o.iface ? o.iface : o.log;
+    r.source = o.csv_in ? o.csv_in : o.iface ? o.iface : o.log;
     r.csv = stdout;
     if (o.out != NULL && strcmp(o.out, "-") != 0) {
         r.csv = fopen(o.out, "w");
@@ -761,6 +1211,13 @@ int main(int argc, char **argv)
             return EXIT_OUTPUT;
         }
     }
+    if (o.csv_in != NULL) {
+        status = run_csv(&r);   /* writes the header once it knows the columns */
+        if (!o.quiet) {
+            summary_csv(&r);
+        }
+        goto done;
+    }
     write_header(&r);
     status = o.iface ? run_live(&r) : run_file(&r);
     if (!o.quiet) {
@@ -769,6 +1226,7 @@ int main(int argc, char **argv)
     if (status == 0 && check_match(&r) != 0) {
         status = EXIT_TABLE;
     }
+done:
     if (r.dump != NULL && fclose(r.dump) != 0) {
         r.write_failed = 1;
     }

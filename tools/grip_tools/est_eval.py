@@ -19,15 +19,28 @@ message rate) and compared with truth.csv:
   Fy axle  RMS of the front / rear axle lateral force error (wheel frame)
            as a percentage of the run's peak |Fy| of that axle
 
-Writes <out>/accuracy.json, <out>/accuracy.md (table) and <out>/accuracy.png.
-With --c-outputs DIR the C outputs dumped by tests/unit/test_est_golden.c
-(GRIP_EST_DUMP) are evaluated the same way (one column set per arithmetic).
+The C estimator (float and fixed builds, build/<arith>-gcc/bin/grip-replay,
+override with --c-bin ARITH=PATH) runs over the same inputs through its CSV
+mode (grip-replay -e TIR --vehicle generic --vehicle-file F --csv FILE, the
+inputs exactly as est_ref gets them, written by write_input_csv) and is
+evaluated the same way; a build that is absent is skipped with a note. Per
+run, the fixed/float error ratio: fixed error / float error of each of beta
+RMS, beta max, Fy front / rear RMS and |mu err| at t0 + 1 s, taken where the
+float error is at least FLOOR (0.05 deg, 0.1 % of peak, 0.01 of mu; below
+that the ratio of two near-zero errors says nothing); the run's figure is
+the largest of these ratios (issue 5: "fixed within 1.5x of float's
+errors").
+
+Writes <out>/accuracy.json, <out>/accuracy.md (tables) and <out>/accuracy.png.
+The simulator's runs go to --runs-dir (default build/est_eval/runs).
 """
 import argparse
 import json
 import math
 import os
+import subprocess
 import sys
+import tempfile
 
 import numpy as np
 
@@ -35,6 +48,14 @@ from . import est_ref, golden_est
 
 DEG = 180.0 / math.pi
 WHEELS = ("fl", "fr", "rl", "rr")
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+C_BINS = {a: os.path.join(ROOT, "build", f"{a}-gcc", "bin", "grip-replay") for a in ("float", "fixed")}
+IN_COLS = ["wheel_speed_fl", "wheel_speed_fr", "wheel_speed_rl", "wheel_speed_rr", "steer_angle", "yaw_rate",
+           "ax", "ay", "vehicle_speed", "brake_pressure_fl", "brake_pressure_fr", "brake_pressure_rl",
+           "brake_pressure_rr"]
+# fixed/float ratio: metrics and the float error below which no ratio is taken
+RATIO_METRICS = (("beta_rms_deg", 0.05), ("beta_max_deg", 0.05), ("fy_front_rms_pct", 0.1),
+                 ("fy_rear_rms_pct", 0.1), ("mu_err_1s", 0.01))
 
 
 def read_csv(path):
@@ -65,6 +86,79 @@ def estimate(run_dir):
     res["valid"] = np.array([o["valid"] for o in outs], dtype=np.int64)
     res["vx"] = np.array([o["vx"] for o in outs])
     return res
+
+
+def write_input_csv(path, t, value, valid):
+    """The estimator's inputs as grip-replay --csv reads them (one row per
+    step, an empty cell where the input is not valid)."""
+    with open(path, "w") as f:
+        f.write(",".join(["t_s"] + IN_COLS) + "\n")
+        for k in range(len(t)):
+            cells = [repr(float(t[k]))]
+            for i in range(len(IN_COLS)):
+                cells.append(repr(float(value[k, i])) if valid[k, i] else "")
+            f.write(",".join(cells) + "\n")
+
+
+def read_replay(text):
+    """grip-replay's output CSV (estimator columns) -> the arrays estimate() returns."""
+    import csv
+    import io
+    rows = list(csv.DictReader(io.StringIO(text)))
+
+    def col(k):
+        return np.array([float(r[k]) if r[k] != "" else np.nan for r in rows])
+    return {"time": col("t_s"), "beta": col("beta"), "mu": col("mu"), "mu_conf": col("mu_conf"),
+            "fyf": col("fy_front"), "fyr": col("fy_rear"), "vx": col("vx"), "yaw_rate": col("yaw_rate"),
+            "yaw_rate_ref": col("yaw_rate_ref"), "yaw_rate_bias": col("yaw_rate_bias"),
+            "ay_model": col("ay_model"), "est_status": col("est_status"),
+            "valid": np.array([int(r["est_valid"]) for r in rows], dtype=np.int64),
+            "flags": np.array([int(r["est_flags"]) for r in rows], dtype=np.int64)}
+
+
+def run_c(binary, tir_path, csv_path, vehicle="generic", vehicle_lines=(), step_ms=10.0):
+    """Runs grip-replay -e TIR --csv over csv_path; returns read_replay's dict."""
+    with tempfile.TemporaryDirectory() as d:
+        args = [binary, "-q", "-e", tir_path, "--vehicle", vehicle, "--step-ms", repr(step_ms), "--csv", csv_path]
+        if vehicle_lines:
+            vf = os.path.join(d, "vehicle.txt")
+            with open(vf, "w") as f:
+                f.write("\n".join(vehicle_lines) + "\n")
+            args[-2:-2] = ["--vehicle-file", vf]
+        p = subprocess.run(args, capture_output=True, text=True)
+    if p.returncode != 0:
+        raise RuntimeError(f"{' '.join(args)}: exit {p.returncode}: {p.stderr.strip()}")
+    return read_replay(p.stdout)
+
+
+def estimate_c(run_dir, bins):
+    """The C builds over a run's sensors.csv, inputs exactly as est_ref gets
+    them; {arith: est dict}; builds not in bins are absent."""
+    if not bins:
+        return {}
+    cols = read_csv(os.path.join(run_dir, "sensors.csv"))
+    t, value, valid = est_ref.inputs_from_sensors(cols)
+    out = {}
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "inputs.csv")
+        write_input_csv(path, t, value, valid)
+        for a, b in bins.items():
+            # as estimate(): the simulator's speed signal is a calibrated reference
+            out[a] = run_c(b, golden_est.tire_path(), path, vehicle_lines=["speed_ref_mu = 1"])
+    return out
+
+
+def fixed_float_ratio(rf, rx):
+    """Largest fixed/float error ratio over RATIO_METRICS (float error >= floor)."""
+    worst, which = None, None
+    for k, floor in RATIO_METRICS:
+        ef, ex = rf.get(k), rx.get(k)
+        if ef is None or ex is None or ef < floor:
+            continue
+        q = ex / ef
+        if worst is None or q > worst:
+            worst, which = q, k
+    return worst, which
 
 
 def evaluate(run_dir, est):
@@ -117,7 +211,8 @@ def evaluate(run_dir, est):
 
 
 def simulate_runs(outdir, manoeuvres, surfaces):
-    """Runs the simulator (python -m grip_tools simulate) for each pair."""
+    """Runs the simulator (python -m grip_tools simulate) for each pair into
+    outdir/runs (kept: a run already there is reused)."""
     from .vehsim import cli
     dirs = []
     for m in manoeuvres:
@@ -145,6 +240,183 @@ def table(results):
             f(r.get("mu_err_1s"), ".2f"), f(r.get("mu_within_0p1_pct"), ".0f") + ("" if r.get("mu_within_0p1_pct") is None else " %"),
             f(r.get("mu_conf_1s"), ".2f"), f(r.get("fy_front_rms_pct"), ".1f"), f(r.get("fy_rear_rms_pct"), ".1f")]) + " |")
     return "\n".join(lines) + "\n"
+
+
+def table_c(results, c_results, notes):
+    """beta / Fy / mu errors of est_ref, the C float build and the C fixed
+    build per run, and the fixed/float ratio."""
+    builds = [a for a in ("float", "fixed") if any(a in c for c in c_results.values())]
+    hdr = ["run", "beta RMS [deg] ref / " + " / ".join(builds), "beta max [deg]",
+           "Fy front RMS [% peak]", "Fy rear RMS [% peak]", "mu err @ t0+1 s", "fixed/float (worst metric)",
+           "max abs(C - est_ref) beta [rad] / mu, " + " / ".join(builds)]
+    lines = ["| " + " | ".join(hdr) + " |", "|" + "---|" * len(hdr)]
+
+    def f(x, fmt):
+        return "-" if x is None else format(x, fmt)
+    for name, r in results.items():
+        c = c_results.get(name, {})
+        rs = [r] + [c.get(a, {}) for a in builds]
+        cells = [name]
+        for k, fmt in (("beta_rms_deg", ".3f"), ("beta_max_deg", ".3f"), ("fy_front_rms_pct", ".2f"),
+                       ("fy_rear_rms_pct", ".2f"), ("mu_err_1s", ".3f")):
+            cells.append(" / ".join(f(x.get(k), fmt) for x in rs))
+        if "float" in c and "fixed" in c:
+            q, which = fixed_float_ratio(c["float"], c["fixed"])
+            cells.append("-" if q is None else f"{q:.3f} ({which})")
+        else:
+            cells.append("-")
+        cells.append(", ".join(f"{f(c[a].get('dev_beta_max_rad'), '.1e')} / {f(c[a].get('dev_mu_max'), '.1e')}"
+                               for a in builds if a in c))
+        lines.append("| " + " | ".join(cells) + " |")
+    out = "\n".join(lines) + "\n"
+    if notes:
+        out += "\n" + "\n".join(f"Note: {n}" for n in notes) + "\n"
+    return out
+
+
+# ---------------------------------------------------------------------------
+# Real data: the Dallara AV-21 on the Putnam Park road course
+
+AV21_LOG = "/work/shared/data/iac-av21-deepdynamics/Putnam_park2023_run4_2.csv"
+AV21_MASS = 790.0
+AV21_RATE_HZ = 100
+# No .tir exists for the AV-21's slicks: the stand-in is PacejkaBook_Defaults
+# with its nominal load moved to the car's static wheel load (LFZO = 0.5:
+# Fz0' = 2000 N; static loads 2253 N front, 1622 N rear) and its friction
+# raised to a dry racing slick's (LMUX = LMUY = 1.5, an assumption).
+AV21_STANDIN = {"LFZO": "0.5", "LMUX": "1.5", "LMUY": "1.5"}
+
+
+def av21_standin_tir(path):
+    """Writes the stand-in .tir (PacejkaBook_Defaults with AV21_STANDIN)."""
+    import re
+    with open(golden_est.tire_path()) as f:
+        text = f.read()
+    for k, v in AV21_STANDIN.items():
+        text, n = re.subn(rf"(?m)^({k}\s*=\s*)\S+", lambda m: m.group(1) + v, text)
+        if n != 1:
+            raise RuntimeError(f"stand-in tire: {k} not found once in {golden_est.tire_path()}")
+    with open(path, "w") as f:
+        f.write("$ grip stand-in for the Dallara AV-21 (no .tir published): PacejkaBook_Defaults with "
+                + ", ".join(f"{k} = {v}" for k, v in AV21_STANDIN.items()) + " (tools/grip_tools/est_eval.py)\n")
+        f.write(text)
+
+
+def av21_inputs(log):
+    """The AV-21 log (25 Hz) as estimator inputs at AV21_RATE_HZ (linear
+    interpolation): wheel speeds [km/h -> m/s], delta (ROAD-WHEEL angle,
+    fed as the steering input with steer ratio 1), omega (yaw rate), ax,
+    vehicle speed = the INS vx, and ay = vx r + d(vy)/dt derived from the
+    INS (the log has no ay channel; vy taken positive to the right in the
+    log and turned to ISO, as in residual/av21.py; d(vy)/dt smoothed over
+    0.2 s). Returns t, value (N, 13 IN_COLS), valid and the INS arrays."""
+    d = np.genfromtxt(log, delimiter=",", skip_header=1)
+    t0 = d[0, 0]
+    t = d[:, 0] - t0
+    vx, vy = d[:, 3], -d[:, 4]
+    r, delta, ax = d[:, 7], d[:, 6], d[:, 8]
+    ws = d[:, 10:14] / 3.6
+    dvy = np.convolve(np.gradient(vy, t), np.ones(5) / 5.0, mode="same")
+    ay = vx * r + dvy
+    tg = np.arange(0.0, t[-1], 1.0 / AV21_RATE_HZ)
+    cols = [ws[:, 0], ws[:, 1], ws[:, 2], ws[:, 3], delta, r, ax, ay, vx]
+    value = np.zeros((len(tg), len(IN_COLS)))
+    valid = np.zeros((len(tg), len(IN_COLS)), dtype=np.uint8)
+    for i, c in enumerate(cols):
+        value[:, i] = np.interp(tg, t, c)
+        valid[:, i] = 1
+    ins = {"vx": np.interp(tg, t, vx), "vy": np.interp(tg, t, vy), "r": value[:, 5], "ay": value[:, 7]}
+    return tg, value, valid, ins
+
+
+def _stats(a, b):
+    ok = np.isfinite(a) & np.isfinite(b)
+    if ok.sum() < 3:
+        return {"n": int(ok.sum())}
+    a, b = a[ok], b[ok]
+    return {"n": int(ok.sum()), "corr": float(np.corrcoef(a, b)[0, 1]), "rms": float(np.sqrt(np.mean((a - b) ** 2))),
+            "mean_diff": float(np.mean(a - b)), "max_abs_diff": float(np.max(np.abs(a - b)))}
+
+
+def av21_report(log, outdir, bins):
+    """The C builds on the AV-21 log; writes av21.json and av21.png."""
+    tir_path = os.path.join(outdir, "av21_standin.tir")
+    av21_standin_tir(tir_path)
+    t, value, valid, ins = av21_inputs(log)
+    res = {"log": log, "rate_hz": AV21_RATE_HZ, "steps": int(len(t)), "tire": "av21_standin.tir",
+           "standin": AV21_STANDIN, "builds": {}}
+    outs = {}
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "av21_inputs.csv")
+        write_input_csv(path, t, value, valid)
+        for a, b in bins.items():
+            outs[a] = o = run_c(b, tir_path, path, vehicle="av21", step_ms=1000.0 / AV21_RATE_HZ)
+            moving = ins["vx"] > 5.0
+            num = [k for k in o if k not in ("valid", "flags")]
+            finite = all(np.all(np.isfinite(o[k][~np.isnan(o[k])])) for k in num) and \
+                all(np.all(np.isfinite(o[k])) for k in num if k != "ay_model")
+            vb = (o["valid"] & est_ref.V_BETA) != 0
+            vr = (o["valid"] & est_ref.V_YAW_REF) != 0
+            va = (o["valid"] & est_ref.V_AXLE) != 0
+            beta_ins = np.arctan2(ins["vy"], np.maximum(ins["vx"], 1e-3))
+            flag_names = {"standstill": est_ref.F_STANDSTILL, "low_speed": est_ref.F_LOW_SPEED,
+                          "wheel_lock": est_ref.F_WHEEL_LOCK, "wheel_spin": est_ref.F_WHEEL_SPIN,
+                          "excited": est_ref.F_EXCITED, "saturated": est_ref.F_SATURATED,
+                          "steer_limit": est_ref.F_STEER_LIMIT, "reset": est_ref.F_RESET}
+            r = {"errors": int(np.sum(o["est_status"] < 0)), "all_finite": bool(finite),
+                 "moving_steps": int(moving.sum()),
+                 "valid_steps": {"beta": int(vb.sum()), "yaw_ref": int(vr.sum()), "axle": int(va.sum()),
+                                 "mu": int(np.sum((o["valid"] & est_ref.V_MU) != 0))},
+                 "flag_steps": {k: int(np.sum((o["flags"] & v) != 0)) for k, v in flag_names.items()},
+                 "yaw_ref_vs_measured": _stats(np.where(vr & moving, o["yaw_rate_ref"], np.nan), ins["r"]),
+                 "yaw_est_vs_measured": _stats(np.where(vb & moving, o["yaw_rate"], np.nan), ins["r"]),
+                 "ay_model_vs_measured": _stats(np.where(va & moving, o["ay_model"], np.nan), ins["ay"]),
+                 "beta_vs_ins": _stats(np.where(vb & (ins["vx"] > 10.0), o["beta"], np.nan) * DEG,
+                                       np.where(ins["vx"] > 10.0, beta_ins, np.nan) * DEG),
+                 "beta_ins_max_deg": float(np.max(np.abs(beta_ins[ins["vx"] > 10.0])) * DEG),
+                 "beta_est_max_deg": float(np.nanmax(np.abs(np.where(vb, o["beta"], np.nan))) * DEG),
+                 "yaw_rate_bias_end": float(o["yaw_rate_bias"][-1]),
+                 "yaw_rate_bias_range": [float(np.min(o["yaw_rate_bias"])), float(np.max(o["yaw_rate_bias"]))],
+                 "mu_end": float(o["mu"][-1]), "mu_range": [float(np.min(o["mu"][moving])),
+                                                          float(np.max(o["mu"][moving]))],
+                 "mu_conf_max": float(np.max(o["mu_conf"])),
+                 }
+            res["builds"][a] = r
+            print(f"est-eval av21 {a}: {json.dumps(r)}", file=sys.stderr)
+    if "float" in outs and "fixed" in outs:
+        f, x = outs["float"], outs["fixed"]
+        res["fixed_vs_float"] = {k: float(np.nanmax(np.abs(f[k] - x[k])))
+                                 for k in ("beta", "yaw_rate_ref", "mu", "ay_model", "vx")}
+    with open(os.path.join(outdir, "av21.json"), "w") as fh:
+        json.dump(res, fh, indent=1)
+    if outs:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        o = outs.get("float", next(iter(outs.values())))
+        fig, ax = plt.subplots(4, 1, figsize=(12, 10), sharex=True)
+        ax[0].plot(t, ins["vx"], "k", lw=0.8, label="INS vx")
+        ax[0].plot(t, o["vx"], "r", lw=0.8, label="estimate vx")
+        ax[0].set_ylabel("speed [m/s]")
+        ax[1].plot(t, ins["r"], "k", lw=0.8, label="measured")
+        ax[1].plot(t, o["yaw_rate_ref"], "r", lw=0.8, label="bicycle reference")
+        ax[1].set_ylabel("yaw rate [rad/s]")
+        ax[2].plot(t, ins["ay"], "k", lw=0.8, label="vx r + dvy/dt (INS)")
+        ax[2].plot(t, o["ay_model"], "r", lw=0.8, label="model sum Fy / m")
+        ax[2].set_ylabel("ay [m/s^2]")
+        ax[3].plot(t, np.degrees(np.arctan2(ins["vy"], np.maximum(ins["vx"], 1e-3))), "k", lw=0.8, label="INS")
+        ax[3].plot(t, np.degrees(o["beta"]), "r", lw=0.8, label="estimate")
+        ax[3].set_ylabel("sideslip [deg]")
+        ax[3].set_ylim(-10, 10)
+        ax[3].set_xlabel("time [s]")
+        for a_ in ax:
+            a_.grid(True, alpha=0.3)
+            a_.legend(fontsize=7, loc="upper right")
+        fig.suptitle("grip estimator (C float, grip-replay --csv) on the Dallara AV-21, Putnam Park run 4_2")
+        fig.tight_layout()
+        fig.savefig(os.path.join(outdir, "av21.png"), dpi=80)
+        plt.close(fig)
+    return res
 
 
 def plot(runs, ests, path):
@@ -184,26 +456,69 @@ def main(argv=None):
     ap.add_argument("--runs", nargs="*", default=[], help="simulator output directories")
     ap.add_argument("--simulate", action="store_true", help="run the standard manoeuvres first")
     ap.add_argument("--out", default="build/est_eval")
+    ap.add_argument("--runs-dir", default=os.path.join(ROOT, "build", "est_eval"),
+                    help="where --simulate writes (and reuses) the simulator runs (DIR/runs)")
+    ap.add_argument("--c-bin", action="append", default=[], metavar="ARITH=PATH",
+                    help="grip-replay of a build (default build/float-gcc, build/fixed-gcc)")
+    ap.add_argument("--no-c", action="store_true", help="evaluate est_ref only")
+    ap.add_argument("--av21", nargs="?", const=AV21_LOG, default=None, metavar="LOG",
+                    help="also run the C builds on the Dallara AV-21 log (default %(const)s): <out>/av21.json, "
+                         "av21.png, av21_standin.tir")
     a = ap.parse_args(argv)
     os.makedirs(a.out, exist_ok=True)
     runs = list(a.runs)
     if a.simulate:
-        runs += simulate_runs(a.out, ("step-steer", "ramp-steer", "sine-dwell", "brake-in-turn", "mu-step"),
+        runs += simulate_runs(a.runs_dir, ("step-steer", "ramp-steer", "sine-dwell", "brake-in-turn", "mu-step"),
                               ("dry", "wet", "snow"))
-    results, ests = {}, []
+    bins, notes = {}, []
+    if not a.no_c:
+        paths = dict(C_BINS)
+        for spec in a.c_bin:
+            k, _, v = spec.partition("=")
+            paths[k] = v
+        for k, v in paths.items():
+            if os.path.exists(v):
+                bins[k] = v
+            else:
+                notes.append(f"C {k} build skipped: {os.path.relpath(v, ROOT)} is not built "
+                             f"(make ARITH={k} progs)")
+                print(f"est-eval: {notes[-1]}", file=sys.stderr)
+    results, c_results, ests = {}, {}, []
     for d in runs:
+        name = os.path.basename(d.rstrip("/"))
         est = estimate(d)
         ests.append(est)
-        results[os.path.basename(d.rstrip("/"))] = evaluate(d, est)
-        print(f"est-eval: {d}: {results[os.path.basename(d.rstrip('/'))]}", file=sys.stderr)
+        results[name] = evaluate(d, est)
+        c_ests = estimate_c(d, bins)
+        c_results[name] = {k: evaluate(d, e) for k, e in c_ests.items()}
+        for k, e in c_ests.items():
+            # how far the C build is from est_ref on the same inputs
+            c_results[name][k]["dev_beta_max_rad"] = float(np.max(np.abs(e["beta"] - est["beta"])))
+            c_results[name][k]["dev_mu_max"] = float(np.max(np.abs(e["mu"] - est["mu"])))
+        if "float" in c_results[name] and "fixed" in c_results[name]:
+            q, which = fixed_float_ratio(c_results[name]["float"], c_results[name]["fixed"])
+            c_results[name]["fixed_float_ratio"] = q
+            c_results[name]["fixed_float_ratio_metric"] = which
+        print(f"est-eval: {d}: {results[name]}", file=sys.stderr)
     with open(os.path.join(a.out, "accuracy.json"), "w") as f:
-        json.dump(results, f, indent=1)
-    md = table(results)
+        json.dump({"est_ref": results, "c": c_results, "notes": notes}, f, indent=1)
+    md = "## float64 reference (est_ref)\n\n" + table(results)
+    if bins:
+        md += ("\n## C builds (grip-replay --csv) next to est_ref\n\n"
+               "Each cell: est_ref / C float / C fixed (errors against the simulator's truth).\n\n"
+               + table_c(results, c_results, notes))
+    elif notes:
+        md += "\n" + "\n".join(f"Note: {n}" for n in notes) + "\n"
     with open(os.path.join(a.out, "accuracy.md"), "w") as f:
         f.write(md)
     print(md)
     if runs:
         plot(runs, ests, os.path.join(a.out, "accuracy.png"))
+    if a.av21:
+        if not bins:
+            print("est-eval: --av21 needs a C build", file=sys.stderr)
+        else:
+            av21_report(a.av21, a.out, bins)
     return 0
 
 

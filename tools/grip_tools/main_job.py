@@ -58,14 +58,25 @@ def run_grip_tire(binary, tire, rows):
 
 def read_replay(path):
     with open(path) as f:
-        rows = list(csv.DictReader(f))
+        data = list(csv.reader(f))
+    # the input block and the estimator block both have a yaw_rate column
+    # (measured gyro, and the filtered estimate with the bias removed): the
+    # first occurrence of a repeated name is the input, kept as <name>_in
+    names = list(data[0]) if data else []
+    for i, n in enumerate(names):
+        if n in names[i + 1:]:
+            names[i] = n + "_in"
+    rows = [dict(zip(names, r)) for r in data[1:]]
     if not rows or "est_status" not in rows[0]:
         raise SystemExit(f"main job: {path} has no estimator columns (grip-replay -e)")
 
     def col(k):
         return np.array([float(r[k]) if r[k] != "" else np.nan for r in rows])
-    out = {k: col(k) for k in ("t_s", "yaw_rate", "yaw_rate_ref", "beta", "mu", "mu_conf", "vx", "ay",
+    out = {k: col(k) for k in ("t_s", "yaw_rate_in", "yaw_rate", "yaw_rate_ref", "beta", "mu", "mu_conf", "vx", "ay",
                                "steer_angle", "fy_front", "fy_rear", "est_status")}
+    # columns added later (grip-replay's estimator: gyro-bias state, model ay)
+    for k in ("yaw_rate_bias", "ay_model"):
+        out[k] = col(k) if k in rows[0] else np.full(len(rows), np.nan)
     out["valid"] = np.array([int(r["est_valid"]) for r in rows])
     return out
 
@@ -77,13 +88,28 @@ def rav4_report(paths, outdir):
     print(f"{'build':6s} {'steps':>6s} {'errors':>6s} {'beta ok':>8s} {'mu ok':>6s} {'max|beta|':>10s} "
           f"{'yaw: rms(meas-ref)':>19s} {'corr':>5s} {'mean meas/ref [rad/s]':>22s}")
     for a, r in runs.items():
-        yr, ref = r["yaw_rate"], r["yaw_rate_ref"]
+        yr, ref = r["yaw_rate_in"], r["yaw_rate_ref"]   # the measured gyro (CAN)
         ok = np.isfinite(yr) & np.isfinite(ref)
         print(f"{a:6s} {len(yr):6d} {int(np.sum(r['est_status'] < 0)):6d} "
               f"{int(np.sum((r['valid'] & 2) != 0)):8d} {int(np.sum((r['valid'] & 1024) != 0)):6d} "
               f"{np.degrees(np.nanmax(np.abs(r['beta']))):8.2f} deg "
               f"{np.sqrt(np.mean((yr[ok] - ref[ok]) ** 2)):15.4f} {np.corrcoef(yr[ok], ref[ok])[0, 1]:8.2f} "
               f"{np.mean(yr[ok]):10.4f} / {np.mean(ref[ok]):.4f}")
+    for a, r in runs.items():
+        b = r["yaw_rate_bias"]
+        if np.all(np.isnan(b)):
+            continue
+        print(f"{a:6s} learned yaw-rate bias: end {b[-1]:.4f} rad/s, mean over the last 10 s "
+              f"{np.mean(b[r['t_s'] >= r['t_s'][-1] - 10.0]):.4f}, range {np.min(b):.4f} .. {np.max(b):.4f}")
+        yr, ref = r["yaw_rate_in"] - b, r["yaw_rate_ref"]
+        ok = np.isfinite(yr) & np.isfinite(ref)
+        print(f"{a:6s} measured minus learned bias vs reference: rms {np.sqrt(np.mean((yr[ok] - ref[ok]) ** 2)):.4f} "
+              f"rad/s, corr {np.corrcoef(yr[ok], ref[ok])[0, 1]:.2f}, mean {np.mean(yr[ok]):.4f} / {np.mean(ref[ok]):.4f}")
+        am, ay = r["ay_model"], r["ay"]
+        ok = np.isfinite(am) & np.isfinite(ay)
+        if ok.sum() > 2:
+            print(f"{a:6s} model ay (sum Fy / m) vs measured ay: rms {np.sqrt(np.mean((am[ok] - ay[ok]) ** 2)):.3f} "
+                  f"m/s^2, corr {np.corrcoef(am[ok], ay[ok])[0, 1]:.2f}")
     f, x = runs["float"], runs["fixed"]
     print(f"fixed vs float: max |beta| diff {np.nanmax(np.abs(f['beta'] - x['beta'])):.2e} rad, "
           f"max |yaw ref| diff {np.nanmax(np.abs(f['yaw_rate_ref'] - x['yaw_rate_ref'])):.2e} rad/s, "
@@ -95,7 +121,8 @@ def rav4_report(paths, outdir):
     fig, ax = plt.subplots(4, 1, figsize=(11, 10), sharex=True)
     ax[0].plot(t, f["vx"], label="vx estimate")
     ax[0].set_ylabel("speed [m/s]")
-    ax[1].plot(t, f["yaw_rate"], lw=0.8, label="measured (CAN)")
+    ax[1].plot(t, f["yaw_rate_in"], lw=0.8, label="measured (CAN)")
+    ax[1].plot(t, f["yaw_rate"], lw=0.8, label="estimate (gyro bias removed)")
     ax[1].plot(t, f["yaw_rate_ref"], lw=0.8, label="bicycle reference (float)")
     ax[1].plot(t, x["yaw_rate_ref"], "--", lw=0.8, label="bicycle reference (fixed)")
     ax[1].set_ylabel("yaw rate [rad/s]")
