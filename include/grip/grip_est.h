@@ -75,6 +75,17 @@ typedef struct {
                                 * the longitudinal mu update; 0 (default): it never does.
                                 * A speedometer signal reads a few per cent off the wheel
                                 * speeds, i.e. shows slip that is not there (RAV4 log). */
+    /* vehicle-level effects of the residual tool (docs/estimator.md); all 0 =
+     * without them (grip_est_config_default), bit for bit as before */
+    grip_real_t cla;           /* QS m^2 aerodynamic downforce coefficient C_L A, [0, 20]:
+                                * Fz_aero = 0.5 air_density cla vx^2 added to the static
+                                * loads before load transfer                          */
+    grip_real_t aero_front;    /* QS front share of the downforce, [0, 1]              */
+    grip_real_t air_density;   /* QS kg/m^3, [0.5, 1.5]                                */
+    grip_real_t tan_bank;      /* QS road bank: rise per metre to the LEFT of the car,
+                                * [-0.5, 0.5]; body-fixed constant (the tool's earth-fixed
+                                * plane seen at its initial heading)                  */
+    grip_real_t tan_grade;     /* QS road grade: rise per metre ahead, [-0.5, 0.5]     */
     grip_est_tire_t tire[2];   /* front, rear axle                          */
 } grip_est_config_t;
 
@@ -153,6 +164,10 @@ typedef struct {
     int32_t nowheel_n;          /* steps vx stays valid without a speed reference */
     grip_real_t rate;           /* QS step rate [1/s] */
     grip_real_t ay_fac;         /* QS 1 / (1 + g roll_gradient) */
+    grip_real_t fz_base[2];     /* QL per wheel at rest on the road plane: fz_static x cos */
+    grip_real_t g_bank;         /* QS m/s^2 gravity along body y: -g sy / sqrt(1 + sy^2) */
+    grip_real_t g_grade;        /* QS m/s^2 gravity along body x: -g sx / sqrt(1 + sx^2) */
+    grip_real_t k_aero[2];      /* QS N/(m/s)^2 downforce per wheel, front / rear */
     /* state */
     grip_real_t vx;             /* QS */
     grip_real_t x[GRIP_EST_NX]; /* QS vy [m/s], r [rad/s], mu [-], gyro bias [0.001 rad/s] */
