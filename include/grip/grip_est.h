@@ -82,10 +82,13 @@ typedef struct {
                                 * loads before load transfer                          */
     grip_real_t aero_front;    /* QS front share of the downforce, [0, 1]              */
     grip_real_t air_density;   /* QS kg/m^3, [0.5, 1.5]                                */
-    grip_real_t tan_bank;      /* QS road bank: rise per metre to the LEFT of the car,
-                                * [-0.5, 0.5]; body-fixed constant (the tool's earth-fixed
-                                * plane seen at its initial heading)                  */
-    grip_real_t tan_grade;     /* QS road grade: rise per metre ahead, [-0.5, 0.5]     */
+    grip_real_t tan_bank;      /* QS road plane, earth-fixed as in the residual tool: rise
+                                * per metre to the LEFT of the heading at init / reset,
+                                * [-0.5, 0.5]                                          */
+    grip_real_t tan_grade;     /* QS rise per metre along that heading, [-0.5, 0.5];
+                                * the body sees sx = tan_grade cos(psi) + tan_bank sin(psi),
+                                * sy = tan_bank cos(psi) - tan_grade sin(psi), psi = the
+                                * integral of the (bias-corrected) yaw rate since reset */
     grip_est_tire_t tire[2];   /* front, rear axle                          */
 } grip_est_config_t;
 
@@ -165,9 +168,9 @@ typedef struct {
     grip_real_t rate;           /* QS step rate [1/s] */
     grip_real_t ay_fac;         /* QS 1 / (1 + g roll_gradient) */
     grip_real_t fz_base[2];     /* QL per wheel at rest on the road plane: fz_static x cos */
-    grip_real_t g_bank;         /* QS m/s^2 gravity along body y: -g sy / sqrt(1 + sy^2) */
-    grip_real_t g_grade;        /* QS m/s^2 gravity along body x: -g sx / sqrt(1 + sx^2) */
     grip_real_t k_aero[2];      /* QS N/(m/s)^2 downforce per wheel, front / rear */
+    int32_t plane;              /* 1: tan_bank or tan_grade non-zero */
+    grip_real_t psi;            /* QS rad heading since reset (only with plane), (-pi, pi] */
     /* state */
     grip_real_t vx;             /* QS */
     grip_real_t x[GRIP_EST_NX]; /* QS vy [m/s], r [rad/s], mu [-], gyro bias [0.001 rad/s] */

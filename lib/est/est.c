@@ -148,6 +148,7 @@ grip_status_t grip_est_reset(grip_est_t *est)
     est->lim_steps = 0;
     est->active = 0;
     est->vx_init = 0;
+    est->psi = R_ZERO;
     return GRIP_OK;
 }
 
@@ -228,16 +229,14 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
     est->rate = r_from_int((int32_t)cfg->rate_hz);
     est->ay_fac = r_div(R_ONE, r_add(R_ONE, r_mul(RC(EST_G), cfg->roll_gradient)));
     {
-        /* road plane (residual/vehicle.py): body-axis gravity components and
-         * the normal load factor 1 / sqrt(1 + sx^2 + sy^2) */
+        /* road plane (residual/vehicle.py): the normal load factor
+         * 1 / sqrt(1 + sx^2 + sy^2) does not depend on the heading */
         grip_real_t sx = cfg->tan_grade, sy = cfg->tan_bank;
-        grip_real_t sx2 = r_sq(sx), sy2 = r_sq(sy);
-        grip_real_t fzn = r_div(R_ONE, r_sqrt(r_add(R_ONE, r_add(sx2, sy2))));
+        grip_real_t fzn = r_div(R_ONE, r_sqrt(r_add(R_ONE, r_add(r_sq(sx), r_sq(sy)))));
         grip_real_t kq = r_mul(RC(0.25), r_mul(cfg->air_density, cfg->cla));   /* per wheel */
-        est->g_grade = r_neg(r_div(r_mul(RC(EST_G), sx), r_sqrt(r_add(R_ONE, sx2))));
-        est->g_bank = r_neg(r_div(r_mul(RC(EST_G), sy), r_sqrt(r_add(R_ONE, sy2))));
+        est->plane = (sx != R_ZERO || sy != R_ZERO) ? 1 : 0;
         for (a = 0; a < 2; ++a) {
-            est->fz_base[a] = (sx == R_ZERO && sy == R_ZERO) ? est->fz_static[a] : r_mul(fzn, est->fz_static[a]);
+            est->fz_base[a] = est->plane ? r_mul(fzn, est->fz_static[a]) : est->fz_static[a];
         }
         est->k_aero[0] = r_mul(kq, cfg->aero_front);
         est->k_aero[1] = r_mul(kq, r_sub(R_ONE, cfg->aero_front));
@@ -436,7 +435,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     uint32_t flags = 0, valid = 0;
     int steer_ok, yaw_ok, ax_ok, ay_ok, vs_ok;
     int i, n_ws = 0, active, excited, wheels_ok = 1, lock = 0, spin = 0, stand = 0, at_rest = 0;
-    grip_real_t delta, cd, sd, yaw, ax, ay, rate;
+    grip_real_t delta, cd, sd, yaw, ax, ay, rate, g_x, g_y;
     grip_real_t ws[4];
     int ws_ok[4];
     grip_real_t vmin = RC(1000.0), vmax = RC(-1000.0), vsum = R_ZERO, v_ref = R_ZERO;
@@ -494,6 +493,23 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
      * phi = roll_gradient * ay, so ay = ay_meas / (1 + g roll_gradient) */
     ay = ay_ok ? r_mul(est->ay_fac, est->hold[H_AY]) : R_ZERO;
 
+    /* road plane: gravity along the body axes at the heading since reset */
+    g_x = R_ZERO;
+    g_y = R_ZERO;
+    if (est->plane) {
+        grip_real_t cp = r_cos(est->psi), sp = r_sin(est->psi);
+        grip_real_t sx = r_add(r_mul(c->tan_grade, cp), r_mul(c->tan_bank, sp));
+        grip_real_t sy = r_sub(r_mul(c->tan_bank, cp), r_mul(c->tan_grade, sp));
+        g_x = r_neg(r_div(r_mul(RC(EST_G), sx), r_sqrt(r_add(R_ONE, r_sq(sx)))));
+        g_y = r_neg(r_div(r_mul(RC(EST_G), sy), r_sqrt(r_add(R_ONE, r_sq(sy)))));
+        est->psi = r_add(est->psi, r_div(yaw, rate));
+        if (est->psi > RC(3.14159265358979)) {
+            est->psi = r_sub(est->psi, RC(6.28318530717959));
+        } else if (est->psi < RC(-3.14159265358979)) {
+            est->psi = r_add(est->psi, RC(6.28318530717959));
+        } /* grip-deviation: MISRA-15.7 within (-pi, pi]: nothing to do */
+    }
+
     xw[0] = c->lf;
     xw[1] = c->lf;
     xw[2] = r_neg(c->lr);
@@ -507,7 +523,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     {
         grip_real_t r_now = est->active ? est->x[1] : yaw;
         grip_real_t vy_now = est->active ? est->x[0] : R_ZERO;
-        grip_real_t vx_pred = r_add(est->vx, r_div(r_add(r_add(ax, r_mul(r_now, vy_now)), est->g_grade), rate));
+        grip_real_t vx_pred = r_add(est->vx, r_div(r_add(r_add(ax, r_mul(r_now, vy_now)), g_x), rate));
         grip_real_t k = R_ZERO;
         grip_real_t vcs[4];
         int outl[4], n_good = 0;
@@ -858,7 +874,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
          * friction-limit indication); else it would absorb the model's errors */
         b_ok = umax_est < RC(EST_B_U) && r_abs(ay) < RC(EST_B_A) && r_abs(ax) < RC(EST_B_AX) && !lock && !spin &&
                !at_limit;
-        dvy = r_div(r_sub(r_add(ay_ok ? ay : ay_m, est->g_bank), r_mul(r, vx)), rate);
+        dvy = r_div(r_sub(r_add(ay_ok ? ay : ay_m, g_y), r_mul(r, vx)), rate);
         dr = r_div(racc, rate);
         {
             grip_real_t a_vv = r_div(jay[0], m), a_vr = r_div(jay[1], m), a_vm = r_div(jay[2], m);

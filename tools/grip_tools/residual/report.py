@@ -30,7 +30,7 @@ def onboard_config(name, params, model, dt=None):
         tb, tg = float(params["tan_bank"]), float(params["tan_grade"])
         ok = abs(tb) <= 0.5 and abs(tg) <= 0.5
         return {"grip_est_config": {"tan_bank": tb, "tan_grade": tg,
-                                    "note": "body-fixed constants = the tool's earth-fixed plane at the initial heading"},
+                                    "note": "earth-fixed plane at the heading of grip_est_init / grip_est_reset, as the tool's"},
                 "representable": ok}
     if name == "aero_load" and hasattr(model, "v"):
         v = model.v
