@@ -75,6 +75,20 @@ typedef struct {
                                 * the longitudinal mu update; 0 (default): it never does.
                                 * A speedometer signal reads a few per cent off the wheel
                                 * speeds, i.e. shows slip that is not there (RAV4 log). */
+    /* vehicle-level effects of the residual tool (docs/estimator.md); all 0 =
+     * without them (grip_est_config_default), bit for bit as before */
+    grip_real_t cla;           /* QS m^2 aerodynamic downforce coefficient C_L A, [0, 20]:
+                                * Fz_aero = 0.5 air_density cla vx^2 added to the static
+                                * loads before load transfer                          */
+    grip_real_t aero_front;    /* QS front share of the downforce, [0, 1]              */
+    grip_real_t air_density;   /* QS kg/m^3, [0.5, 1.5]                                */
+    grip_real_t tan_bank;      /* QS road plane, earth-fixed as in the residual tool: rise
+                                * per metre to the LEFT of the heading at init / reset,
+                                * [-0.5, 0.5]                                          */
+    grip_real_t tan_grade;     /* QS rise per metre along that heading, [-0.5, 0.5];
+                                * the body sees sx = tan_grade cos(psi) + tan_bank sin(psi),
+                                * sy = tan_bank cos(psi) - tan_grade sin(psi), psi = the
+                                * integral of the (bias-corrected) yaw rate since reset */
     grip_est_tire_t tire[2];   /* front, rear axle                          */
 } grip_est_config_t;
 
@@ -153,6 +167,10 @@ typedef struct {
     int32_t nowheel_n;          /* steps vx stays valid without a speed reference */
     grip_real_t rate;           /* QS step rate [1/s] */
     grip_real_t ay_fac;         /* QS 1 / (1 + g roll_gradient) */
+    grip_real_t fz_base[2];     /* QL per wheel at rest on the road plane: fz_static x cos */
+    grip_real_t k_aero[2];      /* QS N/(m/s)^2 downforce per wheel, front / rear */
+    int32_t plane;              /* 1: tan_bank or tan_grade non-zero */
+    grip_real_t psi;            /* QS rad heading since reset (only with plane), (-pi, pi] */
     /* state */
     grip_real_t vx;             /* QS */
     grip_real_t x[GRIP_EST_NX]; /* QS vy [m/s], r [rad/s], mu [-], gyro bias [0.001 rad/s] */

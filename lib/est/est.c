@@ -79,6 +79,11 @@ grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_para
     cfg->roll_gradient = RC(0.0088);
     cfg->rate_hz = 100u;
     cfg->speed_ref_mu = 0u;
+    cfg->cla = R_ZERO;
+    cfg->aero_front = RC(0.5);
+    cfg->air_density = RC(1.2);
+    cfg->tan_bank = R_ZERO;
+    cfg->tan_grade = R_ZERO;
     cfg->tire[0].kind = GRIP_EST_TIRE_MF;
     cfg->tire[0].model.mf = tire;
     cfg->tire[1].kind = GRIP_EST_TIRE_MF;
@@ -95,7 +100,9 @@ static grip_status_t check_config(const grip_est_config_t *c)
         !in_range(c->h_cg, R_ZERO, RC(3.0)) || !in_range(c->steer_ratio, R_ONE, RC(100.0)) ||
         !in_range(c->wheel_radius, RC(0.05), RC(2.0)) ||
         !in_range(c->roll_split_front, R_ZERO, R_ONE) || !in_range(c->roll_gradient, R_ZERO, RC(0.05)) || c->rate_hz < 50u || c->rate_hz > 2000u ||
-        c->speed_ref_mu > 1u) {
+        c->speed_ref_mu > 1u || !in_range(c->cla, R_ZERO, RC(20.0)) || !in_range(c->aero_front, R_ZERO, R_ONE) ||
+        !in_range(c->air_density, RC(0.5), RC(1.5)) || !in_range(c->tan_bank, RC(-0.5), RC(0.5)) ||
+        !in_range(c->tan_grade, RC(-0.5), RC(0.5))) {
         return GRIP_ERR_PARAM;
     }
     for (a = 0; a < 2; ++a) {
@@ -141,6 +148,7 @@ grip_status_t grip_est_reset(grip_est_t *est)
     est->lim_steps = 0;
     est->active = 0;
     est->vx_init = 0;
+    est->psi = R_ZERO;
     return GRIP_OK;
 }
 
@@ -220,6 +228,19 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
     }
     est->rate = r_from_int((int32_t)cfg->rate_hz);
     est->ay_fac = r_div(R_ONE, r_add(R_ONE, r_mul(RC(EST_G), cfg->roll_gradient)));
+    {
+        /* road plane (residual/vehicle.py): the normal load factor
+         * 1 / sqrt(1 + sx^2 + sy^2) does not depend on the heading */
+        grip_real_t sx = cfg->tan_grade, sy = cfg->tan_bank;
+        grip_real_t fzn = r_div(R_ONE, r_sqrt(r_add(R_ONE, r_add(r_sq(sx), r_sq(sy)))));
+        grip_real_t kq = r_mul(RC(0.25), r_mul(cfg->air_density, cfg->cla));   /* per wheel */
+        est->plane = (sx != R_ZERO || sy != R_ZERO) ? 1 : 0;
+        for (a = 0; a < 2; ++a) {
+            est->fz_base[a] = est->plane ? r_mul(fzn, est->fz_static[a]) : est->fz_static[a];
+        }
+        est->k_aero[0] = r_mul(kq, cfg->aero_front);
+        est->k_aero[1] = r_mul(kq, r_sub(R_ONE, cfg->aero_front));
+    }
     est->q[0] = r_div(RC(EST_Q_VY), est->rate);
     est->q[1] = r_div(RC(EST_Q_R), est->rate);
     est->q[2] = r_div(RC(EST_Q_MU), est->rate);
@@ -414,7 +435,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     uint32_t flags = 0, valid = 0;
     int steer_ok, yaw_ok, ax_ok, ay_ok, vs_ok;
     int i, n_ws = 0, active, excited, wheels_ok = 1, lock = 0, spin = 0, stand = 0, at_rest = 0;
-    grip_real_t delta, cd, sd, yaw, ax, ay, rate;
+    grip_real_t delta, cd, sd, yaw, ax, ay, rate, g_x, g_y;
     grip_real_t ws[4];
     int ws_ok[4];
     grip_real_t vmin = RC(1000.0), vmax = RC(-1000.0), vsum = R_ZERO, v_ref = R_ZERO;
@@ -472,6 +493,23 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
      * phi = roll_gradient * ay, so ay = ay_meas / (1 + g roll_gradient) */
     ay = ay_ok ? r_mul(est->ay_fac, est->hold[H_AY]) : R_ZERO;
 
+    /* road plane: gravity along the body axes at the heading since reset */
+    g_x = R_ZERO;
+    g_y = R_ZERO;
+    if (est->plane) {
+        grip_real_t cp = r_cos(est->psi), sp = r_sin(est->psi);
+        grip_real_t sx = r_add(r_mul(c->tan_grade, cp), r_mul(c->tan_bank, sp));
+        grip_real_t sy = r_sub(r_mul(c->tan_bank, cp), r_mul(c->tan_grade, sp));
+        g_x = r_neg(r_div(r_mul(RC(EST_G), sx), r_sqrt(r_add(R_ONE, r_sq(sx)))));
+        g_y = r_neg(r_div(r_mul(RC(EST_G), sy), r_sqrt(r_add(R_ONE, r_sq(sy)))));
+        est->psi = r_add(est->psi, r_div(yaw, rate));
+        if (est->psi > RC(3.14159265358979)) {
+            est->psi = r_sub(est->psi, RC(6.28318530717959));
+        } else if (est->psi < RC(-3.14159265358979)) {
+            est->psi = r_add(est->psi, RC(6.28318530717959));
+        } /* grip-deviation: MISRA-15.7 within (-pi, pi]: nothing to do */
+    }
+
     xw[0] = c->lf;
     xw[1] = c->lf;
     xw[2] = r_neg(c->lr);
@@ -485,7 +523,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     {
         grip_real_t r_now = est->active ? est->x[1] : yaw;
         grip_real_t vy_now = est->active ? est->x[0] : R_ZERO;
-        grip_real_t vx_pred = r_add(est->vx, r_div(r_add(ax, r_mul(r_now, vy_now)), rate));
+        grip_real_t vx_pred = r_add(est->vx, r_div(r_add(r_add(ax, r_mul(r_now, vy_now)), g_x), rate));
         grip_real_t k = R_ZERO;
         grip_real_t vcs[4];
         int outl[4], n_good = 0;
@@ -603,10 +641,14 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         grip_real_t may_h = r_mul(c->h_cg, r_mul(ay, c->mass));                            /* N m */
         grip_real_t dlat_f = r_mul(c->roll_split_front, r_div_keep(may_h, c->track_f));
         grip_real_t dlat_r = r_mul(r_sub(R_ONE, c->roll_split_front), r_div_keep(may_h, c->track_r));
-        out->fz[0] = r_sub(r_sub(est->fz_static[0], dlong), dlat_f);
-        out->fz[1] = r_add(r_sub(est->fz_static[0], dlong), dlat_f);
-        out->fz[2] = r_sub(r_add(est->fz_static[1], dlong), dlat_r);
-        out->fz[3] = r_add(r_add(est->fz_static[1], dlong), dlat_r);
+        /* static load on the road plane plus downforce 0.5 rho C_L A vx^2 */
+        grip_real_t v2 = r_qs_to_ql(r_sq(vx));
+        grip_real_t fz0f = r_add(est->fz_base[0], r_mul(est->k_aero[0], v2));
+        grip_real_t fz0r = r_add(est->fz_base[1], r_mul(est->k_aero[1], v2));
+        out->fz[0] = r_sub(r_sub(fz0f, dlong), dlat_f);
+        out->fz[1] = r_add(r_sub(fz0f, dlong), dlat_f);
+        out->fz[2] = r_sub(r_add(fz0r, dlong), dlat_r);
+        out->fz[3] = r_add(r_add(fz0r, dlong), dlat_r);
         for (i = 0; i < 4; ++i) {
             out->fz[i] = r_max(out->fz[i], R_ZERO);
         }
@@ -832,7 +874,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
          * friction-limit indication); else it would absorb the model's errors */
         b_ok = umax_est < RC(EST_B_U) && r_abs(ay) < RC(EST_B_A) && r_abs(ax) < RC(EST_B_AX) && !lock && !spin &&
                !at_limit;
-        dvy = r_div(r_sub(ay_ok ? ay : ay_m, r_mul(r, vx)), rate);
+        dvy = r_div(r_sub(r_add(ay_ok ? ay : ay_m, g_y), r_mul(r, vx)), rate);
         dr = r_div(racc, rate);
         {
             grip_real_t a_vv = r_div(jay[0], m), a_vr = r_div(jay[1], m), a_vm = r_div(jay[2], m);

@@ -95,6 +95,7 @@ typedef struct {
     const char *file;
     double dt;
     int optional;
+    int aero_bank;   /* 1: golden_est.AERO_BANK configuration */
 } seq_t;
 
 static void run_sequence(const seq_t *sq)
@@ -120,6 +121,13 @@ static void run_sequence(const seq_t *sq)
     }
     assert_int_equal(grip_est_config_default(&cfg, tp), GRIP_OK);
     cfg.rate_hz = (uint32_t)lround(1.0 / sq->dt);
+    if (sq->aero_bank) {
+        cfg.cla = to_qs(2.5);
+        cfg.aero_front = to_qs(0.42);
+        cfg.air_density = to_qs(1.2);
+        cfg.tan_bank = to_qs(0.04);
+        cfg.tan_grade = to_qs(0.02);
+    }
     assert_int_equal(grip_est_init(&est, &cfg), GRIP_OK);
     grip_debug_saturation_reset();
     err_init(&e_vx, "vx", 1.0);
@@ -203,16 +211,18 @@ static void run_sequence(const seq_t *sq)
 }
 
 static const seq_t seqs[] = {
-    { "est_bicycle_100hz.txt", 0.01, 0 },
-    { "est_bicycle_1khz.txt", 0.001, 0 },
-    { "est_faults_100hz.txt", 0.01, 0 },
-    { "est_sim_sine_dwell.txt", 0.01, 1 },
+    { "est_bicycle_100hz.txt", 0.01, 0, 0 },
+    { "est_bicycle_1khz.txt", 0.001, 0, 0 },
+    { "est_faults_100hz.txt", 0.01, 0, 0 },
+    { "est_sim_sine_dwell.txt", 0.01, 1, 0 },
+    { "est_aero_bank_100hz.txt", 0.01, 0, 1 },
 };
 
 static void test_bicycle_100hz(void **state) { (void)state; run_sequence(&seqs[0]); }
 static void test_bicycle_1khz(void **state) { (void)state; run_sequence(&seqs[1]); }
 static void test_faults_100hz(void **state) { (void)state; run_sequence(&seqs[2]); }
 static void test_sim_sine_dwell(void **state) { (void)state; run_sequence(&seqs[3]); }
+static void test_aero_bank_100hz(void **state) { (void)state; run_sequence(&seqs[4]); }
 
 int main(void)
 {
@@ -221,6 +231,7 @@ int main(void)
         cmocka_unit_test(test_bicycle_1khz),
         cmocka_unit_test(test_faults_100hz),
         cmocka_unit_test(test_sim_sine_dwell),
+        cmocka_unit_test(test_aero_bank_100hz),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -71,6 +71,7 @@ def config(tire_front, tire_rear=None, rate_hz=100, **kw):
              rate_hz=int(rate_hz),
              dt=1.0 / int(rate_hz),
              speed_ref_mu=0,
+             cla=0.0, aero_front=0.5, air_density=1.2, tan_bank=0.0, tan_grade=0.0,
              tire=(tire_front, tire_rear if tire_rear is not None else tire_front))
     c.update(kw)
     return c
@@ -112,6 +113,14 @@ class Estimator:
         self.k_us = 100.0 * c["mass"] * (c["lr"] * cr - c["lf"] * cf) / (l * l * cf * cr)
         self.q = Q_C / c["rate_hz"]
         self.ay_fac = 1.0 / (1.0 + G * c["roll_gradient"])
+        # road plane and downforce (grip_est_init, same order)
+        sx, sy = c.get("tan_grade", 0.0), c.get("tan_bank", 0.0)
+        fzn = 1.0 / math.sqrt(1.0 + sx * sx + sy * sy)
+        kq = 0.25 * c.get("air_density", 1.2) * c.get("cla", 0.0)
+        self.plane = sx != 0.0 or sy != 0.0
+        self.fz_base = [f * fzn for f in self.fz_static] if self.plane else list(self.fz_static)
+        af = c.get("aero_front", 0.5)
+        self.k_aero = [kq * af, kq * (1.0 - af)]
         rate = c["rate_hz"]
         self.lim_n = int(math.floor(LIM_T * rate + 0.5))
         self.hold_steps = max(1, int(math.floor(HOLD_T * rate + 0.5)))
@@ -120,6 +129,7 @@ class Estimator:
 
     def reset(self):
         self.vx = 0.0
+        self.psi = 0.0
         self.x = np.array([0.0, 0.0, MU_INIT, 0.0])
         self.P = np.diag(P0).astype(float)
         self.hold = [0.0] * 5
@@ -208,13 +218,26 @@ class Estimator:
         yaw = self.hold[1] - B_UNIT * self.x[3] if yaw_ok else 0.0
         ax = self.hold[2] if ax_ok else 0.0
         ay = self.ay_fac * self.hold[3] if ay_ok else 0.0
+        # road plane: gravity along the body axes at the heading since reset
+        g_x = g_y = 0.0
+        if self.plane:
+            cp, sp = math.cos(self.psi), math.sin(self.psi)
+            sx = c["tan_grade"] * cp + c["tan_bank"] * sp
+            sy = c["tan_bank"] * cp - c["tan_grade"] * sp
+            g_x = -G * sx / math.sqrt(1.0 + sx * sx)
+            g_y = -G * sy / math.sqrt(1.0 + sy * sy)
+            self.psi += yaw * dt
+            if self.psi > math.pi:
+                self.psi -= 2.0 * math.pi
+            elif self.psi < -math.pi:
+                self.psi += 2.0 * math.pi
         xw = [c["lf"], c["lf"], -c["lr"], -c["lr"]]
         yw = [0.5 * c["track_f"], -0.5 * c["track_f"], 0.5 * c["track_r"], -0.5 * c["track_r"]]
 
         # longitudinal speed
         r_now = self.x[1] if self.active else yaw
         vy_now = self.x[0] if self.active else 0.0
-        vx_pred = self.vx + (ax + r_now * vy_now) * dt
+        vx_pred = self.vx + (ax + r_now * vy_now + g_x) * dt
         ws, ws_ok = [0.0] * 4, [False] * 4
         n_ws, vmin, vmax, vsum = 0, 1000.0, -1000.0, 0.0
         lock = spin = False
@@ -300,9 +323,11 @@ class Estimator:
         may_h = c["h_cg"] * (ay * m)
         dlat_f = c["roll_split_front"] * may_h / c["track_f"]
         dlat_r = (1 - c["roll_split_front"]) * may_h / c["track_r"]
-        fzs = self.fz_static
-        fz = np.array([fzs[0] - dlong - dlat_f, fzs[0] - dlong + dlat_f,
-                       fzs[1] + dlong - dlat_r, fzs[1] + dlong + dlat_r])
+        # static load on the road plane plus downforce 0.5 rho C_L A vx^2
+        v2 = vx * vx
+        fz0 = [self.fz_base[0] + self.k_aero[0] * v2, self.fz_base[1] + self.k_aero[1] * v2]
+        fz = np.array([fz0[0] - dlong - dlat_f, fz0[0] - dlong + dlat_f,
+                       fz0[1] + dlong - dlat_r, fz0[1] + dlong + dlat_r])
         fz = np.maximum(fz, 0.0)
         o["fz"] = fz
         if ax_ok and ay_ok:
@@ -369,7 +394,7 @@ class Estimator:
                 if ws_ok[i]:
                     vbits |= V_WHEEL(i)
             axle = np.array([0, 0, 1, 1])
-            fzst = np.array([fzs[a] for a in axle])
+            fzst = np.array([self.fz_static[a] for a in axle])
             mu0w = np.array([self.mu0[a] for a in axle])
             caw = np.array([self.c_alpha[a] for a in axle])
             ckw = np.array([self.c_kappa[a] for a in axle])
@@ -432,7 +457,7 @@ class Estimator:
             # or the yaw-rate limit test set)
             b_ok = (float(np.max(o["util"])) < B_U and abs(ay) < B_A and abs(ax) < B_AX and not lock
                     and not spin and not at_limit)
-            dvy = ((ay if ay_ok else ay_m) - r * vx) * dt
+            dvy = ((ay if ay_ok else ay_m) + g_y - r * vx) * dt
             dr = racc * dt
             a_vv, a_vr, a_vm = jay[0] / m, jay[1] / m, jay[2] / m
             a_rv, a_rr, a_rm = jr[0] / c["iz"], jr[1] / c["iz"], jr[2] / c["iz"]

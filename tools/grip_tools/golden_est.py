@@ -9,6 +9,10 @@ Input sequences (the C test replays exactly the same rows):
   faults_100hz    the generator's signals with faults injected: invalid and
                   stale flags, NaN/Inf values (valid flag set), saturated
                   values, a locked wheel, standstill, reversing
+  aero_bank_100hz the internal generator at 30 m/s, run with the vehicle-level
+                  effects on: downforce C_L A = 2.5 m^2 (front share 0.42,
+                  rho 1.2), road bank tan = 0.04 (rise to the left) and grade
+                  tan = 0.02 (AERO_BANK below; test_est_golden.c sets the same)
   sim_sine_dwell  the reference vehicle simulator (grip_tools.vehsim) when
                   present: sine with dwell on a wet road, its sensor models
                   (noise, delay, quantization); skipped if the simulator is
@@ -182,13 +186,16 @@ def out_row(o):
     return row
 
 
-def write_sequence(outdir, name, dt, t, value, valid, note):
-    cfg = est_ref.config(tire_params(), rate_hz=int(round(1.0 / dt)))
+AERO_BANK = dict(cla=2.5, aero_front=0.42, air_density=1.2, tan_bank=0.04, tan_grade=0.02)
+
+
+def write_sequence(outdir, name, dt, t, value, valid, note, **cfg_kw):
+    cfg = est_ref.config(tire_params(), rate_hz=int(round(1.0 / dt)), **cfg_kw)
     outs = est_ref.run(cfg, value, valid)
     in_cols = ["t"] + [f"in{i}" for i in range(est_ref.N_IN)] + ["valid_mask"]
     text = header("grip_tools.golden_est", est_ref.Estimator, SEED, in_cols + out_columns(),
                   {"sequence": name, "dt": dt, "tire": TIRE, "vehicle": "est_ref.config (passenger)",
-                   "note": note})
+                   "note": note, **{k: repr(v) for k, v in cfg_kw.items()}})
     lines = [text.rstrip("\n")]
     for k in range(len(t)):
         mask = int(sum(int(valid[k, i]) << i for i in range(est_ref.N_IN)))
@@ -219,6 +226,9 @@ def write_golden(outdir):
     t, v, ok, _ = bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED + 1)
     fv, fok = inject_faults(t, v, ok)
     write_sequence(outdir, "faults_100hz", 0.01, t, fv, fok, "internal generator with injected faults")
+    t, v, ok, _ = bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), v0=30.0)
+    write_sequence(outdir, "aero_bank_100hz", 0.01, t, v, ok, "internal generator at 30 m/s, aero and bank on",
+                   **AERO_BANK)
     sim = sim_inputs()
     path = os.path.join(outdir, "est_sim_sine_dwell.txt")
     if sim is not None:

@@ -318,7 +318,7 @@ class Bank(Effect):
     x0 = (0.0,)
     lo = (-0.3,)
     hi = (0.3,)
-    onboard = "estimator input (gravity component) / signal table offset; no tire term"
+    onboard = "no tyre term; at vehicle level grip_est_config_t.tan_bank / tan_grade (lib/est)"
 
     def applicable(self, ds):
         return ("fy" in ds.outputs and _varies(ds, "fz", 1.0), "needs fy and varying fz")
@@ -332,7 +332,7 @@ class Bank(Effect):
 class Bias(Effect):
     name = "sensor_bias"
     level = "any"
-    onboard = "signal table offset (grip_signals)"
+    onboard = "lib/calib grip_calib_config_t.offset (vehicle level: yaw rate, ay)"
 
     def n_params(self, ds):
         return len(ds.outputs)
@@ -351,7 +351,7 @@ class Bias(Effect):
 class Scale(Effect):
     name = "sensor_scale"
     level = "any"
-    onboard = "signal table scale (grip_signals)"
+    onboard = "lib/calib grip_calib_config_t.gain = 1 / (1 + s) (vehicle level: yaw rate, ay)"
 
     def n_params(self, ds):
         return len(ds.outputs)
@@ -378,7 +378,7 @@ class Delay(Effect):
     x0 = (0.0,)
     lo = (-0.5,)
     hi = (0.5,)
-    onboard = "signal table / input buffer delay (whole samples)"
+    onboard = "lib/calib grip_calib_config_t.delay (whole steps, <= 32; vehicle level)"
 
     def predict(self, model, ds, x):
         out = model.predict(ds.ch)
@@ -472,7 +472,7 @@ class VBank(VehicleEffect):
     pnames = ("tan_bank", "tan_grade")
     x0, lo, hi, steps = (0.0, 0.0), (-0.3, -0.3), (0.3, 0.3), (0.01, 0.01)
     iters = 3
-    onboard = "estimator gravity input (lateral slope); not a tyre term"
+    onboard = "lib/est grip_est_config_t.tan_bank, tan_grade (earth-fixed road plane); not a tyre term"
 
     def over(self, x):
         return {"tan_bank": float(x[0]), "tan_grade": float(x[1])}
@@ -483,7 +483,7 @@ class VAero(VehicleEffect):
     pnames = ("cla_add_m2",)
     x0, lo, hi, steps = (0.0,), (-3.0,), (10.0,), (0.5,)
     iters = 3
-    onboard = "vehicle configuration: downforce coefficient C_L A in the load model (lib/est), not a tyre parameter"
+    onboard = "lib/est grip_est_config_t.cla (+ aero_front, air_density): downforce in the load model"
 
     def over(self, x):
         return {"cla_add": float(x[0])}

@@ -7,11 +7,78 @@ import numpy as np
 from . import attribution
 
 
-def effect_update(name, params, model):
+# ESC inputs the vehicle-level outputs are measured by (grip_calib input index)
+CALIB_OF_OUTPUT = {"r": 5, "ay": 7}
+# inputs that drive the vehicle models (delayed when the outputs lag them)
+CALIB_MODEL_INPUTS = (0, 1, 2, 3, 4, 6, 8)
+
+
+def onboard_config(name, params, model, dt=None):
+    """The vehicle-level effects as onboard settings (docs/calibration.md,
+    docs/estimator.md): {"grip_est_config": {...}} with the estimator's
+    aero / road-plane fields, or {"grip_calib_config": {offset, gain, delay,
+    inputs}} for the sensor effects, SI units, arrays over the GRIP_CALIB_N
+    inputs. A value outside the onboard range is still written, with
+    "representable": false and the reason. {} for effects that have no
+    vehicle-level onboard setting here (tyre-level sensor effects: their
+    outputs are not ESC inputs)."""
+    from .. import calib_ref
+    kind = getattr(model, "kind", "")
+    if kind != "vehicle":
+        return {}
+    if name == "road_bank" and "tan_bank" in params:
+        tb, tg = float(params["tan_bank"]), float(params["tan_grade"])
+        ok = abs(tb) <= 0.5 and abs(tg) <= 0.5
+        return {"grip_est_config": {"tan_bank": tb, "tan_grade": tg,
+                                    "note": "earth-fixed plane at the heading of grip_est_init / grip_est_reset, as the tool's"},
+                "representable": ok}
+    if name == "aero_load" and hasattr(model, "v"):
+        v = model.v
+        cla = float(np.mean(v.cla)) + float(params["cla_add_m2"])
+        return {"grip_est_config": {"cla": cla, "aero_front": float(v.aero_balance_front),
+                                    "air_density": float(v.rho)},
+                "representable": bool(0.0 <= cla <= 20.0)}
+    if name not in ("sensor_bias", "sensor_scale", "sensor_delay"):
+        return {}
+    cal = calib_ref.identity()
+    why = []
+    if name in ("sensor_bias", "sensor_scale"):
+        for o, x in params.items():
+            o = o.split("_")[-1] if o not in CALIB_OF_OUTPUT else o
+            if o not in CALIB_OF_OUTPUT:
+                continue
+            i = CALIB_OF_OUTPUT[o]
+            if name == "sensor_bias":
+                cal["offset"][i] = float(x)        # sensor reads true + b
+            else:
+                cal["gain"][i] = 1.0 / (1.0 + float(x))   # sensor reads (1 + s) true
+    else:
+        d = float(params["delay_s"])
+        steps = int(round(abs(d) / dt)) if dt else 0
+        # outputs lag the model by d > 0: delay the model's inputs; d < 0: the outputs
+        for i in (CALIB_MODEL_INPUTS if d > 0 else CALIB_OF_OUTPUT.values()):
+            cal["delay"][i] = steps
+        if steps > calib_ref.DELAY_MAX:
+            why.append(f"delay {steps} steps > GRIP_CALIB_DELAY_MAX {calib_ref.DELAY_MAX}")
+    try:
+        calib_ref.check(cal)
+    except ValueError as e:
+        why.append(str(e))
+    out = {"grip_calib_config": dict(cal, inputs=list(calib_ref.NAMES)), "representable": not why}
+    if why:
+        out["not_representable"] = "; ".join(why)
+    return out
+
+
+def effect_update(name, params, model, dt=None):
     """Where the fitted parameters go onboard (JSON-able): .tir keys for
     MF coefficients, grip_relax_params, grip_mf_thermal_params + the LMU/LK
-    temperature scaling."""
+    temperature scaling; for the vehicle-level effects `onboard_config`
+    (grip_est_config / grip_calib_config values)."""
     upd = {}
+    oc = onboard_config(name, params, model, dt)
+    if oc:
+        upd["onboard_config"] = oc
     P = getattr(model, "params", None)
     if name == "load_sensitivity" and P is not None:
         upd["tir_update"] = {"PDY2": P["pdy2"] + params["c_dfz"] * P["pdy1"],
@@ -54,13 +121,14 @@ def write_tir(base_path, updates, out_path):
     return out_path
 
 
-def updated_params(res, model):
+def updated_params(res, model, ds=None):
     """JSON-able update: the chosen effect, its parameters, and where they go."""
     if res.chosen is None:
         return {"effect": None, "base": model.name}
     c = res.chosen
     upd = {"effect": c.name, "params": c.params, "onboard": c.onboard, "base": model.name}
-    upd.update(effect_update(c.name, c.params, model))
+    dt = float(np.median(np.diff(ds.t))) if ds is not None and len(ds.t) > 1 else None
+    upd.update(effect_update(c.name, c.params, model, dt))
     return upd
 
 
@@ -95,7 +163,7 @@ def figures(res, ds, outdir, prefix):
 def write(res, ds, model, outdir, title="Residual analysis", prefix=""):
     os.makedirs(outdir, exist_ok=True)
     figs = figures(res, ds, outdir, prefix)
-    upd = updated_params(res, model)
+    upd = updated_params(res, model, ds)
     tir_path = getattr(model, "tir_path", None)
     if "tir_update" in upd and tir_path:
         upd["tir_file"] = write_tir(tir_path, upd["tir_update"], os.path.join(outdir, f"{prefix}updated.tir"))
