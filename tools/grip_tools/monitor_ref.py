@@ -24,16 +24,21 @@ Checks per step (every loop runs a fixed 4 or 9 times):
              + r y) against the median of the other three; |ax| small
     yaw      yaw rate against the rear-wheel difference (v_rr - v_rl) /
              track_r; no braking / driving, wheels agree
-    ay       ay against r vx (r from the wheels) when the yaw rate has been
-             steady (the sideslip rate, ay - r vx = vx dbeta/dt, is then small)
+    ay       ay against r vx (r from the wheels); the threshold widens with
+             vx |dr/dt| (the sideslip rate, ay - r vx = vx dbeta/dt, goes
+             with the yaw acceleration in a transient)
     ax       low-passed ax against the low-passed derivative of the
-             wheel-speed median, when the wheels agree and ax is steady
+             wheel-speed median, when the wheels agree and ax or the wheel
+             acceleration is steady
     steering yaw rate (sensor, or wheels) against the bicycle model
              r = vx delta / (l (1 + A vx^2)), lagged like the car, in the
              linear range (|a| small) and steady
     vspeed   vehicle-speed input against the wheel-speed median
   Residuals pass an up/down debounce counter; a signal judged faulty is
   latched (dropped) until every check of it has passed for HEAL_T.
+  rep["degraded"]: DEGR_SUSPECT (a signal dropped / lost / latched or a
+  check accumulating, held DEGR_T) | DEGR_UNVERIFIED (unstable-driving
+  hold): the consumer does not trust beta and mu (docs/faults.md).
 
 Use:
     mon = Monitor(config())
