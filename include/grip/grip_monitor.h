@@ -18,11 +18,23 @@
  *   FROZEN  bit-identical for N samples while the redundant signal moves
  *   PLAUS   analytical redundancy, each where its model holds: wheel speeds
  *           against each other; yaw rate against the rear-wheel speed
- *           difference; ay against r vx; ax against the wheel-speed
- *           derivative; steering against the yaw rate (bicycle model, linear
- *           range); vehicle speed against the wheels. Debounced (0.1 s).
+ *           difference; ay against r vx (threshold widened with the yaw
+ *           acceleration); ax against the wheel-speed derivative; steering
+ *           against the yaw rate (bicycle model, linear range); vehicle
+ *           speed against the wheels. Debounced (0.1 s).
  * A signal with NOISE, FROZEN, PLAUS or latched SPIKE is latched faulty and
  * dropped until its checks have passed for 1 s.
+ *
+ * Contract with the consumer of the estimator's output: rep->degraded != 0
+ * means "do not trust beta and mu on this sample" even where the estimator
+ * marks them valid (GRIP_EST_V_BETA, GRIP_EST_V_MU); GRIP_MON_DEGR_SUSPECT:
+ * a signal is dropped, lost or latched, or a check is accumulating a
+ * suspicion, now or within 0.5 s; GRIP_MON_DEGR_UNVERIFIED: the ay, ax and
+ * steering checks are held off (unstable driving). beta / mu are usable when
+ * (valid bit set) AND (degraded == 0); the fault table (docs/faults.md)
+ * counts a row as flagged under that rule, and gives the figures for a
+ * consumer that honours SUSPECT only (UNVERIFIED costs availability in the
+ * limit manoeuvres: docs/faults.md).
  *
  * Fixed size, no heap, every loop bounded by GRIP_MON_N or 4; the caller
  * owns the state. Float64 reference: tools/grip_tools/monitor_ref.py (the
@@ -49,6 +61,14 @@
 #define GRIP_MON_C_FROZEN (1u << 4)
 #define GRIP_MON_C_PLAUS  (1u << 5)
 
+/* Bits of grip_monitor_report_t.degraded */
+#define GRIP_MON_DEGR_SUSPECT    (1u << 0)  /* a signal dropped, lost or latched, or a
+                                             * check accumulating a suspicion (3 net
+                                             * steps), now or within the last 0.5 s */
+#define GRIP_MON_DEGR_UNVERIFIED (1u << 1)  /* the unstable-driving hold keeps the ay,
+                                             * ax and steering checks off: a fault of
+                                             * those signals would go unseen */
+
 typedef struct {
     grip_real_t lf;               /* QS m CG to front axle, (0, 10]            */
     grip_real_t lr;               /* QS m CG to rear axle, (0, 10]             */
@@ -71,6 +91,9 @@ typedef struct {
     uint32_t faulty;              /* bit s: signal s latched faulty             */
     uint32_t dropped;             /* bit s: the monitor cleared its valid flag this step */
     int32_t detected;             /* 1: some signal has a code or is latched    */
+    uint32_t degraded;            /* GRIP_MON_DEGR_* bits; nonzero: do not trust the
+                                   * estimator's beta and mu on this sample, whatever
+                                   * their valid bits say (docs/faults.md, "degraded") */
 } grip_monitor_report_t;
 
 typedef struct {
@@ -84,7 +107,7 @@ typedef struct {
     grip_real_t rate_step[GRIP_MON_N];       /* QS largest physical change per step */
     grip_real_t lim[GRIP_MON_N];  /* QS physical range */
     int32_t n_frozen[GRIP_MON_N];
-    int32_t n_deb, n_heal, n_lost, n_steady, n_unst;
+    int32_t n_deb, n_heal, n_lost, n_steady, n_unst, n_degr;
     /* per signal */
     grip_real_t fol[GRIP_MON_N];  /* spike follower */
     grip_real_t x1[GRIP_MON_N], x2[GRIP_MON_N];   /* previous accepted values */
@@ -93,8 +116,8 @@ typedef struct {
     int32_t lost[GRIP_MON_N], spk[GRIP_MON_N], frz[GRIP_MON_N], deb[GRIP_MON_N], heal[GRIP_MON_N];
     uint8_t have[GRIP_MON_N], hist[GRIP_MON_N], latch[GRIP_MON_N], seen[GRIP_MON_N];
     /* shared */
-    grip_real_t ax_f, dv_f, v_prev, ax_prev, dax_f, r_lin_f, r_prev, dr_f;
-    int32_t ax_steady, r_steady, unst;
+    grip_real_t ax_f, dv_f, v_prev, ax_prev, dax_f, r_lin_f, r_prev, dr_f, dv_prev, ddv_f;
+    int32_t ax_steady, r_steady, unst, dv_steady, degr;
     uint8_t v_have, r_have, init_f, pad_;
 } grip_monitor_t;
 

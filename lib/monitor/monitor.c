@@ -51,8 +51,10 @@ static const grip_real_t FROZEN_MOVE_[GRIP_MON_N] = { RC(0.5), RC(0.5), RC(0.5),
 #define YAW_ABS 0.04
 #define YAW_REL 0.10
 #define YAW_AX_MAX 1.0
-#define AY_ABS 0.8
+#define AY_ABS 0.5
 #define AY_REL 0.10
+#define AY_DR 0.30
+#define AY_DR_CAP 20.0
 #define AX_TAU 0.1
 #define AX_ABS 0.8
 #define AX_REL 0.15
@@ -72,6 +74,8 @@ static const grip_real_t FROZEN_MOVE_[GRIP_MON_N] = { RC(0.5), RC(0.5), RC(0.5),
 #define DEB_MS 100
 #define HEAL_MS 1000
 #define FOLLOW_LOST_MS 100
+#define DEGR_N 3
+#define DEGR_MS 500
 
 /* ------------------------------------------------------------------ */
 
@@ -172,9 +176,13 @@ grip_status_t grip_monitor_reset(grip_monitor_t *mon)
     mon->r_lin_f = R_ZERO;
     mon->r_prev = R_ZERO;
     mon->dr_f = R_ZERO;
+    mon->dv_prev = R_ZERO;
+    mon->ddv_f = R_ZERO;
     mon->ax_steady = 0;
     mon->r_steady = 0;
     mon->unst = 0;
+    mon->dv_steady = 0;
+    mon->degr = 0;
     mon->v_have = 0u;
     mon->r_have = 0u;
     mon->init_f = 0u;
@@ -212,6 +220,7 @@ grip_status_t grip_monitor_init(grip_monitor_t *mon, const grip_monitor_config_t
     mon->n_lost = steps_of(FOLLOW_LOST_MS, cfg->rate_hz);
     mon->n_steady = steps_of(STEADY_MS, cfg->rate_hz);
     mon->n_unst = steps_of(UNST_MS, cfg->rate_hz);
+    mon->n_degr = steps_of(DEGR_MS, cfg->rate_hz);
     mon->magic = MON_MAGIC;
     return grip_monitor_reset(mon);
 }
@@ -288,7 +297,7 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
     grip_real_t r_w = R_ZERO, r_c = R_ZERO, rate, l, dl, r_lin, a_tot;
     int s, i, j, n_good, vw_ok, vx_ok, moving, calm, rw_ok, rc_ok, r_steady, wheel_sus;
     uint32_t faulty = 0u, dropped = 0u;
-    int detected = 0;
+    int detected = 0, degr = 0;
 
     if (m == 0 || sample == 0) {
         if (rep != 0) {
@@ -299,6 +308,7 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
             rep->faulty = 0u;
             rep->dropped = 0u;
             rep->detected = 0;
+            rep->degraded = GRIP_MON_DEGR_SUSPECT | GRIP_MON_DEGR_UNVERIFIED;
         }
         return GRIP_ERR_NULL;
     }
@@ -317,6 +327,7 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
             rep->faulty = (1u << GRIP_MON_N) - 1u;
             rep->dropped = rep->faulty;
             rep->detected = 1;
+            rep->degraded = GRIP_MON_DEGR_SUSPECT | GRIP_MON_DEGR_UNVERIFIED;
         }
         return GRIP_ERR_STATE;
     }
@@ -478,11 +489,14 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
     }
     r_steady = r_steady && m->unst == 0;
 
-    /* -- ay against r vx (r from the wheels when they give it) -- */
-    if (moving && ok[IN_AY] && rc_ok && r_steady) {
+    /* -- ay against r vx (r from the wheels when they give it); no
+     * steadiness gate: the threshold widens with the yaw acceleration, as the
+     * sideslip rate does in a transient -- */
+    if (moving && ok[IN_AY] && rc_ok && m->unst == 0) {
         grip_real_t r_x = rw_ok ? r_w : r_c;
+        grip_real_t wide = r_mul(RC(AY_DR), r_mul(vx, r_min(r_abs(m->dr_f), RC(AY_DR_CAP))));
         res[IN_AY] = r_sub(ay_c, r_mul(r_x, vx));
-        if (exceeds(res[IN_AY], RC(AY_ABS), RC(AY_REL), ay_c)) {
+        if (exceeds(res[IN_AY], r_add(RC(AY_ABS), wide), RC(AY_REL), ay_c)) {
             sus[IN_AY] = 1;
         }
     }
@@ -490,11 +504,20 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
     /* -- ax against the derivative of the wheel median -- */
     if (vw_ok && m->v_have) {
         grip_real_t d = r_clamp(r_sub(v_ref, m->v_prev), RC(-DIFF_MAX), RC(DIFF_MAX));
+        grip_real_t d2;
         m->dv_f = r_add(m->dv_f, r_mul(m->a_ax, r_sub(r_mul(d, rate), m->dv_f)));
+        d2 = r_clamp(r_sub(m->dv_f, m->dv_prev), RC(-DIFF_MAX), RC(DIFF_MAX));
+        m->ddv_f = r_add(m->ddv_f, r_mul(m->a_ax, r_sub(r_mul(d2, rate), m->ddv_f)));
+        m->dv_prev = m->dv_f;
     }
+    m->dv_steady = (vw_ok && m->v_have && r_abs(m->ddv_f) < RC(DAX_MAX)) ? inc_sat(m->dv_steady) : 0;
     m->v_prev = v_ref;
     m->v_have = vw_ok ? 1u : 0u;
-    if (moving && ok[IN_AX] && calm && r_steady && m->ax_steady >= m->n_steady) {
+    /* ax steady (a step fault of ax closes this) or the wheel acceleration
+     * steady (closed at a real brake onset, open at an ax step); the yaw
+     * rate need not be steady (ax - dv/dt = -r vy stays small) */
+    if (moving && ok[IN_AX] && calm && m->unst == 0 &&
+        (m->ax_steady >= m->n_steady || m->dv_steady >= m->n_steady)) {
         res[IN_AX] = r_sub(m->ax_f, m->dv_f);
         if (exceeds(res[IN_AX], RC(AX_ABS), RC(AX_REL), m->dv_f)) {
             sus[IN_AX] = 1;
@@ -590,6 +613,9 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
         if (m->latch[s]) {
             faulty |= 1u << (uint32_t)s;
         }
+        if (m->latch[s] || code[s] != 0u || m->deb[s] >= DEGR_N) {
+            degr = 1;
+        }
         if ((m->latch[s] || (code[s] & GRIP_MON_C_SPIKE) != 0u) && sample->valid[s] != 0u) {
             sample->valid[s] = 0u;
             sample->value[s] = R_ZERO;
@@ -603,6 +629,14 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
     if (faulty != 0u) {
         detected = 1;
     }
+    /* degraded SUSPECT: a signal dropped, lost or latched, or a check
+     * accumulating, now or within DEGR_MS; UNVERIFIED: the unstable-driving
+     * hold keeps the ay, ax and steering checks off */
+    if (degr) {
+        m->degr = m->n_degr;
+    } else if (m->degr > 0) {
+        m->degr -= 1;
+    }
     if (rep != 0) {
         for (s = 0; s < GRIP_MON_N; ++s) {
             rep->code[s] = (uint8_t)code[s];
@@ -611,6 +645,7 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
         rep->faulty = faulty;
         rep->dropped = dropped;
         rep->detected = detected;
+        rep->degraded = ((m->degr > 0) ? GRIP_MON_DEGR_SUSPECT : 0u) | ((m->unst > 0) ? GRIP_MON_DEGR_UNVERIFIED : 0u);
     }
     return GRIP_OK;
 }

@@ -41,6 +41,24 @@ class MonitorTests(unittest.TestCase):
         reps = drive()
         self.assertFalse(any(r["detected"] for r in reps))
         self.assertTrue(all(r["valid"][:8] == [1] * 8 for r in reps))
+        self.assertFalse(any(r["degraded"] for r in reps))
+
+    def test_degraded_before_the_code(self):
+        # an ax offset in a weave: SUSPECT while the check accumulates, before
+        # the debounced PLAUS code, and held 0.5 s after the signal is released
+        def f(k, v):
+            if 300 <= k < 400:
+                v[MR.AX] += 1.5
+        reps = drive(n=800, fault=f)
+        t_code = self._first(reps, MR.AX, MR.C_PLAUS)
+        t_degr = next((k - 300) / 100.0 for k in range(300, len(reps)) if reps[k]["degraded"] & MR.DEGR_SUSPECT)
+        self.assertIsNotNone(t_code)
+        self.assertLessEqual(t_code, 0.2)
+        self.assertLess(t_degr, t_code)
+        self.assertFalse(any(r["degraded"] for r in reps[:300]))
+        rel = next(k for k in range(400, len(reps)) if reps[k]["valid"][MR.AX])
+        self.assertTrue(reps[rel]["degraded"] & MR.DEGR_SUSPECT)
+        self.assertEqual(reps[-1]["degraded"], 0)
 
     def _first(self, reps, sig, bits, k0=300):
         for k in range(k0, len(reps)):

@@ -79,7 +79,8 @@ static double from_qs(grip_real_t v) { return (double)v; }
 #define C_DROPPED 33
 #define C_DET 34
 #define C_RES 35
-#define C_COUNT 44
+#define C_DEGR 44
+#define C_COUNT 45
 
 typedef struct {
     const char *file;
@@ -133,7 +134,7 @@ static void run_sequence(const seq_t *sq)
             }
         }
         if ((double)rep.faulty != golden_num(&g, C_FAULTY) || (double)rep.dropped != golden_num(&g, C_DROPPED) ||
-            (double)rep.detected != golden_num(&g, C_DET)) {
+            (double)rep.detected != golden_num(&g, C_DET) || (double)rep.degraded != golden_num(&g, C_DEGR)) {
             differ = 1;
         }
         row_diff += differ;
@@ -211,6 +212,7 @@ static void test_api_null_and_config(void **state)
     assert_int_equal(grip_input_sample_clear(&in), GRIP_OK);
     assert_int_equal(grip_monitor_step(NULL, &in, NULL, &rep), GRIP_ERR_NULL);
     assert_int_equal(rep.detected, 0);
+    assert_int_equal(rep.degraded, GRIP_MON_DEGR_SUSPECT | GRIP_MON_DEGR_UNVERIFIED);
     assert_int_equal(grip_monitor_init(&mon, &cfg), GRIP_OK);
     assert_int_equal(grip_monitor_step(&mon, NULL, NULL, &rep), GRIP_ERR_NULL);
     /* bad configurations */
@@ -229,6 +231,7 @@ static void test_api_null_and_config(void **state)
     }
     assert_int_equal(rep.faulty, (1u << GRIP_MON_N) - 1u);
     assert_int_equal(rep.detected, 1);
+    assert_int_equal(rep.degraded, GRIP_MON_DEGR_SUSPECT | GRIP_MON_DEGR_UNVERIFIED);
     assert_int_equal(grip_monitor_config_default(&cfg), GRIP_OK);
     cfg.steer_ratio = to_qs(0.0);
     assert_int_equal(grip_monitor_init(&mon, &cfg), GRIP_ERR_PARAM);

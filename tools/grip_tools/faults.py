@@ -224,6 +224,7 @@ def run_chain(value, valid, monitor=True):
     r["flags"] = np.zeros(n, np.int64)
     r["faulty"] = np.zeros(n, np.int64)
     r["detected"] = np.zeros(n, bool)
+    r["degraded"] = np.zeros(n, np.int64)
     r["codes"] = np.zeros((n, monitor_ref.N_MON), np.int64)
     r["finite"] = np.ones(n, bool)
     r["res"] = []
@@ -234,6 +235,7 @@ def run_chain(value, valid, monitor=True):
             v_in, ok_in = rep["value"], rep["valid"]
             r["faulty"][k] = rep["faulty"]
             r["detected"][k] = rep["detected"]
+            r["degraded"][k] = int(rep["degraded"])
             r["codes"][k] = rep["code"]
             r["res"].append(rep["res"])
         else:
@@ -255,11 +257,26 @@ def run_chain(value, valid, monitor=True):
 # ---------------------------------------------------------------------------
 # metrics
 
+# Which grip_monitor_report_t.degraded bits the consumer honours (docs/faults.md):
+# the table's verdicts use both; the summary also gives SUSPECT alone.
+DEGR_ALL = monitor_ref.DEGR_SUSPECT | monitor_ref.DEGR_UNVERIFIED
+POLICY = {"mask": DEGR_ALL}
+
+
+def trusted(run, bit):
+    """Rows where the consumer may use the output `bit`: the estimator marks
+    it valid AND the monitor does not report the sample degraded (the
+    contract of grip_monitor_report_t.degraded, docs/faults.md), with the
+    degraded bits of POLICY["mask"]."""
+    return ((run["valid"] & bit) != 0) & ((run["degraded"] & POLICY["mask"]) == 0)
+
+
 def errors(run, truth, sel):
-    """beta RMS / max [deg] over the rows of sel where beta is valid and the
-    true speed is above 5 m/s (as est-eval); mu max error over the rows where
-    mu is valid (V_MU); the share of sel where beta is valid."""
-    okb = sel & ((run["valid"] & est_ref.V_BETA) != 0) & (truth["vx"] > 5.0)
+    """beta RMS / max [deg] over the rows of sel where beta is trusted (valid
+    and not degraded) and the true speed is above 5 m/s (as est-eval); mu max
+    error over the rows where mu is trusted (V_MU); the share of sel where
+    beta is trusted."""
+    okb = sel & trusted(run, est_ref.V_BETA) & (truth["vx"] > 5.0)
     out = {"beta_valid_pct": 100.0 * okb.sum() / max(sel.sum(), 1)}
     if okb.any():
         e = (run["beta"] - truth["beta"])[okb] / DEG
@@ -267,7 +284,7 @@ def errors(run, truth, sel):
         out["beta_max"] = float(np.max(np.abs(e)))
     else:
         out["beta_rms"] = out["beta_max"] = None
-    okm = sel & ((run["valid"] & est_ref.V_MU) != 0)
+    okm = sel & trusted(run, est_ref.V_MU)
     out["mu_max"] = float(np.max(np.abs(run["mu"] - truth["mu"])[okm])) if okm.any() else None
     return out
 
@@ -293,14 +310,15 @@ def no_worse(e, b):
 
 
 def unflagged(run, base, truth, sel):
-    """Rows of sel where the fault run shows beta valid beyond 1.5 deg error
-    (or mu valid beyond 0.1) while the fault-free run is inside at that row."""
+    """Rows of sel where the fault run shows beta trusted (valid, not
+    degraded) beyond 1.5 deg error (or mu trusted beyond 0.1) while the
+    fault-free run is inside at that row."""
     eb = np.abs(run["beta"] - truth["beta"]) / DEG
     ebb = np.abs(base["beta"] - truth["beta"]) / DEG
-    vb = ((run["valid"] & est_ref.V_BETA) != 0) & (truth["vx"] > 5.0)
+    vb = trusted(run, est_ref.V_BETA) & (truth["vx"] > 5.0)
     em = np.abs(run["mu"] - truth["mu"])
     emb = np.abs(base["mu"] - truth["mu"])
-    vm = (run["valid"] & est_ref.V_MU) != 0
+    vm = trusted(run, est_ref.V_MU)
     bad = sel & ((vb & (eb > BETA_MAX) & (ebb <= BETA_MAX)) | (vm & (em > MU_TOL) & (emb <= MU_TOL)))
     return int(bad.sum())
 
@@ -321,7 +339,14 @@ def evaluate_case(t, run, base, truth, t0, t1, sig_idx):
     d["nonfinite"] = int((~run["finite"]).sum())
     d["unflagged_rows"] = unflagged(run, base, truth, during | after)
     d["within"] = within(d["during"]) and within(d["after"])
-    d["no_worse"] = no_worse(d["during"], d["base_during"]) and no_worse(d["after"], d["base_after"])
+    # "no worse" compares on the same rows: the fault-free run's errors over
+    # the rows where the fault run's beta (mu) is trusted
+    # (the whole window when the fault-free run has no valid beta there)
+    tb = trusted(run, est_ref.V_BETA | est_ref.V_MU)
+    for w, sel in (("during", during), ("after", after)):
+        m = errors(base, truth, sel & tb)
+        d[f"base_{w}_m"] = m if m["beta_rms"] is not None or d[w]["beta_rms"] is None else d[f"base_{w}"]
+    d["no_worse"] = no_worse(d["during"], d["base_during_m"]) and no_worse(d["after"], d["base_after_m"])
     if d["det_t"] is not None and d["det_t"] <= DET_T:
         d["verdict"] = "detected"
     elif d["within"]:
@@ -346,6 +371,7 @@ def _scenario(args):
                         "after": errors(base, truth, t >= t0 + FAULT_T),
                         "all": errors(base, truth, t >= 0),
                         "false_alarm_rows": int(base["detected"].sum()),
+                        "degraded_rows": int((base["degraded"] != 0).sum()),
                         "nomon_all": errors(base_nomon, truth, t >= 0)}, "cases": {}}
     t1 = t0 + FAULT_T
     for gi, sig in enumerate(SIGNALS):
@@ -356,7 +382,12 @@ def _scenario(args):
             c2, drop = inject(cols, sig, fault, t0, t1, [FAULT_SEED, si, gi, fi])
             tt, vv, oo = inputs(c2, drop, sig[1])
             run = run_chain(vv, oo)
+            POLICY["mask"] = monitor_ref.DEGR_SUSPECT
+            d1 = evaluate_case(tt, run, base, truth, t0, t1, sig[1])
+            POLICY["mask"] = DEGR_ALL
             d = evaluate_case(tt, run, base, truth, t0, t1, sig[1])
+            d["suspect_only"] = {"verdict": d1["verdict"], "unflagged_rows": d1["unflagged_rows"],
+                                 "during": d1["during"], "after": d1["after"]}
             nm = run_chain(vv, oo, monitor=False)
             d["nomon_during"] = errors(nm, truth, (tt >= t0) & (tt < t1))
             d["nomon_after"] = errors(nm, truth, tt >= t1)
@@ -396,11 +427,14 @@ def false_alarms(cache, log=sys.stderr):
             dropped = int(sum(((run["codes"][:, s] & ~monitor_ref.C_LOST) != 0).sum()
                               for s in range(monitor_ref.N_MON)))
             rows[f"{man} {surf}"] = {"rows": int(len(t)), "alarm_rows": int(det.sum()),
+                                     "degraded_rows": int((run["degraded"] != 0).sum()),
+                                     "suspect_rows": int(((run["degraded"] & monitor_ref.DEGR_SUSPECT) != 0).sum()),
+                                     "unverified_rows": int(((run["degraded"] & monitor_ref.DEGR_UNVERIFIED) != 0).sum()),
                                      "per_signal": {k: v for k, v in per.items() if v},
                                      "signal_rows_dropped": dropped,
                                      "max_beta_true_deg": float(np.max(np.abs(truth["beta"])) / DEG),
                                      "res_max": _res_max(run["res"])}
-            print(f"faults: suite {man} {surf}: {det.sum()} alarm rows of {len(t)} {per}", file=log)
+            print(f"faults: suite {man} {surf}: {det.sum()} alarm rows, {((run['degraded'] & 1) != 0).sum()} suspect, {((run['degraded'] & 2) != 0).sum()} unverified, of {len(t)} {per}", file=log)
     return rows
 
 
@@ -417,7 +451,9 @@ def _f(x, fmt=".2f"):
 def summary(res):
     """Counts over every fault case."""
     c = {"cases": 0, "detected": 0, "within targets": 0, "as fault-free": 0, "NEITHER": 0,
-         "nonfinite": 0, "unflagged_cases": 0, "isolated": 0, "det_any": 0}
+         "nonfinite": 0, "unflagged_cases": 0, "isolated": 0, "det_any": 0,
+         "suspect_only": {"detected": 0, "within targets": 0, "as fault-free": 0, "NEITHER": 0,
+                          "unflagged_cases": 0}}
     for scn, r in res.get("faults", {}).items():
         for case, d in r["cases"].items():
             c["cases"] += 1
@@ -426,6 +462,10 @@ def summary(res):
             c["unflagged_cases"] += 1 if d["unflagged_rows"] else 0
             c["isolated"] += 1 if d["iso_t"] is not None and d["iso_t"] <= DET_T else 0
             c["det_any"] += 1 if d["det_t"] is not None else 0
+            so = d.get("suspect_only")
+            if so:
+                c["suspect_only"][so["verdict"]] += 1
+                c["suspect_only"]["unflagged_cases"] += 1 if so["unflagged_rows"] else 0
     return c
 
 
@@ -438,18 +478,25 @@ def write_tables(res, out):
                   f"neither, but no worse than the fault-free run: {sm['as fault-free']}; "
                   f"neither: {sm['NEITHER']}. Faulted signal itself flagged within {DET_T * 1000:.0f} ms: "
                   f"{sm['isolated']}. Non-finite outputs: {sm['nonfinite']}. Cases with unflagged invalid "
-                  f"output rows: {sm['unflagged_cases']}.", ""]
+                  f"output rows: {sm['unflagged_cases']}. (Rows flagged = estimator valid bit clear or monitor "
+                  f"degraded SUSPECT or UNVERIFIED.)", "",
+                  f"Honouring only the monitor's SUSPECT bit: detected {sm['suspect_only']['detected']}; within "
+                  f"targets {sm['suspect_only']['within targets']}; as fault-free "
+                  f"{sm['suspect_only']['as fault-free']}; neither {sm['suspect_only']['NEITHER']}; cases with "
+                  f"unflagged invalid output rows {sm['suspect_only']['unflagged_cases']}.", ""]
         for scn, r in res["faults"].items():
             b = r["baseline"]
             lines += [f"### {scn}", "",
                       f"Fault-free run: beta RMS/max during the fault window {_f(b['during']['beta_rms'])} / "
                       f"{_f(b['during']['beta_max'])} deg, after {_f(b['after']['beta_rms'])} / "
                       f"{_f(b['after']['beta_max'])} deg; mu max error (V_MU rows) during {_f(b['during']['mu_max'])}, "
-                      f"after {_f(b['after']['mu_max'])}; monitor alarm rows {b['false_alarm_rows']}.", "",
+                      f"after {_f(b['after']['mu_max'])}; monitor alarm rows {b['false_alarm_rows']}, "
+                      f"degraded rows {b.get('degraded_rows', '-')}.", "",
                       "| fault | detected [s] | own signal [s] | other signals flagged | beta RMS / max during [deg] "
-                      "| beta valid during | beta RMS / max after [deg] | mu max err during / after | "
-                      "without monitor: beta during | unflagged rows | verdict |",
-                      "|" + "---|" * 11]
+                      "| beta trusted during | beta RMS / max after [deg] | mu max err during / after | "
+                      "without monitor: beta during | unflagged rows | verdict | SUSPECT bit only: unflagged rows, "
+                      "verdict |",
+                      "|" + "---|" * 12]
             for case, d in r["cases"].items():
                 du, af, nm = d["during"], d["after"], d["nomon_during"]
                 lines.append("| " + " | ".join([
@@ -457,21 +504,28 @@ def write_tables(res, out):
                     f"{_f(du['beta_rms'])} / {_f(du['beta_max'])}", f"{du['beta_valid_pct']:.0f} %",
                     f"{_f(af['beta_rms'])} / {_f(af['beta_max'])}", f"{_f(du['mu_max'])} / {_f(af['mu_max'])}",
                     f"{_f(nm['beta_rms'])} / {_f(nm['beta_max'])}", str(d["unflagged_rows"]),
-                    ("**NEITHER**" if d["verdict"] == "NEITHER" else d["verdict"])]) + " |")
+                    ("**NEITHER**" if d["verdict"] == "NEITHER" else d["verdict"]),
+                    (f"{d['suspect_only']['unflagged_rows']}, {d['suspect_only']['verdict']}"
+                     if "suspect_only" in d else "-")]) + " |")
             lines.append("")
     with open(os.path.join(out, "table.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     if "suite" in res:
-        rows = ["| run | steps | max true beta [deg] | steps with an alarm | signals (steps) | largest residual per check |",
-                "|---|---|---|---|---|---|"]
-        tot = al = 0
+        rows = ["| run | steps | max true beta [deg] | steps with an alarm | signals (steps) | degraded SUSPECT / "
+                "UNVERIFIED steps | largest residual per check |",
+                "|---|---|---|---|---|---|---|"]
+        tot = al = sus = unv = 0
         for name, d in res["suite"].items():
             tot += d["rows"]
             al += d["alarm_rows"]
+            sus += d.get("suspect_rows", 0)
+            unv += d.get("unverified_rows", 0)
             rm = ", ".join(f"{k} {v:.2f}" for k, v in d["res_max"].items() if v > 0)
             rows.append(f"| {name} | {d['rows']} | {d['max_beta_true_deg']:.1f} | {d['alarm_rows']} | "
-                        f"{', '.join(f'{k} ({v})' for k, v in d['per_signal'].items()) or '-'} | {rm} |")
-        rows += ["", f"Total: {al} steps with an alarm of {tot} ({100.0 * al / max(tot, 1):.2f} %)."]
+                        f"{', '.join(f'{k} ({v})' for k, v in d['per_signal'].items()) or '-'} | "
+                        f"{d.get('suspect_rows', '-')} / {d.get('unverified_rows', '-')} | {rm} |")
+        rows += ["", f"Total: {al} steps with an alarm of {tot} ({100.0 * al / max(tot, 1):.2f} %); degraded SUSPECT "
+                 f"{sus} ({100.0 * sus / max(tot, 1):.2f} %), UNVERIFIED {unv} ({100.0 * unv / max(tot, 1):.2f} %)."]
         with open(os.path.join(out, "false_alarms.md"), "w") as f:
             f.write("\n".join(rows) + "\n")
 

@@ -25,7 +25,7 @@ est_vx, est_beta, est_steer_char, est_valid (the fields of the previous
 estimator output the monitor reads; est_valid 0 = no estimator output
 given), then the reference outputs: code[0..8], faulty mask,
 dropped mask, detected, resid[0..8] (the residual of each plausibility
-check, 0 where it did not run). Configuration: monitor_ref.config() (the passenger
+check, 0 where it did not run), degraded. Configuration: monitor_ref.config() (the passenger
 car of grip_monitor_config_default) at the sequence's rate.
 """
 import math
@@ -127,7 +127,7 @@ def write_sequence(outdir, name, rate, t, value, valid, note, est_cols=None):
     in_cols = (["t"] + [f"in{i}" for i in range(est_ref.N_IN)] +
                ["valid_mask", "est_vx", "est_beta", "est_steer_char", "est_valid"])
     out_cols = ([f"code{s}" for s in range(monitor_ref.N_MON)] + ["faulty", "dropped", "detected"] +
-                [f"resid{s}" for s in range(monitor_ref.N_MON)])
+                [f"resid{s}" for s in range(monitor_ref.N_MON)] + ["degraded"])
     text = header("grip_tools.golden_monitor", monitor_ref.Monitor, SEED, in_cols + out_cols,
                   {"sequence": name, "rate_hz": rate, "config": "monitor_ref.config (passenger)", "note": note})
     lines = [text.rstrip("\n")]
@@ -138,7 +138,7 @@ def write_sequence(outdir, name, rate, t, value, valid, note, est_cols=None):
         ev = est_cols[k] if est_cols is not None else (0.0, 0.0, 0, 0)
         vals = ([float(t[k])] + [float(x) for x in value[k]] + [mask, ev[0], ev[1], int(ev[2]), int(ev[3])] +
                 [int(c) for c in o["code"]] + [int(o["faulty"]), int(dropped), int(bool(o["detected"]))] +
-                [float(r) for r in o["res"]])
+                [float(r) for r in o["res"]] + [int(o["degraded"])])
         lines.append(" ".join(_fmt(x) for x in vals))
     with open(os.path.join(outdir, f"monitor_{name}.txt"), "w") as f:
         f.write("\n".join(lines) + "\n")

@@ -24,16 +24,21 @@ Checks per step (every loop runs a fixed 4 or 9 times):
              + r y) against the median of the other three; |ax| small
     yaw      yaw rate against the rear-wheel difference (v_rr - v_rl) /
              track_r; no braking / driving, wheels agree
-    ay       ay against r vx (r from the wheels) when the yaw rate has been
-             steady (the sideslip rate, ay - r vx = vx dbeta/dt, is then small)
+    ay       ay against r vx (r from the wheels); the threshold widens with
+             vx |dr/dt| (the sideslip rate, ay - r vx = vx dbeta/dt, goes
+             with the yaw acceleration in a transient)
     ax       low-passed ax against the low-passed derivative of the
-             wheel-speed median, when the wheels agree and ax is steady
+             wheel-speed median, when the wheels agree and ax or the wheel
+             acceleration is steady
     steering yaw rate (sensor, or wheels) against the bicycle model
              r = vx delta / (l (1 + A vx^2)), lagged like the car, in the
              linear range (|a| small) and steady
     vspeed   vehicle-speed input against the wheel-speed median
   Residuals pass an up/down debounce counter; a signal judged faulty is
   latched (dropped) until every check of it has passed for HEAL_T.
+  rep["degraded"]: DEGR_SUSPECT (a signal dropped / lost / latched or a
+  check accumulating, held DEGR_T) | DEGR_UNVERIFIED (unstable-driving
+  hold): the consumer does not trust beta and mu (docs/faults.md).
 
 Use:
     mon = Monitor(config())
@@ -51,6 +56,8 @@ NAMES = ("ws_fl", "ws_fr", "ws_rl", "ws_rr", "steer", "yaw", "ax", "ay", "vspeed
 G = 9.80665
 BIG = 1000000
 
+# degraded bits (grip_monitor.h GRIP_MON_DEGR_*)
+DEGR_SUSPECT, DEGR_UNVERIFIED = 1, 2
 # fault code bits (grip_monitor.h GRIP_MON_C_*)
 C_LOST, C_RANGE, C_SPIKE, C_NOISE, C_FROZEN, C_PLAUS = 1, 2, 4, 8, 16, 32
 SIG_FAULT = 5        # grip_sig_fault_t GRIP_SIG_FAULT
@@ -75,19 +82,23 @@ WH_ABS, WH_REL, WH_AX_MAX = 0.6, 0.03, 1.5    # wheel vs median [m/s, -], only |
 WH_SPIN_AY = 2.0                              # driven inner wheel may spin above this |ay|
 CALM_ABS, CALM_REL = 0.5, 0.03                # wheels agree: spread of the others below
 YAW_ABS, YAW_REL, YAW_AX_MAX = 0.04, 0.10, 1.0
-AY_ABS, AY_REL = 0.8, 0.10
+AY_ABS, AY_REL = 0.5, 0.10
+AY_DR = 0.30         # ay threshold widening with the yaw acceleration: + AY_DR vx |dr/dt| [s]
+AY_DR_CAP = 20.0     # |dr/dt| clamp there [rad/s^2] (keeps it in Q15.16; 0.25 * 5 * 20 > any ay)
 AX_TAU, AX_ABS, AX_REL = 0.1, 0.8, 0.15
 ST_TAU, ST_ABS, ST_REL, ST_A_MAX = 0.15, 0.04, 0.20, 2.0
 VS_ABS, VS_REL = 1.0, 0.05
 # steadiness: the yaw rate (ax) has changed slower than this for STEADY_T
 DR_TAU, DR_MAX = 0.1, 0.15                    # dr/dt low-passed [s, rad/s^2]
-DAX_MAX = 3.0                                 # dax/dt low-passed (AX_TAU) [m/s^3]
+DAX_MAX = 3.0                                 # dax/dt, d(dv)/dt low-passed (AX_TAU) [m/s^3]
 STEADY_T = 0.5
 BETA_UNST, UNST_T = 0.1, 1.0                  # |beta| of the estimator [rad], hold [s]
 DIFF_MAX = 10.0      # a step difference is clamped to this before it is turned into a rate
 DEB_T = 0.1          # residual debounce [s]
 HEAL_T = 1.0         # a latched signal is released after its checks pass this long
 FOLLOW_LOST_T = 0.1  # the follower is re-initialized after the input was lost this long
+DEGR_N = 3           # degraded: a residual check has failed on this many net steps (deb >= DEGR_N)
+DEGR_T = 0.5         # degraded is held this long after its last cause
 
 
 def config(rate_hz=100, **kw):
@@ -120,6 +131,7 @@ class Monitor:
         self.n_lost = _steps(FOLLOW_LOST_T, rate)
         self.n_steady = _steps(STEADY_T, rate)
         self.n_unst = _steps(UNST_T, rate)
+        self.n_degr = _steps(DEGR_T, rate)
         self.a_noise = min(1.0 / (NOISE_TAU * rate), 1.0)
         self.a_ax = min(1.0 / (AX_TAU * rate), 1.0)
         self.a_st = min(1.0 / (ST_TAU * rate), 1.0)
@@ -153,6 +165,10 @@ class Monitor:
         self.ax_prev = 0.0
         self.dax_f = 0.0              # low-passed dax/dt
         self.ax_steady = 0            # steps ax has been steady
+        self.dv_prev = 0.0            # previous dv_f
+        self.ddv_f = 0.0              # low-passed d(dv_f)/dt
+        self.dv_steady = 0            # steps the wheel acceleration has been steady
+        self.degr = 0                 # steps left of the degraded hold
         self.r_lin_f = 0.0            # lagged bicycle yaw rate
         self.r_prev = 0.0             # previous consensus yaw rate
         self.r_have = 0
@@ -317,18 +333,27 @@ class Monitor:
         r_steady = r_steady and self.unst == 0
 
         # -- ay against r vx (r from the wheels when they can give it) --
-        if moving and ok[AY] and rc_ok and r_steady:
+        # (no steadiness gate: the threshold widens with the yaw acceleration,
+        # as the sideslip rate does in a transient)
+        if moving and ok[AY] and rc_ok and self.unst == 0:
             r_x = r_w if rw_ok else r_c
             e = ay_c - r_x * vx
             res[AY] = e
-            if abs(e) > AY_ABS + AY_REL * abs(ay_c):
+            if abs(e) > AY_ABS + AY_DR * vx * min(abs(self.dr_f), AY_DR_CAP) + AY_REL * abs(ay_c):
                 sus[AY] = 1
 
         # -- ax against the derivative of the wheel median --
         if vw_ok and self.v_have:
             self.dv_f += self.a_ax * (_clamp(v_ref - self.v_prev, -DIFF_MAX, DIFF_MAX) * rate - self.dv_f)
+            self.ddv_f += self.a_ax * (_clamp(self.dv_f - self.dv_prev, -DIFF_MAX, DIFF_MAX) * rate - self.ddv_f)
+            self.dv_prev = self.dv_f
+        self.dv_steady = min(self.dv_steady + 1, BIG) if (vw_ok and self.v_have and abs(self.ddv_f) < DAX_MAX) else 0
         self.v_prev, self.v_have = v_ref, (1 if vw_ok else 0)
-        if moving and ok[AX] and calm and r_steady and self.ax_steady >= self.n_steady:
+        # ax steady (a step fault of ax itself closes this) or the wheel
+        # acceleration steady (closed at a real brake onset, open at an ax step)
+        # (the yaw rate need not be steady: ax - dv/dt = -r vy stays small)
+        if moving and ok[AX] and calm and self.unst == 0 and (self.ax_steady >= self.n_steady or
+                                                        self.dv_steady >= self.n_steady):
             e = self.ax_f - self.dv_f
             res[AX] = e
             if abs(e) > AX_ABS + AX_REL * abs(self.dv_f):
@@ -377,6 +402,7 @@ class Monitor:
 
         # -- noise, spike latch, debounce, latch and heal --
         faulty = 0
+        degr = 0
         out_valid = [int(v) for v in valid[:N_IN]]
         out_value = [float(v) for v in value[:N_IN]]
         out_fault = [0] * N_IN
@@ -401,10 +427,22 @@ class Monitor:
                     self.heal[s] = 0
             if self.latch[s]:
                 faulty |= 1 << s
+            if self.latch[s] or code[s] != 0 or self.deb[s] >= DEGR_N:
+                degr = 1
             if (self.latch[s] or (code[s] & C_SPIKE)) and valid[s]:
                 out_valid[s] = 0
                 out_value[s] = 0.0
                 out_fault[s] = SIG_FAULT
         detected = any(code[s] != 0 for s in range(N_MON)) or faulty != 0
+        # degraded (the consumer should not trust beta nor mu on such a sample):
+        #   SUSPECT     a signal is dropped, lost or latched, or a residual check
+        #               is accumulating (deb >= DEGR_N), now or within DEGR_T
+        #   UNVERIFIED  the unstable-driving hold keeps the ay, ax and steering
+        #               checks off: a fault of those signals would go unseen
+        if degr:
+            self.degr = self.n_degr
+        elif self.degr > 0:
+            self.degr -= 1
+        degraded = (DEGR_SUSPECT if self.degr > 0 else 0) | (DEGR_UNVERIFIED if self.unst > 0 else 0)
         return dict(valid=out_valid, value=out_value, fault=out_fault, code=code, faulty=faulty,
-                    detected=detected, res=res, sus=sus)
+                    detected=detected, res=res, sus=sus, degraded=degraded)
