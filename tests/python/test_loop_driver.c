@@ -5,13 +5,18 @@
  * the library.
  *
  *   test_loop_driver mf      TIR                 < rows > out
+ *   test_loop_driver mfgp    TIR                 < rows7 > out
  *   test_loop_driver relax   TIR SIGMA           < rows > out
  *   test_loop_driver thermal TIR THERMAL A B     < rows > out
  *
- * rows: "t kappa alpha fz vx" per line (SI, ISO-W), no header.
+ * rows: "t kappa alpha fz vx" per line (SI, ISO-W), no header; rows7 (mfgp):
+ *       "t kappa alpha fz vx gamma p" (gamma rad, p Pa).
  * out:  "fx fy status" per line (relax: then kappa' alpha').
  *
- * mf:      grip_mf_eval with the parameter set of TIR (e.g. the updated LMUV).
+ * mf:      grip_mf_eval with the parameter set of TIR (e.g. the updated LMUV),
+ *          gamma = 0 and p = 0 (INFLPRES or NOMPRES).
+ * mfgp:    the same with the rows' camber and inflation pressure (the updated
+ *          PKY6/PVY3 or PPX1/PPY1/PPX3/PPY3).
  * relax:   grip_relax (sigma_kappa = sigma_alpha = SIGMA, v_min 0.5 m/s), its
  *          kappa', alpha' fed into grip_mf_eval. Row i > 0 steps from t[i-1]
  *          to t[i] with the inputs of row i-1 held and the speed of row i
@@ -48,20 +53,23 @@
 
 #define MAX_ROWS 20000
 
-static double rows[MAX_ROWS][5];
+static double rows[MAX_ROWS][7];
 
-static int read_rows(void)
+static int read_rows(int ncol)
 {
-    int n = 0;
-    while (n < MAX_ROWS && scanf("%lf %lf %lf %lf %lf", &rows[n][0], &rows[n][1], &rows[n][2], &rows[n][3],
-                                 &rows[n][4]) == 5) {
-        n++;
+    int n = 0, j;
+    for (n = 0; n < MAX_ROWS; n++) {
+        for (j = 0; j < ncol; j++) {
+            if (scanf("%lf", &rows[n][j]) != 1) {
+                return n;
+            }
+        }
     }
     return n;
 }
 
-static grip_status_t mf_at(const grip_mf_params *p, double kappa, double alpha, double fz, double vx,
-                           double *fx, double *fy)
+static grip_status_t mf_gp(const grip_mf_params *p, double kappa, double alpha, double fz, double vx,
+                           double gamma, double pr, double *fx, double *fy)
 {
     grip_mf_input in;
     grip_mf_output out;
@@ -69,14 +77,20 @@ static grip_status_t mf_at(const grip_mf_params *p, double kappa, double alpha, 
     memset(&in, 0, sizeof in);
     in.kappa = QS(kappa);
     in.alpha = QS(alpha);
-    in.gamma = QS(0.0);
+    in.gamma = QS(gamma);
     in.fz = QL(fz);
-    in.p = QL(0.0);
+    in.p = QL(pr);
     in.vx = QS(vx);
     st = grip_mf_eval(p, &in, &out);
     *fx = FROM_QL(out.fx);
     *fy = FROM_QL(out.fy);
     return st;
+}
+
+static grip_status_t mf_at(const grip_mf_params *p, double kappa, double alpha, double fz, double vx,
+                           double *fx, double *fy)
+{
+    return mf_gp(p, kappa, alpha, fz, vx, 0.0, 0.0, fx, fy);
 }
 
 static int load_thermal(const char *path, grip_mf_thermal_params *tp)
@@ -118,15 +132,20 @@ int main(int argc, char **argv)
     double fx, fy;
     grip_status_t st;
     if (argc < 3) {
-        fprintf(stderr, "usage: %s mf|relax|thermal TIR [args]\n", argv[0]);
+        fprintf(stderr, "usage: %s mf|mfgp|relax|thermal TIR [args]\n", argv[0]);
         return 2;
     }
     if (grip_tir_read(argv[2], &p, err, sizeof err) != 0) {
         fprintf(stderr, "%s\n", err);
         return 3;
     }
-    n = read_rows();
-    if (strcmp(argv[1], "mf") == 0) {
+    n = read_rows(strcmp(argv[1], "mfgp") == 0 ? 7 : 5);
+    if (strcmp(argv[1], "mfgp") == 0) {
+        for (i = 0; i < n; i++) {
+            st = mf_gp(&p, rows[i][1], rows[i][2], rows[i][3], rows[i][4], rows[i][5], rows[i][6], &fx, &fy);
+            printf("%.9g %.9g %d\n", fx, fy, (int)st);
+        }
+    } else if (strcmp(argv[1], "mf") == 0) {
         for (i = 0; i < n; i++) {
             st = mf_at(&p, rows[i][1], rows[i][2], rows[i][3], rows[i][4], &fx, &fy);
             printf("%.9g %.9g %d\n", fx, fy, (int)st);

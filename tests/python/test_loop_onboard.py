@@ -13,6 +13,12 @@ build/<variant>/libgrip.a and libgrip_port.a for each built variant
                           update.json) + grip_mf_eval with LMUX/LMUY, LKX/LKY
                           scaled by the state's temperature
   load_sensitivity        updated .tir with PDY2/PDX2 -> grip_mf_eval
+  camber                  updated .tir with PKY6/PVY3 -> grip_mf_eval with the
+                          rows' gamma and p (driver mode mfgp)
+  inflation_pressure      updated .tir with PPX1/PPY1/PPX3/PPY3 -> grip_mf_eval
+                          with the rows' gamma and p (mfgp)
+(camber and pressure are fitted on test_residual.make_gp, the data sets with
+gamma and p varying; the tool's prediction is mf.evaluate of the updated set)
 
 Tolerance on |C - tool| per force: float 1e-4 Fz, fixed 2e-3 Fz (those of
 grip-tire against mf.py, docs/tools.md: the composition adds no error beyond
@@ -32,6 +38,7 @@ import numpy as np
 from grip_tools import datasets, mf_thermal, relax_ref
 from grip_tools.residual import attribution, effects, report
 from grip_tools.residual.effects import TireModel
+from test_residual import make_gp
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 DRIVER = os.path.join(os.path.dirname(os.path.abspath(__file__)), "test_loop_driver.c")
@@ -55,8 +62,12 @@ def build_driver(variant, outdir):
 
 def run_driver(exe, args, ds):
     ch = ds.ch
-    rows = "\n".join(f"{t:.17g} {k:.17g} {a:.17g} {z:.17g} {v:.17g}" for t, k, a, z, v in
-                     zip(ds.t, ch["kappa"], ch["alpha"], ch["fz"], ch["vx"]))
+    if args[0] == "mfgp":
+        rows = "\n".join(f"{t:.17g} {k:.17g} {a:.17g} {z:.17g} {v:.17g} {g:.17g} {p:.17g}" for t, k, a, z, v, g, p in
+                         zip(ds.t, ch["kappa"], ch["alpha"], ch["fz"], ch["vx"], ch["gamma"], ch["p"]))
+    else:
+        rows = "\n".join(f"{t:.17g} {k:.17g} {a:.17g} {z:.17g} {v:.17g}" for t, k, a, z, v in
+                         zip(ds.t, ch["kappa"], ch["alpha"], ch["fz"], ch["vx"]))
     p = subprocess.run([exe] + args, input=rows + "\n", capture_output=True, text=True, timeout=120)
     if p.returncode != 0:
         raise RuntimeError(p.stderr)
@@ -77,7 +88,7 @@ class OnboardMatchesTool(unittest.TestCase):
         cls.tmp.cleanup()
 
     def fit(self, effect, kind, every=1):
-        ds, truth = datasets.make(kind, seed=3)
+        ds, truth = make_gp(kind, seed=3) if kind in ("camber", "pressure") else datasets.make(kind, seed=3)
         fit_ds = ds
         if every > 1:                 # a shorter fit for speed; the comparison uses the whole record
             idx = np.arange(0, len(ds), every)
@@ -135,6 +146,38 @@ class OnboardMatchesTool(unittest.TestCase):
             b = attribution.rms((ds.ch[o] - tool[o])[test])
             print(f"\n  load sensitivity {o}: held-out RMS tool term {a:.1f} N, .tir update {b:.1f} N")
             self.assertLess(b, 1.1 * a + 1.0)
+
+    def gp_update(self, e, kind, fname, keys):
+        """Fit effect e on make_gp(kind), write its .tir update, compare the C
+        (mfgp: rows with gamma and p) with the tool's prediction."""
+        ds, x, prm = self.fit(e, kind)
+        upd = report.effect_update(e.name, prm, self.model)
+        self.assertEqual(sorted(upd["tir_update"]), sorted(keys))
+        path = report.write_tir(datasets.TIR, upd["tir_update"], os.path.join(self.tmp.name, fname))
+        from grip_tools import tir
+        P2 = tir.load_params(path)
+        for k in keys:
+            self.assertAlmostEqual(P2[k.lower()], upd["tir_update"][k], places=12)
+        tool = e.predict(self.model, ds, x)
+        # the tool's prediction is the MF of the written file itself
+        again = TireModel(P2).predict(ds.ch)
+        for o in ("fx", "fy"):
+            np.testing.assert_allclose(tool[o], again[o], rtol=0, atol=1e-9)
+        # and it differs from the base model (the update is not a no-op)
+        base = self.model.predict(ds.ch)
+        self.assertGreater(np.max(np.abs(tool["fy"] - base["fy"]) / ds.ch["fz"]), 1e-2)
+        self.compare(f"{e.name} " + " ".join(f"{k}={v:.5g}" for k, v in upd["tir_update"].items()), ds, tool,
+                     lambda v: ["mfgp", path])
+        return ds, prm
+
+    def test_camber(self):
+        self.gp_update(effects.Camber(), "camber", "camber.tir", ("PKY6", "PVY3"))
+
+    def test_pressure(self):
+        ds, _ = self.gp_update(effects.Pressure(), "pressure", "pressure.tir", ("PPX1", "PPY1", "PPX3", "PPY3"))
+        # inside the C's pressure range (no dpi clamping): dpi in [-0.5, 1]
+        dpi = (ds.ch["p"] - self.model.nompres) / self.model.nompres
+        self.assertTrue(np.all(dpi > -0.5) and np.all(dpi < 1.0))
 
     def test_relaxation(self):
         e = effects.Relaxation()

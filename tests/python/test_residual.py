@@ -11,9 +11,48 @@ import numpy as np
 from grip_tools import datasets, relax_ref
 from grip_tools.residual import attribution, io, report
 from grip_tools.residual.effects import TireModel
+from grip_tools.residual.io import Dataset
 
 EXPECT = {"thermal": "thermal", "relaxation": "relaxation", "slip_velocity": "slip_velocity_friction",
           "load": "load_sensitivity", "bank": "road_bank"}
+
+
+def make_gp(kind, seed=3, noise=0.005):
+    """Undeclared-effect data sets with camber and inflation pressure varying
+    (datasets.make keeps gamma = 0 and has no p): the inputs of
+    datasets.inputs, gamma up to 0.07 rad, p = NOMPRES (1 +- 0.25). The hidden
+    effect has its own form, not the tool's (.tir coefficient changes):
+      camber    Fy += 0.6 gamma Fz (an extra camber thrust at every slip)
+      pressure  LMUX, LMUY, LKX, LKY x (1 - 0.3 dpi), dpi = (p - NOMPRES) / NOMPRES
+      none      the base model (with its own camber and pressure terms)
+    Noise as datasets.make: white, noise * peak |F| per output."""
+    rng = np.random.default_rng(seed)
+    P = datasets.base_params()
+    fz0, nom = float(P["fnomin"]), float(P["nompres"])
+    n, dt = 2000, 0.02
+    t, ch = datasets.inputs(rng, n, dt, 1.2, fz0)
+    ch["gamma"] = (0.05 * np.sin(2 * np.pi * 0.13 * t + rng.uniform(0, 6))
+                   + 0.02 * np.sin(2 * np.pi * 0.6 * t))
+    ch["p"] = nom * (1.0 + 0.2 * np.sin(2 * np.pi * 0.04 * t + rng.uniform(0, 6))
+                     + 0.05 * np.sin(2 * np.pi * 0.3 * t))
+    model = TireModel(P)
+    if kind == "camber":
+        out = dict(model.predict(ch))
+        out["fy"] = out["fy"] + 0.6 * ch["gamma"] * ch["fz"]
+    elif kind == "pressure":
+        f = 1.0 - 0.3 * (ch["p"] - nom) / nom
+        out = model.predict(ch, {"lmuy": f, "lmux": f, "lky": f, "lkx": f})
+    elif kind == "none":
+        out = model.predict(ch)
+    else:
+        raise ValueError(kind)
+    ds_ch = dict(ch)
+    for o in ("fx", "fy"):
+        ds_ch[o] = out[o] + noise * np.max(np.abs(out[o])) * rng.standard_normal(n)
+    units = {"t": "s", "alpha": "rad", "kappa": "-", "gamma": "rad", "fz": "N", "vx": "m/s", "p": "Pa",
+             "fx": "N", "fy": "N"}
+    return Dataset(t, ds_ch, units, ["fx", "fy"], {"generator": "test_residual.make_gp", "seed": seed}), \
+        {"kind": kind}
 
 
 class UndeclaredEffects(unittest.TestCase):
@@ -83,6 +122,59 @@ class UndeclaredEffects(unittest.TestCase):
             self.assertAlmostEqual(P2["pdy2"], upd["tir_update"]["PDY2"], places=9)
             self.assertAlmostEqual(P2["pdx2"], upd["tir_update"]["PDX2"], places=9)
             self.assertEqual(P2["pdy1"], self.model.params["pdy1"])
+
+
+class UndeclaredCamberPressure(unittest.TestCase):
+    """Camber and inflation pressure hidden in data where gamma and p vary
+    (make_gp); the same assertions as UndeclaredEffects._check."""
+    @classmethod
+    def setUpClass(cls):
+        cls.model = TireModel(datasets.base_params(), "mf61", datasets.TIR)
+        cls.results = {}
+        for kind in ("camber", "pressure", "none"):
+            ds, truth = make_gp(kind, seed=3)
+            cls.results[kind] = (ds, truth, attribution.analyse(cls.model, ds))
+
+    def _check(self, kind):
+        exp = {"camber": "camber", "pressure": "inflation_pressure"}
+        ds, truth, res = self.results[kind]
+        c = res.chosen
+        self.assertIsNotNone(c, f"{kind}: {attribution.verdict(res)}")
+        print(f"\n  {kind}: named {c.name}, score {c.score:.3f}, "
+              + ", ".join(f"{o} held-out RMS {res.base_ho_rms[o]:.1f} -> {c.ho_rms[o]:.1f} N" for o in ds.outputs))
+        self.assertEqual(c.name, exp[kind])
+        self.assertLessEqual(c.score, 0.5)
+        o = max(ds.outputs, key=lambda q: res.base_ho_rms[q])
+        self.assertLessEqual(c.ho_rms[o], 0.5 * res.base_ho_rms[o])
+        return c
+
+    def test_camber(self):
+        c = self._check("camber")
+        # truth: Fy += 0.6 gamma Fz; the tool's PKY6, PVY3 += c adds about c gamma Fz
+        self.assertAlmostEqual(c.params["c_gamma"], 0.6, delta=0.1)
+
+    def test_pressure(self):
+        c = self._check("pressure")
+        # truth: LMU, LK x (1 - 0.3 dpi); the tool's PP*1, PP*3 += c is that to first order
+        self.assertAlmostEqual(c.params["c_dp"], -0.3, delta=0.1)
+
+    def test_report_and_update(self):
+        ds, _, res = self.results["camber"]
+        with tempfile.TemporaryDirectory() as d:
+            _, upd = report.write(res, ds, self.model, d)
+            from grip_tools import tir
+            P2 = tir.load_params(upd["tir_file"])
+            c = res.chosen.params["c_gamma"]
+            for k in ("pky6", "pvy3"):
+                self.assertAlmostEqual(P2[k], self.model.params[k] + c, places=9)
+            self.assertEqual(P2["pdy1"], self.model.params["pdy1"])
+
+    def test_none_invents_nothing(self):
+        ds, _, res = self.results["none"]
+        print(f"\n  none (gamma, p varying): best {res.ranked[0].name} score {res.ranked[0].score:.4f}; "
+              f"{attribution.verdict(res)}")
+        self.assertIsNone(res.chosen)
+        self.assertIn("no effect", attribution.verdict(res))
 
 
 class Schema(unittest.TestCase):

@@ -6,7 +6,10 @@ something physical and map onto a C configuration (docs/measured-data-loop.md,
 
 Base model: TireModel wraps grip_tools.mf.evaluate for one parameter set;
 `over` passes overridden inputs (alpha, kappa, fz, ...) and array-valued
-scaling factors (lmuy, lmux, lky, lkx), which mf.evaluate broadcasts.
+scaling factors (lmuy, lmux, lky, lkx), which mf.evaluate broadcasts;
+over["coef"] = {name: value} replaces MF coefficients (grip_mf_params field
+names, lower case) by absolute values: the effects that are .tir changes
+(camber, pressure) predict with the Magic Formula of the updated set itself.
 """
 import math
 
@@ -40,6 +43,10 @@ class TireModel:
                 P[k] = P.get(k, 1.0) * over[k]
         if "lmuv" in over:                     # absolute: the .tir LMUV of the updated set
             P["lmuv"] = over["lmuv"]
+        for k, v in over.get("coef", {}).items():   # absolute: coefficients of the updated .tir
+            if k not in P:
+                raise KeyError(f"unknown MF coefficient {k!r}")
+            P[k] = float(v)
         g = {k: over.get(k, ch.get(k, d)) for k, d in
              (("kappa", z), ("alpha", z), ("gamma", z), ("fz", z), ("vx", z + 10.0))}
         p = over.get("p", ch.get("p"))
@@ -265,36 +272,65 @@ class LoadSensitivity(Effect):
 
 
 class Camber(Effect):
+    """Camber thrust beyond the model, as a change c of two MF 6.1
+    coefficients: PKY6 += c and PVY3 += c. In MF 6.1 (mf.py _fy0) PKY6 is
+    the camber stiffness Kyg0 = Fz (PKY6 + PKY7 dfz)(1 + PPY5 dpi) LKYC,
+    which enters only through SHy (+Kyg0 gamma / Kya); PVY3 is in
+    SVyg = Fz (PVY3 + PVY4 dfz) gamma LKYC LMUY', which enters SVy (+SVyg)
+    and SHy (-SVyg / Kya), so that in the linear range it cancels and acts
+    only at saturation. Together, the change adds about c gamma Fz to Fy at
+    every slip (linear range through PKY6, saturation through PVY3): the
+    one-parameter term of the earlier form, now exactly the Magic Formula
+    with the updated coefficients (the prediction IS mf.evaluate of the
+    updated set; the updated .tir runs in grip_mf_eval unchanged). MF 5.2
+    (no PKY6; SVy = Fz (... + (PVY3 + PVY4 dfz) gamma) LMUY' without the
+    SHy cancellation): PVY3 += c alone."""
     name = "camber"
     pnames = ("c_gamma",)
     x0 = (0.0,)
-    lo = (-20.0,)
-    hi = (20.0,)
-    onboard = "MF coefficients: PVY3/PKY6 (camber thrust), grip_mf_params"
+    lo = (-5.0,)
+    hi = (5.0,)
+    keys = ("pky6", "pvy3")
+    onboard = "lib/mf: .tir PKY6 += c, PVY3 += c (MF 6.x camber stiffness and camber thrust), grip_mf_params"
 
     def applicable(self, ds):
         return (_varies(ds, "gamma", 1e-4), "gamma constant")
 
+    def coefficients(self, params, x):
+        keys = self.keys if int(params.get("fittyp", 61)) in mf.MF6 else ("pvy3",)
+        return {k: float(params[k]) + float(x[0]) for k in keys}
+
     def predict(self, model, ds, x):
-        out = dict(model.predict(ds.ch))
-        out["fy"] = out["fy"] + x[0] * ds.ch["gamma"] * ds.ch["fz"]
-        return out
+        return model.predict(ds.ch, {"coef": self.coefficients(model.params, x)})
 
 
 class Pressure(Effect):
+    """Inflation-pressure dependence beyond the model, as a change c of the
+    MF 6.1 linear pressure coefficients of friction and slip stiffness:
+    PPX3 += c, PPY3 += c (mu_x, mu_y x (1 + PP*3 dpi + PP*4 dpi^2)) and
+    PPX1 += c, PPY1 += c (Kxk x (1 + PPX1 dpi + PPX2 dpi^2), Kya x
+    (1 + PPY1 dpi)), dpi = (p - NOMPRES) / NOMPRES. To first order in dpi
+    the earlier LMU, LK x (1 + c dpi); now the prediction is the Magic
+    Formula of the updated set itself (p is an input of grip_mf_eval,
+    dpi limited to [GRIP_MF_DPI_MIN, GRIP_MF_DPI_MAX] = [-0.5, 1] there).
+    MF 5.2 has no pressure terms: the change does nothing there and the
+    effect is never accepted on an MF 5.2 model."""
     name = "inflation_pressure"
     pnames = ("c_dp",)
     x0 = (0.0,)
     lo = (-2.0,)
     hi = (2.0,)
-    onboard = "MF 6.1 coefficients PPY*/PPX* (grip_mf_params); p is an input"
+    keys = ("ppx1", "ppy1", "ppx3", "ppy3")
+    onboard = "lib/mf: .tir PPX1, PPY1, PPX3, PPY3 += c (MF 6.x), grip_mf_params; p is an input"
 
     def applicable(self, ds):
         return (_varies(ds, "p", 100.0), "p constant or absent")
 
+    def coefficients(self, params, x):
+        return {k: float(params[k]) + float(x[0]) for k in self.keys}
+
     def predict(self, model, ds, x):
-        f = np.maximum(1.0 + x[0] * (ds.ch["p"] - model.nompres) / model.nompres, 0.05)
-        return model.predict(ds.ch, {"lmuy": f, "lmux": f, "lky": f, "lkx": f})
+        return model.predict(ds.ch, {"coef": self.coefficients(model.params, x)})
 
 
 class AeroLoad(Effect):

@@ -72,7 +72,8 @@ def onboard_config(name, params, model, dt=None):
 
 def effect_update(name, params, model, dt=None):
     """Where the fitted parameters go onboard (JSON-able): .tir keys for
-    MF coefficients, grip_relax_params, grip_mf_thermal_params + the LMU/LK
+    MF coefficients (load sensitivity PDY2/PDX2, LMUV, camber PKY6/PVY3,
+    pressure PPX1/PPY1/PPX3/PPY3), grip_relax_params, grip_mf_thermal_params + the LMU/LK
     temperature scaling; for the vehicle-level effects `onboard_config`
     (grip_est_config / grip_calib_config values)."""
     upd = {}
@@ -83,6 +84,11 @@ def effect_update(name, params, model, dt=None):
     if name == "load_sensitivity" and P is not None:
         upd["tir_update"] = {"PDY2": P["pdy2"] + params["c_dfz"] * P["pdy1"],
                              "PDX2": P["pdx2"] + params["c_dfz"] * P["pdx1"]}
+    if name in ("camber", "inflation_pressure") and P is not None:
+        from .effects import Camber, Pressure
+        e = Camber() if name == "camber" else Pressure()
+        x = [params[e.pnames[0]]]
+        upd["tir_update"] = {k.upper(): v for k, v in e.coefficients(P, x).items()}
     if name == "slip_velocity_friction":
         upd["tir_update"] = {"LMUV": params["lmuv"]}
     if name == "relaxation":
