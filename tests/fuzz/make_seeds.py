@@ -79,6 +79,12 @@ def main():
             b += bytes([0xFF, 0x01, 0x00])
             b += qs(v) * 4 + qs(steer) + qs(yaw) + qs(0.0) + qs(ay) + qs(v) + ql(0.0) * 8
         put('est', 'drive%d' % k, b)
+        # fuzz_chain: the same drive behind an identity calibration (offset 0,
+        # gain byte 85 = 1.0, delay 0) and behind a 3-step delay with offsets
+        ident = bytes([0, 85, 0]) * 9
+        skewed = bytes([6, 100, 3]) * 9
+        put('chain', 'drive%d' % k, b[:1] + ident + b[1:])
+        put('chain', 'skewed%d' % k, b[:1] + skewed + b[1:])
     # fuzz_tir: the small shared files and every reader test file
     for src in ['tests/data/chrono-tir/mf_185_80R14.tir', 'tests/data/mfeval-tir/MagicFormula61_Paramerters.tir',
                 'tests/data/mfeval-tir/PacejkaBook_Defaults.tir']:

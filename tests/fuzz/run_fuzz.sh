@@ -39,9 +39,9 @@ INC="-Iinclude -Ilib/arith -Iport/linux -Itests/fuzz -D_POSIX_C_SOURCE=200809L"
 LIBSRC=$(ls lib/*/*.c)
 
 # harness:extra host sources
-HARNESSES="mf:port/linux/tir_reader.c mf89: mf_thermal: brush: can: candump:port/linux/candump.c tir:port/linux/tir_reader.c est:port/linux/tir_reader.c"
+HARNESSES="mf:port/linux/tir_reader.c mf89: mf_thermal: brush: can: candump:port/linux/candump.c tir:port/linux/tir_reader.c est:port/linux/tir_reader.c chain:port/linux/tir_reader.c"
 [ -f include/grip/grip_brush.h ] || HARNESSES=$(echo "$HARNESSES" | sed 's/brush: //')
-[ -f include/grip/grip_est.h ] || HARNESSES=$(echo "$HARNESSES" | sed 's/ est:[^ ]*//')
+[ -f include/grip/grip_est.h ] || HARNESSES=$(echo "$HARNESSES" | sed 's/ est:[^ ]*//; s/ chain:[^ ]*//')
 
 n=0
 fail=0
@@ -62,7 +62,7 @@ for A in 0 1; do
                 case "$s" in
                 lib/est/*)   # an unfinished estimator must not stop the other harnesses
                     echo "# $s does not build: fuzz_est skipped"
-                    HARNESSES=$(echo "$HARNESSES" | sed 's/ est:[^ ]*//')
+                    HARNESSES=$(echo "$HARNESSES" | sed 's/ est:[^ ]*//; s/ chain:[^ ]*//')
                     LIBSRC=$(echo "$LIBSRC" | grep -v '^lib/est/') ;;
                 *)
                     ok=0
@@ -102,6 +102,7 @@ run_one() {   # name build
     [ -d "tests/fuzz/corpus/$1" ] && cp "tests/fuzz/corpus/$1"/* "$w"/ 2>/dev/null
     maxlen=4096
     [ "$1" = est ] && maxlen=16384   # up to 200 estimator steps of 71 bytes
+    [ "$1" = chain ] && maxlen=16448  # calibration (1 + 27 bytes), then as est
     "$B/fuzz_$1_$2" -max_total_time="$FUZZ_TIME" -timeout=10 -rss_limit_mb=2048 -max_len=$maxlen \
         -print_final_stats=1 -artifact_prefix="$B/artifacts/$1-$2-" "$w" >"$B/log/$1-$2.run" 2>&1
     echo $? >"$B/log/$1-$2.rc"

@@ -1,0 +1,156 @@
+/*
+ * fuzz_chain.c - the onboard data flow on hostile input sequences:
+ * sample -> grip_calib_apply -> grip_monitor_step (with the estimator's
+ * previous output) -> grip_est_step, as an application wires it.
+ *
+ * Input: [set] [calibration: per calibrated input offset (int8 -> [-10, 10]),
+ * gain (u8 -> [0.5, 2]), delay (u8 mod 33 steps)] then up to 200 steps of
+ * [valid mask (3 bytes)] [17 input words] as in fuzz_est.c.
+ * Properties: no crash or sanitizer report; every call returns GRIP_OK;
+ * every calibrated value and every monitor residual finite, calibrated
+ * values of invalid inputs never used (the estimator sees them invalid);
+ * monitor codes within their enumeration; estimator outputs finite with the
+ * bounds fuzz_est checks.
+ */
+#include <glob.h>
+#include "fuzz_common.h"
+#include "grip/grip_calib.h"
+#include "grip/grip_est.h"
+#include "grip/grip_monitor.h"
+#include "grip/grip_signals.h"
+#include "tir_reader.h"
+
+#define MAX_SETS 32
+static grip_mf_params sets[MAX_SETS];
+static grip_est_config_t cfgs[MAX_SETS];
+static int nsets;
+static grip_monitor_config_t mon_cfg;
+
+int LLVMFuzzerInitialize(int *argc, char ***argv);
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+int LLVMFuzzerInitialize(int *argc, char ***argv)
+{
+    static const char *const pats[] = { "tests/data/chrono-tir/*.tir", "tests/data/mfeval-tir/*.tir" };
+    size_t k;
+    (void)argc;
+    (void)argv;
+    for (k = 0; k < 2; k++) {
+        glob_t g;
+        size_t j;
+        if (glob(pats[k], 0, NULL, &g) != 0) {
+            continue;
+        }
+        for (j = 0; j < g.gl_pathc && nsets < MAX_SETS; j++) {
+            char err[256];
+            if (grip_tir_read(g.gl_pathv[j], &sets[nsets], err, sizeof err) == 0 &&
+                grip_est_config_default(&cfgs[nsets], &sets[nsets]) == GRIP_OK) {
+                static grip_est_t probe;
+                if (grip_est_init(&probe, &cfgs[nsets]) == GRIP_OK) {
+                    nsets++;
+                }
+            }
+        }
+        globfree(&g);
+    }
+    if (nsets == 0 || grip_monitor_config_default(&mon_cfg) != GRIP_OK) {
+        fprintf(stderr, "fuzz_chain: no usable .tir parameter set or monitor default (run from the repository root)\n");
+        exit(2);
+    }
+    return 0;
+}
+
+static grip_real_t qs_of(double x)
+{
+#if GRIP_ARITH_FIXED
+    return (grip_real_t)(x * 65536.0);
+#else
+    return (grip_real_t)x;
+#endif
+}
+
+static int in_range(grip_real_t v, double lo, double hi)
+{
+    double d = fz_d(v, FZ_QS);
+    return d >= lo && d <= hi;
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    static grip_est_t est;
+    static grip_calib_t cal;
+    static grip_monitor_t mon;
+    grip_calib_config_t ccfg;
+    grip_est_output_t prev;
+    fz_reader r = { data, size };
+    int set = fz_u8(&r) % nsets;
+    int steps = 0, have_prev = 0;
+    uint32_t i;
+    grip_status_t s;
+
+    FZ_CHECK(grip_calib_config_identity(&ccfg) == GRIP_OK, "calib identity");
+    for (i = 0; i < GRIP_CALIB_N; i++) {
+        ccfg.offset[i] = qs_of((double)(int8_t)fz_u8(&r) * (10.0 / 128.0));
+        ccfg.gain[i] = qs_of(0.5 + 1.5 * (double)fz_u8(&r) / 255.0);
+        ccfg.delay[i] = (uint32_t)fz_u8(&r) % (GRIP_CALIB_DELAY_MAX + 1u);
+    }
+    s = grip_calib_init(&cal, &ccfg);
+    FZ_CHECK(s == GRIP_OK, "calib init %d", (int)s);
+    s = grip_monitor_init(&mon, &mon_cfg);
+    FZ_CHECK(s == GRIP_OK, "monitor init %d", (int)s);
+    s = grip_est_init(&est, &cfgs[set]);
+    FZ_CHECK(s == GRIP_OK, "est init %d", (int)s);
+    memset(&prev, 0, sizeof prev);
+
+    while (r.n > 0 && steps < 200) {
+        grip_input_sample_t in, c;
+        grip_monitor_report_t rep;
+        grip_est_output_t o;
+        uint32_t mask = (uint32_t)fz_u8(&r) | ((uint32_t)fz_u8(&r) << 8) | ((uint32_t)fz_u8(&r) << 16);
+        memset(&in, 0, sizeof in);
+        in.t_us = (int64_t)steps * 10000;
+        in.step = (uint32_t)steps;
+        for (i = 0; i < GRIP_IN_COUNT; i++) {
+            grip_real_t v = fz_real(&r, grip_input_is_ql(i) ? FZ_QL : FZ_QS);
+            if ((mask >> i) & 1u) {
+                in.value[i] = v;
+                in.valid[i] = 1u;
+                in.fault[i] = GRIP_SIG_OK;
+            } else {
+                in.value[i] = 0;
+                in.valid[i] = 0u;
+                in.fault[i] = GRIP_SIG_STALE;
+            }
+        }
+        s = grip_calib_apply(&cal, &in, &c);
+        FZ_CHECK(s == GRIP_OK, "step %d: calib status %d", steps, (int)s);
+        for (i = 0; i < GRIP_IN_COUNT; i++) {
+            FZ_CHECK(!c.valid[i] || fz_finite(c.value[i]), "step %d: calibrated input %u non-finite", steps, i);
+        }
+        s = grip_monitor_step(&mon, &c, have_prev ? &prev : NULL, &rep);
+        FZ_CHECK(s == GRIP_OK, "step %d: monitor status %d", steps, (int)s);
+        for (i = 0; i < GRIP_MON_N; i++) {
+            FZ_CHECK(fz_finite(rep.resid[i]), "step %d: monitor residual %u non-finite", steps, i);
+        }
+        FZ_CHECK(rep.detected == 0 || rep.detected == 1, "step %d: detected %d", steps, (int)rep.detected);
+        s = grip_est_step(&est, &c, &o);
+        FZ_CHECK(s == GRIP_OK, "step %d: est status %d", steps, (int)s);
+        {
+            const grip_real_t *w = (const grip_real_t *)&o;
+            size_t nreal = offsetof(grip_est_output_t, steer_char) / sizeof(grip_real_t);
+            size_t k;
+            for (k = 0; k < nreal; k++) {
+                FZ_CHECK(fz_finite(w[k]), "step %d: output word %zu non-finite", steps, k);
+            }
+        }
+        for (i = 0; i < 4; i++) {
+            FZ_CHECK(in_range(o.util[i], 0.0, 1.5), "util[%u] %g", i, fz_d(o.util[i], FZ_QS));
+        }
+        FZ_CHECK(in_range(o.mu_conf, 0.0, 1.0), "mu_conf %g", fz_d(o.mu_conf, FZ_QS));
+        FZ_CHECK(o.steer_char >= -1 && o.steer_char <= 1, "steer_char %d", (int)o.steer_char);
+        prev = o;
+        have_prev = 1;
+        steps++;
+    }
+    return 0;
+}
