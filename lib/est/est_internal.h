@@ -81,7 +81,7 @@
 #define EST_NIS_HI   3.84    /* misfit above: chi-square(1) 95 % point         */
 #define EST_NIS_LO   1.0     /* ... cleared below: a consistent filter's mean  */
 #define EST_SAT_U    0.95    /* model utilization counted as saturated         */
-#define EST_SAT_HI   0.5     /* misfit above: saturated half of the window     */
+#define EST_SAT_HI   0.7     /* misfit above: saturated 70 % of the window     */
 #define EST_SAT_LO   0.1     /* ... cleared below (with NIS below NIS_LO)      */
 #define EST_CONF_MISFIT 0.45 /* mu_conf cap while misfit (below V_MU's 0.5)    */
 

@@ -356,7 +356,7 @@ static int misfit_run(const grip_mf_params *t, int *first_flag, int *vmu_after, 
     *vmu_steps = 0;
     assert_int_equal(grip_est_config_default(&cfg, t), GRIP_OK);
     assert_int_equal(grip_est_init(&e, &cfg), GRIP_OK);
-    for (k = 0; k < 1200; ++k) {
+    for (k = 0; k < 1600; ++k) {
         double ay = (k < 200) ? 0.5 : ((k < 700) ? 0.5 + (MISFIT_AY - 0.5) * (k - 200) / 500.0 : MISFIT_AY);
         circle(&s, 20.0, ay);
         assert_int_equal(grip_est_step(&e, &s, &o), GRIP_OK);

@@ -56,7 +56,7 @@ NU_SIGMA, CONF_S0 = 4.0, 0.15
 # at the limit (misfit above SAT_HI, cleared below SAT_LO); mu_conf is
 # capped at CONF_MISFIT while misfit
 MF_TAU, NIS_HI, NIS_LO = 2.0, 3.84, 1.0
-SAT_U, SAT_HI, SAT_LO, CONF_MISFIT = 0.95, 0.5, 0.1, 0.45
+SAT_U, SAT_HI, SAT_LO, CONF_MISFIT = 0.95, 0.7, 0.1, 0.45
 BIG = 1000000
 
 # validity and flag bits (grip_est.h)
