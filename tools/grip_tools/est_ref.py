@@ -4,7 +4,8 @@ The same algorithm as lib/est/est.c, step for step and in the same order,
 in float64: input hold and validity, longitudinal speed filter, load
 transfer, four Magic Formula evaluations (grip_tools.mf) at the prior
 state, analytic Jacobians, EKF predict of x = [vy, r, mu], scalar Joseph
-updates of yaw rate, ay and (when excited) ax. docs/estimator.md describes
+updates of yaw rate, ay and (when excited) ax, the model-consistency
+(misfit) statistics after the ay update (F_MODEL_MISFIT caps mu_conf). docs/estimator.md describes
 the method and every constant; the constants below are those of
 lib/est/est_internal.h.
 
