@@ -121,6 +121,10 @@ typedef struct {
 #define GRIP_EST_F_EXCITED      ((uint32_t)1u << 12)  /* this step adapted mu (sufficient excitation) */
 #define GRIP_EST_F_TIRE_ERROR   ((uint32_t)1u << 13)  /* a tire model call failed (its wheel zero) */
 #define GRIP_EST_F_RESET        ((uint32_t)1u << 14)  /* the lateral observer was (re)initialized  */
+#define GRIP_EST_F_MODEL_MISFIT ((uint32_t)1u << 15)  /* the tire model does not fit the car (ay NIS
+                                                       * or saturated-model-without-limit share
+                                                       * above threshold): mu_conf capped at 0.45,
+                                                       * V_MU cleared                              */
 
 typedef struct {
     grip_real_t vx;              /* QS m/s longitudinal speed of the CG          */
@@ -179,6 +183,10 @@ typedef struct {
     int32_t age[5];             /* steps since each was valid (saturating) */
     grip_real_t r_lin_f;        /* QS linear yaw-rate reference, low-passed (limit detection) */
     int32_t lim_steps;          /* consecutive steps at the friction limit */
+    grip_real_t nis_a;          /* QS low-pass gain of the misfit statistic per step */
+    grip_real_t nis_f;          /* QS low-passed ay NIS, [0, 16] (misfit check) */
+    grip_real_t sat_f;          /* QS low-passed share of saturated-but-not-at-limit steps, [0, 1] */
+    int32_t misfit;             /* model misfit declared (hysteresis state) */
     int32_t no_wheel_steps;
     int32_t active;             /* lateral observer running */
     int32_t vx_init;

@@ -72,5 +72,17 @@
 #define EST_H_MAX    2.0
 #define EST_NU_SIGMA 4.0     /* innovations clamped to 4 sigma */
 #define EST_CONF_S0  0.15    /* mu confidence 1 at sigma <= 0.05, 0 at >= 0.15 */
+/* model-consistency (misfit) check, docs/estimator.md: two statistics
+ * low-passed over MF_TAU: the ay update's normalized innovation squared
+ * (clamped to 16 by the 4-sigma innovation clamp, so it stays in Q15.16) and
+ * the share of time [0, 1] the model claims saturated tires (utilization
+ * >= SAT_U) while the mu-independent friction-limit test does not fire */
+#define EST_MF_TAU   2.0     /* s: low-pass time constant (window) of both     */
+#define EST_NIS_HI   3.84    /* misfit above: chi-square(1) 95 % point         */
+#define EST_NIS_LO   1.0     /* ... cleared below: a consistent filter's mean  */
+#define EST_SAT_U    0.95    /* model utilization counted as saturated         */
+#define EST_SAT_HI   0.7     /* misfit above: saturated 70 % of the window     */
+#define EST_SAT_LO   0.1     /* ... cleared below (with NIS below NIS_LO)      */
+#define EST_CONF_MISFIT 0.45 /* mu_conf cap while misfit (below V_MU's 0.5)    */
 
 #endif

@@ -330,6 +330,78 @@ static void test_reset_keeps_config(void **state)
     assert_true(sizeof(grip_est_t) <= 2048u);
 }
 
+/* Model-consistency check: the same steady circles (inputs from the linear
+ * bicycle of the right tire, ay ramped to 7.5 m/s^2 on a dry road) run
+ * through the estimator with the right tire and with a deliberately wrong one
+ * (cornering-stiffness scale LKY * MISFIT_LKY = 4: the model predicts more force
+ * than the car makes at these slip angles, like the stand-in tire on the
+ * AV-21 log). The right tire must never raise GRIP_EST_F_MODEL_MISFIT; the
+ * wrong one must raise it, and V_MU must stay cleared from then on. */
+#ifndef MISFIT_LKY
+#define MISFIT_LKY 4.0
+#endif
+#ifndef MISFIT_AY
+#define MISFIT_AY 7.5
+#endif
+static int misfit_run(const grip_mf_params *t, int *first_flag, int *vmu_after, int *vmu_steps, double *mu_end)
+{
+    grip_est_t e;
+    grip_est_config_t cfg;
+    grip_est_output_t o;
+    grip_input_sample_t s;
+    int k, n_flag = 0;
+    double sat_max = 0.0, nis_max = 0.0, conf_max = 0.0, mu_min = 2.0;
+    *first_flag = -1;
+    *vmu_after = 0;
+    *vmu_steps = 0;
+    assert_int_equal(grip_est_config_default(&cfg, t), GRIP_OK);
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_OK);
+    for (k = 0; k < 1600; ++k) {
+        double ay = (k < 200) ? 0.5 : ((k < 700) ? 0.5 + (MISFIT_AY - 0.5) * (k - 200) / 500.0 : MISFIT_AY);
+        circle(&s, 20.0, ay);
+        assert_int_equal(grip_est_step(&e, &s, &o), GRIP_OK);
+        assert_finite_out(&o);
+        sat_max = fmax(sat_max, dq(e.sat_f));
+        nis_max = fmax(nis_max, dq(e.nis_f));
+        conf_max = fmax(conf_max, dq(o.mu_conf));
+        mu_min = fmin(mu_min, dq(o.mu));
+        if (o.flags & GRIP_EST_F_MODEL_MISFIT) {
+            n_flag += 1;
+            if (*first_flag < 0) {
+                *first_flag = k;
+            }
+            assert_true(dq(o.mu_conf) < 0.5);
+        }
+        if (o.valid & GRIP_EST_V_MU) {
+            *vmu_steps += 1;
+            if (*first_flag >= 0) {
+                *vmu_after += 1;
+            }
+        }
+    }
+    *mu_end = dq(o.mu);
+    printf("#   max sat_f %.2f, max nis_f %.2f, max mu_conf %.2f, min mu %.3f\n", sat_max, nis_max, conf_max, mu_min);
+    return n_flag;
+}
+
+static void test_model_misfit(void **state)
+{
+    static grip_mf_params wrong;
+    int first, vmu_after, vmu_steps, n;
+    double mu_end;
+    (void)state;
+    n = misfit_run(tire(), &first, &vmu_after, &vmu_steps, &mu_end);
+    printf("# misfit: right tire: %d flagged steps, V_MU in %d steps, mu %.3f\n", n, vmu_steps, mu_end);
+    assert_int_equal(n, 0);
+    wrong = *tire();
+    wrong.lky = qs(dq(wrong.lky) * MISFIT_LKY);
+    n = misfit_run(&wrong, &first, &vmu_after, &vmu_steps, &mu_end);
+    printf("# misfit: LKY x %.1f: %d flagged steps (first at step %d), V_MU in %d steps (%d after the flag), "
+           "mu %.3f\n", MISFIT_LKY, n, first, vmu_steps, vmu_after, mu_end);
+    assert_true(n > 0);
+    assert_int_equal(vmu_after, 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -339,6 +411,7 @@ int main(void)
         cmocka_unit_test(test_standstill_and_reversing),
         cmocka_unit_test(test_wheel_lock_spin_steer_lock),
         cmocka_unit_test(test_reset_keeps_config),
+        cmocka_unit_test(test_model_misfit),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -4,7 +4,8 @@ The same algorithm as lib/est/est.c, step for step and in the same order,
 in float64: input hold and validity, longitudinal speed filter, load
 transfer, four Magic Formula evaluations (grip_tools.mf) at the prior
 state, analytic Jacobians, EKF predict of x = [vy, r, mu], scalar Joseph
-updates of yaw rate, ay and (when excited) ax. docs/estimator.md describes
+updates of yaw rate, ay and (when excited) ax, the model-consistency
+(misfit) statistics after the ay update (F_MODEL_MISFIT caps mu_conf). docs/estimator.md describes
 the method and every constant; the constants below are those of
 lib/est/est_internal.h.
 
@@ -48,6 +49,15 @@ VY_K = 1.0              # |vy| <= VY_K |vx| + 1 m/s
 P_MIN, P_MAX = 0.01, 400.0
 H_MAX_VY, H_MAX = 5.0, 2.0
 NU_SIGMA, CONF_S0 = 4.0, 0.15
+# model-consistency (misfit) check (docs/estimator.md), two statistics
+# low-passed over MF_TAU: the ay update's normalized innovation squared
+# (misfit above NIS_HI, the chi-square(1) 95 % point, cleared below NIS_LO)
+# and the share of time the model claims saturated tires (utilization >=
+# SAT_U) while the mu-independent friction-limit test says the car is not
+# at the limit (misfit above SAT_HI, cleared below SAT_LO); mu_conf is
+# capped at CONF_MISFIT while misfit
+MF_TAU, NIS_HI, NIS_LO = 2.0, 3.84, 1.0
+SAT_U, SAT_HI, SAT_LO, CONF_MISFIT = 0.95, 0.7, 0.1, 0.45
 BIG = 1000000
 
 # validity and flag bits (grip_est.h)
@@ -57,6 +67,7 @@ F_STANDSTILL, F_REVERSING, F_LOW_SPEED, F_NO_WHEELS = 1, 2, 4, 8
 F_NO_STEER, F_NO_YAW, F_NO_AY, F_NO_AX = 16, 32, 64, 128
 F_SATURATED, F_STEER_LIMIT, F_WHEEL_LOCK, F_WHEEL_SPIN = 256, 512, 1024, 2048
 F_EXCITED, F_TIRE_ERROR, F_RESET = 4096, 8192, 16384
+F_MODEL_MISFIT = 1 << 15
 
 
 def V_WHEEL(i):
@@ -139,6 +150,9 @@ class Estimator:
         self.lim_steps = 0
         self.active = False
         self.vx_init = False
+        self.nis_f = 0.0
+        self.sat_f = 0.0
+        self.misfit = False
 
     # -- Kalman pieces (scaled units) --
     def _condition(self):
@@ -168,6 +182,8 @@ class Estimator:
         self.x = self.x + k * nu * S_X
         Pn = P - np.outer(k, ph) - np.outer(ph, k) + np.outer(k, ks)
         self.P = 0.5 * (Pn + Pn.T)
+        w = _clamp(nu / math.sqrt(s), -NU_SIGMA, NU_SIGMA)
+        return w * w
 
     def _take(self, value, valid, idx, slot, lim, st):
         ok = False
@@ -484,8 +500,20 @@ class Estimator:
                 # noise grows 10x from utilization 0.8 to 1, leaving vy to the
                 # kinematics there
                 ulim = _clamp((float(np.max(o["util"])) - U_R0) / (1.0 - U_R0), 0.0, 1.0)
-                self._update(h, (ay - ay_pred) / S_AY, R_AY * (1.0 + R_LIM * ulim), excited, b_ok)
+                nis = self._update(h, (ay - ay_pred) / S_AY, R_AY * (1.0 + R_LIM * ulim), excited, b_ok)
                 self._condition()
+                # model consistency (docs/estimator.md): the low-passed ay
+                # NIS (1 on average for a consistent filter), and the share of
+                # time the model claims saturated tires while the car's yaw
+                # response (the mu-independent limit test) is not at the limit
+                a_mf = min(dt / MF_TAU, 1.0)
+                sat = 1.0 if (vx >= V_EXC and float(np.max(o["util"])) >= SAT_U and not at_limit) else 0.0
+                self.nis_f += a_mf * (nis - self.nis_f)
+                self.sat_f += a_mf * (sat - self.sat_f)
+                if self.nis_f > NIS_HI or self.sat_f > SAT_HI:
+                    self.misfit = True
+                elif self.nis_f < NIS_LO and self.sat_f < SAT_LO:
+                    self.misfit = False
             # ... and only when the slips push the way the car accelerates
             # (a speed reference a few per cent off the wheel speeds makes
             # slip of the wrong sign, which would drive mu down: RAV4 log)
@@ -521,6 +549,11 @@ class Estimator:
         o["yaw_rate_bias"] = B_UNIT * float(self.x[3])
         sig = math.sqrt(self.P[2, 2]) * S[2]
         o["mu_conf"] = _clamp((CONF_S0 - sig) / 0.1, 0.0, 1.0)
+        if self.misfit:
+            # the tire model does not explain the measurements: whatever mu
+            # the filter found, it is not the road's
+            flags |= F_MODEL_MISFIT
+            o["mu_conf"] = min(o["mu_conf"], CONF_MISFIT)
         if o["mu_conf"] >= 0.5:
             vbits |= V_MU
         if (vbits & V_VX) and steer_ok and vx >= V_ON:
@@ -545,6 +578,8 @@ class Estimator:
         o["valid"] = vbits
         o["flags"] = flags
         o["excited"] = excited
+        o["nis_f"] = self.nis_f
+        o["sat_f"] = self.sat_f
         return o
 
 
