@@ -20,7 +20,8 @@
  * Invalid inputs stay invalid with value 0; a valid input that is not
  * finite (float build) or whose corrected value is not finite becomes
  * invalid with GRIP_SIG_RANGE. Inputs GRIP_CALIB_N .. GRIP_IN_COUNT - 1
- * (brake pressures and torques) pass through unchanged.
+ * (brake pressures and torques) pass through unchanged, except that a
+ * valid non-finite value leaves invalid with GRIP_SIG_RANGE.
  *
  * Formats (fixed build): offset QS in the input's SI unit, gain QS, delay
  * in whole steps. Output values are the build's grip_real_t; the fixed

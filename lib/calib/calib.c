@@ -135,5 +135,14 @@ grip_status_t grip_calib_apply(grip_calib_t *c, const grip_input_sample_t *in, g
         out->fault[i] = ok ? (uint8_t)GRIP_SIG_OK : fault;
         out->age_us[i] = age;
     }
+    /* The inputs passed through uncalibrated get the same guarantee: a
+     * valid non-finite value leaves as invalid (range), never as a number. */
+    for (i = (uint32_t)GRIP_CALIB_N; i < (uint32_t)GRIP_IN_COUNT; ++i) {
+        if ((out->valid[i] != 0u) && !r_is_finite(out->value[i])) {
+            out->value[i] = R_ZERO;
+            out->valid[i] = 0u;
+            out->fault[i] = (uint8_t)GRIP_SIG_RANGE;
+        }
+    }
     return GRIP_OK;
 }

@@ -107,7 +107,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
         FZ_CHECK(in01(o.mu_conf, 0.0, 1.0), "mu_conf %g", fz_d(o.mu_conf, FZ_QS));
         FZ_CHECK(o.steer_char >= -1 && o.steer_char <= 1, "steer_char %d", (int)o.steer_char);
-        FZ_CHECK((o.flags >> 15) == 0u, "unknown flag bits %x", o.flags);
+        FZ_CHECK((o.flags >> 16) == 0u, "unknown flag bits %x", o.flags);
         steps++;
     }
     return 0;

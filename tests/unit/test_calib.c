@@ -251,6 +251,18 @@ static void test_non_finite(void **state)
     assert_int_equal(o.valid[GRIP_IN_AY], 0);
     assert_int_equal(o.fault[GRIP_IN_AY], GRIP_SIG_RANGE);
     assert_int_equal(o.valid[GRIP_IN_STEER_ANGLE], 1);
+    /* uncalibrated pass-through inputs: a valid non-finite value leaves
+     * invalid (found by fuzz_chain), a finite one unchanged */
+    s.valid[GRIP_IN_BRAKE_TORQUE_FL] = 1;
+    s.value[GRIP_IN_BRAKE_TORQUE_FL] = NAN;
+    s.valid[GRIP_IN_BRAKE_PRESSURE_RR] = 1;
+    s.value[GRIP_IN_BRAKE_PRESSURE_RR] = 2.5e6f;
+    assert_int_equal(grip_calib_apply(&c, &s, &o), GRIP_OK);
+    assert_int_equal(o.valid[GRIP_IN_BRAKE_TORQUE_FL], 0);
+    assert_int_equal(o.fault[GRIP_IN_BRAKE_TORQUE_FL], GRIP_SIG_RANGE);
+    assert_true(o.value[GRIP_IN_BRAKE_TORQUE_FL] == 0.0f);
+    assert_int_equal(o.valid[GRIP_IN_BRAKE_PRESSURE_RR], 1);
+    assert_true(o.value[GRIP_IN_BRAKE_PRESSURE_RR] == 2.5e6f);
 }
 #endif
 

@@ -362,7 +362,8 @@ def av21_report(log, outdir, bins):
             flag_names = {"standstill": est_ref.F_STANDSTILL, "low_speed": est_ref.F_LOW_SPEED,
                           "wheel_lock": est_ref.F_WHEEL_LOCK, "wheel_spin": est_ref.F_WHEEL_SPIN,
                           "excited": est_ref.F_EXCITED, "saturated": est_ref.F_SATURATED,
-                          "steer_limit": est_ref.F_STEER_LIMIT, "reset": est_ref.F_RESET}
+                          "steer_limit": est_ref.F_STEER_LIMIT, "reset": est_ref.F_RESET,
+                          "model_misfit": est_ref.F_MODEL_MISFIT}
             r = {"errors": int(np.sum(o["est_status"] < 0)), "all_finite": bool(finite),
                  "moving_steps": int(moving.sum()),
                  "valid_steps": {"beta": int(vb.sum()), "yaw_ref": int(vr.sum()), "axle": int(va.sum()),
