@@ -237,7 +237,7 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
         grip_real_t sx = cfg->tan_grade, sy = cfg->tan_bank;
         grip_real_t fzn = r_div(R_ONE, r_sqrt(r_add(R_ONE, r_add(r_sq(sx), r_sq(sy)))));
         grip_real_t kq = r_mul(RC(0.25), r_mul(cfg->air_density, cfg->cla));   /* per wheel */
-        est->plane = (sx != R_ZERO || sy != R_ZERO) ? 1 : 0;
+        est->plane = (sx != R_ZERO || sy != R_ZERO) ? 1 : 0; /* grip-deviation: MISRA-10.6 tool: ?: of constants is not composite (8.10.3) */
         for (a = 0; a < 2; ++a) {
             est->fz_base[a] = est->plane ? r_mul(fzn, est->fz_static[a]) : est->fz_static[a];
         }
@@ -621,11 +621,11 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         } else {
             est->vx = r_add(vx_pred, r_mul(r_min(r_div(k, rate), R_ONE), r_sub(v_ref, vx_pred)));
         }
-        stand = n_ws > 0 && vmax < RC(EST_V_STAND) && vmin > RC(-EST_V_STAND);
+        stand = n_ws > 0 && vmax < RC(EST_V_STAND) && vmin > RC(-EST_V_STAND); /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
         /* the gyro reads its bias at rest: every wheel at rest and the car
          * (nearly) stopped already by the prediction (wheels locked at speed
          * are not a standstill) */
-        at_rest = stand && r_abs(vx_pred) < RC(EST_V_ON);
+        at_rest = stand && r_abs(vx_pred) < RC(EST_V_ON); /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
         if (stand && !vs_ok) {
             est->vx = R_ZERO;       /* standstill: stops ax-bias drift */
         }
@@ -702,7 +702,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
             h[1] = R_ZERO;
             h[2] = R_ZERO;
             h[3] = RC(EST_S_B / EST_S_R);
-            kf_update(est, h, r_div(r_sub(est->hold[H_YAW], r_mul(RC(EST_S_B), est->x[3])), RC(EST_S_R)),
+            (void)kf_update(est, h, r_div(r_sub(est->hold[H_YAW], r_mul(RC(EST_S_B), est->x[3])), RC(EST_S_R)),
                       RC(EST_R_YAW), 0, 1);
             kf_condition(est);
             est->x[3] = sym_clamp(est->x[3], RC(EST_B_MAX / EST_S_B));
@@ -719,7 +719,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         grip_real_t umax = R_ZERO, umax_x = R_ZERO, kappa_sum = R_ZERO, umax_est = R_ZERO;
         int at_limit = 0, b_ok;
         grip_real_t f[2][GRIP_EST_NX];   /* rows vy, r of the transition (mu, bias: identity) */
-        grip_real_t ay_m, ax_m, racc, dvy, dr, m = c->mass, mu_lb = RC(EST_MU_MIN), nis_ay = R_ZERO;
+        grip_real_t ay_m, ax_m, racc, dvy, dr, m = c->mass, mu_lb = RC(EST_MU_MIN), nis_ay;
 
         for (i = 0; i < 4; ++i) {
             int axle = i >> 1;
@@ -880,7 +880,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         /* the gyro bias adapts only where the tire model is trusted (linear
          * range, no locked or spinning wheel, no hard braking or driving, no
          * friction-limit indication); else it would absorb the model's errors */
-        b_ok = umax_est < RC(EST_B_U) && r_abs(ay) < RC(EST_B_A) && r_abs(ax) < RC(EST_B_AX) && !lock && !spin &&
+        b_ok = umax_est < RC(EST_B_U) && r_abs(ay) < RC(EST_B_A) && r_abs(ax) < RC(EST_B_AX) && !lock && !spin && /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
                !at_limit;
         dvy = r_div(r_sub(r_add(ay_ok ? ay : ay_m, g_y), r_mul(r, vx)), rate);
         dr = r_div(racc, rate);
@@ -918,7 +918,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                  * the most model-sensitive equation (Iz, lever arms, the
                  * front/rear force split at the limit) and drove mu away
                  * at the limit of the simulator's ramp steer */
-                kf_update(est, h, r_div(r_sub(yaw, est->x[1]), RC(EST_S_R)),
+                (void)kf_update(est, h, r_div(r_sub(yaw, est->x[1]), RC(EST_S_R)),
                           RC(EST_R_YAW), 0, b_ok);
                 kf_condition(est);
             }
@@ -971,7 +971,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                 h[1] = R_ZERO;
                 h[2] = sym_clamp(r_mul(r_div(jax_mu, m), RC(EST_S_MU / EST_S_AY)), RC(EST_H_MAX));
                 h[3] = R_ZERO;
-                kf_update(est, h, r_div(r_sub(ax, ax_pred), RC(EST_S_AY)), RC(EST_R_AX), 1, b_ok);
+                (void)kf_update(est, h, r_div(r_sub(ax, ax_pred), RC(EST_S_AY)), RC(EST_R_AX), 1, b_ok);
                 kf_condition(est);
             }
         }

@@ -10,6 +10,7 @@
  * speed -> frozen -> debounce, latch, heal, drop.
  * Every loop runs GRIP_MON_N (9) or 4 times.
  */
+#include <stddef.h>
 #include "grip/grip_monitor.h"
 #include "arith.h"
 
@@ -114,7 +115,7 @@ static int32_t inc_sat(int32_t n)
 
 grip_status_t grip_monitor_config_default(grip_monitor_config_t *cfg)
 {
-    if (cfg == 0) {
+    if (cfg == NULL) {
         return GRIP_ERR_NULL;
     }
     cfg->lf = RC(1.10);
@@ -144,7 +145,7 @@ static grip_status_t check_config(const grip_monitor_config_t *c)
 grip_status_t grip_monitor_reset(grip_monitor_t *mon)
 {
     int s;
-    if (mon == 0) {
+    if (mon == NULL) {
         return GRIP_ERR_NULL;
     }
     if (mon->magic != MON_MAGIC) {
@@ -193,7 +194,7 @@ grip_status_t grip_monitor_reset(grip_monitor_t *mon)
 grip_status_t grip_monitor_init(grip_monitor_t *mon, const grip_monitor_config_t *cfg)
 {
     int s;
-    if (mon == 0 || cfg == 0) {
+    if (mon == NULL || cfg == NULL) {
         return GRIP_ERR_NULL;
     }
     mon->magic = 0u;
@@ -299,8 +300,8 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
     uint32_t faulty = 0u, dropped = 0u;
     int detected = 0, degr = 0;
 
-    if (m == 0 || sample == 0) {
-        if (rep != 0) {
+    if (m == NULL || sample == NULL) {
+        if (rep != NULL) {
             for (s = 0; s < GRIP_MON_N; ++s) {
                 rep->code[s] = 0u;
                 rep->resid[s] = R_ZERO;
@@ -318,13 +319,13 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
             sample->valid[s] = 0u;
             sample->value[s] = R_ZERO;
             sample->fault[s] = (uint8_t)GRIP_SIG_FAULT;
-            if (rep != 0) {
+            if (rep != NULL) {
                 rep->code[s] = 0u;
                 rep->resid[s] = R_ZERO;
             }
         }
-        if (rep != 0) {
-            rep->faulty = (1u << GRIP_MON_N) - 1u;
+        if (rep != NULL) {
+            rep->faulty = ((uint32_t)1u << GRIP_MON_N) - 1u;
             rep->dropped = rep->faulty;
             rep->detected = 1;
             rep->degraded = GRIP_MON_DEGR_SUSPECT | GRIP_MON_DEGR_UNVERIFIED;
@@ -382,16 +383,16 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
         v_ref = r_sub(r_sub(s1, lo), hi);
     } else if (n_good == 2) {
         v_ref = r_mul(RC(0.5), s1);
-    }
-    vw_ok = n_good >= 2;
+    } /* grip-deviation: MISRA-15.7 fewer than two good wheels: no wheel reference (vw_ok is 0) */
+    vw_ok = n_good >= 2; /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
     spread = vw_ok ? r_sub(hi, lo) : R_ZERO;
     vx = v_ref;
     vx_ok = vw_ok;
-    if (!vw_ok && est_prev != 0 && (est_prev->valid & GRIP_EST_V_VX) != 0u && r_is_finite(est_prev->vx)) {
+    if (!vw_ok && est_prev != NULL && (est_prev->valid & GRIP_EST_V_VX) != 0u && r_is_finite(est_prev->vx)) {
         vx = r_clamp(est_prev->vx, RC(-MON_WS_MAX), RC(MON_WS_MAX));
         vx_ok = 1;
     }
-    moving = vx_ok && vx >= RC(V_MIN);
+    moving = vx_ok && vx >= RC(V_MIN); /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
     ax_m = use[IN_AX] ? x[IN_AX] : R_ZERO;
     ay_c = ok[IN_AY] ? r_mul(m->ay_fac, x[IN_AY]) : R_ZERO;
     ay_u = use[IN_AY] ? ay_c : R_ZERO;
@@ -406,7 +407,7 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
     m->ax_steady = (ok[IN_AX] && r_abs(m->dax_f) < RC(DAX_MAX)) ? inc_sat(m->ax_steady) : 0;
 
     /* -- wheels: each against the median of the other three -- */
-    calm = n_good >= 3 && spread <= r_add(RC(CALM_ABS), r_mul(RC(CALM_REL), vx));
+    calm = n_good >= 3 && spread <= r_add(RC(CALM_ABS), r_mul(RC(CALM_REL), vx)); /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
     if (moving && r_abs(ax_m) < RC(WH_AX_MAX)) {
         for (i = 0; i < 4; ++i) {
             int mcount = 0;
@@ -434,7 +435,7 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
             if (r_abs(e) > r_add(RC(WH_ABS), r_mul(RC(WH_REL), vx))) {
                 /* a driven wheel faster than the others at high |ay| is the
                  * unloaded inner wheel spinning, not a sensor */
-                int spin = e > R_ZERO && ((c->driven >> (uint32_t)(i / 2)) & 1u) != 0u &&
+                int spin = e > R_ZERO && ((c->driven >> (uint32_t)(i / 2)) & 1u) != 0u && /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
                            r_abs(ay_u) > RC(WH_SPIN_AY);
                 if (!spin) {
                     sus[i] = 1;
@@ -444,9 +445,9 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
     }
 
     /* -- yaw rate against the rear-wheel difference -- */
-    wheel_sus = sus[0] || sus[1] || sus[2] || sus[3];
+    wheel_sus = sus[0] || sus[1] || sus[2] || sus[3]; /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
     /* trusted only without braking / driving and with the wheels agreeing */
-    rw_ok = use[2] && use[3] && !wheel_sus && calm && r_abs(ax_m) < RC(YAW_AX_MAX);
+    rw_ok = use[2] && use[3] && !wheel_sus && calm && r_abs(ax_m) < RC(YAW_AX_MAX); /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
     if (rw_ok) {
         r_w = r_div(r_sub(x[3], x[2]), c->track_r);
     }
@@ -475,25 +476,25 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
         m->r_have = 0u;
     }
     m->r_steady = (rc_ok && r_abs(m->dr_f) < RC(DR_MAX)) ? inc_sat(m->r_steady) : 0;
-    r_steady = m->r_steady >= m->n_steady;
+    r_steady = m->r_steady >= m->n_steady; /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
 
     /* unstable driving (the estimator sees a large sideslip or oversteer):
      * the sideslip rate, ay - r vx, and the bicycle model are then unbounded */
-    if (est_prev != 0 &&
+    if (est_prev != NULL &&
         (((est_prev->valid & GRIP_EST_V_BETA) != 0u && r_is_finite(est_prev->beta) &&
           r_abs(est_prev->beta) > RC(BETA_UNST)) ||
          ((est_prev->valid & GRIP_EST_V_STEER) != 0u && est_prev->steer_char < 0))) {
         m->unst = m->n_unst;
     } else if (m->unst > 0) {
         m->unst -= 1;
-    }
-    r_steady = r_steady && m->unst == 0;
+    } /* grip-deviation: MISRA-15.7 no hold to start or count down */
+    r_steady = r_steady && m->unst == 0; /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
 
     /* -- ay against r vx (r from the wheels when they give it); no
      * steadiness gate: the threshold widens with the yaw acceleration, as the
      * sideslip rate does in a transient -- */
     if (moving && ok[IN_AY] && rc_ok && m->unst == 0) {
-        grip_real_t r_x = rw_ok ? r_w : r_c;
+        grip_real_t r_x = rw_ok ? r_w : r_c; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
         grip_real_t wide = r_mul(RC(AY_DR), r_mul(vx, r_min(r_abs(m->dr_f), RC(AY_DR_CAP))));
         res[IN_AY] = r_sub(ay_c, r_mul(r_x, vx));
         if (exceeds(res[IN_AY], r_add(RC(AY_ABS), wide), RC(AY_REL), ay_c)) {
@@ -595,7 +596,7 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
             m->deb[s] = (m->deb[s] < m->n_deb) ? m->deb[s] + 1 : m->n_deb;
         } else if (m->deb[s] > 0) {
             m->deb[s] -= 1;
-        }
+        } /* grip-deviation: MISRA-15.7 no suspicion and the debounce count already 0 */
         if (m->deb[s] >= m->n_deb) {
             code[s] |= GRIP_MON_C_PLAUS;
         }
@@ -609,7 +610,7 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
                 m->latch[s] = 0u;
                 m->heal[s] = 0;
             }
-        }
+        } /* grip-deviation: MISRA-15.7 not latched, or still suspicious: the heal count is kept */
         if (m->latch[s]) {
             faulty |= 1u << (uint32_t)s;
         }
@@ -636,8 +637,8 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
         m->degr = m->n_degr;
     } else if (m->degr > 0) {
         m->degr -= 1;
-    }
-    if (rep != 0) {
+    } /* grip-deviation: MISRA-15.7 the degraded hold is already 0 */
+    if (rep != NULL) {
         for (s = 0; s < GRIP_MON_N; ++s) {
             rep->code[s] = (uint8_t)code[s];
             rep->resid[s] = res[s];
@@ -645,7 +646,13 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
         rep->faulty = faulty;
         rep->dropped = dropped;
         rep->detected = detected;
-        rep->degraded = ((m->degr > 0) ? GRIP_MON_DEGR_SUSPECT : 0u) | ((m->unst > 0) ? GRIP_MON_DEGR_UNVERIFIED : 0u);
+        rep->degraded = 0u;
+        if (m->degr > 0) {
+            rep->degraded |= GRIP_MON_DEGR_SUSPECT;
+        }
+        if (m->unst > 0) {
+            rep->degraded |= GRIP_MON_DEGR_UNVERIFIED;
+        }
     }
     return GRIP_OK;
 }
