@@ -93,4 +93,15 @@ static inline grip_real_t r_sign(grip_real_t a)
     return (a > R_ZERO) ? R_ONE : ((a < R_ZERO) ? r_neg(R_ONE) : R_ZERO);
 }
 
+/* a whole number as QS (|n| < 32768 in the fixed build: rates in Hz,
+ * counts), exact in both builds */
+static inline grip_real_t r_from_int(int32_t n)
+{
+#if GRIP_ARITH_FIXED
+    return (grip_real_t)(n * 65536);
+#else
+    return (grip_real_t)n;
+#endif
+}
+
 #endif /* GRIP_ARITH_H */

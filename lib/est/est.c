@@ -26,15 +26,6 @@ static int32_t r_to_int(grip_real_t a)
 #endif
 }
 
-static grip_real_t r_from_int(int32_t n)
-{
-#if GRIP_ARITH_FIXED
-    return (grip_real_t)(n * 65536);
-#else
-    return (grip_real_t)n;
-#endif
-}
-
 static grip_real_t sym_clamp(grip_real_t x, grip_real_t m)
 {
     return r_clamp(x, r_neg(m), m);

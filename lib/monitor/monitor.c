@@ -80,15 +80,6 @@ static const grip_real_t FROZEN_MOVE_[GRIP_MON_N] = { RC(0.5), RC(0.5), RC(0.5),
 
 /* ------------------------------------------------------------------ */
 
-static grip_real_t r_from_int(int32_t n)
-{
-#if GRIP_ARITH_FIXED
-    return (grip_real_t)(n * 65536);
-#else
-    return (grip_real_t)n;
-#endif
-}
-
 static int32_t steps_of(int32_t ms, uint32_t rate_hz)
 {
     int32_t n = (int32_t)(((uint32_t)ms * rate_hz + 500u) / 1000u);
