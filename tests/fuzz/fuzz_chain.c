@@ -9,20 +9,15 @@
  * Properties: no crash or sanitizer report; every call returns GRIP_OK;
  * every calibrated value and every monitor residual finite, calibrated
  * values of invalid inputs never used (the estimator sees them invalid);
- * monitor codes within their enumeration; estimator outputs finite with the
- * bounds fuzz_est checks.
+ * estimator outputs as fuzz_est checks them (fuzz_est_common.h).
  */
-#include <glob.h>
-#include "fuzz_common.h"
+#include "fuzz_est_common.h"
 #include "grip/grip_calib.h"
-#include "grip/grip_est.h"
 #include "grip/grip_monitor.h"
 #include "grip/grip_signals.h"
-#include "tir_reader.h"
 
-#define MAX_SETS 32
-static grip_mf_params sets[MAX_SETS];
-static grip_est_config_t cfgs[MAX_SETS];
+static grip_mf_params sets[FZ_EST_MAX_SETS];
+static grip_est_config_t cfgs[FZ_EST_MAX_SETS];
 static int nsets;
 static grip_monitor_config_t mon_cfg;
 
@@ -31,28 +26,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerInitialize(int *argc, char ***argv)
 {
-    static const char *const pats[] = { "tests/data/chrono-tir/*.tir", "tests/data/mfeval-tir/*.tir" };
-    size_t k;
     (void)argc;
     (void)argv;
-    for (k = 0; k < 2; k++) {
-        glob_t g;
-        size_t j;
-        if (glob(pats[k], 0, NULL, &g) != 0) {
-            continue;
-        }
-        for (j = 0; j < g.gl_pathc && nsets < MAX_SETS; j++) {
-            char err[256];
-            if (grip_tir_read(g.gl_pathv[j], &sets[nsets], err, sizeof err) == 0 &&
-                grip_est_config_default(&cfgs[nsets], &sets[nsets]) == GRIP_OK) {
-                static grip_est_t probe;
-                if (grip_est_init(&probe, &cfgs[nsets]) == GRIP_OK) {
-                    nsets++;
-                }
-            }
-        }
-        globfree(&g);
-    }
+    nsets = fz_est_load_sets(sets, cfgs);
     if (nsets == 0 || grip_monitor_config_default(&mon_cfg) != GRIP_OK) {
         fprintf(stderr, "fuzz_chain: no usable .tir parameter set or monitor default (run from the repository root)\n");
         exit(2);
@@ -67,12 +43,6 @@ static grip_real_t qs_of(double x)
 #else
     return (grip_real_t)x;
 #endif
-}
-
-static int in_range(grip_real_t v, double lo, double hi)
-{
-    double d = fz_d(v, FZ_QS);
-    return d >= lo && d <= hi;
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
@@ -135,19 +105,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         FZ_CHECK(rep.detected == 0 || rep.detected == 1, "step %d: detected %d", steps, (int)rep.detected);
         s = grip_est_step(&est, &c, &o);
         FZ_CHECK(s == GRIP_OK, "step %d: est status %d", steps, (int)s);
-        {
-            const grip_real_t *w = (const grip_real_t *)&o;
-            size_t nreal = offsetof(grip_est_output_t, steer_char) / sizeof(grip_real_t);
-            size_t k;
-            for (k = 0; k < nreal; k++) {
-                FZ_CHECK(fz_finite(w[k]), "step %d: output word %zu non-finite", steps, k);
-            }
-        }
-        for (i = 0; i < 4; i++) {
-            FZ_CHECK(in_range(o.util[i], 0.0, 1.5), "util[%u] %g", i, fz_d(o.util[i], FZ_QS));
-        }
-        FZ_CHECK(in_range(o.mu_conf, 0.0, 1.0), "mu_conf %g", fz_d(o.mu_conf, FZ_QS));
-        FZ_CHECK(o.steer_char >= -1 && o.steer_char <= 1, "steer_char %d", (int)o.steer_char);
+        fz_est_check_output(steps, &o);
         prev = o;
         have_prev = 1;
         steps++;

@@ -12,15 +12,11 @@
  * outputs must lose validity for which missing input) is the estimator's
  * own test (tests/unit/test_est_robust.c); here only robustness.
  */
-#include <glob.h>
-#include "fuzz_common.h"
-#include "grip/grip_est.h"
+#include "fuzz_est_common.h"
 #include "grip/grip_signals.h"
-#include "tir_reader.h"
 
-#define MAX_SETS 32
-static grip_mf_params sets[MAX_SETS];
-static grip_est_config_t cfgs[MAX_SETS];
+static grip_mf_params sets[FZ_EST_MAX_SETS];
+static grip_est_config_t cfgs[FZ_EST_MAX_SETS];
 static int nsets;
 
 int LLVMFuzzerInitialize(int *argc, char ***argv);
@@ -28,40 +24,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerInitialize(int *argc, char ***argv)
 {
-    static const char *const pats[] = { "tests/data/chrono-tir/*.tir", "tests/data/mfeval-tir/*.tir" };
-    size_t k;
     (void)argc;
     (void)argv;
-    for (k = 0; k < 2; k++) {
-        glob_t g;
-        size_t j;
-        if (glob(pats[k], 0, NULL, &g) != 0) {
-            continue;
-        }
-        for (j = 0; j < g.gl_pathc && nsets < MAX_SETS; j++) {
-            char err[256];
-            if (grip_tir_read(g.gl_pathv[j], &sets[nsets], err, sizeof err) == 0 &&
-                grip_est_config_default(&cfgs[nsets], &sets[nsets]) == GRIP_OK) {
-                /* the config points at sets[nsets], which stays in place */
-                static grip_est_t probe;
-                if (grip_est_init(&probe, &cfgs[nsets]) == GRIP_OK) {
-                    nsets++;
-                }
-            }
-        }
-        globfree(&g);
-    }
+    nsets = fz_est_load_sets(sets, cfgs);
     if (nsets == 0) {
         fprintf(stderr, "fuzz_est: no usable .tir parameter set (run from the repository root)\n");
         exit(2);
     }
     return 0;
-}
-
-static int in01(grip_real_t v, double lo, double hi)
-{
-    double d = fz_d(v, FZ_QS);
-    return d >= lo && d <= hi;
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
@@ -94,20 +64,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
         s = grip_est_step(&est, &in, &o);
         FZ_CHECK(s == GRIP_OK, "step %d: status %d", steps, (int)s);
-        {
-            const grip_real_t *w = (const grip_real_t *)&o;
-            size_t nreal = offsetof(grip_est_output_t, steer_char) / sizeof(grip_real_t);
-            size_t k;
-            for (k = 0; k < nreal; k++) {
-                FZ_CHECK(fz_finite(w[k]), "step %d: output word %zu non-finite", steps, k);
-            }
-        }
-        for (i = 0; i < 4; i++) {
-            FZ_CHECK(in01(o.util[i], 0.0, 1.5), "util[%u] %g", i, fz_d(o.util[i], FZ_QS));
-        }
-        FZ_CHECK(in01(o.mu_conf, 0.0, 1.0), "mu_conf %g", fz_d(o.mu_conf, FZ_QS));
-        FZ_CHECK(o.steer_char >= -1 && o.steer_char <= 1, "steer_char %d", (int)o.steer_char);
-        FZ_CHECK((o.flags >> 16) == 0u, "unknown flag bits %x", o.flags);
+        fz_est_check_output(steps, &o);
         steps++;
     }
     return 0;
