@@ -76,7 +76,7 @@ typedef struct {
                                 * A speedometer signal reads a few per cent off the wheel
                                 * speeds, i.e. shows slip that is not there (RAV4 log). */
     /* vehicle-level effects of the residual tool (docs/estimator.md); all 0 =
-     * without them (grip_est_config_default), bit for bit as before */
+     * without them (grip_est_config_default) */
     grip_real_t cla;           /* QS m^2 aerodynamic downforce coefficient C_L A, [0, 20]:
                                 * Fz_aero = 0.5 air_density cla vx^2 added to the static
                                 * loads before load transfer                          */
@@ -89,6 +89,11 @@ typedef struct {
                                 * the body sees sx = tan_grade cos(psi) + tan_bank sin(psi),
                                 * sy = tan_bank cos(psi) - tan_grade sin(psi), psi = the
                                 * integral of the (bias-corrected) yaw rate since reset */
+    grip_real_t latency;       /* QS s, [0, 0.1]: age of the inertial data (yaw rate, ay) when
+                                * the step runs, i.e. the sensors' transport delay plus
+                                * their filter time constant. vy, beta, yaw_rate, alpha[],
+                                * fy[] and fy_axle are extrapolated over it from the
+                                * state derivative; 0 (default): outputs at the state */
     grip_est_tire_t tire[2];   /* front, rear axle                          */
 } grip_est_config_t;
 

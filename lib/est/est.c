@@ -7,7 +7,8 @@
  * Per step: inputs (validity, hold, saturation) -> longitudinal speed
  * (complementary filter) -> vertical loads -> four tire evaluations at the
  * prior state -> analytic Jacobians -> EKF predict (x = [vy, r, mu, gyro bias]) ->
- * scalar updates: yaw rate, ay, (ax when excited) -> outputs.
+ * scalar updates: yaw rate, ay, (ax when excited) -> lateral outputs at the
+ * updated state, extrapolated over the sensor latency -> outputs.
  * No loop depends on data: every loop runs 3 or 4 times.
  */
 #include <stddef.h>
@@ -75,6 +76,7 @@ grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_para
     cfg->air_density = RC(1.2);
     cfg->tan_bank = R_ZERO;
     cfg->tan_grade = R_ZERO;
+    cfg->latency = R_ZERO;
     cfg->tire[0].kind = GRIP_EST_TIRE_MF;
     cfg->tire[0].model.mf = tire;
     cfg->tire[1].kind = GRIP_EST_TIRE_MF;
@@ -93,7 +95,7 @@ static grip_status_t check_config(const grip_est_config_t *c)
         !in_range(c->roll_split_front, R_ZERO, R_ONE) || !in_range(c->roll_gradient, R_ZERO, RC(0.05)) || c->rate_hz < 50u || c->rate_hz > 2000u ||
         c->speed_ref_mu > 1u || !in_range(c->cla, R_ZERO, RC(20.0)) || !in_range(c->aero_front, R_ZERO, R_ONE) ||
         !in_range(c->air_density, RC(0.5), RC(1.5)) || !in_range(c->tan_bank, RC(-0.5), RC(0.5)) ||
-        !in_range(c->tan_grade, RC(-0.5), RC(0.5))) {
+        !in_range(c->tan_grade, RC(-0.5), RC(0.5)) || !in_range(c->latency, R_ZERO, RC(0.1))) {
         return GRIP_ERR_PARAM;
     }
     for (a = 0; a < 2; ++a) {
@@ -427,6 +429,47 @@ static int take_input(grip_est_t *e, const grip_input_sample_t *in, int id, int 
     return e->age[slot] <= e->hold_steps;
 }
 
+/* The lateral outputs at the updated state, extrapolated over the inertial
+ * sensors' latency: vy and r along their derivatives (vyd, racc), the slip
+ * angles exactly at that state, the forces to first order along the local
+ * slope d Fy / d alpha of the step's tire evaluation (the same slope as the
+ * Jacobians: -max(G_MIN, sqrt(1 - u)) Fz/Fz_static C_alpha). */
+static void lateral_outputs(const grip_est_t *est, grip_est_output_t *out, grip_real_t vx, grip_real_t cd,
+                            grip_real_t sd, grip_real_t vyd, grip_real_t racc, grip_real_t *vy_o, grip_real_t *r_o)
+{
+    const grip_est_config_t *c = &est->cfg;
+    grip_real_t lat = c->latency;
+    grip_real_t vy = sym_clamp(r_add(est->x[0], r_mul(lat, vyd)), r_add(r_mul(RC(EST_VY_K), r_abs(vx)), R_ONE));
+    grip_real_t r = sym_clamp(r_add(est->x[1], r_mul(lat, racc)), RC(EST_YAW_MAX));
+    int i;
+    for (i = 0; i < 4; ++i) {
+        int axle = i >> 1;
+        grip_real_t cdi = axle ? R_ONE : cd, sdi = axle ? R_ZERO : sd; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
+        grip_real_t xw = axle ? r_neg(c->lr) : c->lf; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
+        grip_real_t yw = r_mul(RC(0.5), axle ? c->track_r : c->track_f); /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
+        grip_real_t vcx, vcy, vxw, vyw, alpha, fzr = R_ZERO, g, dfda;
+        if ((i & 1) != 0) {
+            yw = r_neg(yw);
+        }
+        vcx = r_sub(vx, r_mul(r, yw));
+        vcy = r_add(vy, r_mul(r, xw));
+        vxw = r_add(r_mul(cdi, vcx), r_mul(sdi, vcy));
+        vyw = r_sub(r_mul(cdi, vcy), r_mul(sdi, vcx));
+        alpha = r_atan(r_div(vyw, r_max(r_abs(vxw), RC(EST_V_OFF))));
+        if (out->fz[i] > RCL(50.0)) {
+            fzr = r_div(out->fz[i], est->fz_static[axle]);
+        }
+        g = r_max(RC(EST_G_MIN), r_sqrt(r_sub(R_ONE, r_min(out->util[i], R_ONE))));
+        dfda = r_neg(r_mul(g, r_mul(fzr, est->c_alpha[axle])));
+        out->fy[i] = r_add(out->fy[i], r_mul(dfda, r_sub(alpha, out->alpha[i])));
+        out->alpha[i] = alpha;
+    }
+    out->fy_axle[0] = r_add(out->fy[0], out->fy[1]);
+    out->fy_axle[1] = r_add(out->fy[2], out->fy[3]);
+    *vy_o = vy;
+    *r_o = r;
+}
+
 grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip_est_output_t *out)
 {
     static const int8_t side[4] = { 1, -1, 1, -1 };
@@ -438,7 +481,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     grip_real_t ws[4];
     int ws_ok[4];
     grip_real_t vmin = RC(1000.0), vmax = RC(-1000.0), vsum = R_ZERO, v_ref = R_ZERO;
-    grip_real_t vx, fz_sum_f;
+    grip_real_t vx, fz_sum_f, vy_o = R_ZERO, r_o = R_ZERO;
     grip_real_t xw[4], yw[4];
     grip_real_t mu;
 
@@ -980,14 +1023,16 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         if (excited) {
             flags |= GRIP_EST_F_EXCITED;
         }
+        lateral_outputs(est, out, vx, cd, sd, r_sub(r_add(ay_ok ? ay : ay_m, g_y), r_mul(est->x[1], vx)), racc,
+                        &vy_o, &r_o);
     }
     mu = est->x[2];
 
     /* ---- outputs ---- */
     out->vx = vx;
-    out->vy = active ? est->x[0] : R_ZERO;
-    out->beta = active ? r_atan(r_div(est->x[0], r_max(vx, RC(EST_V_OFF)))) : R_ZERO;
-    out->yaw_rate = active ? est->x[1] : yaw;
+    out->vy = active ? vy_o : R_ZERO;
+    out->beta = active ? r_atan(r_div(vy_o, r_max(vx, RC(EST_V_OFF)))) : R_ZERO;
+    out->yaw_rate = active ? r_o : yaw;
     if (yaw_ok) {
         valid |= GRIP_EST_V_YAW;
     }

@@ -185,7 +185,8 @@ static int vehicle_config(const char *name, const grip_mf_params *tire, int rate
 
 /* Reads a vehicle file: lines `key = value` (SI units), '#' comments, blank
  * lines. Keys: mass, iz, lf, lr, track (both), track_f, track_r, h_cg,
- * steer_ratio, wheel_radius, roll_split_front, roll_gradient, speed_ref_mu.
+ * steer_ratio, wheel_radius, roll_split_front, roll_gradient, speed_ref_mu,
+ * cla, aero_front, air_density, tan_bank, tan_grade, latency.
  * The estimator's init checks the ranges. */
 static int vehicle_file(const char *path, grip_est_config_t *cfg)
 {
@@ -194,7 +195,9 @@ static int vehicle_file(const char *path, grip_est_config_t *cfg)
         int ql;   /* 1 QL, 0 QS, 2 integer 0/1 */
     } keys[] = { { "mass", 1 }, { "iz", 1 }, { "lf", 0 }, { "lr", 0 }, { "track", 0 }, { "track_f", 0 },
                  { "track_r", 0 }, { "h_cg", 0 }, { "steer_ratio", 0 }, { "wheel_radius", 0 },
-                 { "roll_split_front", 0 }, { "roll_gradient", 0 }, { "speed_ref_mu", 2 } };
+                 { "roll_split_front", 0 }, { "roll_gradient", 0 }, { "speed_ref_mu", 2 }, { "cla", 0 },
+                 { "aero_front", 0 }, { "air_density", 0 }, { "tan_bank", 0 }, { "tan_grade", 0 },
+                 { "latency", 0 } };
     char line[512];
     unsigned long lineno = 0;
     FILE *f = fopen(path, "r");
@@ -254,7 +257,8 @@ static int vehicle_file(const char *path, grip_est_config_t *cfg)
         }
         if (k == sizeof keys / sizeof keys[0]) {
             fprintf(stderr, "grip-replay: %s:%lu: unknown key '%s' (mass iz lf lr track track_f track_r h_cg "
-                    "steer_ratio wheel_radius roll_split_front roll_gradient speed_ref_mu)\n", path, lineno, key);
+                    "steer_ratio wheel_radius roll_split_front roll_gradient speed_ref_mu cla aero_front "
+                    "air_density tan_bank tan_grade latency)\n", path, lineno, key);
             fclose(f);
             return -1;
         }
@@ -283,6 +287,18 @@ static int vehicle_file(const char *path, grip_est_config_t *cfg)
             cfg->roll_split_front = si_qs(v);
         } else if (strcmp(key, "roll_gradient") == 0) {
             cfg->roll_gradient = si_qs(v);
+        } else if (strcmp(key, "cla") == 0) {
+            cfg->cla = si_qs(v);
+        } else if (strcmp(key, "aero_front") == 0) {
+            cfg->aero_front = si_qs(v);
+        } else if (strcmp(key, "air_density") == 0) {
+            cfg->air_density = si_qs(v);
+        } else if (strcmp(key, "tan_bank") == 0) {
+            cfg->tan_bank = si_qs(v);
+        } else if (strcmp(key, "tan_grade") == 0) {
+            cfg->tan_grade = si_qs(v);
+        } else if (strcmp(key, "latency") == 0) {
+            cfg->latency = si_qs(v);
         } else {
             if (v != 0.0 && v != 1.0) {
                 fprintf(stderr, "grip-replay: %s:%lu: speed_ref_mu must be 0 or 1\n", path, lineno);
@@ -340,7 +356,8 @@ static void usage(FILE *f)
             "      --vehicle NAME     estimator vehicle: rav4 (default), av21 or generic\n"
             "      --vehicle-file F   override vehicle values: lines `key = value` (SI): mass iz lf lr\n"
             "                         track track_f track_r h_cg steer_ratio wheel_radius\n"
-            "                         roll_split_front roll_gradient speed_ref_mu (0/1)\n"
+            "                         roll_split_front roll_gradient speed_ref_mu (0/1) cla aero_front\n"
+            "                         air_density tan_bank tan_grade latency [s]\n"
             "      --csv FILE         estimator inputs from FILE ('-' = stdin) instead of CAN: one row per\n"
             "                         estimator step (every --step-ms), '#' lines skipped, a header row\n"
             "                         naming the columns: t_s [s], wheel_speed_fl wheel_speed_fr\n"

@@ -167,6 +167,19 @@ class CsvModeTests(unittest.TestCase):
         # a different mass changes the estimate (the file was applied)
         base = np.array([o["beta"] for o in self.ref])
         self.assertGreater(np.max(np.abs(col(rows, "beta") - base)), 10 * TOL["float"]["beta"])
+        # the vehicle-level keys: road plane, downforce, sensor latency
+        veh2 = os.path.join(d, "car2.txt")
+        kw = dict(cla=1.5, aero_front=0.45, air_density=1.1, tan_bank=0.03, tan_grade=-0.01, latency=0.02)
+        with open(veh2, "w") as f:
+            f.write("".join(f"{k} = {v}\n" for k, v in kw.items()))
+        rc, out, err = run(b, ["-e", TIR, "--vehicle", "generic", "--vehicle-file", veh2, "--csv", self.path])
+        self.assertEqual(rc, 0, err)
+        rows = read_out(out)
+        ref = est_ref.run(est_ref.config(golden_est.tire_params(), **kw), self.value, self.valid)
+        for name in ("beta", "yaw_rate"):
+            e = np.max(np.abs(col(rows, name) - np.array([o[name] for o in ref])))
+            print(f"  vehicle file with {sorted(kw)}: max |C - est_ref| {name} {e:.2e}")
+            self.assertLessEqual(e, TOL["float"][name])
         bad = os.path.join(d, "bad.txt")
         with open(bad, "w") as f:
             f.write("mass = 1600\nwheelbase = 2.7\n")

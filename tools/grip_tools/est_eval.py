@@ -68,15 +68,34 @@ def read_csv(path):
     return {n: arr[:, k] for k, n in enumerate(names)}
 
 
+def sim_imu_latency():
+    """The simulator's inertial-sensor latency, transport delay plus low-pass
+    time constant of its yaw-rate channel (vehsim/sensors.py: 12 + 8 ms):
+    what a sensor data sheet gives for grip_est_config_t.latency."""
+    from .vehsim import sensors
+    ch = sensors.SensorConfig().channel("YawRate")
+    return float(ch.delay + ch.tau)
+
+
+def est_config():
+    """est_ref's configuration for the simulator's runs: the passenger car,
+    PacejkaBook_Defaults, 100 Hz, the simulator's IMU latency. The
+    simulator's vehicle-speed signal is the true speed with sensor noise,
+    i.e. a calibrated reference: it may drive the longitudinal mu update
+    (grip_est_config_t.speed_ref_mu)."""
+    return est_ref.config(golden_est.tire_params(), rate_hz=100, speed_ref_mu=1, latency=sim_imu_latency())
+
+
+def est_vehicle_lines():
+    """The same configuration as grip-replay vehicle-file lines."""
+    return ["speed_ref_mu = 1", f"latency = {sim_imu_latency()!r}"]
+
+
 def estimate(run_dir):
     """Runs est_ref over a run's sensors.csv; returns time and arrays."""
     cols = read_csv(os.path.join(run_dir, "sensors.csv"))
     t, value, valid = est_ref.inputs_from_sensors(cols)
-    # The simulator's vehicle-speed signal is the true speed with sensor
-    # noise, i.e. a calibrated reference: it may drive the longitudinal mu
-    # update (grip_est_config_t.speed_ref_mu).
-    cfg = est_ref.config(golden_est.tire_params(), rate_hz=100, speed_ref_mu=1)
-    outs = est_ref.run(cfg, value, valid)
+    outs = est_ref.run(est_config(), value, valid)
     res = {"time": t}
     res["beta"] = np.array([o["beta"] for o in outs])
     res["mu"] = np.array([o["mu"] for o in outs])
@@ -144,7 +163,7 @@ def estimate_c(run_dir, bins):
         write_input_csv(path, t, value, valid)
         for a, b in bins.items():
             # as estimate(): the simulator's speed signal is a calibrated reference
-            out[a] = run_c(b, golden_est.tire_path(), path, vehicle_lines=["speed_ref_mu = 1"])
+            out[a] = run_c(b, golden_est.tire_path(), path, vehicle_lines=est_vehicle_lines())
     return out
 
 

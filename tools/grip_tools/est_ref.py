@@ -3,9 +3,11 @@
 The same algorithm as lib/est/est.c, step for step and in the same order,
 in float64: input hold and validity, longitudinal speed filter, load
 transfer, four Magic Formula evaluations (grip_tools.mf) at the prior
-state, analytic Jacobians, EKF predict of x = [vy, r, mu], scalar Joseph
+state, analytic Jacobians, EKF predict of x = [vy, r, mu, b], scalar Joseph
 updates of yaw rate, ay and (when excited) ax, the model-consistency
-(misfit) statistics after the ay update (F_MODEL_MISFIT caps mu_conf). docs/estimator.md describes
+(misfit) statistics after the ay update (F_MODEL_MISFIT caps mu_conf),
+the lateral outputs at the updated state extrapolated over the configured
+sensor latency. docs/estimator.md describes
 the method and every constant; the constants below are those of
 lib/est/est_internal.h.
 
@@ -445,12 +447,11 @@ class Estimator:
             fby = sdi * fx + cdi * fy
             sfx, sfy = float(np.sum(fbx)), float(np.sum(fby))
             smz = float(np.sum(xa * fby - ya * fbx + mz))
-            o["fy_axle"] = np.array([fy[0] + fy[1], fy[2] + fy[3]])
             for a in range(2):
                 fzx = fz[2 * a] + fz[2 * a + 1]
                 fxa = fx[2 * a] + fx[2 * a + 1]
                 if fzx > 100.0:
-                    o["util_axle"][a] = min(math.hypot(fxa / fzx, o["fy_axle"][a] / fzx) / (mu * self.mu0[a]), 1.5)
+                    o["util_axle"][a] = min(math.hypot(fxa / fzx, (fy[2 * a] + fy[2 * a + 1]) / fzx) / (mu * self.mu0[a]), 1.5)
             ay_m, ax_m, racc = sfy / m, sfx / m, smz / c["iz"]
             excited = (vx >= V_EXC and umax >= EXC_U and ay_ok and ax_ok and abs(ax) + abs(ay) >= EXC_A)
             av2 = 0.01 * self.k_us * vx * vx
@@ -536,12 +537,27 @@ class Estimator:
                 vbits &= ~(V_WHEEL(0) | V_WHEEL(1) | V_WHEEL(2) | V_WHEEL(3))
             if excited:
                 flags |= F_EXCITED
+            # Outputs at the updated state, extrapolated over the inertial
+            # sensors' latency (config 'latency'): slip angles exactly at that
+            # state, forces to first order along the local slope.
+            lat = c.get("latency", 0.0)
+            vyd = (ay if ay_ok else ay_m) + g_y - float(self.x[1]) * vx
+            vy_o = _clamp(float(self.x[0]) + lat * vyd, -lim, lim)
+            r_o = _clamp(float(self.x[1]) + lat * racc, -YAW_MAX, YAW_MAX)
+            vcx = vx - r_o * ya
+            vcy = vy_o + r_o * xa
+            vxw = cdi * vcx + sdi * vcy
+            vyw = cdi * vcy - sdi * vcx
+            alpha_o = np.arctan(vyw / np.maximum(np.abs(vxw), V_OFF))
+            fy_o = fy + dfda * (alpha_o - alpha)
+            o.update(alpha=alpha_o, fy=fy_o)
+            o["fy_axle"] = np.array([fy_o[0] + fy_o[1], fy_o[2] + fy_o[3]])
         mu = float(self.x[2])
 
         o["vx"] = vx
-        o["vy"] = float(self.x[0]) if active else 0.0
-        o["beta"] = math.atan(self.x[0] / max(vx, V_OFF)) if active else 0.0
-        o["yaw_rate"] = float(self.x[1]) if active else yaw
+        o["vy"] = vy_o if active else 0.0
+        o["beta"] = math.atan(vy_o / max(vx, V_OFF)) if active else 0.0
+        o["yaw_rate"] = r_o if active else yaw
         if yaw_ok:
             vbits |= V_YAW
         o["delta"] = delta

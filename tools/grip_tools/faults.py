@@ -33,7 +33,7 @@ import time
 
 import numpy as np
 
-from . import est_ref, golden_est, monitor_ref
+from . import est_eval, est_ref, golden_est, monitor_ref
 
 DEG = math.pi / 180.0
 KMH = 1.0 / 3.6
@@ -204,8 +204,9 @@ def inputs(cols, drop=None, drop_idx=None):
 # running monitor -> estimator
 
 def est_config():
-    # as est-eval: the passenger car, PacejkaBook_Defaults, 100 Hz
-    return est_ref.config(golden_est.tire_params(), rate_hz=100, speed_ref_mu=1)
+    # as est-eval: the passenger car, PacejkaBook_Defaults, 100 Hz, the
+    # simulator's IMU latency
+    return est_eval.est_config()
 
 
 _EST_CFG = None

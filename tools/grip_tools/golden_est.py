@@ -12,7 +12,8 @@ Input sequences (the C test replays exactly the same rows):
   aero_bank_100hz the internal generator at 30 m/s, run with the vehicle-level
                   effects on: downforce C_L A = 2.5 m^2 (front share 0.42,
                   rho 1.2), road bank tan = 0.04 (rise to the left) and grade
-                  tan = 0.02 (AERO_BANK below; test_est_golden.c sets the same)
+                  tan = 0.02, sensor latency 20 ms (outputs extrapolated;
+                  AERO_BANK below; test_est_golden.c sets the same)
   sim_sine_dwell  the reference vehicle simulator (grip_tools.vehsim) when
                   present: sine with dwell on a wet road, its sensor models
                   (noise, delay, quantization); skipped if the simulator is
@@ -186,7 +187,7 @@ def out_row(o):
     return row
 
 
-AERO_BANK = dict(cla=2.5, aero_front=0.42, air_density=1.2, tan_bank=0.04, tan_grade=0.02)
+AERO_BANK = dict(cla=2.5, aero_front=0.42, air_density=1.2, tan_bank=0.04, tan_grade=0.02, latency=0.02)
 
 
 def write_sequence(outdir, name, dt, t, value, valid, note, **cfg_kw):
