@@ -165,6 +165,7 @@ typedef struct {
     grip_est_config_t cfg;
     /* derived at init */
     grip_real_t fz_static[2];   /* QL per wheel, front / rear  */
+    grip_real_t xw[4], yw[4];   /* QS m wheel positions from the CG (x forward, y left) */
     grip_real_t c_alpha[2];     /* QL N/rad per wheel at static load */
     grip_real_t c_kappa[2];     /* QL N per wheel at static load */
     grip_real_t mu0[2];         /* QS peak |F|/Fz of the tire at static load */

@@ -166,6 +166,14 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
     m_g = r_mul(RC(EST_G * 0.5), cfg->mass);              /* half the weight [N] */
     est->fz_static[0] = r_mul(r_div(cfg->lr, l), m_g);
     est->fz_static[1] = r_mul(r_div(cfg->lf, l), m_g);
+    est->xw[0] = cfg->lf;
+    est->xw[1] = cfg->lf;
+    est->xw[2] = r_neg(cfg->lr);
+    est->xw[3] = r_neg(cfg->lr);
+    est->yw[0] = r_mul(RC(0.5), cfg->track_f);
+    est->yw[1] = r_neg(est->yw[0]);
+    est->yw[2] = r_mul(RC(0.5), cfg->track_r);
+    est->yw[3] = r_neg(est->yw[2]);
     for (a = 0; a < 2; ++a) {
         grip_mf_input in;
         grip_mf_output o1, o2;
@@ -429,30 +437,24 @@ static int take_input(grip_est_t *e, const grip_input_sample_t *in, int id, int 
     return e->age[slot] <= e->hold_steps;
 }
 
-/* The lateral outputs at the updated state, extrapolated over the inertial
+/* The lateral outputs (vy, beta, yaw_rate, alpha[], fy[], fy_axle) at the updated state, extrapolated over the inertial
  * sensors' latency: vy and r along their derivatives (vyd, racc), the slip
  * angles exactly at that state, the forces to first order along the local
  * slope d Fy / d alpha of the step's tire evaluation (the same slope as the
  * Jacobians: -max(G_MIN, sqrt(1 - u)) Fz/Fz_static C_alpha). */
 static void lateral_outputs(const grip_est_t *est, grip_est_output_t *out, grip_real_t vx, grip_real_t cd,
-                            grip_real_t sd, grip_real_t vyd, grip_real_t racc, grip_real_t *vy_o, grip_real_t *r_o)
+                            grip_real_t sd, grip_real_t vyd, grip_real_t racc)
 {
-    const grip_est_config_t *c = &est->cfg;
-    grip_real_t lat = c->latency;
+    grip_real_t lat = est->cfg.latency;
     grip_real_t vy = sym_clamp(r_add(est->x[0], r_mul(lat, vyd)), r_add(r_mul(RC(EST_VY_K), r_abs(vx)), R_ONE));
     grip_real_t r = sym_clamp(r_add(est->x[1], r_mul(lat, racc)), RC(EST_YAW_MAX));
     int i;
     for (i = 0; i < 4; ++i) {
         int axle = i >> 1;
         grip_real_t cdi = axle ? R_ONE : cd, sdi = axle ? R_ZERO : sd; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
-        grip_real_t xw = axle ? r_neg(c->lr) : c->lf; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
-        grip_real_t yw = r_mul(RC(0.5), axle ? c->track_r : c->track_f); /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
-        grip_real_t vcx, vcy, vxw, vyw, alpha, fzr = R_ZERO, g, dfda;
-        if ((i & 1) != 0) {
-            yw = r_neg(yw);
-        }
-        vcx = r_sub(vx, r_mul(r, yw));
-        vcy = r_add(vy, r_mul(r, xw));
+        grip_real_t vcx = r_sub(vx, r_mul(r, est->yw[i]));
+        grip_real_t vcy = r_add(vy, r_mul(r, est->xw[i]));
+        grip_real_t vxw, vyw, alpha, fzr = R_ZERO, g, dfda;
         vxw = r_add(r_mul(cdi, vcx), r_mul(sdi, vcy));
         vyw = r_sub(r_mul(cdi, vcy), r_mul(sdi, vcx));
         alpha = r_atan(r_div(vyw, r_max(r_abs(vxw), RC(EST_V_OFF))));
@@ -466,8 +468,9 @@ static void lateral_outputs(const grip_est_t *est, grip_est_output_t *out, grip_
     }
     out->fy_axle[0] = r_add(out->fy[0], out->fy[1]);
     out->fy_axle[1] = r_add(out->fy[2], out->fy[3]);
-    *vy_o = vy;
-    *r_o = r;
+    out->vy = vy;
+    out->beta = r_atan(r_div(vy, r_max(vx, RC(EST_V_OFF))));
+    out->yaw_rate = r;
 }
 
 grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip_est_output_t *out)
@@ -481,8 +484,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     grip_real_t ws[4];
     int ws_ok[4];
     grip_real_t vmin = RC(1000.0), vmax = RC(-1000.0), vsum = R_ZERO, v_ref = R_ZERO;
-    grip_real_t vx, fz_sum_f, vy_o = R_ZERO, r_o = R_ZERO;
-    grip_real_t xw[4], yw[4];
+    grip_real_t vx, fz_sum_f;
     grip_real_t mu;
 
     if (out == NULL) {
@@ -552,14 +554,6 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         } /* grip-deviation: MISRA-15.7 within (-pi, pi]: nothing to do */
     }
 
-    xw[0] = c->lf;
-    xw[1] = c->lf;
-    xw[2] = r_neg(c->lr);
-    xw[3] = r_neg(c->lr);
-    yw[0] = r_mul(RC(0.5), c->track_f);
-    yw[1] = r_neg(yw[0]);
-    yw[2] = r_mul(RC(0.5), c->track_r);
-    yw[3] = r_neg(yw[2]);
 
     /* ---- longitudinal speed ---- */
     {
@@ -581,7 +575,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
             if (ws_ok[i]) {
                 /* speed of the CG the wheel indicates (yaw-corrected, steered) */
                 grip_real_t vc = (i < 2) ? r_div_keep(ws[i], cd) : ws[i];
-                vc = r_add(vc, r_mul(r_now, yw[i]));
+                vc = r_add(vc, r_mul(r_now, est->yw[i]));
                 vcs[i] = vc;
                 n_ws += 1;
                 if (vx_pred > RC(EST_V_ON)) {
@@ -758,15 +752,15 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         for (i = 0; i < 4; ++i) {
             int axle = i >> 1;
             grip_real_t cdi = axle ? R_ONE : cd, sdi = axle ? R_ZERO : sd; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
-            grip_real_t vcx = r_sub(vx, r_mul(r, yw[i]));
-            grip_real_t vcy = r_add(vy, r_mul(r, xw[i]));
+            grip_real_t vcx = r_sub(vx, r_mul(r, est->yw[i]));
+            grip_real_t vcy = r_add(vy, r_mul(r, est->xw[i]));
             grip_real_t vxw = r_add(r_mul(cdi, vcx), r_mul(sdi, vcy));
             grip_real_t vyw = r_sub(r_mul(cdi, vcy), r_mul(sdi, vcx));
             grip_real_t den = r_max(r_abs(vxw), RC(EST_V_OFF));
             grip_real_t t = r_div(vyw, den);
             grip_real_t alpha = r_atan(t);
             grip_real_t kappa = R_ZERO;
-            grip_real_t lever = r_add(r_mul(xw[i], cdi), r_mul(yw[i], sdi));
+            grip_real_t lever = r_add(r_mul(est->xw[i], cdi), r_mul(est->yw[i], sdi));
             grip_real_t c2, dady, dadr, ca, g, u, dfda, dfdmu, fxn, fyn, fzr;
             grip_mf_input ti;
             grip_mf_output to;
@@ -857,7 +851,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                 grip_real_t fby = r_add(r_mul(sdi, out->fx[i]), r_mul(cdi, out->fy[i]));
                 sfx = r_add(sfx, fbx);
                 sfy = r_add(sfy, fby);
-                smz = r_add(smz, r_add(r_sub(r_mul(xw[i], fby), r_mul(yw[i], fbx)), out->mz[i]));
+                smz = r_add(smz, r_add(r_sub(r_mul(est->xw[i], fby), r_mul(est->yw[i], fbx)), out->mz[i]));
             }
         }
         out->fy_axle[0] = r_add(out->fy[0], out->fy[1]);
@@ -1023,16 +1017,15 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         if (excited) {
             flags |= GRIP_EST_F_EXCITED;
         }
-        lateral_outputs(est, out, vx, cd, sd, r_sub(r_add(ay_ok ? ay : ay_m, g_y), r_mul(est->x[1], vx)), racc,
-                        &vy_o, &r_o);
+        lateral_outputs(est, out, vx, cd, sd, r_sub(r_add(ay_ok ? ay : ay_m, g_y), r_mul(est->x[1], vx)), racc);
     }
     mu = est->x[2];
 
     /* ---- outputs ---- */
     out->vx = vx;
-    out->vy = active ? vy_o : R_ZERO;
-    out->beta = active ? r_atan(r_div(vy_o, r_max(vx, RC(EST_V_OFF)))) : R_ZERO;
-    out->yaw_rate = active ? r_o : yaw;
+    if (!active) {
+        out->yaw_rate = yaw;   /* vy, beta stay 0; active: lateral_outputs set them */
+    }
     if (yaw_ok) {
         valid |= GRIP_EST_V_YAW;
     }
