@@ -76,22 +76,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         grip_input_sample_t in, c;
         grip_monitor_report_t rep;
         grip_est_output_t o;
-        uint32_t mask = (uint32_t)fz_u8(&r) | ((uint32_t)fz_u8(&r) << 8) | ((uint32_t)fz_u8(&r) << 16);
-        memset(&in, 0, sizeof in);
-        in.t_us = (int64_t)steps * 10000;
-        in.step = (uint32_t)steps;
-        for (i = 0; i < GRIP_IN_COUNT; i++) {
-            grip_real_t v = fz_real(&r, grip_input_is_ql(i) ? FZ_QL : FZ_QS);
-            if ((mask >> i) & 1u) {
-                in.value[i] = v;
-                in.valid[i] = 1u;
-                in.fault[i] = GRIP_SIG_OK;
-            } else {
-                in.value[i] = 0;
-                in.valid[i] = 0u;
-                in.fault[i] = GRIP_SIG_STALE;
-            }
-        }
+        fz_est_read_sample(&r, steps, &in);
         s = grip_calib_apply(&cal, &in, &c);
         FZ_CHECK(s == GRIP_OK, "step %d: calib status %d", steps, (int)s);
         for (i = 0; i < GRIP_IN_COUNT; i++) {

@@ -45,23 +45,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     while (r.n > 0 && steps < 200) {
         grip_input_sample_t in;
         grip_est_output_t o;
-        uint32_t mask = (uint32_t)fz_u8(&r) | ((uint32_t)fz_u8(&r) << 8) | ((uint32_t)fz_u8(&r) << 16);
-        uint32_t i;
-        memset(&in, 0, sizeof in);
-        in.t_us = (int64_t)steps * 10000;
-        in.step = (uint32_t)steps;
-        for (i = 0; i < GRIP_IN_COUNT; i++) {
-            grip_real_t v = fz_real(&r, grip_input_is_ql(i) ? FZ_QL : FZ_QS);
-            if ((mask >> i) & 1u) {
-                in.value[i] = v;
-                in.valid[i] = 1u;
-                in.fault[i] = GRIP_SIG_OK;
-            } else {
-                in.value[i] = 0;
-                in.valid[i] = 0u;
-                in.fault[i] = GRIP_SIG_STALE;
-            }
-        }
+        fz_est_read_sample(&r, steps, &in);
         s = grip_est_step(&est, &in, &o);
         FZ_CHECK(s == GRIP_OK, "step %d: status %d", steps, (int)s);
         fz_est_check_output(steps, &o);

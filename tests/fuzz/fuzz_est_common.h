@@ -8,7 +8,9 @@
 
 #include <glob.h>
 #include "fuzz_common.h"
+#include <string.h>
 #include "grip/grip_est.h"
+#include "grip/grip_signals.h"
 #include "tir_reader.h"
 
 #define FZ_EST_MAX_SETS 32
@@ -45,6 +47,30 @@ static int fz_est_in(grip_real_t v, double lo, double hi)
 {
     double d = fz_d(v, FZ_QS);
     return d >= lo && d <= hi;
+}
+
+/* One input sample of step `step` from the fuzz bytes: a validity mask
+ * (3 bytes), then every input's value in its format; an input the mask
+ * leaves out is invalid and stale. */
+static void fz_est_read_sample(fz_reader *r, int step, grip_input_sample_t *in)
+{
+    uint32_t mask = (uint32_t)fz_u8(r) | ((uint32_t)fz_u8(r) << 8) | ((uint32_t)fz_u8(r) << 16);
+    uint32_t i;
+    memset(in, 0, sizeof *in);
+    in->t_us = (int64_t)step * 10000;
+    in->step = (uint32_t)step;
+    for (i = 0; i < GRIP_IN_COUNT; i++) {
+        grip_real_t v = fz_real(r, grip_input_is_ql(i) ? FZ_QL : FZ_QS);
+        if ((mask >> i) & 1u) {
+            in->value[i] = v;
+            in->valid[i] = 1u;
+            in->fault[i] = GRIP_SIG_OK;
+        } else {
+            in->value[i] = 0;
+            in->valid[i] = 0u;
+            in->fault[i] = GRIP_SIG_STALE;
+        }
+    }
 }
 
 /* Every output finite; util in [0, 1.5]; mu_conf in [0, 1]; steer_char in
