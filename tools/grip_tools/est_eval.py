@@ -77,18 +77,24 @@ def sim_imu_latency():
     return float(ch.delay + ch.tau)
 
 
+def est_vehicle():
+    """The estimator settings for the simulator's runs beyond the passenger
+    car of est_ref.config / grip-replay's `generic`: the simulator's IMU
+    latency, and speed_ref_mu = 1 because the simulator's vehicle-speed
+    signal is the true speed with sensor noise, i.e. a calibrated reference
+    that may drive the longitudinal mu update."""
+    return dict(speed_ref_mu=1, latency=sim_imu_latency())
+
+
 def est_config():
-    """est_ref's configuration for the simulator's runs: the passenger car,
-    PacejkaBook_Defaults, 100 Hz, the simulator's IMU latency. The
-    simulator's vehicle-speed signal is the true speed with sensor noise,
-    i.e. a calibrated reference: it may drive the longitudinal mu update
-    (grip_est_config_t.speed_ref_mu)."""
-    return est_ref.config(golden_est.tire_params(), rate_hz=100, speed_ref_mu=1, latency=sim_imu_latency())
+    """est_ref's configuration for the simulator's runs (PacejkaBook_Defaults,
+    100 Hz, est_vehicle())."""
+    return est_ref.config(golden_est.tire_params(), rate_hz=100, **est_vehicle())
 
 
 def est_vehicle_lines():
-    """The same configuration as grip-replay vehicle-file lines."""
-    return ["speed_ref_mu = 1", f"latency = {sim_imu_latency()!r}"]
+    """est_vehicle() as grip-replay vehicle-file lines."""
+    return [f"{k} = {v!r}" for k, v in est_vehicle().items()]
 
 
 def estimate(run_dir):
