@@ -18,6 +18,7 @@
  * has the same columns as in CAN mode.
  */
 #include <errno.h>
+#include <stddef.h>
 #include <inttypes.h>
 #include <math.h>
 #include <signal.h>
@@ -190,14 +191,35 @@ static int vehicle_config(const char *name, const grip_mf_params *tire, int rate
  * The estimator's init checks the ranges. */
 static int vehicle_file(const char *path, grip_est_config_t *cfg)
 {
+    /* one row per key: where it goes and in which format; "track" sets
+     * both tracks */
+    enum { VK_QS, VK_QL, VK_FLAG, VK_TRACK };
     static const struct {
         const char *key;
-        int ql;   /* 1 QL, 0 QS, 2 integer 0/1 */
-    } keys[] = { { "mass", 1 }, { "iz", 1 }, { "lf", 0 }, { "lr", 0 }, { "track", 0 }, { "track_f", 0 },
-                 { "track_r", 0 }, { "h_cg", 0 }, { "steer_ratio", 0 }, { "wheel_radius", 0 },
-                 { "roll_split_front", 0 }, { "roll_gradient", 0 }, { "speed_ref_mu", 2 }, { "cla", 0 },
-                 { "aero_front", 0 }, { "air_density", 0 }, { "tan_bank", 0 }, { "tan_grade", 0 },
-                 { "latency", 0 } };
+        size_t off;
+        int kind;
+    } keys[] = {
+        { "mass", offsetof(grip_est_config_t, mass), VK_QL },
+        { "iz", offsetof(grip_est_config_t, iz), VK_QL },
+        { "lf", offsetof(grip_est_config_t, lf), VK_QS },
+        { "lr", offsetof(grip_est_config_t, lr), VK_QS },
+        { "track", 0, VK_TRACK },
+        { "track_f", offsetof(grip_est_config_t, track_f), VK_QS },
+        { "track_r", offsetof(grip_est_config_t, track_r), VK_QS },
+        { "h_cg", offsetof(grip_est_config_t, h_cg), VK_QS },
+        { "steer_ratio", offsetof(grip_est_config_t, steer_ratio), VK_QS },
+        { "wheel_radius", offsetof(grip_est_config_t, wheel_radius), VK_QS },
+        { "roll_split_front", offsetof(grip_est_config_t, roll_split_front), VK_QS },
+        { "roll_gradient", offsetof(grip_est_config_t, roll_gradient), VK_QS },
+        { "speed_ref_mu", offsetof(grip_est_config_t, speed_ref_mu), VK_FLAG },
+        { "cla", offsetof(grip_est_config_t, cla), VK_QS },
+        { "aero_front", offsetof(grip_est_config_t, aero_front), VK_QS },
+        { "air_density", offsetof(grip_est_config_t, air_density), VK_QS },
+        { "tan_bank", offsetof(grip_est_config_t, tan_bank), VK_QS },
+        { "tan_grade", offsetof(grip_est_config_t, tan_grade), VK_QS },
+        { "latency", offsetof(grip_est_config_t, latency), VK_QS },
+    };
+    const size_t nkeys = sizeof keys / sizeof keys[0];
     char line[512];
     unsigned long lineno = 0;
     FILE *f = fopen(path, "r");
@@ -250,62 +272,39 @@ static int vehicle_file(const char *path, grip_est_config_t *cfg)
             fclose(f);
             return -1;
         }
-        for (k = 0; k < sizeof keys / sizeof keys[0]; k++) {
+        for (k = 0; k < nkeys; k++) {
             if (strcmp(key, keys[k].key) == 0) {
                 break;
             }
         }
-        if (k == sizeof keys / sizeof keys[0]) {
-            fprintf(stderr, "grip-replay: %s:%lu: unknown key '%s' (mass iz lf lr track track_f track_r h_cg "
-                    "steer_ratio wheel_radius roll_split_front roll_gradient speed_ref_mu cla aero_front "
-                    "air_density tan_bank tan_grade latency)\n", path, lineno, key);
+        if (k == nkeys) {
+            fprintf(stderr, "grip-replay: %s:%lu: unknown key '%s' (", path, lineno, key);
+            for (k = 0; k < nkeys; k++) {
+                fprintf(stderr, "%s%s", k ? " " : "", keys[k].key);
+            }
+            fprintf(stderr, ")\n");
             fclose(f);
             return -1;
         }
-        if (strcmp(key, "mass") == 0) {
-            cfg->mass = si_ql(v);
-        } else if (strcmp(key, "iz") == 0) {
-            cfg->iz = si_ql(v);
-        } else if (strcmp(key, "lf") == 0) {
-            cfg->lf = si_qs(v);
-        } else if (strcmp(key, "lr") == 0) {
-            cfg->lr = si_qs(v);
-        } else if (strcmp(key, "track") == 0) {
+        switch (keys[k].kind) {
+        case VK_QL:
+            *(grip_real_t *)((char *)cfg + keys[k].off) = si_ql(v);
+            break;
+        case VK_QS:
+            *(grip_real_t *)((char *)cfg + keys[k].off) = si_qs(v);
+            break;
+        case VK_TRACK:
             cfg->track_f = si_qs(v);
             cfg->track_r = si_qs(v);
-        } else if (strcmp(key, "track_f") == 0) {
-            cfg->track_f = si_qs(v);
-        } else if (strcmp(key, "track_r") == 0) {
-            cfg->track_r = si_qs(v);
-        } else if (strcmp(key, "h_cg") == 0) {
-            cfg->h_cg = si_qs(v);
-        } else if (strcmp(key, "steer_ratio") == 0) {
-            cfg->steer_ratio = si_qs(v);
-        } else if (strcmp(key, "wheel_radius") == 0) {
-            cfg->wheel_radius = si_qs(v);
-        } else if (strcmp(key, "roll_split_front") == 0) {
-            cfg->roll_split_front = si_qs(v);
-        } else if (strcmp(key, "roll_gradient") == 0) {
-            cfg->roll_gradient = si_qs(v);
-        } else if (strcmp(key, "cla") == 0) {
-            cfg->cla = si_qs(v);
-        } else if (strcmp(key, "aero_front") == 0) {
-            cfg->aero_front = si_qs(v);
-        } else if (strcmp(key, "air_density") == 0) {
-            cfg->air_density = si_qs(v);
-        } else if (strcmp(key, "tan_bank") == 0) {
-            cfg->tan_bank = si_qs(v);
-        } else if (strcmp(key, "tan_grade") == 0) {
-            cfg->tan_grade = si_qs(v);
-        } else if (strcmp(key, "latency") == 0) {
-            cfg->latency = si_qs(v);
-        } else {
+            break;
+        default:
             if (v != 0.0 && v != 1.0) {
-                fprintf(stderr, "grip-replay: %s:%lu: speed_ref_mu must be 0 or 1\n", path, lineno);
+                fprintf(stderr, "grip-replay: %s:%lu: %s must be 0 or 1\n", path, lineno, keys[k].key);
                 fclose(f);
                 return -1;
             }
-            cfg->speed_ref_mu = (uint32_t)v;
+            *(uint32_t *)((char *)cfg + keys[k].off) = (uint32_t)v;
+            break;
         }
     }
     fclose(f);
