@@ -94,6 +94,15 @@ def _clamp(x, lo, hi):
     return min(max(x, lo), hi)
 
 
+def _wheel_velocity(vx, vy, r, xa, ya, cdi, sdi):
+    """Velocity of each wheel's contact point in its own (steered) frame
+    (est.c writes these four lines out in the tire loop and in
+    lateral_outputs: a C helper cost stack on the M0+)."""
+    vcx = vx - r * ya
+    vcy = vy + r * xa
+    return cdi * vcx + sdi * vcy, cdi * vcy - sdi * vcx
+
+
 def _tire(P, kappa, alpha, fz, vx):
     """Vectorized grip_mf_eval (left-fitted convention, combined slip)."""
     o = mf.evaluate(P, kappa, alpha, 0.0, fz, None, vx)
@@ -385,10 +394,7 @@ class Estimator:
             cdi = np.array([cd, cd, 1.0, 1.0])
             sdi = np.array([sd, sd, 0.0, 0.0])
             xa, ya = np.array(xw), np.array(yw)
-            vcx = vx - r * ya
-            vcy = vy + r * xa
-            vxw = cdi * vcx + sdi * vcy
-            vyw = cdi * vcy - sdi * vcx
+            vxw, vyw = _wheel_velocity(vx, vy, r, xa, ya, cdi, sdi)
             den = np.maximum(np.abs(vxw), V_OFF)
             t = vyw / den
             alpha = np.arctan(t)
@@ -544,10 +550,7 @@ class Estimator:
             vyd = (ay if ay_ok else ay_m) + g_y - float(self.x[1]) * vx
             vy_o = _clamp(float(self.x[0]) + lat * vyd, -lim, lim)
             r_o = _clamp(float(self.x[1]) + lat * racc, -YAW_MAX, YAW_MAX)
-            vcx = vx - r_o * ya
-            vcy = vy_o + r_o * xa
-            vxw = cdi * vcx + sdi * vcy
-            vyw = cdi * vcy - sdi * vcx
+            vxw, vyw = _wheel_velocity(vx, vy_o, r_o, xa, ya, cdi, sdi)
             alpha_o = np.arctan(vyw / np.maximum(np.abs(vxw), V_OFF))
             fy_o = fy + dfda * (alpha_o - alpha)
             o.update(alpha=alpha_o, fy=fy_o)
