@@ -34,14 +34,7 @@ SEED = 3
 
 def est_inputs(sim, seed, yaw_bias_deg=0.0):
     sd = sensors.measure(sim, datasets._sensor_config(seed, yaw_bias_deg))
-    times = np.unique(np.concatenate([g["time"] for g in sd.groups.values()]))
-    cols = {"time": times}
-    for gname, g in sd.groups.items():
-        idx = np.searchsorted(times, g["time"])
-        for ch in sd.config.groups[gname].channels:
-            col = np.full(len(times), np.nan)
-            col[idx] = g[ch.name]
-            cols[ch.name] = col
+    cols = sd.wide_columns()
     return est_ref.inputs_from_sensors(cols)
 
 

@@ -119,14 +119,8 @@ def simulate(manoeuvre, surface, kw, cache=None):
     res = VM.simulate(veh, sc, h=H_SIM)
     tr = res.member(0)
     sd = sensors.measure(tr, sensors.SensorConfig(seed=SEED))
-    times = np.unique(np.concatenate([g["time"] for g in sd.groups.values()]))
-    cols = {"time": times}
-    for gname, g in sd.groups.items():
-        idx = np.searchsorted(times, g["time"])
-        for ch in sd.config.groups[gname].channels:
-            col = np.full(len(times), np.nan)
-            col[idx] = g[ch.name]
-            cols[ch.name] = col
+    cols = sd.wide_columns()
+    times = cols["time"]
     t = np.asarray(tr["time"], float)
 
     def at(name):

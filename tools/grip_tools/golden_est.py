@@ -153,14 +153,7 @@ def sim_inputs():
     sc.duration = min(sc.duration, 4.0)
     res = VM.simulate(veh, sc, h=2e-3)
     sd = sensors.measure(res.member(0), sensors.SensorConfig(seed=SEED))
-    times = np.unique(np.concatenate([g["time"] for g in sd.groups.values()]))
-    cols = {"time": times}
-    for gname, g in sd.groups.items():
-        idx = np.searchsorted(times, g["time"])
-        for ch in sd.config.groups[gname].channels:
-            col = np.full(len(times), np.nan)
-            col[idx] = g[ch.name]
-            cols[ch.name] = col
+    cols = sd.wide_columns()
     return est_ref.inputs_from_sensors(cols)
 
 

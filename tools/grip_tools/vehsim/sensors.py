@@ -167,16 +167,26 @@ class SensorData:
                     return self.groups[gname]["time"], self.groups[gname][name]
         raise KeyError(name)
 
-    def write_csv(self, path, comment=None):
-        """Wide CSV on the union of all sample times; a channel is NaN in the
-        rows where it was not sampled (slower messages)."""
+    def wide_columns(self):
+        """Every channel on the union of all sample times ('time' and one
+        column per channel); a channel is NaN in the rows where it was not
+        sampled (slower messages). The form of sensors.csv, and what
+        est_ref.inputs_from_sensors takes."""
         times = np.unique(np.concatenate([g["time"] for g in self.groups.values()]))
-        names = self.channel_names()
-        cols = {n: np.full(len(times), np.nan) for n in names}
+        cols = {"time": times}
         for gname, g in self.groups.items():
             idx = np.searchsorted(times, g["time"])
             for c in self.config.groups[gname].channels:
-                cols[c.name][idx] = g[c.name]
+                col = np.full(len(times), np.nan)
+                col[idx] = g[c.name]
+                cols[c.name] = col
+        return cols
+
+    def write_csv(self, path, comment=None):
+        """Wide CSV (wide_columns)."""
+        cols = self.wide_columns()
+        times = cols["time"]
+        names = self.channel_names()
         units = ["s"] + [c.unit for gg in self.config.groups.values() for c in gg.channels]
         with open(path, "w") as f:
             for line in (comment or []):
