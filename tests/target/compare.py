@@ -43,6 +43,8 @@ import re
 import struct
 import sys
 
+from gen_vectors import header_param   # same directory: the golden files' header
+
 Q16_FUNCS = ['mul', 'div', 'sqrt', 'atan', 'atan2', 'sin', 'cos', 'exp', 'log']
 # name: (abs LSB, rel_x, rel_y) as tests/unit/test_q16.c
 Q16_BOUNDS = {'mul': (0.5, 0, 0), 'div': (0.5, 0, 0), 'sqrt': (0.5, 0, 0), 'atan': (0.6, 0, 0),
@@ -60,17 +62,6 @@ def val(w, fmt, fixed):
     if fixed:
         return s32(w) / (65536.0 if fmt == 'qs' else 256.0)
     return struct.unpack('<f', struct.pack('<I', w))[0]
-
-
-def header_param(path, key):
-    with open(path) as f:
-        for line in f:
-            if not line.startswith('#'):
-                break
-            m = re.match(r'# param %s: (.*)$' % re.escape(key), line.rstrip('\n'))
-            if m:
-                return m.group(1)
-    return None
 
 
 def as_built(v, f, fixed):
