@@ -170,6 +170,7 @@ typedef struct {
     grip_real_t c_kappa[2];     /* QL N per wheel at static load */
     grip_real_t mu0[2];         /* QS peak |F|/Fz of the tire at static load */
     grip_real_t alpha_pk[2];    /* QS slip angle of that peak [rad] */
+    grip_real_t mu0_k[2];       /* QS load sensitivity of the peak: mu0(Fz) = mu0 + mu0_k (Fz / Fz_static - 1) */
     grip_real_t k_us;           /* QS stability factor A [s^2/m^2] times 100 */
     grip_real_t q[GRIP_EST_NX]; /* QS process noise per step (scaled units) */
     int32_t hold_steps;         /* steps an input is held after it became invalid */
@@ -189,6 +190,7 @@ typedef struct {
     int32_t age[5];             /* steps since each was valid (saturating) */
     grip_real_t r_lin_f;        /* QS linear yaw-rate reference, low-passed (limit detection) */
     int32_t lim_steps;          /* consecutive steps at the friction limit */
+    int32_t us_steps;           /* consecutive steps at the understeer limit (low-friction detection) */
     grip_real_t nis_a;          /* QS low-pass gain of the misfit statistic per step */
     grip_real_t nis_f;          /* QS low-passed ay NIS, [0, 16] (misfit check) */
     grip_real_t sat_f;          /* QS low-passed share of saturated-but-not-at-limit steps, [0, 1] */

@@ -139,6 +139,7 @@ grip_status_t grip_est_reset(grip_est_t *est)
     est->no_wheel_steps = 1000000;
     est->r_lin_f = R_ZERO;
     est->lim_steps = 0;
+    est->us_steps = 0;
     est->nis_f = R_ZERO;
     est->sat_f = R_ZERO;
     est->misfit = 0;
@@ -216,6 +217,21 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
             }
         }
         est->mu0[a] = best;
+        {
+            /* load sensitivity of the peak: the same sweep at 1.5 x static
+             * load (the understeer-limit friction measurement sums the front
+             * wheels' peaks at their current loads) */
+            grip_real_t best2 = R_ZERO;
+            in.fz = r_mul(RC(1.5), est->fz_static[a]);
+            for (k = 1; k <= 25; ++k) {
+                in.alpha = r_mul(RC(0.02), r_from_int(k));
+                if (tire_eval(&cfg->tire[a], &in, &o1) < 0) {
+                    return GRIP_ERR_PARAM;
+                }
+                best2 = r_max(best2, r_abs(r_div(o1.fy, in.fz)));
+            }
+            est->mu0_k[a] = r_mul(RC(2.0), r_sub(best2, best));
+        }
         if (est->c_alpha[a] <= R_ZERO || est->c_kappa[a] <= R_ZERO || best < RC(0.05)) {
             return GRIP_ERR_PARAM;
         }
@@ -380,6 +396,32 @@ static grip_real_t kf_update(grip_est_t *e, const grip_real_t h[GRIP_EST_NX], gr
 /* ------------------------------------------------------------------ */
 
 enum { H_STEER = 0, H_YAW = 1, H_AX = 2, H_AY = 3, H_VS = 4 };
+
+/* Low-friction detection at the understeer limit (docs/estimator.md,
+ * "Friction at the understeer limit"): with the yaw rate held below the
+ * lagged linear reference by the share dd, the front axle works near its
+ * peak. Its friction in use (steady-state share lr / l of ay, load share of
+ * ax) over its peak at mu = 1 (each front wheel's peak at its current load)
+ * and over the utilization the deficit implies, min(US_UMAX, US_U0 + US_U1
+ * dd), bounds mu from above. Returned only when below US_ZMAX (low
+ * friction): on dry the test cannot tell 1.0 from 0.85. 0 = no measurement. */
+static grip_real_t understeer_limit_mu(const grip_est_t *est, const grip_real_t fz[4], grip_real_t ay,
+                                       grip_real_t ax, grip_real_t dd, grip_real_t l)
+{
+    const grip_est_config_t *c = &est->cfg;
+    grip_real_t fzf = r_add(fz[0], fz[1]);
+    grip_real_t fzs = r_max(r_add(fzf, r_add(fz[2], fz[3])), RCL(1.0));
+    grip_real_t pkf = R_ZERO, use_f, z;
+    int i;
+    for (i = 0; i < 2; ++i) {
+        grip_real_t cf = r_add(est->mu0[0], r_mul(est->mu0_k[0], r_sub(r_div(fz[i], est->fz_static[0]), R_ONE)));
+        pkf = r_add(pkf, r_mul(cf, fz[i]));
+    }
+    use_f = r_div(r_sqrt(r_add(r_sq(r_mul(ay, r_div(c->lr, l))), r_sq(r_mul(ax, r_div(fzf, fzs))))),
+                  r_max(r_div(pkf, c->mass), RC(0.5)));
+    z = r_div(use_f, r_min(RC(EST_US_UMAX), r_add(RC(EST_US_U0), r_mul(RC(EST_US_U1), dd))));
+    return (z < RC(EST_US_ZMAX)) ? z : R_ZERO; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
+}
 
 static void zero_output(grip_est_output_t *out)
 {
@@ -724,6 +766,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         est->x[1] = yaw;
         est->r_lin_f = yaw;
         est->lim_steps = 0;
+        est->us_steps = 0;
         /* gyro bias: random walk; at standstill (every wheel at rest) the
          * yaw rate is zero and the gyro reads its bias */
         est->p[3][3] = r_add(est->p[3][3], est->q[3]);
@@ -751,6 +794,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         int at_limit = 0, b_ok;
         grip_real_t f[2][GRIP_EST_NX];   /* rows vy, r of the transition (mu, bias: identity) */
         grip_real_t ay_m, ax_m, racc, dvy, dr, m = c->mass, mu_lb = RC(EST_MU_MIN), nis_ay;
+        grip_real_t mu_us = R_ZERO;      /* > 0: upper friction measurement at the understeer limit */
 
         for (i = 0; i < 4; ++i) {
             int axle = i >> 1;
@@ -894,6 +938,23 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                 est->lim_steps = 0;
             }
             at_limit = est->lim_steps >= est->lim_n; /* grip-deviation: MISRA-10.3 comparison result 0/1 stored in an int flag */
+            /* low-friction detection at the understeer limit (deficit dd of
+             * the yaw rate against the lagged reference, same turn direction) */
+            {
+                grip_real_t dd = (r_abs(est->r_lin_f) > RC(EST_US_R)) ? r_sub(R_ONE, r_div(yaw, est->r_lin_f)) : R_ZERO; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
+                if (vx >= RC(EST_V_EXC) && yaw_ok && ax_ok && ay_ok && a_tot >= RC(EST_LIM_A) &&
+                    ((est->r_lin_f > R_ZERO && ay > R_ZERO) || (est->r_lin_f < R_ZERO && ay < R_ZERO)) &&
+                    dd >= RC(EST_US_D)) {
+                    if (est->us_steps < 1000000) {
+                        est->us_steps += 1;
+                    }
+                } else {
+                    est->us_steps = 0;
+                }
+                if (est->us_steps >= est->lim_n) {
+                    mu_us = understeer_limit_mu(est, out->fz, ay, ax, dd, l);
+                }
+            }
             if (at_limit) {
                 excited = 1;
             }
@@ -1005,6 +1066,15 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                 (void)kf_update(est, h, r_div(r_sub(ax, ax_pred), RC(EST_S_AY)), RC(EST_R_AX), 1, b_ok);
                 kf_condition(est);
             }
+        }
+        if (mu_us > R_ZERO && est->x[2] > mu_us) {
+            grip_real_t h[GRIP_EST_NX];
+            h[0] = R_ZERO;
+            h[1] = R_ZERO;
+            h[2] = R_ONE;
+            h[3] = R_ZERO;
+            (void)kf_update(est, h, r_div(r_sub(mu_us, est->x[2]), RC(EST_S_MU)), RC(EST_R_US), 1, 0);
+            kf_condition(est);
         }
         /* state bounds */
         est->x[2] = r_clamp(est->x[2], r_max(RC(EST_MU_MIN), mu_lb), RC(EST_MU_MAX));

@@ -32,7 +32,12 @@ HOLD_T, NOWHEEL_T = 0.05, 0.5
 DELTA_MAX, WS_MAX, YAW_MAX, ACC_MAX = 0.7, 120.0, 2.5, 15.0
 AX_TH, K_HI, K_LO, K_MID, WHEEL_DEV = 0.3, 5.0, 0.5, 1.5, 0.15
 MU_MIN, MU_MAX, MU_INIT = 0.1, 1.2, 1.0
-LIM_TAU, LIM_A, LIM_REL, LIM_ABS, LIM_T, R_MU = 0.15, 2.0, 0.15, 0.03, 0.2, 16.0
+LIM_TAU, LIM_A, LIM_REL, LIM_ABS, LIM_T = 0.15, 2.0, 0.15, 0.03, 0.2
+# understeer limit (low-friction detection): yaw deficit share US_D against
+# the lagged reference (above US_R rad/s), implied front-axle utilization
+# min(US_UMAX, US_U0 + US_U1 deficit), used below US_ZMAX, noise R_US
+# (sigma 0.1 in mu's scaled unit 0.02)
+US_D, US_R, US_U0, US_U1, US_UMAX, US_ZMAX, R_US = 0.3, 0.02, 0.3, 1.4, 0.85, 0.8, 25.0
 EXC_U, EXC_A, G_MIN = 0.5, 1.0, 0.05
 S = np.array([0.05, 0.005, 0.02, 0.001])  # scaled units of vy, r, mu, gyro bias
 # states are SI except the gyro bias, which is kept in its scaled unit
@@ -118,6 +123,7 @@ class Estimator:
         self.fz_static = [c["lr"] / l * m_g, c["lf"] / l * m_g]
         self.c_alpha, self.c_kappa, self.mu0 = [0.0, 0.0], [0.0, 0.0], [0.0, 0.0]
         self.alpha_pk = [0.5, 0.5]
+        self.mu0_k = [0.0, 0.0]
         for a in range(2):
             P = c["tire"][a]
             fz = self.fz_static[a]
@@ -129,6 +135,9 @@ class Estimator:
             _, fy, _ = _tire(P, np.zeros(25), al, np.full(25, fz), np.full(25, 20.0))
             self.mu0[a] = float(np.max(np.abs(fy / fz)))
             self.alpha_pk[a] = float(al[int(np.argmax(np.abs(fy / fz)))])
+            # load sensitivity of the peak (understeer-limit friction measurement)
+            _, fy2, _ = _tire(P, np.zeros(25), al, np.full(25, 1.5 * fz), np.full(25, 20.0))
+            self.mu0_k[a] = 2.0 * (float(np.max(np.abs(fy2))) / (1.5 * fz) - self.mu0[a])
             if self.c_alpha[a] <= 0 or self.c_kappa[a] <= 0 or self.mu0[a] < 0.05:
                 raise ValueError("tire model gives no cornering/slip stiffness or friction")
         cf, cr = 2 * self.c_alpha[0], 2 * self.c_alpha[1]
@@ -159,6 +168,7 @@ class Estimator:
         self.no_wheel_steps = BIG
         self.r_lin_f = 0.0
         self.lim_steps = 0
+        self.us_steps = 0
         self.active = False
         self.vx_init = False
         self.nis_f = 0.0
@@ -378,6 +388,7 @@ class Estimator:
             self.x[0], self.x[1] = 0.0, yaw
             self.r_lin_f = yaw
             self.lim_steps = 0
+            self.us_steps = 0
             # gyro bias: random walk; at standstill (every wheel at rest) the
             # yaw rate is zero, so the gyro reads its bias
             self.P[3, 3] = self.P[3, 3] + self.q[3]
@@ -471,6 +482,29 @@ class Estimator:
             else:
                 self.lim_steps = 0
             at_limit = self.lim_steps >= self.lim_n
+            # Low-friction detection at the understeer limit (docs/estimator.md,
+            # "Friction at the understeer limit"): the yaw rate has stayed below
+            # the lagged linear reference by the share US_D for LIM_T, so the
+            # front axle works near its peak; the front axle's friction in use
+            # (steady-state share of m ay and m ax, peak at mu = 1 with the
+            # load sensitivity) divided by the utilization that deficit
+            # implies bounds mu from above. Used only when it says low friction
+            # (< US_ZMAX): on dry the test cannot tell 1.0 from 0.85.
+            dd = (1.0 - yaw / self.r_lin_f) if abs(self.r_lin_f) > US_R else 0.0
+            same_turn = (self.r_lin_f > 0.0 and ay > 0.0) or (self.r_lin_f < 0.0 and ay < 0.0)
+            if vx >= V_EXC and yaw_ok and ax_ok and ay_ok and a_tot >= LIM_A and same_turn and dd >= US_D:
+                self.us_steps = min(self.us_steps + 1, BIG)
+            else:
+                self.us_steps = 0
+            mu_us = 0.0
+            if self.us_steps >= self.lim_n:
+                cf = [self.mu0[0] + self.mu0_k[0] * (fz[i] / self.fz_static[0] - 1.0) for i in (0, 1)]
+                a_pk = max((cf[0] * fz[0] + cf[1] * fz[1]) / m, 0.5)
+                fzs = max(fz[0] + fz[1] + fz[2] + fz[3], 1.0)
+                use_f = math.hypot(ay * (c["lr"] / l), ax * ((fz[0] + fz[1]) / fzs)) / a_pk
+                z = use_f / min(US_UMAX, US_U0 + US_U1 * dd)
+                if z < US_ZMAX:
+                    mu_us = z
             if at_limit:
                 excited = True
 
@@ -529,6 +563,10 @@ class Estimator:
                 ax_pred = ax_m + jax_mu / m * (self.x[2] - mu)
                 h = np.array([0.0, 0.0, _clamp(jax_mu / m * S[2] / S_AY, -H_MAX, H_MAX), 0.0])
                 self._update(h, (ax - ax_pred) / S_AY, R_AX, True, b_ok)
+                self._condition()
+            # low-friction detection at the understeer limit (mu_us above)
+            if mu_us > 0.0 and self.x[2] > mu_us:
+                self._update(np.array([0.0, 0.0, 1.0, 0.0]), (mu_us - self.x[2]) / S[2], R_US, True, False)
                 self._condition()
             # the friction in use is a lower bound of the friction available
             mu_lb = min(a_tot / (G * max(self.mu0)), MU_MAX) if (ax_ok and ay_ok) else MU_MIN
