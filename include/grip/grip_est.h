@@ -130,6 +130,11 @@ typedef struct {
                                                        * or saturated-model-without-limit share
                                                        * above threshold): mu_conf capped at 0.45,
                                                        * V_MU cleared                              */
+#define GRIP_EST_F_INPUT_DEGRADED ((uint32_t)1u << 16) /* set by grip_monitor_gate (grip_monitor.h):
+                                                       * the plausibility monitor does not vouch
+                                                       * for this sample's inputs; every output
+                                                       * that depends on the lateral state is
+                                                       * marked invalid (GRIP_MON_GATE_CLEARS) */
 
 typedef struct {
     grip_real_t vx;              /* QS m/s longitudinal speed of the CG          */

@@ -27,7 +27,9 @@
  *
  * Contract with the consumer of the estimator's output: rep->degraded != 0
  * means "do not trust beta and mu on this sample" even where the estimator
- * marks them valid (GRIP_EST_V_BETA, GRIP_EST_V_MU); GRIP_MON_DEGR_SUSPECT:
+ * marks them valid (GRIP_EST_V_BETA, GRIP_EST_V_MU); grip_monitor_gate
+ * applies it to the output (clears those bits and the ones that depend on
+ * them, sets GRIP_EST_F_INPUT_DEGRADED); GRIP_MON_DEGR_SUSPECT:
  * a signal is dropped, lost or latched, or a check is accumulating a
  * suspicion, now or within 0.5 s; GRIP_MON_DEGR_UNVERIFIED: the ay, ax and
  * steering checks are held off (unstable driving). beta / mu are usable when
@@ -125,6 +127,15 @@ typedef struct {
 #define grip_monitor_init GRIP_TYPED(grip_monitor_init)
 #define grip_monitor_reset GRIP_TYPED(grip_monitor_reset)
 #define grip_monitor_step GRIP_TYPED(grip_monitor_step)
+#define grip_monitor_gate GRIP_TYPED(grip_monitor_gate)
+
+/* Validity bits grip_monitor_gate clears: everything that depends on the
+ * estimator's lateral state (vy) or on mu. vx, yaw rate, its reference,
+ * loads and the under/oversteer indication stay as the estimator set them. */
+#define GRIP_MON_GATE_CLEARS (GRIP_EST_V_BETA | GRIP_EST_V_MU | GRIP_EST_V_AXLE | GRIP_EST_V_MARGIN | \
+                              GRIP_EST_V_WHEEL(0) | GRIP_EST_V_WHEEL(1) | GRIP_EST_V_WHEEL(2) | GRIP_EST_V_WHEEL(3))
+/* The degraded bits grip_monitor_gate honours by default (docs/faults.md) */
+#define GRIP_MON_GATE_DEFAULT (GRIP_MON_DEGR_SUSPECT | GRIP_MON_DEGR_UNVERIFIED)
 
 /* The simulator's passenger car (as grip_est_config_default): front drive,
  * rate_hz = 100. GRIP_ERR_NULL for NULL. */
@@ -152,5 +163,22 @@ grip_status_t grip_monitor_reset(grip_monitor_t *mon);
  * GRIP_SIG_FAULT, and rep says all of them faulty). */
 grip_status_t grip_monitor_step(grip_monitor_t *mon, grip_input_sample_t *sample,
                                 const grip_est_output_t *est_prev, grip_monitor_report_t *rep);
+
+/* The degraded contract applied to the estimator's output of the same
+ * sample (call after grip_est_step): when rep->degraded has a bit of
+ * `honour`, clears GRIP_MON_GATE_CLEARS in out->valid and sets
+ * GRIP_EST_F_INPUT_DEGRADED in out->flags; otherwise out is unchanged.
+ * honour: GRIP_MON_GATE_DEFAULT (both bits), or GRIP_MON_DEGR_SUSPECT alone
+ * for a consumer that trades the unverified limit-manoeuvre rows for
+ * availability (docs/faults.md gives both policies' figures); 0 = no gate.
+ * The values are not touched. GRIP_ERR_NULL, GRIP_ERR_PARAM (honour has a
+ * bit that is not a GRIP_MON_DEGR_* bit; out unchanged).
+ * Gate a copy for the consumer and give grip_monitor_step the estimator's
+ * own output as est_prev: the monitor's unstable-driving test reads beta,
+ * which the gate marks invalid exactly when the monitor is unsure. Per step:
+ *   grip_monitor_step(&mon, &sample, &est_out, &rep);
+ *   grip_est_step(&est, &sample, &est_out);
+ *   use = est_out; grip_monitor_gate(&rep, GRIP_MON_GATE_DEFAULT, &use); */
+grip_status_t grip_monitor_gate(const grip_monitor_report_t *rep, uint32_t honour, grip_est_output_t *out);
 
 #endif /* GRIP_MONITOR_H */

@@ -647,3 +647,18 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
     }
     return GRIP_OK;
 }
+
+grip_status_t grip_monitor_gate(const grip_monitor_report_t *rep, uint32_t honour, grip_est_output_t *out)
+{
+    if (rep == NULL || out == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    if ((honour & ~(uint32_t)GRIP_MON_GATE_DEFAULT) != 0u) {
+        return GRIP_ERR_PARAM;
+    }
+    if ((rep->degraded & honour) != 0u) {
+        out->valid &= ~(uint32_t)GRIP_MON_GATE_CLEARS;
+        out->flags |= GRIP_EST_F_INPUT_DEGRADED;
+    }
+    return GRIP_OK;
+}

@@ -1,7 +1,8 @@
 /*
  * fuzz_chain.c - the onboard data flow on hostile input sequences:
  * sample -> grip_calib_apply -> grip_monitor_step (with the estimator's
- * previous output) -> grip_est_step, as an application wires it.
+ * previous output) -> grip_est_step -> grip_monitor_gate on a copy, as an
+ * application wires it.
  *
  * Input: [set] [calibration: per calibrated input offset (int8 -> [-10, 10]),
  * gain (u8 -> [0.5, 2]), delay (u8 mod 33 steps)] then up to 200 steps of
@@ -9,6 +10,7 @@
  * Properties: no crash or sanitizer report; every call returns GRIP_OK;
  * every calibrated value and every monitor residual finite, calibrated
  * values of invalid inputs never used (the estimator sees them invalid);
+ * the gate clears the lateral outputs exactly when the monitor says degraded;
  * estimator outputs as fuzz_est checks them (fuzz_est_common.h).
  */
 #include "fuzz_est_common.h"
@@ -91,6 +93,17 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         s = grip_est_step(&est, &c, &o);
         FZ_CHECK(s == GRIP_OK, "step %d: est status %d", steps, (int)s);
         fz_est_check_output(steps, &o);
+        {
+            /* the consumer's copy through the degraded gate */
+            grip_est_output_t use = o;
+            s = grip_monitor_gate(&rep, GRIP_MON_GATE_DEFAULT, &use);
+            FZ_CHECK(s == GRIP_OK, "step %d: gate status %d", steps, (int)s);
+            FZ_CHECK(rep.degraded == 0u ? (use.valid == o.valid && use.flags == o.flags)
+                                        : ((use.valid & GRIP_MON_GATE_CLEARS) == 0u &&
+                                           (use.flags & GRIP_EST_F_INPUT_DEGRADED) != 0u),
+                     "step %d: gate valid 0x%x flags 0x%x for degraded 0x%x", steps, (unsigned)use.valid,
+                     (unsigned)use.flags, (unsigned)rep.degraded);
+        }
         prev = o;
         have_prev = 1;
         steps++;

@@ -12,7 +12,7 @@ import unittest
 
 import numpy as np
 
-from grip_tools import faults, monitor_ref as MR
+from grip_tools import est_ref, faults, monitor_ref as MR
 
 
 def drive(n=600, fault=None):
@@ -122,6 +122,24 @@ class MonitorTests(unittest.TestCase):
         self.assertTrue(reps[300]["code"][MR.AX] & MR.C_RANGE)
         self.assertEqual(reps[300]["valid"][MR.AX], 1)   # the monitor drops what it judges; the
         # estimator rejects a non-finite value itself (its own check)
+
+
+class GateTests(unittest.TestCase):
+    """MR.gate = grip_monitor_gate (tests/unit/test_monitor.c
+    test_gate checks the C function with the same cases)."""
+
+    def test_gate(self):
+        all_valid, kept = (1 << 13) - 1, 1 | 4 | 8 | 16 | (1 << 11)
+        flags = 1 << 12
+        dg = np.array([0, MR.DEGR_SUSPECT, MR.DEGR_UNVERIFIED, 3])
+        v, f = MR.gate(dg, MR.GATE_DEFAULT, np.full(4, all_valid), np.full(4, flags))
+        self.assertEqual(list(v), [all_valid, kept, kept, kept])
+        self.assertEqual(list(f), [flags] + [flags | MR.F_INPUT_DEGRADED] * 3)
+        v, f = MR.gate(dg, MR.DEGR_SUSPECT, np.full(4, all_valid), np.full(4, flags))
+        self.assertEqual(list(v), [all_valid, kept, all_valid, kept])
+        self.assertEqual(MR.F_INPUT_DEGRADED, est_ref.F_INPUT_DEGRADED)
+        with self.assertRaises(ValueError):
+            MR.gate(dg, 4, np.full(4, all_valid), np.full(4, flags))
 
 
 class InjectionTests(unittest.TestCase):

@@ -252,10 +252,54 @@ static void test_api_null_and_config(void **state)
     assert_int_equal(grip_monitor_step(&mon, &in, NULL, NULL), GRIP_OK);
 }
 
+/* grip_monitor_gate: the degraded contract applied to an estimator output */
+static void test_gate(void **state)
+{
+    grip_monitor_report_t rep;
+    grip_est_output_t out, before;
+    const uint32_t all_valid = (1u << 13) - 1u;   /* GRIP_EST_V_VX .. GRIP_EST_V_MARGIN */
+    const uint32_t kept = GRIP_EST_V_VX | GRIP_EST_V_YAW | GRIP_EST_V_YAW_REF | GRIP_EST_V_FZ | GRIP_EST_V_STEER;
+    (void)state;
+    memset(&rep, 0, sizeof rep);
+    memset(&out, 0, sizeof out);
+    out.valid = all_valid;
+    out.flags = GRIP_EST_F_EXCITED;
+    out.beta = to_qs(0.05);
+    out.mu = to_qs(0.6);
+    before = out;
+    assert_int_equal(grip_monitor_gate(NULL, GRIP_MON_GATE_DEFAULT, &out), GRIP_ERR_NULL);
+    assert_int_equal(grip_monitor_gate(&rep, GRIP_MON_GATE_DEFAULT, NULL), GRIP_ERR_NULL);
+    /* not degraded: unchanged */
+    assert_int_equal(grip_monitor_gate(&rep, GRIP_MON_GATE_DEFAULT, &out), GRIP_OK);
+    assert_memory_equal(&out, &before, sizeof out);
+    /* unknown honour bit: rejected, unchanged */
+    rep.degraded = GRIP_MON_DEGR_SUSPECT;
+    assert_int_equal(grip_monitor_gate(&rep, 4u, &out), GRIP_ERR_PARAM);
+    assert_memory_equal(&out, &before, sizeof out);
+    /* honour 0: no gate */
+    assert_int_equal(grip_monitor_gate(&rep, 0u, &out), GRIP_OK);
+    assert_memory_equal(&out, &before, sizeof out);
+    /* SUSPECT honoured: the lateral-state outputs lose their valid bits, the
+     * flag says why, the values and the other bits stay */
+    assert_int_equal(grip_monitor_gate(&rep, GRIP_MON_GATE_DEFAULT, &out), GRIP_OK);
+    assert_int_equal(out.valid, kept);
+    assert_int_equal(out.flags, GRIP_EST_F_EXCITED | GRIP_EST_F_INPUT_DEGRADED);
+    assert_true(out.beta == before.beta && out.mu == before.mu);
+    /* UNVERIFIED with a consumer that honours SUSPECT only: unchanged */
+    out = before;
+    rep.degraded = GRIP_MON_DEGR_UNVERIFIED;
+    assert_int_equal(grip_monitor_gate(&rep, GRIP_MON_DEGR_SUSPECT, &out), GRIP_OK);
+    assert_memory_equal(&out, &before, sizeof out);
+    assert_int_equal(grip_monitor_gate(&rep, GRIP_MON_GATE_DEFAULT, &out), GRIP_OK);
+    assert_int_equal(out.valid, kept);
+    assert_true((out.valid & (GRIP_EST_V_BETA | GRIP_EST_V_MU)) == 0u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_api_null_and_config),
+        cmocka_unit_test(test_gate),
         cmocka_unit_test(test_golden),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

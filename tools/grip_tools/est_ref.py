@@ -75,6 +75,7 @@ F_NO_STEER, F_NO_YAW, F_NO_AY, F_NO_AX = 16, 32, 64, 128
 F_SATURATED, F_STEER_LIMIT, F_WHEEL_LOCK, F_WHEEL_SPIN = 256, 512, 1024, 2048
 F_EXCITED, F_TIRE_ERROR, F_RESET = 4096, 8192, 16384
 F_MODEL_MISFIT = 1 << 15
+F_INPUT_DEGRADED = 1 << 16   # set by grip_monitor_gate (monitor_ref.gate), not by the estimator
 
 
 def V_WHEEL(i):

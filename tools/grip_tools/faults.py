@@ -259,11 +259,12 @@ POLICY = {"mask": DEGR_ALL}
 
 
 def trusted(run, bit):
-    """Rows where the consumer may use the output `bit`: the estimator marks
-    it valid AND the monitor does not report the sample degraded (the
-    contract of grip_monitor_report_t.degraded, docs/faults.md), with the
-    degraded bits of POLICY["mask"]."""
-    return ((run["valid"] & bit) != 0) & ((run["degraded"] & POLICY["mask"]) == 0)
+    """Rows where the consumer may use the output `bit`: its valid bit after
+    grip_monitor_gate (monitor_ref.gate) with the degraded bits of
+    POLICY["mask"], i.e. the estimator marks it valid AND the monitor does
+    not report the sample degraded (docs/faults.md)."""
+    valid, _ = monitor_ref.gate(run["degraded"], POLICY["mask"], run["valid"], run["flags"])
+    return (valid & bit) != 0
 
 
 def errors(run, truth, sel):

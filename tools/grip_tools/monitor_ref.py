@@ -48,6 +48,8 @@ Use:
 """
 import math
 
+import numpy as np
+
 # grip_input_id_t
 STEER, YAW, AX, AY, VSPEED = 4, 5, 6, 7, 8
 N_IN = 17
@@ -62,6 +64,12 @@ DEGR_SUSPECT, DEGR_UNVERIFIED = 1, 2
 C_LOST, C_RANGE, C_SPIKE, C_NOISE, C_FROZEN, C_PLAUS = 1, 2, 4, 8, 16, 32
 SIG_FAULT = 5        # grip_sig_fault_t GRIP_SIG_FAULT
 V_VX, V_BETA, V_STEER = 1, 2, 1 << 11   # grip_est.h GRIP_EST_V_*
+# grip_monitor_gate (grip_monitor.h): the validity bits it clears (beta, mu,
+# per-wheel tire outputs, axle forces, front margin), its default policy and
+# the flag it sets (grip_est.h GRIP_EST_F_INPUT_DEGRADED)
+GATE_CLEARS = (1 << 1) | (1 << 10) | (1 << 9) | (1 << 12) | (0xF << 5)
+GATE_DEFAULT = DEGR_SUSPECT | DEGR_UNVERIFIED
+F_INPUT_DEGRADED = 1 << 16
 
 # physical range |x| <= LIM (the estimator's limits; steering: 1.4 rad road wheel x ratio)
 WS_MAX, YAW_MAX, ACC_MAX, DELTA_MAX = 120.0, 2.5, 15.0, 0.7
@@ -446,3 +454,13 @@ class Monitor:
         degraded = (DEGR_SUSPECT if self.degr > 0 else 0) | (DEGR_UNVERIFIED if self.unst > 0 else 0)
         return dict(valid=out_valid, value=out_value, fault=out_fault, code=code, faulty=faulty,
                     detected=detected, res=res, sus=sus, degraded=degraded)
+
+
+def gate(degraded, honour, valid, flags):
+    """grip_monitor_gate: the degraded contract applied to one estimator
+    output (valid, flags); works elementwise on numpy integer arrays."""
+    if honour & ~GATE_DEFAULT:
+        raise ValueError("honour has a bit that is not a degraded bit")
+    hit = (degraded & honour) != 0
+    return (np.where(hit, valid & ~GATE_CLEARS, valid),
+            np.where(hit, flags | F_INPUT_DEGRADED, flags))
