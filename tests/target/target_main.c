@@ -56,9 +56,13 @@ typedef struct {
     uint32_t rate_hz;
     int first;
     int n;
+    uint32_t cfg_mask;   /* bit j: tv_est_cfg[seq][j] sets the j-th field of EST_CFG_KEYS */
 } tv_seq;
 
 #include "tv_vectors.h"
+#if TV_EST_NCFG != 6
+#error "tv_vectors.h: EST_CFG_KEYS of gen_vectors.py changed; update run_est's field table"
+#endif
 
 /* the thermal parameter words are copied into the struct in P-row order */
 typedef char tv_th_size_check[(sizeof(grip_mf_thermal_params) == TV_TH_NP * sizeof(grip_real_t)) ? 1 : -1];
@@ -257,6 +261,22 @@ static int run_est(void)
             return 1;
         }
         cfg.rate_hz = sq->rate_hz;
+        {
+            /* the sequence's configuration beyond the default, in the order of
+             * gen_vectors.py EST_CFG_KEYS */
+            grip_real_t *field[TV_EST_NCFG];
+            field[0] = &cfg.cla;
+            field[1] = &cfg.aero_front;
+            field[2] = &cfg.air_density;
+            field[3] = &cfg.tan_bank;
+            field[4] = &cfg.tan_grade;
+            field[5] = &cfg.latency;
+            for (k = 0; k < TV_EST_NCFG; k++) {
+                if ((sq->cfg_mask >> k) & 1u) {
+                    *field[k] = real(tv_est_cfg[q][k]);
+                }
+            }
+        }
         if (grip_est_init(&est, &cfg) != GRIP_OK) {
             put_s("X estimator init failed");
             flush();
