@@ -209,6 +209,7 @@ typedef struct {
 #define grip_est_init GRIP_TYPED(grip_est_init)
 #define grip_est_step GRIP_TYPED(grip_est_step)
 #define grip_est_reset GRIP_TYPED(grip_est_reset)
+#define grip_est_stability_factor GRIP_TYPED(grip_est_stability_factor)
 
 /* A mid-size passenger car (the simulator's 'passenger' set) with the given
  * tire on both axles, rate_hz = 100. GRIP_ERR_NULL for NULL cfg. */
@@ -231,5 +232,11 @@ grip_status_t grip_est_reset(grip_est_t *est);
  * back once the inputs do. Returns GRIP_OK (possibly with outputs marked
  * invalid), GRIP_ERR_NULL or GRIP_ERR_STATE (zero outputs, valid = 0). */
 grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip_est_output_t *out);
+
+/* The linear stability factor A [s^2/m^2] of the configured car and tires
+ * (seed eq. 2.17, from the tires' cornering stiffness at static load, as
+ * the yaw-rate reference uses it), times 100, in *a_x100 (QS).
+ * GRIP_ERR_NULL, GRIP_ERR_STATE (est not initialized). */
+grip_status_t grip_est_stability_factor(const grip_est_t *est, grip_real_t *a_x100);
 
 #endif /* GRIP_EST_H */

@@ -128,6 +128,7 @@ typedef struct {
 #define grip_monitor_reset GRIP_TYPED(grip_monitor_reset)
 #define grip_monitor_step GRIP_TYPED(grip_monitor_step)
 #define grip_monitor_gate GRIP_TYPED(grip_monitor_gate)
+#define grip_monitor_config_from_est GRIP_TYPED(grip_monitor_config_from_est)
 
 /* Validity bits grip_monitor_gate clears: everything that depends on the
  * estimator's lateral state (vy) or on mu. vx, yaw rate, its reference,
@@ -140,6 +141,15 @@ typedef struct {
 /* The simulator's passenger car (as grip_est_config_default): front drive,
  * rate_hz = 100. GRIP_ERR_NULL for NULL. */
 grip_status_t grip_monitor_config_default(grip_monitor_config_t *cfg);
+
+/* The monitor's vehicle values taken from the application's initialized
+ * estimator, so the two cannot drift apart: lf, lr, track widths, steering
+ * ratio, roll gradient and rate from its configuration, the stability
+ * factor from grip_est_stability_factor; `driven` (bit 0 front, bit 1
+ * rear) is not an estimator setting. GRIP_ERR_NULL, GRIP_ERR_STATE (est not
+ * initialized), GRIP_ERR_PARAM (a value outside the monitor's ranges, e.g.
+ * a stability factor beyond +-0.01 s^2/m^2; cfg is then unchanged). */
+grip_status_t grip_monitor_config_from_est(grip_monitor_config_t *cfg, const grip_est_t *est, uint32_t driven);
 
 /* Checks cfg (ranges above), copies it and derives the per-step constants.
  * GRIP_ERR_NULL, GRIP_ERR_PARAM (mon is then unusable: step returns

@@ -1148,3 +1148,15 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     out->flags = flags;
     return GRIP_OK;
 }
+
+grip_status_t grip_est_stability_factor(const grip_est_t *est, grip_real_t *a_x100)
+{
+    if (est == NULL || a_x100 == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    if (est->magic != EST_MAGIC) {
+        return GRIP_ERR_STATE;
+    }
+    *a_x100 = est->k_us;
+    return GRIP_OK;
+}

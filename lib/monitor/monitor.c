@@ -114,11 +114,39 @@ grip_status_t grip_monitor_config_default(grip_monitor_config_t *cfg)
     cfg->track_f = RC(1.55);
     cfg->track_r = RC(1.53);
     cfg->steer_ratio = RC(15.5);
-    cfg->stab_factor_x100 = RC(0.0368);
+    cfg->stab_factor_x100 = RC(0.0367);   /* grip_est_stability_factor of grip_est_config_default, 3 figures (test_monitor.c) */
     cfg->roll_gradient = RC(0.0088);
     cfg->driven = 1u;
     cfg->rate_hz = 100u;
     return GRIP_OK;
+}
+
+static grip_status_t check_config(const grip_monitor_config_t *c);
+
+grip_status_t grip_monitor_config_from_est(grip_monitor_config_t *cfg, const grip_est_t *est, uint32_t driven)
+{
+    grip_monitor_config_t c;
+    grip_status_t s;
+    if (cfg == NULL || est == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    s = grip_est_stability_factor(est, &c.stab_factor_x100);
+    if (s != GRIP_OK) {
+        return s;
+    }
+    c.lf = est->cfg.lf;
+    c.lr = est->cfg.lr;
+    c.track_f = est->cfg.track_f;
+    c.track_r = est->cfg.track_r;
+    c.steer_ratio = est->cfg.steer_ratio;
+    c.roll_gradient = est->cfg.roll_gradient;
+    c.driven = driven;
+    c.rate_hz = est->cfg.rate_hz;
+    s = check_config(&c);
+    if (s == GRIP_OK) {
+        *cfg = c;
+    }
+    return s;
 }
 
 static grip_status_t check_config(const grip_monitor_config_t *c)

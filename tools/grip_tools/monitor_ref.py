@@ -113,7 +113,7 @@ def config(rate_hz=100, **kw):
     """The passenger car of grip_monitor_config_default (the simulator's
     'passenger' set, as est_ref.config)."""
     c = dict(lf=1.10, lr=1.60, track_f=1.55, track_r=1.53, steer_ratio=15.5,
-             stab_factor_x100=0.0368, roll_gradient=0.0088, driven=1, rate_hz=int(rate_hz))
+             stab_factor_x100=0.0367, roll_gradient=0.0088, driven=1, rate_hz=int(rate_hz))
     c.update(kw)
     return c
 
