@@ -403,7 +403,8 @@ enum { H_STEER = 0, H_YAW = 1, H_AX = 2, H_AY = 3, H_VS = 4 };
  * peak. Its friction in use (steady-state share lr / l of ay, load share of
  * ax) over its peak at mu = 1 (each front wheel's peak at its current load)
  * and over the utilization the deficit implies, min(US_UMAX, US_U0 + US_U1
- * dd), bounds mu from above. Returned only when below US_ZMAX (low
+ * dd), bounds mu from above (a bound on the state, no update: it adds no
+ * confidence). Returned only when below US_ZMAX (low
  * friction): on dry the test cannot tell 1.0 from 0.85. 0 = no measurement. */
 static grip_real_t understeer_limit_mu(const grip_est_t *est, const grip_real_t fz[4], grip_real_t ay,
                                        grip_real_t ax, grip_real_t dd, grip_real_t l)
@@ -1067,17 +1068,12 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                 kf_condition(est);
             }
         }
-        if (mu_us > R_ZERO && est->x[2] > mu_us) {
-            grip_real_t h[GRIP_EST_NX];
-            h[0] = R_ZERO;
-            h[1] = R_ZERO;
-            h[2] = R_ONE;
-            h[3] = R_ZERO;
-            (void)kf_update(est, h, r_div(r_sub(mu_us, est->x[2]), RC(EST_S_MU)), RC(EST_R_US), 1, 0);
-            kf_condition(est);
-        }
-        /* state bounds */
-        est->x[2] = r_clamp(est->x[2], r_max(RC(EST_MU_MIN), mu_lb), RC(EST_MU_MAX));
+        /* state bounds; mu: the friction in use from below, the understeer
+         * limit's measurement from above. Bounds on the state, not
+         * measurements: they add no confidence (a steering-angle offset
+         * fakes an understeer deficit, docs/faults.md) */
+        mu_lb = r_max(RC(EST_MU_MIN), mu_lb);
+        est->x[2] = r_clamp(est->x[2], mu_lb, (mu_us > R_ZERO) ? r_max(mu_us, mu_lb) : RC(EST_MU_MAX)); /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
         est->x[0] = sym_clamp(est->x[0], r_add(r_mul(RC(EST_VY_K), r_abs(vx)), R_ONE));
         est->x[1] = sym_clamp(est->x[1], RC(EST_YAW_MAX));
         est->x[3] = sym_clamp(est->x[3], RC(EST_B_MAX / EST_S_B));

@@ -41,14 +41,13 @@
  * reference by the share US_D (reference above US_R rad/s) for LIM_T; the
  * front axle's friction in use over the utilization the deficit implies,
  * min(US_UMAX, US_U0 + US_U1 deficit), bounds mu from above when it is below
- * US_ZMAX; measurement noise R_US (sigma 0.1 in mu's scaled unit 0.02) */
+ * US_ZMAX */
 #define EST_US_D     0.3
 #define EST_US_R     0.02
 #define EST_US_U0    0.3
 #define EST_US_U1    1.4
 #define EST_US_UMAX  0.85
 #define EST_US_ZMAX  0.8
-#define EST_R_US     25.0
 #define EST_G_MIN    0.05    /* floor of the slope factor sqrt(1 - u)          */
 /* scaled units of the covariance (state i in units of S_i) */
 #define EST_S_VY     0.05    /* m/s   */

@@ -35,9 +35,8 @@ MU_MIN, MU_MAX, MU_INIT = 0.1, 1.2, 1.0
 LIM_TAU, LIM_A, LIM_REL, LIM_ABS, LIM_T = 0.15, 2.0, 0.15, 0.03, 0.2
 # understeer limit (low-friction detection): yaw deficit share US_D against
 # the lagged reference (above US_R rad/s), implied front-axle utilization
-# min(US_UMAX, US_U0 + US_U1 deficit), used below US_ZMAX, noise R_US
-# (sigma 0.1 in mu's scaled unit 0.02)
-US_D, US_R, US_U0, US_U1, US_UMAX, US_ZMAX, R_US = 0.3, 0.02, 0.3, 1.4, 0.85, 0.8, 25.0
+# min(US_UMAX, US_U0 + US_U1 deficit), an upper bound of mu below US_ZMAX
+US_D, US_R, US_U0, US_U1, US_UMAX, US_ZMAX = 0.3, 0.02, 0.3, 1.4, 0.85, 0.8
 EXC_U, EXC_A, G_MIN = 0.5, 1.0, 0.05
 S = np.array([0.05, 0.005, 0.02, 0.001])  # scaled units of vy, r, mu, gyro bias
 # states are SI except the gyro bias, which is kept in its scaled unit
@@ -170,6 +169,7 @@ class Estimator:
         self.r_lin_f = 0.0
         self.lim_steps = 0
         self.us_steps = 0
+        self.us_clamped = False
         self.active = False
         self.vx_init = False
         self.nis_f = 0.0
@@ -390,6 +390,7 @@ class Estimator:
             self.r_lin_f = yaw
             self.lim_steps = 0
             self.us_steps = 0
+            self.us_clamped = False
             # gyro bias: random walk; at standstill (every wheel at rest) the
             # yaw rate is zero, so the gyro reads its bias
             self.P[3, 3] = self.P[3, 3] + self.q[3]
@@ -489,8 +490,9 @@ class Estimator:
             # front axle works near its peak; the front axle's friction in use
             # (steady-state share of m ay and m ax, peak at mu = 1 with the
             # load sensitivity) divided by the utilization that deficit
-            # implies bounds mu from above. Used only when it says low friction
-            # (< US_ZMAX): on dry the test cannot tell 1.0 from 0.85.
+            # implies bounds mu from above (a bound on the state, see the
+            # bounds below). Used only when it says low friction (< US_ZMAX):
+            # on dry the test cannot tell 1.0 from 0.85.
             dd = (1.0 - yaw / self.r_lin_f) if abs(self.r_lin_f) > US_R else 0.0
             same_turn = (self.r_lin_f > 0.0 and ay > 0.0) or (self.r_lin_f < 0.0 and ay < 0.0)
             if vx >= V_EXC and yaw_ok and ax_ok and ay_ok and a_tot >= LIM_A and same_turn and dd >= US_D:
@@ -565,13 +567,14 @@ class Estimator:
                 h = np.array([0.0, 0.0, _clamp(jax_mu / m * S[2] / S_AY, -H_MAX, H_MAX), 0.0])
                 self._update(h, (ax - ax_pred) / S_AY, R_AX, True, b_ok)
                 self._condition()
-            # low-friction detection at the understeer limit (mu_us above)
-            if mu_us > 0.0 and self.x[2] > mu_us:
-                self._update(np.array([0.0, 0.0, 1.0, 0.0]), (mu_us - self.x[2]) / S[2], R_US, True, False)
-                self._condition()
-            # the friction in use is a lower bound of the friction available
-            mu_lb = min(a_tot / (G * max(self.mu0)), MU_MAX) if (ax_ok and ay_ok) else MU_MIN
-            self.x[2] = _clamp(self.x[2], max(MU_MIN, mu_lb), MU_MAX)
+            # the friction in use is a lower bound of the friction available;
+            # at the understeer limit mu_us (above) an upper one. Both are
+            # bounds on the state, not measurements: they add no confidence
+            # (a steering-angle offset fakes an understeer deficit)
+            mu_lb = max(MU_MIN, min(a_tot / (G * max(self.mu0)), MU_MAX) if (ax_ok and ay_ok) else MU_MIN)
+            mu_ub = max(mu_us, mu_lb) if mu_us > 0.0 else MU_MAX
+            self.us_clamped = self.x[2] > mu_ub
+            self.x[2] = _clamp(self.x[2], mu_lb, mu_ub)
             lim = VY_K * abs(vx) + 1.0
             self.x[0] = _clamp(self.x[0], -lim, lim)
             self.x[1] = _clamp(self.x[1], -YAW_MAX, YAW_MAX)
