@@ -84,6 +84,34 @@ grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_para
     return GRIP_OK;
 }
 
+/* Peak lateral friction coefficient |Fy| / Fz of a tire at load fz over the
+ * sweep alpha = 0.02 .. 0.5 rad (pure side slip, 20 m/s); *alpha_pk gets
+ * the slip angle of the peak (0.5 if no force). -1 if a tire call fails. */
+static int peak_friction(const grip_est_tire_t *t, grip_real_t fz, grip_real_t *mu_pk, grip_real_t *alpha_pk)
+{
+    grip_mf_input in;
+    grip_mf_output o;
+    int k;
+    in.kappa = R_ZERO;
+    in.gamma = R_ZERO;
+    in.fz = fz;
+    in.p = R_ZERO;
+    in.vx = RC(20.0);
+    *mu_pk = R_ZERO;
+    *alpha_pk = RC(0.5);
+    for (k = 1; k <= 25; ++k) {
+        in.alpha = r_mul(RC(0.02), r_from_int(k));
+        if (tire_eval(t, &in, &o) < 0) {
+            return -1;
+        }
+        if (r_abs(r_div(o.fy, in.fz)) > *mu_pk) {
+            *mu_pk = r_abs(r_div(o.fy, in.fz));
+            *alpha_pk = in.alpha;
+        }
+    }
+    return 0;
+}
+
 static grip_status_t check_config(const grip_est_config_t *c)
 {
     int a;
@@ -153,7 +181,7 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
 {
     grip_status_t st;
     grip_real_t l, m_g;
-    int a, k;
+    int a;
     if (est == NULL || cfg == NULL) {
         return GRIP_ERR_NULL;
     }
@@ -178,8 +206,7 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
     for (a = 0; a < 2; ++a) {
         grip_mf_input in;
         grip_mf_output o1, o2;
-        grip_real_t best = R_ZERO;
-        est->alpha_pk[a] = RC(0.5);
+        grip_real_t best, best2, alpha2;
         in.kappa = R_ZERO;
         in.alpha = RC(0.01);
         in.gamma = R_ZERO;
@@ -204,34 +231,16 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
             return GRIP_ERR_PARAM;
         }
         est->c_kappa[a] = r_div_keep(r_sub(o1.fx, o2.fx), RC(0.02));
-        /* peak lateral friction coefficient: alpha = 0.02 .. 0.5 rad */
-        in.kappa = R_ZERO;
-        for (k = 1; k <= 25; ++k) {
-            in.alpha = r_mul(RC(0.02), r_from_int(k));
-            if (tire_eval(&cfg->tire[a], &in, &o1) < 0) {
-                return GRIP_ERR_PARAM;
-            }
-            if (r_abs(r_div(o1.fy, in.fz)) > best) {
-                best = r_abs(r_div(o1.fy, in.fz));
-                est->alpha_pk[a] = in.alpha;
-            }
+        /* peak lateral friction coefficient at static load, and its load
+         * sensitivity from the same sweep at 1.5 x static load (the
+         * understeer-limit friction measurement sums the front wheels' peaks
+         * at their current loads) */
+        if (peak_friction(&cfg->tire[a], est->fz_static[a], &best, &est->alpha_pk[a]) < 0 ||
+            peak_friction(&cfg->tire[a], r_mul(RC(1.5), est->fz_static[a]), &best2, &alpha2) < 0) {
+            return GRIP_ERR_PARAM;
         }
         est->mu0[a] = best;
-        {
-            /* load sensitivity of the peak: the same sweep at 1.5 x static
-             * load (the understeer-limit friction measurement sums the front
-             * wheels' peaks at their current loads) */
-            grip_real_t best2 = R_ZERO;
-            in.fz = r_mul(RC(1.5), est->fz_static[a]);
-            for (k = 1; k <= 25; ++k) {
-                in.alpha = r_mul(RC(0.02), r_from_int(k));
-                if (tire_eval(&cfg->tire[a], &in, &o1) < 0) {
-                    return GRIP_ERR_PARAM;
-                }
-                best2 = r_max(best2, r_abs(r_div(o1.fy, in.fz)));
-            }
-            est->mu0_k[a] = r_mul(RC(2.0), r_sub(best2, best));
-        }
+        est->mu0_k[a] = r_mul(RC(2.0), r_sub(best2, best));
         if (est->c_alpha[a] <= R_ZERO || est->c_kappa[a] <= R_ZERO || best < RC(0.05)) {
             return GRIP_ERR_PARAM;
         }

@@ -114,6 +114,15 @@ def _tire(P, kappa, alpha, fz, vx):
     return np.asarray(o["fx"], float), np.asarray(o["fy"], float), np.asarray(o["mz"], float)
 
 
+def _peak_friction(P, fz):
+    """Peak |Fy| / Fz at load fz over alpha = 0.02 .. 0.5 rad and its slip
+    angle (grip_est_init's peak_friction)."""
+    al = 0.02 * np.arange(1, 26)
+    _, fy, _ = _tire(P, np.zeros(25), al, np.full(25, fz), np.full(25, 20.0))
+    u = np.abs(fy / fz)
+    return float(np.max(u)), float(al[int(np.argmax(u))])
+
+
 class Estimator:
     def __init__(self, cfg):
         self.cfg = cfg
@@ -131,13 +140,10 @@ class Estimator:
             self.c_alpha[a] = (fy[1] - fy[0]) / 0.02
             fx, _, _ = _tire(P, np.array([0.01, -0.01]), np.zeros(2), np.full(2, fz), np.full(2, 20.0))
             self.c_kappa[a] = (fx[0] - fx[1]) / 0.02
-            al = 0.02 * np.arange(1, 26)
-            _, fy, _ = _tire(P, np.zeros(25), al, np.full(25, fz), np.full(25, 20.0))
-            self.mu0[a] = float(np.max(np.abs(fy / fz)))
-            self.alpha_pk[a] = float(al[int(np.argmax(np.abs(fy / fz)))])
-            # load sensitivity of the peak (understeer-limit friction measurement)
-            _, fy2, _ = _tire(P, np.zeros(25), al, np.full(25, 1.5 * fz), np.full(25, 20.0))
-            self.mu0_k[a] = 2.0 * (float(np.max(np.abs(fy2))) / (1.5 * fz) - self.mu0[a])
+            # peak at static load; its load sensitivity from the peak at 1.5 x
+            # (understeer-limit friction measurement)
+            self.mu0[a], self.alpha_pk[a] = _peak_friction(P, fz)
+            self.mu0_k[a] = 2.0 * (_peak_friction(P, 1.5 * fz)[0] - self.mu0[a])
             if self.c_alpha[a] <= 0 or self.c_kappa[a] <= 0 or self.mu0[a] < 0.05:
                 raise ValueError("tire model gives no cornering/slip stiffness or friction")
         cf, cr = 2 * self.c_alpha[0], 2 * self.c_alpha[1]
