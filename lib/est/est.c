@@ -84,6 +84,12 @@ grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_para
     return GRIP_OK;
 }
 
+/* A step counter, saturating so that it never wraps */
+static int32_t count_up(int32_t n)
+{
+    return (n < 1000000) ? n + 1 : n;
+}
+
 /* Peak lateral friction coefficient |Fy| / Fz of a tire at load fz over the
  * sweep alpha = 0.02 .. 0.5 rad (pure side slip, 20 m/s); *alpha_pk gets
  * the slip angle of the peak (0.5 if no force). -1 if a tire call fails. */
@@ -483,8 +489,8 @@ static int take_input(grip_est_t *e, const grip_input_sample_t *in, int id, int 
             }
         }
     }
-    if (!ok && e->age[slot] < 1000000) {
-        e->age[slot] += 1;
+    if (!ok) {
+        e->age[slot] = count_up(e->age[slot]);
     }
     return e->age[slot] <= e->hold_steps;
 }
@@ -692,9 +698,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
             est->no_wheel_steps = 0;
         } else {
             flags |= GRIP_EST_F_NO_WHEELS;
-            if (est->no_wheel_steps < 1000000) {
-                est->no_wheel_steps += 1;
-            }
+            est->no_wheel_steps = count_up(est->no_wheel_steps);
         }
         if (!est->vx_init) {
             if (vs_ok || n_ws > 0) {
@@ -939,11 +943,11 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
             grip_real_t a_tot = r_sqrt(r_add(r_sq(ax), r_sq(ay)));
             est->r_lin_f = r_add(est->r_lin_f, r_mul(r_min(r_div(R_ONE, r_mul(RC(EST_LIM_TAU), rate)), R_ONE),
                                                      r_sub(r_lin, est->r_lin_f)));
-            if (vx >= RC(EST_V_EXC) && yaw_ok && ax_ok && ay_ok && a_tot >= RC(EST_LIM_A) &&
+            /* both limit tests need speed, the inertial inputs and acceleration */
+            int lim_ok = vx >= RC(EST_V_EXC) && yaw_ok && ax_ok && ay_ok && a_tot >= RC(EST_LIM_A); /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
+            if (lim_ok &&
                 r_abs(r_sub(yaw, est->r_lin_f)) >= r_add(r_mul(RC(EST_LIM_REL), r_abs(est->r_lin_f)), RC(EST_LIM_ABS))) {
-                if (est->lim_steps < 1000000) {
-                    est->lim_steps += 1;
-                }
+                est->lim_steps = count_up(est->lim_steps);
             } else {
                 est->lim_steps = 0;
             }
@@ -952,12 +956,9 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
              * the yaw rate against the lagged reference, same turn direction) */
             {
                 grip_real_t dd = (r_abs(est->r_lin_f) > RC(EST_US_R)) ? r_sub(R_ONE, r_div(yaw, est->r_lin_f)) : R_ZERO; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
-                if (vx >= RC(EST_V_EXC) && yaw_ok && ax_ok && ay_ok && a_tot >= RC(EST_LIM_A) &&
-                    ((est->r_lin_f > R_ZERO && ay > R_ZERO) || (est->r_lin_f < R_ZERO && ay < R_ZERO)) &&
+                if (lim_ok && ((est->r_lin_f > R_ZERO && ay > R_ZERO) || (est->r_lin_f < R_ZERO && ay < R_ZERO)) &&
                     dd >= RC(EST_US_D)) {
-                    if (est->us_steps < 1000000) {
-                        est->us_steps += 1;
-                    }
+                    est->us_steps = count_up(est->us_steps);
                 } else {
                     est->us_steps = 0;
                 }

@@ -484,8 +484,9 @@ class Estimator:
             r_lin = vx * delta / den_l
             a_tot = math.sqrt(ax * ax + ay * ay)
             self.r_lin_f += min(dt / LIM_TAU, 1.0) * (r_lin - self.r_lin_f)
-            if (vx >= V_EXC and yaw_ok and ax_ok and ay_ok and a_tot >= LIM_A
-                    and abs(yaw - self.r_lin_f) >= LIM_REL * abs(self.r_lin_f) + LIM_ABS):
+            # both limit tests need speed, the inertial inputs and acceleration
+            lim_ok = vx >= V_EXC and yaw_ok and ax_ok and ay_ok and a_tot >= LIM_A
+            if lim_ok and abs(yaw - self.r_lin_f) >= LIM_REL * abs(self.r_lin_f) + LIM_ABS:
                 self.lim_steps = min(self.lim_steps + 1, BIG)
             else:
                 self.lim_steps = 0
@@ -501,7 +502,7 @@ class Estimator:
             # on dry the test cannot tell 1.0 from 0.85.
             dd = (1.0 - yaw / self.r_lin_f) if abs(self.r_lin_f) > US_R else 0.0
             same_turn = (self.r_lin_f > 0.0 and ay > 0.0) or (self.r_lin_f < 0.0 and ay < 0.0)
-            if vx >= V_EXC and yaw_ok and ax_ok and ay_ok and a_tot >= LIM_A and same_turn and dd >= US_D:
+            if lim_ok and same_turn and dd >= US_D:
                 self.us_steps = min(self.us_steps + 1, BIG)
             else:
                 self.us_steps = 0
