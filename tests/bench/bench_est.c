@@ -34,18 +34,8 @@ static volatile uint32_t est_sink;
 
 static const grip_mf_params *est_tire(void)
 {
-    int k;
-    for (k = 0; k < grip_test_tire_count; ++k) {
-        const char *a = grip_test_tires[k].name, *b = "PacejkaBook_Defaults";
-        while (*a != 0 && *a == *b) {
-            ++a;
-            ++b;
-        }
-        if (*a == 0 && *b == 0) {
-            return grip_test_tires[k].params;
-        }
-    }
-    return grip_test_tires[0].params;
+    const grip_mf_params *p = grip_test_tire_params("PacejkaBook_Defaults");
+    return (p != 0) ? p : grip_test_tires[0].params;
 }
 
 /* braking in a left turn at 19.5 m/s: ay 6..7.5, ax -3 m/s^2, wheels ~10 % slow */

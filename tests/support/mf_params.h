@@ -18,4 +18,8 @@ typedef struct {
 extern const grip_test_tire grip_test_tires[];
 extern const int grip_test_tire_count;
 
+/* The parameter set of the tire `name` (e.g. "PacejkaBook_Defaults"), NULL
+ * if there is none; no libc, so the bare-metal programs can use it too. */
+const grip_mf_params *grip_test_tire_params(const char *name);
+
 #endif

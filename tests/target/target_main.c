@@ -238,14 +238,9 @@ static int run_est(void)
     static grip_est_t est;
     static grip_input_sample_t in;
     static grip_est_output_t out;
-    const grip_mf_params *tp = NULL;
+    const grip_mf_params *tp = grip_test_tire_params("PacejkaBook_Defaults");
     int q;
     int k;
-    for (k = 0; k < grip_test_tire_count; k++) {
-        if (strcmp(grip_test_tires[k].name, "PacejkaBook_Defaults") == 0) {
-            tp = grip_test_tires[k].params;
-        }
-    }
     if (tp == NULL && TV_EST_NSEQ > 0) {
         put_s("X missing parameter set PacejkaBook_Defaults");
         flush();

@@ -33,13 +33,7 @@ static double dl(grip_real_t v) { return (double)v; }
 
 static const grip_mf_params *tire(void)
 {
-    int k;
-    for (k = 0; k < grip_test_tire_count; ++k) {
-        if (strcmp(grip_test_tires[k].name, "PacejkaBook_Defaults") == 0) {
-            return grip_test_tires[k].params;
-        }
-    }
-    return 0;
+    return grip_test_tire_params("PacejkaBook_Defaults");
 }
 
 static void make_est(grip_est_t *e)

@@ -262,15 +262,9 @@ static void test_config_from_est(void **state)
     static grip_est_t est;
     grip_est_config_t ecfg;
     grip_monitor_config_t from, def;
-    const grip_mf_params *tp = NULL;
+    const grip_mf_params *tp = grip_test_tire_params("PacejkaBook_Defaults");
     grip_real_t a;
-    int k;
     (void)state;
-    for (k = 0; k < grip_test_tire_count; ++k) {
-        if (strcmp(grip_test_tires[k].name, "PacejkaBook_Defaults") == 0) {
-            tp = grip_test_tires[k].params;
-        }
-    }
     assert_non_null(tp);
     memset(&est, 0, sizeof est);
     assert_int_equal(grip_monitor_config_from_est(NULL, &est, 1u), GRIP_ERR_NULL);

@@ -219,6 +219,19 @@ def params_c(entries):
                      f"{_c_string('mf_' + name + '.txt')} }},\n")
     parts.append("};\n")
     parts.append(f"const int grip_test_tire_count = {len(entries)};\n")
+    parts.append("\nconst grip_mf_params *grip_test_tire_params(const char *name)\n{\n"
+                 "    int k;\n"
+                 "    for (k = 0; k < grip_test_tire_count; ++k) {\n"
+                 "        const char *a = grip_test_tires[k].name, *b = name;\n"
+                 "        while (*a != 0 && *a == *b) {\n"
+                 "            ++a;\n"
+                 "            ++b;\n"
+                 "        }\n"
+                 "        if (*a == 0 && *b == 0) {\n"
+                 "            return grip_test_tires[k].params;\n"
+                 "        }\n"
+                 "    }\n"
+                 "    return 0;\n}\n")
     return "".join(parts)
 
 
