@@ -99,8 +99,11 @@ typedef struct {
 
 /* ---- outputs ---- */
 /* Validity bits of grip_est_output_t.valid */
-#define GRIP_EST_V_VX        ((uint32_t)1u << 0)   /* vx                                  */
-#define GRIP_EST_V_BETA      ((uint32_t)1u << 1)   /* vy, beta                            */
+#define GRIP_EST_V_VX        ((uint32_t)1u << 0)   /* vx (cleared 0.5 s without wheels, 2 s
+                                                    * into dead reckoning with every wheel
+                                                    * locked / spinning)                  */
+#define GRIP_EST_V_BETA      ((uint32_t)1u << 1)   /* vy, beta (not while every wheel is
+                                                    * locked / spinning)                  */
 #define GRIP_EST_V_YAW       ((uint32_t)1u << 2)   /* yaw_rate (filtered)                 */
 #define GRIP_EST_V_YAW_REF   ((uint32_t)1u << 3)   /* yaw_rate_ref, yaw_error             */
 #define GRIP_EST_V_FZ        ((uint32_t)1u << 4)   /* fz[] (load transfer from ax, ay)    */
@@ -181,6 +184,7 @@ typedef struct {
     int32_t hold_steps;         /* steps an input is held after it became invalid */
     int32_t lim_n;              /* steps of the friction-limit test */
     int32_t nowheel_n;          /* steps vx stays valid without a speed reference */
+    int32_t dr_n;               /* steps vx stays valid dead-reckoning (every wheel locked / spinning) */
     grip_real_t rate;           /* QS step rate [1/s] */
     grip_real_t ay_fac;         /* QS 1 / (1 + g roll_gradient) */
     grip_real_t fz_base[2];     /* QL per wheel at rest on the road plane: fz_static x cos */
@@ -189,6 +193,7 @@ typedef struct {
     grip_real_t psi;            /* QS rad heading since reset (only with plane), (-pi, pi] */
     /* state */
     grip_real_t vx;             /* QS */
+    grip_real_t ax_off;         /* QS m/s^2 ax offset learned from the wheels (grade, accelerometer bias) */
     grip_real_t x[GRIP_EST_NX]; /* QS vy [m/s], r [rad/s], mu [-], gyro bias [0.001 rad/s] */
     grip_real_t p[GRIP_EST_NX][GRIP_EST_NX]; /* QS covariance in scaled units */
     grip_real_t hold[5];        /* QS last valid steer, yaw, ax, ay, vehicle speed */
@@ -201,6 +206,7 @@ typedef struct {
     grip_real_t sat_f;          /* QS low-passed share of saturated-but-not-at-limit steps, [0, 1] */
     int32_t misfit;             /* model misfit declared (hysteresis state) */
     int32_t no_wheel_steps;
+    int32_t dr_steps;           /* consecutive dead-reckoning steps */
     int32_t active;             /* lateral observer running */
     int32_t vx_init;
 } grip_est_t;

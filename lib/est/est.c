@@ -32,6 +32,12 @@ static grip_real_t sym_clamp(grip_real_t x, grip_real_t m)
     return r_clamp(x, r_neg(m), m);
 }
 
+/* x limited to the interval between 0 and f (either sign of f) */
+static grip_real_t between_zero(grip_real_t x, grip_real_t f)
+{
+    return r_clamp(x, r_min(f, R_ZERO), r_max(f, R_ZERO));
+}
+
 /* One tire evaluation through the axle's model (the tagged union). */
 static grip_status_t tire_eval(const grip_est_tire_t *t, const grip_mf_input *in, grip_mf_output *out)
 {
@@ -171,6 +177,8 @@ grip_status_t grip_est_reset(grip_est_t *est)
         est->age[i] = 1000000;
     }
     est->no_wheel_steps = 1000000;
+    est->dr_steps = 0;
+    est->ax_off = R_ZERO;
     est->r_lin_f = R_ZERO;
     est->lim_steps = 0;
     est->us_steps = 0;
@@ -284,6 +292,7 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
     est->lim_n = r_to_int(r_mul(RC(EST_LIM_T), est->rate));
     est->hold_steps = r_to_int(r_mul(RC(EST_HOLD_T), est->rate));
     est->nowheel_n = r_to_int(r_mul(RC(EST_NOWHEEL_T), est->rate));
+    est->dr_n = r_to_int(r_mul(RC(EST_DR_T), est->rate));
     if (est->hold_steps < 1) {
         est->hold_steps = 1;
     }
@@ -540,7 +549,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     const grip_est_config_t *c;
     uint32_t flags = 0, valid = 0;
     int steer_ok, yaw_ok, ax_ok, ay_ok, vs_ok;
-    int i, n_ws = 0, active, excited, wheels_ok = 1, lock = 0, spin = 0, stand = 0, at_rest = 0;
+    int i, n_ws = 0, active, excited, wheels_ok = 1, lock = 0, spin = 0, stand = 0, at_rest = 0, dead_reck = 0;
     grip_real_t delta, cd, sd, yaw, ax, ay, rate, g_x, g_y;
     grip_real_t ws[4];
     int ws_ok[4];
@@ -620,7 +629,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     {
         grip_real_t r_now = est->active ? est->x[1] : yaw;
         grip_real_t vy_now = est->active ? est->x[0] : R_ZERO;
-        grip_real_t vx_pred = r_add(est->vx, r_div(r_add(r_add(ax, r_mul(r_now, vy_now)), g_x), rate));
+        grip_real_t vx_pred = r_add(est->vx, r_div(r_add(r_add(r_sub(ax, est->ax_off), r_mul(r_now, vy_now)), g_x), rate));
         grip_real_t k = R_ZERO;
         grip_real_t vcs[4];
         int outl[4], n_good = 0;
@@ -691,9 +700,32 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                  * agree with the prediction, at K_MID when all of them disagree
                  * with it, e.g. after a long loss); otherwise K_LO */
                 int agree = r_sub(vmax, vmin) <= r_add(RC(0.5), r_mul(RC(0.05), r_abs(vx_pred))); /* grip-deviation: MISRA-10.3 comparison result 0/1 stored in an int flag */
+                int trusted = agree && !lock && !spin; /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
                 k = agree ? ((lock || spin) ? RC(EST_K_MID) : RC(EST_K_HI)) : RC(EST_K_LO); /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
+                /* braking slips every wheel (the brakes act on all four): the
+                 * fastest one is still slower than the car */
+                if (ax < RC(-EST_AX_TH) && v_ref < vx_pred) {
+                    k = r_min(k, RC(EST_K_SLIP));
+                    trusted = 0;
+                }
+                /* the ax offset (unconfigured grade, accelerometer bias) from
+                 * the wheels while they are trusted (all agree, none locked or
+                 * spinning, not braking below the prediction) */
+                if (trusted && vx_pred > RC(EST_V_ON) && ax_ok && est->vx_init) {
+                    est->ax_off = sym_clamp(r_sub(est->ax_off, r_mul(r_div(RC(EST_K_OFF), rate), r_sub(v_ref, vx_pred))),
+                                            RC(EST_AX_OFF_MAX));
+                }
             }
         } /* grip-deviation: MISRA-15.7 no speed reference: k stays 0, vx follows the prediction */
+        /* every wheel locked or spinning while the car still decelerates or
+         * accelerates: no wheel tells the speed, integrate ax */
+        dead_reck = n_good == 0 && n_ws > 0 && (lock || spin) && r_abs(ax) >= RC(EST_DR_AX) && ax_ok && !vs_ok; /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
+        if (dead_reck) {
+            k = R_ZERO;
+            est->dr_steps = count_up(est->dr_steps);
+        } else {
+            est->dr_steps = 0;
+        }
         if (vs_ok || n_ws > 0) {
             est->no_wheel_steps = 0;
         } else {
@@ -708,7 +740,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         } else {
             est->vx = r_add(vx_pred, r_mul(r_min(r_div(k, rate), R_ONE), r_sub(v_ref, vx_pred)));
         }
-        stand = n_ws > 0 && vmax < RC(EST_V_STAND) && vmin > RC(-EST_V_STAND); /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
+        stand = n_ws > 0 && vmax < RC(EST_V_STAND) && vmin > RC(-EST_V_STAND) && !dead_reck; /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
         /* the gyro reads its bias at rest: every wheel at rest and the car
          * (nearly) stopped already by the prediction (wheels locked at speed
          * are not a standstill) */
@@ -725,7 +757,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     if (vx < RC(-EST_V_STAND)) {
         flags |= GRIP_EST_F_REVERSING;
     }
-    if (est->vx_init && est->no_wheel_steps <= est->nowheel_n) {
+    if (est->vx_init && est->no_wheel_steps <= est->nowheel_n && est->dr_steps <= est->dr_n) {
         valid |= GRIP_EST_V_VX;
     }
 
@@ -805,7 +837,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         grip_real_t sfx = R_ZERO, sfy = R_ZERO, smz = R_ZERO;
         grip_real_t vy = est->x[0], r = est->x[1];
         grip_real_t umax = R_ZERO, umax_x = R_ZERO, kappa_sum = R_ZERO, umax_est = R_ZERO;
-        int at_limit = 0, b_ok;
+        int at_limit = 0, b_ok, kappa_lock = 0, ref_ok, locked;
         grip_real_t f[2][GRIP_EST_NX];   /* rows vy, r of the transition (mu, bias: identity) */
         grip_real_t ay_m, ax_m, racc, dvy, dr, m = c->mass, mu_lb = RC(EST_MU_MIN), nis_ay;
         grip_real_t mu_us = R_ZERO;      /* > 0: upper friction measurement at the understeer limit */
@@ -885,12 +917,18 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                 umax = r_max(umax, r_max(ulin_y, ulin_x));
                 umax_x = r_max(umax_x, ulin_x);
                 kappa_sum = r_add(kappa_sum, kappa);
+                if (r_abs(kappa) >= RC(EST_LOCK_K)) {
+                    kappa_lock = 1;
+                }
             }
             c2 = r_div(R_ONE, r_add(R_ONE, r_sq(sym_clamp(t, RC(100.0)))));
             dady = r_div(r_mul(c2, cdi), den);                    /* d alpha / d vy  [s/m] */
             dadr = r_div(r_mul(c2, lever), den);                  /* d alpha / d r   [s]   */
             dfda = r_neg(r_mul(g, ca));                           /* d Fy / d alpha  [N/rad] */
-            dfdmu = r_div_keep(r_sub(out->fy[i], r_mul(alpha, dfda)), mu);   /* d Fy / d mu [N] */
+            /* d(mu F0(s/mu))/dmu = (F - s F')/mu lies between 0 (linear) and
+             * F/mu (sliding) for a concave force curve: the slope
+             * approximation may not leave that interval (it flips the sign) */
+            dfdmu = r_div_keep(between_zero(r_sub(out->fy[i], r_mul(alpha, dfda)), out->fy[i]), mu);   /* d Fy / d mu [N] */
             {
                 grip_real_t dfy_dvy = r_mul(dady, dfda);
                 grip_real_t dfy_dr = r_mul(dadr, dfda);
@@ -904,7 +942,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
             {
                 /* d Fx / d mu under similarity: (Fx - kappa dFx/dkappa) / mu */
                 grip_real_t dfxdk = r_mul(g, r_mul(fzr, est->c_kappa[axle]));
-                grip_real_t dfxdmu = r_div_keep(r_sub(out->fx[i], r_mul(kappa, dfxdk)), mu);
+                grip_real_t dfxdmu = r_div_keep(between_zero(r_sub(out->fx[i], r_mul(kappa, dfxdk)), out->fx[i]), mu);
                 jax_mu = r_add(jax_mu, r_sub(r_mul(cdi, dfxdmu), r_mul(sdi, dfdmu)));
             }
             {
@@ -1067,14 +1105,20 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
              * a speed reference that reads a few per cent off the wheel
              * speeds (a speedometer calibration) makes slip of the wrong
              * sign, which would otherwise drive mu down (RAV4 log). */
-            if (excited && (c->speed_ref_mu != 0u) && vs_ok && wheels_ok && umax_x >= RC(EST_EXC_U) &&
+            /* A locked wheel slides at the road's friction whatever the
+             * exact speed, so braking with one is a friction measurement
+             * without a speed reference (noisier: the free wheels' slips and
+             * the drag are in it) */
+            ref_ok = (c->speed_ref_mu != 0u) && vs_ok; /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
+            locked = lock && ax < RC(-EST_AX_TH) && kappa_lock; /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
+            if (excited && (ref_ok || locked) && wheels_ok && umax_x >= RC(EST_EXC_U) &&
                 r_abs(ax) >= RC(EST_EXC_A) && r_mul(kappa_sum, ax) > R_ZERO) {
                 grip_real_t ax_pred = r_add(ax_m, r_mul(r_div(jax_mu, m), r_sub(est->x[2], mu)));
                 h[0] = R_ZERO;
                 h[1] = R_ZERO;
                 h[2] = sym_clamp(r_mul(r_div(jax_mu, m), RC(EST_S_MU / EST_S_AY)), RC(EST_H_MAX));
                 h[3] = R_ZERO;
-                (void)kf_update(est, h, r_div(r_sub(ax, ax_pred), RC(EST_S_AY)), RC(EST_R_AX), 1, b_ok);
+                (void)kf_update(est, h, r_div(r_sub(ax, ax_pred), RC(EST_S_AY)), ref_ok ? RC(EST_R_AX) : RC(EST_R_LOCK), 1, b_ok); /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
                 kf_condition(est);
             }
         }
@@ -1087,7 +1131,10 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         est->x[0] = sym_clamp(est->x[0], r_add(r_mul(RC(EST_VY_K), r_abs(vx)), R_ONE));
         est->x[1] = sym_clamp(est->x[1], RC(EST_YAW_MAX));
         est->x[3] = sym_clamp(est->x[3], RC(EST_B_MAX / EST_S_B));
-        if (ay_ok && yaw_ok) {
+        /* with every wheel locked (spinning) the slips leave the tire
+         * model's range and the lateral force no longer tells the slip
+         * angle: beta is dead reckoning too, flagged */
+        if (ay_ok && yaw_ok && !dead_reck) {
             valid |= GRIP_EST_V_BETA | GRIP_EST_V_AXLE;
         }
         if (!(valid & GRIP_EST_V_BETA)) {

@@ -27,6 +27,20 @@
 #define EST_WHEEL_DEV 0.15   /* a wheel 15 % (+0.5 m/s) off the vehicle is locked / spinning */
 #define EST_K_LO     0.5     /* 1/s: gain when the wheels disagree             */
 #define EST_K_MID    1.5     /* 1/s: all wheels agree, but not with the prediction */
+/* braking slips every wheel: wheels below the prediction pull vx at K_SLIP */
+#define EST_K_SLIP   0.2     /* 1/s */
+/* ax offset (unconfigured grade, accelerometer bias), learned from trusted
+ * wheels: second-order complementary filter with vx */
+#define EST_K_OFF    1.0     /* 1/s^2 */
+#define EST_AX_OFF_MAX 1.5   /* m/s^2 */
+/* every wheel locked or spinning while |ax| >= DR_AX: dead reckoning on ax,
+ * vx valid for DR_T, beta not valid */
+#define EST_DR_AX    0.5     /* m/s^2 */
+#define EST_DR_T     2.0     /* s */
+/* braking with a wheel at |kappa| >= LOCK_K: the ax update measures mu
+ * without a speed reference, noise R_LOCK (scaled: 1.5 m/s^2) */
+#define EST_LOCK_K   0.5
+#define EST_R_LOCK   9.0
 #define EST_MU_MIN   0.1
 #define EST_MU_MAX   1.2
 #define EST_MU_INIT  1.0

@@ -31,6 +31,15 @@ V_ON, V_OFF, V_STAND, V_EXC = 3.0, 2.5, 0.3, 5.0
 HOLD_T, NOWHEEL_T = 0.05, 0.5
 DELTA_MAX, WS_MAX, YAW_MAX, ACC_MAX = 0.7, 120.0, 2.5, 15.0
 AX_TH, K_HI, K_LO, K_MID, WHEEL_DEV = 0.3, 5.0, 0.5, 1.5, 0.15
+# braking: every wheel slips, slower than the car; wheels below the
+# prediction pull vx at K_SLIP only. ax offset (unconfigured grade,
+# accelerometer bias) learned from trusted wheels at K_OFF [1/s^2], within
+# AX_OFF_MAX [m/s^2]. Every wheel locked or spinning while |ax| >= DR_AX:
+# dead reckoning on ax, V_VX kept for DR_T [s]. A wheel at |kappa| >= LOCK_K
+# while braking makes the ax update a friction measurement (noise R_LOCK)
+K_SLIP, K_OFF, AX_OFF_MAX = 0.2, 1.0, 1.5
+DR_AX, DR_T = 0.5, 2.0
+LOCK_K, R_LOCK = 0.5, 9.0
 MU_MIN, MU_MAX, MU_INIT = 0.1, 1.2, 1.0
 LIM_TAU, LIM_A, LIM_REL, LIM_ABS, LIM_T = 0.15, 2.0, 0.15, 0.03, 0.2
 # understeer limit (low-friction detection): yaw deficit share US_D against
@@ -99,6 +108,11 @@ def _clamp(x, lo, hi):
     return min(max(x, lo), hi)
 
 
+def _between(x, f):
+    """x limited to the interval between 0 and f (either sign of f)."""
+    return np.clip(x, np.minimum(f, 0.0), np.maximum(f, 0.0))
+
+
 def _wheel_velocity(vx, vy, r, xa, ya, cdi, sdi):
     """Velocity of each wheel's contact point in its own (steered) frame
     (est.c writes these four lines out in the tire loop and in
@@ -162,6 +176,7 @@ class Estimator:
         self.lim_n = int(math.floor(LIM_T * rate + 0.5))
         self.hold_steps = max(1, int(math.floor(HOLD_T * rate + 0.5)))
         self.nowheel_steps = int(math.floor(NOWHEEL_T * rate + 0.5))
+        self.dr_n = int(math.floor(DR_T * rate + 0.5))
         self.reset()
 
     def reset(self):
@@ -172,6 +187,8 @@ class Estimator:
         self.hold = [0.0] * 5
         self.age = [BIG] * 5
         self.no_wheel_steps = BIG
+        self.dr_steps = 0
+        self.ax_off = 0.0
         self.r_lin_f = 0.0
         self.lim_steps = 0
         self.us_steps = 0
@@ -281,7 +298,7 @@ class Estimator:
         # longitudinal speed
         r_now = self.x[1] if self.active else yaw
         vy_now = self.x[0] if self.active else 0.0
-        vx_pred = self.vx + (ax + r_now * vy_now + g_x) * dt
+        vx_pred = self.vx + (ax - self.ax_off + r_now * vy_now + g_x) * dt
         ws, ws_ok = [0.0] * 4, [False] * 4
         n_ws, vmin, vmax, vsum = 0, 1000.0, -1000.0, 0.0
         lock = spin = False
@@ -332,6 +349,26 @@ class Estimator:
                 v_ref = vsum / n_ws
             agree = (vmax - vmin) <= 0.5 + 0.05 * abs(vx_pred)
             k = ((K_MID if (lock or spin) else K_HI) if agree else K_LO)
+            trusted = agree and not lock and not spin
+            # braking slips every wheel (the brakes act on all four): the
+            # fastest one is still slower than the car
+            if ax < -AX_TH and v_ref < vx_pred:
+                k = min(k, K_SLIP)
+                trusted = False
+            # the ax offset (unconfigured grade, accelerometer bias) from the
+            # wheels while they are trusted (all agree, none locked or
+            # spinning, not braking below the prediction): a second-order
+            # complementary filter with vx
+            if trusted and vx_pred > V_ON and ax_ok and self.vx_init:
+                self.ax_off = _clamp(self.ax_off - K_OFF * dt * (v_ref - vx_pred), -AX_OFF_MAX, AX_OFF_MAX)
+        # every wheel locked or spinning while the car still decelerates or
+        # accelerates: no wheel tells the speed, integrate ax
+        dead_reck = n_good == 0 and n_ws > 0 and (lock or spin) and abs(ax) >= DR_AX and ax_ok and not vs_ok
+        if dead_reck:
+            k = 0.0
+            self.dr_steps = min(self.dr_steps + 1, BIG)
+        else:
+            self.dr_steps = 0
         if vs_ok or n_ws > 0:
             self.no_wheel_steps = 0
         else:
@@ -344,7 +381,7 @@ class Estimator:
                 self.vx_init = True
         else:
             self.vx = vx_pred + min(k * dt, 1.0) * (v_ref - vx_pred)
-        stand = n_ws > 0 and vmax < V_STAND and vmin > -V_STAND
+        stand = n_ws > 0 and vmax < V_STAND and vmin > -V_STAND and not dead_reck
         # the gyro reads its bias at rest: every wheel at rest and the car
         # (nearly) stopped already by the prediction (wheels locked at speed
         # are not a standstill)
@@ -357,7 +394,7 @@ class Estimator:
             flags |= F_STANDSTILL
         if vx < -V_STAND:
             flags |= F_REVERSING
-        if self.vx_init and self.no_wheel_steps <= self.nowheel_steps:
+        if self.vx_init and self.no_wheel_steps <= self.nowheel_steps and self.dr_steps <= self.dr_n:
             vbits |= V_VX
 
         # loads
@@ -461,12 +498,15 @@ class Estimator:
             dady = c2 * cdi / den
             dadr = c2 * lever / den
             dfda = -(g * ca)
-            dfdmu = (fy - alpha * dfda) / mu
+            # d(mu F0(s/mu))/dmu = (F - s F')/mu lies between 0 (linear) and
+            # F/mu (sliding) for a concave force curve: the slope
+            # approximation may not leave that interval (it flips the sign)
+            dfdmu = _between(fy - alpha * dfda, fy) / mu
             dfy_dvy, dfy_dr = dady * dfda, dadr * dfda
             jay = [float(np.sum(cdi * dfy_dvy)), float(np.sum(cdi * dfy_dr)), float(np.sum(cdi * dfdmu))]
             jr = [float(np.sum(lever * dfy_dvy)), float(np.sum(lever * dfy_dr)), float(np.sum(lever * dfdmu))]
             dfxdk = g * (fzr * ckw)
-            dfxdmu = (fx - kappa * dfxdk) / mu
+            dfxdmu = _between(fx - kappa * dfxdk, fx) / mu
             jax_mu = float(np.sum(cdi * dfxdmu - sdi * dfdmu))
             fbx = cdi * fx - sdi * fy
             fby = sdi * fx + cdi * fy
@@ -568,11 +608,17 @@ class Estimator:
             # ... and only when the slips push the way the car accelerates
             # (a speed reference a few per cent off the wheel speeds makes
             # slip of the wrong sign, which would drive mu down: RAV4 log)
-            if (excited and self.cfg["speed_ref_mu"] and vs_ok and wheels_ok and umax_x >= EXC_U
+            # A locked wheel slides at the road's friction whatever the exact
+            # speed, so braking with one is a friction measurement without a
+            # speed reference (noisier: the free wheels' slips and the
+            # drag are in it)
+            ref_ok = bool(self.cfg["speed_ref_mu"]) and vs_ok
+            locked = lock and ax < -AX_TH and bool(np.any(np.abs(kappa) >= LOCK_K))
+            if (excited and (ref_ok or locked) and wheels_ok and umax_x >= EXC_U
                     and abs(ax) >= EXC_A and float(np.sum(kappa)) * ax > 0.0):
                 ax_pred = ax_m + jax_mu / m * (self.x[2] - mu)
                 h = np.array([0.0, 0.0, _clamp(jax_mu / m * S[2] / S_AY, -H_MAX, H_MAX), 0.0])
-                self._update(h, (ax - ax_pred) / S_AY, R_AX, True, b_ok)
+                self._update(h, (ax - ax_pred) / S_AY, R_AX if ref_ok else R_LOCK, True, b_ok)
                 self._condition()
             # the friction in use is a lower bound of the friction available;
             # at the understeer limit mu_us (above) an upper one. Both are
@@ -586,7 +632,10 @@ class Estimator:
             self.x[0] = _clamp(self.x[0], -lim, lim)
             self.x[1] = _clamp(self.x[1], -YAW_MAX, YAW_MAX)
             self.x[3] = _clamp(self.x[3], -B_MAX, B_MAX)
-            if ay_ok and yaw_ok:
+            # with every wheel locked (spinning) the slips leave the tire
+            # model's range and the lateral force no longer tells the slip
+            # angle: beta is dead reckoning too, flagged (docs/estimator.md)
+            if ay_ok and yaw_ok and not dead_reck:
                 vbits |= V_BETA | V_AXLE
             if not (vbits & V_BETA):
                 vbits &= ~(V_WHEEL(0) | V_WHEEL(1) | V_WHEEL(2) | V_WHEEL(3))
