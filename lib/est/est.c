@@ -369,10 +369,11 @@ static void kf_condition(grip_est_t *e)
  * where k = ph / s, and k_mu = 0 when mu must not adapt, k_b = 0 when the
  * gyro bias must not (the Joseph form stays exact for that sub-optimal
  * gain). nu: innovation (scaled).
- * Adds k nu (in SI) to the state. Returns the normalized innovation
+ * Adds k nu (in SI) to the state; keep_p: the covariance is left as it was
+ * (a biased measurement that may move the state but not add confidence). Returns the normalized innovation
  * squared nu^2 / s of the (clamped) innovation, in [0, 16]. */
 static grip_real_t kf_update(grip_est_t *e, const grip_real_t h[GRIP_EST_NX], grip_real_t nu, grip_real_t r,
-                             int mu_ok, int b_ok)
+                             int mu_ok, int b_ok, int keep_p)
 {
     grip_real_t ph[GRIP_EST_NX], k[GRIP_EST_NX], ks[GRIP_EST_NX];
     grip_real_t s = r;
@@ -404,13 +405,15 @@ static grip_real_t kf_update(grip_est_t *e, const grip_real_t h[GRIP_EST_NX], gr
     for (i = 0; i < GRIP_EST_NX; ++i) {
         e->x[i] = r_add(e->x[i], r_mul(r_mul(k[i], nu), est_s[i]));
     }
-    for (i = 0; i < GRIP_EST_NX; ++i) {
-        for (j = i; j < GRIP_EST_NX; ++j) {
-            grip_real_t v = r_sub(e->p[i][j], r_mul(k[i], ph[j]));
-            v = r_sub(v, r_mul(ph[i], k[j]));
-            v = r_add(v, r_mul(k[i], ks[j]));
-            e->p[i][j] = v;
-            e->p[j][i] = v;
+    if (!keep_p) {
+        for (i = 0; i < GRIP_EST_NX; ++i) {
+            for (j = i; j < GRIP_EST_NX; ++j) {
+                grip_real_t v = r_sub(e->p[i][j], r_mul(k[i], ph[j]));
+                v = r_sub(v, r_mul(ph[i], k[j]));
+                v = r_add(v, r_mul(k[i], ks[j]));
+                e->p[i][j] = v;
+                e->p[j][i] = v;
+            }
         }
     }
     /* nu / sqrt(s) rather than nu^2 / s: nu^2 would leave Q15.16 */
@@ -823,7 +826,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
             h[2] = R_ZERO;
             h[3] = RC(EST_S_B / EST_S_R);
             (void)kf_update(est, h, r_div(r_sub(est->hold[H_YAW], r_mul(RC(EST_S_B), est->x[3])), RC(EST_S_R)),
-                      RC(EST_R_YAW), 0, 1);
+                      RC(EST_R_YAW), 0, 1, 0);
             kf_condition(est);
             est->x[3] = sym_clamp(est->x[3], RC(EST_B_MAX / EST_S_B));
         }
@@ -1060,7 +1063,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                  * front/rear force split at the limit) and drove mu away
                  * at the limit of the simulator's ramp steer */
                 (void)kf_update(est, h, r_div(r_sub(yaw, est->x[1]), RC(EST_S_R)),
-                          RC(EST_R_YAW), 0, b_ok);
+                          RC(EST_R_YAW), 0, b_ok, 0);
                 kf_condition(est);
             }
             if (ay_ok) {
@@ -1077,7 +1080,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                     grip_real_t ulim = r_clamp(r_div(r_sub(umax_est, RC(EST_U_R0)), RC(1.0 - EST_U_R0)),
                                                R_ZERO, R_ONE);
                     grip_real_t r_ay = r_mul(RC(EST_R_AY), r_add(R_ONE, r_mul(RC(EST_R_LIM), ulim)));
-                    nis_ay = kf_update(est, h, r_div(r_sub(ay, ay_pred), RC(EST_S_AY)), r_ay, excited, b_ok);
+                    nis_ay = kf_update(est, h, r_div(r_sub(ay, ay_pred), RC(EST_S_AY)), r_ay, excited, b_ok, 0);
                 }
                 kf_condition(est);
                 {
@@ -1107,8 +1110,10 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
              * sign, which would otherwise drive mu down (RAV4 log). */
             /* A locked wheel slides at the road's friction whatever the
              * exact speed, so braking with one is a friction measurement
-             * without a speed reference (noisier: the free wheels' slips and
-             * the drag are in it) */
+             * without a speed reference. It is biased (the free wheels'
+             * slips and the drag are in the same sum: mu 0.1 high on the wet
+             * brake in turn), so it moves mu but adds no confidence: the
+             * covariance is kept */
             ref_ok = (c->speed_ref_mu != 0u) && vs_ok; /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
             locked = lock && ax < RC(-EST_AX_TH) && kappa_lock; /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
             if (excited && (ref_ok || locked) && wheels_ok && umax_x >= RC(EST_EXC_U) &&
@@ -1118,7 +1123,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                 h[1] = R_ZERO;
                 h[2] = sym_clamp(r_mul(r_div(jax_mu, m), RC(EST_S_MU / EST_S_AY)), RC(EST_H_MAX));
                 h[3] = R_ZERO;
-                (void)kf_update(est, h, r_div(r_sub(ax, ax_pred), RC(EST_S_AY)), ref_ok ? RC(EST_R_AX) : RC(EST_R_LOCK), 1, b_ok); /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
+                (void)kf_update(est, h, r_div(r_sub(ax, ax_pred), RC(EST_S_AY)), ref_ok ? RC(EST_R_AX) : RC(EST_R_LOCK), 1, b_ok, !ref_ok); /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
                 kf_condition(est);
             }
         }

@@ -37,6 +37,7 @@ AX_TH, K_HI, K_LO, K_MID, WHEEL_DEV = 0.3, 5.0, 0.5, 1.5, 0.15
 # AX_OFF_MAX [m/s^2]. Every wheel locked or spinning while |ax| >= DR_AX:
 # dead reckoning on ax, V_VX kept for DR_T [s]. A wheel at |kappa| >= LOCK_K
 # while braking makes the ax update a friction measurement (noise R_LOCK)
+# that moves the state but leaves the covariance: no confidence added
 K_SLIP, K_OFF, AX_OFF_MAX = 0.2, 1.0, 1.5
 DR_AX, DR_T = 0.5, 2.0
 LOCK_K, R_LOCK = 0.5, 9.0
@@ -210,7 +211,7 @@ class Estimator:
                 b = 0.99 * sd[i] * sd[j]
                 P[i, j] = P[j, i] = _clamp(P[i, j], -b, b)
 
-    def _update(self, h, nu, r, mu_ok, b_ok=True):
+    def _update(self, h, nu, r, mu_ok, b_ok=True, keep_p=False):
         P = self.P
         ph = P @ h
         s = r + float(h @ ph)
@@ -225,8 +226,9 @@ class Estimator:
         lim = NU_SIGMA * math.sqrt(max(s, 0.0))
         nu = _clamp(nu, -lim, lim)
         self.x = self.x + k * nu * S_X
-        Pn = P - np.outer(k, ph) - np.outer(ph, k) + np.outer(k, ks)
-        self.P = 0.5 * (Pn + Pn.T)
+        if not keep_p:
+            Pn = P - np.outer(k, ph) - np.outer(ph, k) + np.outer(k, ks)
+            self.P = 0.5 * (Pn + Pn.T)
         w = _clamp(nu / math.sqrt(s), -NU_SIGMA, NU_SIGMA)
         return w * w
 
@@ -610,15 +612,16 @@ class Estimator:
             # slip of the wrong sign, which would drive mu down: RAV4 log)
             # A locked wheel slides at the road's friction whatever the exact
             # speed, so braking with one is a friction measurement without a
-            # speed reference (noisier: the free wheels' slips and the
-            # drag are in it)
+            # speed reference. It is biased (the free wheels' slips and the
+            # drag are in the same sum: mu 0.1 high on the wet brake in
+            # turn), so it moves mu but adds no confidence (P is kept)
             ref_ok = bool(self.cfg["speed_ref_mu"]) and vs_ok
             locked = lock and ax < -AX_TH and bool(np.any(np.abs(kappa) >= LOCK_K))
             if (excited and (ref_ok or locked) and wheels_ok and umax_x >= EXC_U
                     and abs(ax) >= EXC_A and float(np.sum(kappa)) * ax > 0.0):
                 ax_pred = ax_m + jax_mu / m * (self.x[2] - mu)
                 h = np.array([0.0, 0.0, _clamp(jax_mu / m * S[2] / S_AY, -H_MAX, H_MAX), 0.0])
-                self._update(h, (ax - ax_pred) / S_AY, R_AX if ref_ok else R_LOCK, True, b_ok)
+                self._update(h, (ax - ax_pred) / S_AY, R_AX if ref_ok else R_LOCK, True, b_ok, keep_p=not ref_ok)
                 self._condition()
             # the friction in use is a lower bound of the friction available;
             # at the understeer limit mu_us (above) an upper one. Both are
