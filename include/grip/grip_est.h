@@ -103,7 +103,8 @@ typedef struct {
                                                     * into dead reckoning with every wheel
                                                     * locked / spinning)                  */
 #define GRIP_EST_V_BETA      ((uint32_t)1u << 1)   /* vy, beta (not while every wheel is
-                                                    * locked / spinning)                  */
+                                                    * locked / spinning, nor with
+                                                    * F_MODEL_MISFIT)                     */
 #define GRIP_EST_V_YAW       ((uint32_t)1u << 2)   /* yaw_rate (filtered)                 */
 #define GRIP_EST_V_YAW_REF   ((uint32_t)1u << 3)   /* yaw_rate_ref, yaw_error             */
 #define GRIP_EST_V_FZ        ((uint32_t)1u << 4)   /* fz[] (load transfer from ax, ay)    */
@@ -132,7 +133,8 @@ typedef struct {
 #define GRIP_EST_F_MODEL_MISFIT ((uint32_t)1u << 15)  /* the tire model does not fit the car (ay NIS
                                                        * or saturated-model-without-limit share
                                                        * above threshold): mu_conf capped at 0.45,
-                                                       * V_MU cleared                              */
+                                                       * V_MU cleared, and V_BETA, V_AXLE, the
+                                                       * wheel and margin bits not set            */
 #define GRIP_EST_F_INPUT_DEGRADED ((uint32_t)1u << 16) /* set by grip_monitor_gate (grip_monitor.h):
                                                        * the plausibility monitor does not vouch
                                                        * for this sample's inputs; every output

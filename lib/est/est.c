@@ -1138,8 +1138,10 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         est->x[3] = sym_clamp(est->x[3], RC(EST_B_MAX / EST_S_B));
         /* with every wheel locked (spinning) the slips leave the tire
          * model's range and the lateral force no longer tells the slip
-         * angle: beta is dead reckoning too, flagged */
-        if (ay_ok && yaw_ok && !dead_reck) {
+         * angle: beta is dead reckoning too, flagged; and a tire model
+         * that does not fit the car (misfit) does not give a sideslip to
+         * stand behind either */
+        if (ay_ok && yaw_ok && !dead_reck && !est->misfit) {
             valid |= GRIP_EST_V_BETA | GRIP_EST_V_AXLE;
         }
         if (!(valid & GRIP_EST_V_BETA)) {

@@ -401,6 +401,8 @@ static int misfit_run(const grip_mf_params *t, int *first_flag, int *vmu_after, 
                 *first_flag = k;
             }
             assert_true(dq(o.mu_conf) < 0.5);
+            /* the sideslip and the model forces are not vouched for either */
+            assert_false(o.valid & (GRIP_EST_V_BETA | GRIP_EST_V_AXLE | GRIP_EST_V_MARGIN | GRIP_EST_V_WHEEL(0)));
         }
         if (o.valid & GRIP_EST_V_MU) {
             *vmu_steps += 1;

@@ -546,19 +546,21 @@ def main(argv=None):
             c_results[name]["fixed_float_ratio"] = q
             c_results[name]["fixed_float_ratio_metric"] = which
         print(f"est-eval: {d}: {results[name]}", file=sys.stderr)
-    with open(os.path.join(a.out, "accuracy.json"), "w") as f:
-        json.dump({"est_ref": results, "c": c_results, "notes": notes}, f, indent=1)
-    md = "## float64 reference (est_ref)\n\n" + table(results)
-    if bins:
-        md += ("\n## C builds (grip-replay --csv) next to est_ref\n\n"
-               "Each cell: est_ref / C float / C fixed (errors against the simulator's truth).\n\n"
-               + table_c(results, c_results, notes))
-    elif notes:
-        md += "\n" + "\n".join(f"Note: {n}" for n in notes) + "\n"
-    with open(os.path.join(a.out, "accuracy.md"), "w") as f:
-        f.write(md)
-    print(md)
+    # the simulator tables only when there are runs (--av21 alone must not
+    # overwrite them with empty ones)
     if runs:
+        with open(os.path.join(a.out, "accuracy.json"), "w") as f:
+            json.dump({"est_ref": results, "c": c_results, "notes": notes}, f, indent=1)
+        md = "## float64 reference (est_ref)\n\n" + table(results)
+        if bins:
+            md += ("\n## C builds (grip-replay --csv) next to est_ref\n\n"
+                   "Each cell: est_ref / C float / C fixed (errors against the simulator's truth).\n\n"
+                   + table_c(results, c_results, notes))
+        elif notes:
+            md += "\n" + "\n".join(f"Note: {n}" for n in notes) + "\n"
+        with open(os.path.join(a.out, "accuracy.md"), "w") as f:
+            f.write(md)
+        print(md)
         plot(runs, ests, os.path.join(a.out, "accuracy.png"))
     if a.av21:
         if not bins:

@@ -637,8 +637,10 @@ class Estimator:
             self.x[3] = _clamp(self.x[3], -B_MAX, B_MAX)
             # with every wheel locked (spinning) the slips leave the tire
             # model's range and the lateral force no longer tells the slip
-            # angle: beta is dead reckoning too, flagged (docs/estimator.md)
-            if ay_ok and yaw_ok and not dead_reck:
+            # angle: beta is dead reckoning too, flagged (docs/estimator.md);
+            # and a tire model that does not fit the car (misfit) does not
+            # give a sideslip to stand behind either
+            if ay_ok and yaw_ok and not dead_reck and not self.misfit:
                 vbits |= V_BETA | V_AXLE
             if not (vbits & V_BETA):
                 vbits &= ~(V_WHEEL(0) | V_WHEEL(1) | V_WHEEL(2) | V_WHEEL(3))
