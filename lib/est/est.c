@@ -720,9 +720,10 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                 }
             }
         } /* grip-deviation: MISRA-15.7 no speed reference: k stays 0, vx follows the prediction */
-        /* every wheel locked or spinning while the car still decelerates or
-         * accelerates: no wheel tells the speed, integrate ax */
-        dead_reck = n_good == 0 && n_ws > 0 && (lock || spin) && r_abs(ax) >= RC(EST_DR_AX) && ax_ok && !vs_ok; /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
+        /* every wheel locked or spinning (every valid wheel is an outlier)
+         * while the car still decelerates or accelerates: no wheel tells
+         * the speed, integrate ax */
+        dead_reck = n_good == 0 && n_ws > 0 && r_abs(ax) >= RC(EST_DR_AX) && ax_ok && !vs_ok; /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
         if (dead_reck) {
             k = R_ZERO;
             est->dr_steps = count_up(est->dr_steps);

@@ -363,9 +363,10 @@ class Estimator:
             # complementary filter with vx
             if trusted and vx_pred > V_ON and ax_ok and self.vx_init:
                 self.ax_off = _clamp(self.ax_off - K_OFF * dt * (v_ref - vx_pred), -AX_OFF_MAX, AX_OFF_MAX)
-        # every wheel locked or spinning while the car still decelerates or
-        # accelerates: no wheel tells the speed, integrate ax
-        dead_reck = n_good == 0 and n_ws > 0 and (lock or spin) and abs(ax) >= DR_AX and ax_ok and not vs_ok
+        # every wheel locked or spinning (every valid wheel is an outlier)
+        # while the car still decelerates or accelerates: no wheel tells the
+        # speed, integrate ax
+        dead_reck = n_good == 0 and n_ws > 0 and abs(ax) >= DR_AX and ax_ok and not vs_ok
         if dead_reck:
             k = 0.0
             self.dr_steps = min(self.dr_steps + 1, BIG)
