@@ -20,6 +20,16 @@ def _params():
     return golden_est.tire_params()
 
 
+def _sample(ws=20.0):
+    """One input sample: every wheel at ws, the eight ESC inputs valid,
+    everything else 0."""
+    value = np.zeros(est_ref.N_IN)
+    valid = np.zeros(est_ref.N_IN, dtype=np.uint8)
+    value[0:4] = ws
+    valid[0:8] = 1
+    return value, valid
+
+
 class ConstantsTests(unittest.TestCase):
     def test_derived_constants(self):
         est = est_ref.Estimator(est_ref.config(_params()))
@@ -158,16 +168,9 @@ class UndersteerLimitTests(unittest.TestCase):
 
 
 class InputTests(unittest.TestCase):
-    def _sample(self, v=20.0):
-        value = np.zeros(est_ref.N_IN)
-        valid = np.zeros(est_ref.N_IN, dtype=np.uint8)
-        value[0:4] = v
-        valid[0:8] = 1
-        return value, valid
-
     def test_nan_is_invalid_and_held(self):
         est = est_ref.Estimator(est_ref.config(_params()))
-        value, valid = self._sample()
+        value, valid = _sample()
         for _ in range(50):
             est.step(value, valid)
         value[est_ref.AY] = float("nan")
@@ -181,7 +184,7 @@ class InputTests(unittest.TestCase):
     def test_gyro_bias_at_standstill(self):
         # parked: every wheel at rest, the gyro reads only its offset
         est = est_ref.Estimator(est_ref.config(_params()))
-        value, valid = self._sample(0.0)
+        value, valid = _sample(0.0)
         value[est_ref.YAW] = 0.006
         for _ in range(200):
             o = est.step(value, valid)
@@ -208,7 +211,7 @@ class InputTests(unittest.TestCase):
 
     def test_standstill(self):
         est = est_ref.Estimator(est_ref.config(_params()))
-        value, valid = self._sample(0.0)
+        value, valid = _sample(0.0)
         value[est_ref.AX] = 0.3
         for _ in range(300):
             o = est.step(value, valid)
@@ -221,16 +224,26 @@ class LongitudinalSpeedTests(unittest.TestCase):
     """vx while braking: the slipping wheels, every wheel locked (dead
     reckoning), the ax offset learned from free-rolling wheels."""
 
-    def _drive(self, est, n, v, ax, ws=None):
-        value = np.zeros(est_ref.N_IN)
-        valid = np.zeros(est_ref.N_IN, dtype=np.uint8)
-        valid[0:8] = 1
+    @staticmethod
+    def _drive(est, n, ws, ax):
+        """n steps with every wheel at ws and the accelerometer at ax."""
+        value, valid = _sample(ws)
+        value[est_ref.AX] = ax
         o = None
         for _ in range(n):
-            value[0:4] = v if ws is None else ws
-            value[est_ref.AX] = ax
             o = est.step(value, valid)
         return o
+
+    def _brake(self, est, ax_offset=0.0):
+        """2 s braking at 4 m/s^2 from 20 m/s with every wheel 3 % slower
+        than the car; the accelerometer reads ax_offset high. Returns the last
+        output and the true speed."""
+        v = 20.0
+        o = None
+        for _ in range(200):
+            v -= 4.0 * 0.01
+            o = self._drive(est, 1, 0.97 * v, -4.0 + ax_offset)
+        return o, v
 
     def test_all_wheels_locked_is_not_a_standstill(self):
         # 20 m/s, then all four wheels at 0 while the car decelerates at
@@ -238,16 +251,16 @@ class LongitudinalSpeedTests(unittest.TestCase):
         # vx lose their valid bits, no standstill until ax says stopped
         est = est_ref.Estimator(est_ref.config(_params()))
         self._drive(est, 100, 20.0, 0.0)
-        o = self._drive(est, 100, 0.0, -3.0, ws=0.0)      # 1 s locked
+        o = self._drive(est, 100, 0.0, -3.0)      # 1 s locked
         self.assertAlmostEqual(o["vx"], 17.0, delta=0.1)
         self.assertFalse(o["flags"] & est_ref.F_STANDSTILL)
         self.assertTrue(o["flags"] & est_ref.F_WHEEL_LOCK)
         self.assertTrue(o["valid"] & est_ref.V_VX)
         self.assertFalse(o["valid"] & est_ref.V_BETA)
-        o = self._drive(est, int(est_ref.DR_T * 100), 0.0, -3.0, ws=0.0)
+        o = self._drive(est, int(est_ref.DR_T * 100), 0.0, -3.0)
         self.assertFalse(o["valid"] & est_ref.V_VX)      # beyond DR_T
         # stopped: ax back to 0 with every wheel at rest -> standstill
-        o = self._drive(est, 20, 0.0, 0.0, ws=0.0)
+        o = self._drive(est, 20, 0.0, 0.0)
         self.assertEqual(o["vx"], 0.0)
         self.assertTrue(o["flags"] & est_ref.F_STANDSTILL)
 
@@ -258,10 +271,7 @@ class LongitudinalSpeedTests(unittest.TestCase):
         # within 0.2 s; K_SLIP = 0.2 / s closes 1 - exp(-0.4) = 33 % of it)
         est = est_ref.Estimator(est_ref.config(_params()))
         self._drive(est, 100, 20.0, 0.0)
-        v = 20.0
-        for _ in range(200):
-            v -= 4.0 * 0.01
-            o = self._drive(est, 1, v, -4.0, ws=0.97 * v)
+        o, v = self._brake(est)
         err = o["vx"] / v - 1.0
         print(f"\n# braking 2 s with 3 % slip on every wheel: vx error {100 * err:.2f} %", flush=True)
         self.assertLess(abs(err), 0.015)
@@ -276,10 +286,7 @@ class LongitudinalSpeedTests(unittest.TestCase):
         self._drive(est, 1500, 20.0, 0.5)
         print(f"\n# ax offset learned: {est.ax_off:.3f} m/s^2 (true 0.5)", flush=True)
         self.assertAlmostEqual(est.ax_off, 0.5, delta=0.05)
-        v = 20.0
-        for _ in range(200):
-            v -= 4.0 * 0.01
-            o = self._drive(est, 1, v, -4.0 + 0.5, ws=0.97 * v)
+        o, v = self._brake(est, ax_offset=0.5)
         self.assertLess(abs(o["vx"] / v - 1.0), 0.01)
 
 

@@ -324,7 +324,7 @@ static void test_all_wheels_locked(void **state)
         bad.value[GRIP_IN_WHEEL_SPEED_FL + i] = qs(0.0);
     }
     run(&e, &bad, 100, &o);
-    print_message("# all wheels locked 1 s at -3 m/s^2 from 20 m/s: vx %.3f (17.0)\n", dq(o.vx));
+    printf("# all wheels locked 1 s at -3 m/s^2 from 20 m/s: vx %.3f (17.0)\n", dq(o.vx));
     assert_true(fabs(dq(o.vx) - 17.0) < 0.1);
     assert_true(o.flags & GRIP_EST_F_WHEEL_LOCK);
     assert_false(o.flags & GRIP_EST_F_STANDSTILL);
