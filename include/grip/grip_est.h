@@ -94,6 +94,11 @@ typedef struct {
                                 * their filter time constant. vy, beta, yaw_rate, alpha[],
                                 * fy[] and fy_axle are extrapolated over it from the
                                 * state derivative; 0 (default): outputs at the state */
+    grip_real_t steer_lag;     /* QS s, [0, 0.5]: first-order time constant of the road
+                                * wheels behind the steering signal (steer-by-wire, a
+                                * logged steering command); tire slip angles and the yaw
+                                * reference use the lagged angle. 0 (default): none, a
+                                * mechanical column                                   */
     grip_est_tire_t tire[2];   /* front, rear axle                          */
 } grip_est_config_t;
 
@@ -182,6 +187,7 @@ typedef struct {
     grip_real_t alpha_pk[2];    /* QS slip angle of that peak [rad] */
     grip_real_t mu0_k[2];       /* QS load sensitivity of the peak: mu0(Fz) = mu0 + mu0_k (Fz / Fz_static - 1) */
     grip_real_t k_us;           /* QS stability factor A [s^2/m^2] times 100 */
+    grip_real_t steer_k;        /* QS per-step gain of the steering lag, 1: none */
     grip_real_t q[GRIP_EST_NX]; /* QS process noise per step (scaled units) */
     int32_t hold_steps;         /* steps an input is held after it became invalid */
     int32_t lim_n;              /* steps of the friction-limit test */
@@ -200,6 +206,8 @@ typedef struct {
     grip_real_t p[GRIP_EST_NX][GRIP_EST_NX]; /* QS covariance in scaled units */
     grip_real_t hold[5];        /* QS last valid steer, yaw, ax, ay, vehicle speed */
     int32_t age[5];             /* steps since each was valid (saturating) */
+    grip_real_t delta_f;        /* QS lagged road-wheel angle [rad] x 1024 (the per-step change of a
+                                 * 0.5 s lag at 1 kHz survives Q15.16) */
     grip_real_t r_lin_f;        /* QS linear yaw-rate reference, low-passed (limit detection) */
     int32_t lim_steps;          /* consecutive steps at the friction limit */
     int32_t us_steps;           /* consecutive steps at the understeer limit (low-friction detection) */

@@ -83,6 +83,7 @@ grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_para
     cfg->tan_bank = R_ZERO;
     cfg->tan_grade = R_ZERO;
     cfg->latency = R_ZERO;
+    cfg->steer_lag = R_ZERO;
     cfg->tire[0].kind = GRIP_EST_TIRE_MF;
     cfg->tire[0].model.mf = tire;
     cfg->tire[1].kind = GRIP_EST_TIRE_MF;
@@ -135,7 +136,8 @@ static grip_status_t check_config(const grip_est_config_t *c)
         !in_range(c->roll_split_front, R_ZERO, R_ONE) || !in_range(c->roll_gradient, R_ZERO, RC(0.05)) || c->rate_hz < 50u || c->rate_hz > 2000u ||
         c->speed_ref_mu > 1u || !in_range(c->cla, R_ZERO, RC(20.0)) || !in_range(c->aero_front, R_ZERO, R_ONE) ||
         !in_range(c->air_density, RC(0.5), RC(1.5)) || !in_range(c->tan_bank, RC(-0.5), RC(0.5)) ||
-        !in_range(c->tan_grade, RC(-0.5), RC(0.5)) || !in_range(c->latency, R_ZERO, RC(0.1))) {
+        !in_range(c->tan_grade, RC(-0.5), RC(0.5)) || !in_range(c->latency, R_ZERO, RC(0.1)) ||
+        !in_range(c->steer_lag, R_ZERO, RC(0.5))) {
         return GRIP_ERR_PARAM;
     }
     for (a = 0; a < 2; ++a) {
@@ -180,6 +182,7 @@ grip_status_t grip_est_reset(grip_est_t *est)
     est->dr_steps = 0;
     est->ax_off = R_ZERO;
     est->r_lin_f = R_ZERO;
+    est->delta_f = R_ZERO;
     est->lim_steps = 0;
     est->us_steps = 0;
     est->nis_f = R_ZERO;
@@ -289,6 +292,7 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
     est->q[2] = r_div(RC(EST_Q_MU), est->rate);
     est->q[3] = r_div(RC(EST_Q_B), est->rate);
     est->nis_a = r_min(r_div(R_ONE, r_mul(RC(EST_MF_TAU), est->rate)), R_ONE);
+    est->steer_k = (cfg->steer_lag > R_ZERO) ? r_min(r_div(R_ONE, r_mul(cfg->steer_lag, est->rate)), R_ONE) : R_ONE;
     est->lim_n = r_to_int(r_mul(RC(EST_LIM_T), est->rate));
     est->hold_steps = r_to_int(r_mul(RC(EST_HOLD_T), est->rate));
     est->nowheel_n = r_to_int(r_mul(RC(EST_NOWHEEL_T), est->rate));
@@ -600,6 +604,14 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     }
     if (!steer_ok) {
         delta = R_ZERO;
+    }
+    /* the road wheels lag the steering signal by cfg.steer_lag (first order):
+     * the slip angles and the yaw reference below take the lagged angle */
+    if (steer_ok && (est->steer_k < R_ONE)) {
+        est->delta_f = r_add(est->delta_f, r_mul(est->steer_k, r_sub(r_mul(RC(1024.0), delta), est->delta_f)));
+        delta = r_mul(est->delta_f, RC(1.0 / 1024.0));
+    } else {
+        est->delta_f = r_mul(RC(1024.0), delta);
     }
     cd = r_cos(delta);
     sd = r_sin(delta);
@@ -1174,6 +1186,13 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
              * the filter found, it is not the road's */
             flags |= GRIP_EST_F_MODEL_MISFIT;
             out->mu_conf = r_min(out->mu_conf, RC(EST_CONF_MISFIT));
+        } else if (est->sat_f > RC(EST_SAT_MU)) {
+            /* the saturation share on its way to the misfit level: no
+             * confidence in mu while that evidence builds up (the check is
+             * low-passed over 2 s and declares the misfit late) */
+            out->mu_conf = r_min(out->mu_conf, RC(EST_CONF_MISFIT));
+        } else {
+            /* model consistent */
         }
         if (out->mu_conf >= RC(0.5)) {
             valid |= GRIP_EST_V_MU;

@@ -109,5 +109,6 @@
 #define EST_SAT_HI   0.7     /* misfit above: saturated 70 % of the window     */
 #define EST_SAT_LO   0.1     /* ... cleared below (with NIS below NIS_LO)      */
 #define EST_CONF_MISFIT 0.45 /* mu_conf cap while misfit (below V_MU's 0.5)    */
+#define EST_SAT_MU   0.4     /* ... and while the saturation share is above     */
 
 #endif

@@ -118,7 +118,8 @@ static void on_signal(int sig)
  *   angle (fed as the steering input); yaw inertia 1000 kg m^2 (the
  *   repository identifies 500-2000), track 1.6 m, CG height 0.30 m, roll
  *   split 0.5 and roll gradient 0.001 rad per m/s^2 are race-car
- *   assumptions (docs/estimator.md).
+ *   assumptions (docs/estimator.md); steering lag 0.28 s identified from the
+ *   log (the logged angle is the steering command: est-eval's steer-lag fit).
  * generic: grip_est_config_default (the simulator's passenger car).
  * --vehicle-file then overrides single values (key = value, SI units). */
 static grip_real_t si_qs(double x)
@@ -179,6 +180,7 @@ static int vehicle_config(const char *name, const grip_mf_params *tire, int rate
         cfg->wheel_radius = si_qs(0.30);
         cfg->roll_split_front = si_qs(0.5);
         cfg->roll_gradient = si_qs(0.001);
+        cfg->steer_lag = si_qs(0.28);
         return 0;
     }
     return (strcmp(name, "generic") == 0) ? 0 : -1;
@@ -187,7 +189,7 @@ static int vehicle_config(const char *name, const grip_mf_params *tire, int rate
 /* Reads a vehicle file: lines `key = value` (SI units), '#' comments, blank
  * lines. Keys: mass, iz, lf, lr, track (both), track_f, track_r, h_cg,
  * steer_ratio, wheel_radius, roll_split_front, roll_gradient, speed_ref_mu,
- * cla, aero_front, air_density, tan_bank, tan_grade, latency.
+ * cla, aero_front, air_density, tan_bank, tan_grade, latency, steer_lag.
  * The estimator's init checks the ranges. */
 static int vehicle_file(const char *path, grip_est_config_t *cfg)
 {
@@ -218,6 +220,7 @@ static int vehicle_file(const char *path, grip_est_config_t *cfg)
         { "tan_bank", offsetof(grip_est_config_t, tan_bank), VK_QS },
         { "tan_grade", offsetof(grip_est_config_t, tan_grade), VK_QS },
         { "latency", offsetof(grip_est_config_t, latency), VK_QS },
+        { "steer_lag", offsetof(grip_est_config_t, steer_lag), VK_QS },
     };
     const size_t nkeys = sizeof keys / sizeof keys[0];
     char line[512];
@@ -356,7 +359,7 @@ static void usage(FILE *f)
             "      --vehicle-file F   override vehicle values: lines `key = value` (SI): mass iz lf lr\n"
             "                         track track_f track_r h_cg steer_ratio wheel_radius\n"
             "                         roll_split_front roll_gradient speed_ref_mu (0/1) cla aero_front\n"
-            "                         air_density tan_bank tan_grade latency [s]\n"
+            "                         air_density tan_bank tan_grade latency steer_lag [s]\n"
             "      --csv FILE         estimator inputs from FILE ('-' = stdin) instead of CAN: one row per\n"
             "                         estimator step (every --step-ms), '#' lines skipped, a header row\n"
             "                         naming the columns: t_s [s], wheel_speed_fl wheel_speed_fr\n"

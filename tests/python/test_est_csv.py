@@ -167,9 +167,10 @@ class CsvModeTests(unittest.TestCase):
         # a different mass changes the estimate (the file was applied)
         base = np.array([o["beta"] for o in self.ref])
         self.assertGreater(np.max(np.abs(col(rows, "beta") - base)), 10 * TOL["float"]["beta"])
-        # the vehicle-level keys: road plane, downforce, sensor latency
+        # the vehicle-level keys: road plane, downforce, sensor latency, steering lag
         veh2 = os.path.join(d, "car2.txt")
-        kw = dict(cla=1.5, aero_front=0.45, air_density=1.1, tan_bank=0.03, tan_grade=-0.01, latency=0.02)
+        kw = dict(cla=1.5, aero_front=0.45, air_density=1.1, tan_bank=0.03, tan_grade=-0.01, latency=0.02,
+                  steer_lag=0.15)
         with open(veh2, "w") as f:
             f.write("".join(f"{k} = {v}\n" for k, v in kw.items()))
         rc, out, err = run(b, ["-e", TIR, "--vehicle", "generic", "--vehicle-file", veh2, "--csv", self.path])
@@ -215,6 +216,21 @@ class CsvModeTests(unittest.TestCase):
         self.assertAlmostEqual(float(rows[-1]["vx"]), 20.0, places=3)
         self.assertTrue(all(math.isfinite(float(r["beta"])) for r in rows))
         self.assertIn("vehicle_speed", rows[0])
+        # the preset is est_eval.AV21_VEHICLE (steering lag included): the
+        # generator's run with its steering as a road-wheel angle (ratio 1)
+        from grip_tools import est_eval
+        value = self.value.copy()
+        value[:, est_ref.STEER] /= 15.5
+        p2 = os.path.join(self.tmp.name, "av21_dyn.csv")
+        write_csv(p2, self.t, value, self.valid)
+        rc, out, err = run(b, ["-e", TIR, "--vehicle", "av21", "--csv", p2])
+        self.assertEqual(rc, 0, err)
+        rows = read_out(out)
+        ref = est_ref.run(est_ref.config(golden_est.tire_params(), **est_eval.AV21_VEHICLE), value, self.valid)
+        for name in ("beta", "yaw_rate", "yaw_rate_ref", "delta"):
+            e = np.max(np.abs(col(rows, name) - np.array([o[name] for o in ref])))
+            print(f"  av21 preset vs est_eval.AV21_VEHICLE: max |C - est_ref| {name} {e:.2e}")
+            self.assertLessEqual(e, TOL["float"].get(name, TOL["float"]["beta"]))
 
     def test_est_eval_c_path(self):
         """est_eval's writer and reader (the C columns of the accuracy table)

@@ -60,7 +60,7 @@ typedef struct {
 } tv_seq;
 
 #include "tv_vectors.h"
-#if TV_EST_NCFG != 6
+#if TV_EST_NCFG != 7
 #error "tv_vectors.h: EST_CFG_KEYS of gen_vectors.py changed; update run_est's field table"
 #endif
 
@@ -266,6 +266,7 @@ static int run_est(void)
             field[3] = &cfg.tan_bank;
             field[4] = &cfg.tan_grade;
             field[5] = &cfg.latency;
+            field[6] = &cfg.steer_lag;
             for (k = 0; k < TV_EST_NCFG; k++) {
                 if ((sq->cfg_mask >> k) & 1u) {
                     *field[k] = real(tv_est_cfg[q][k]);

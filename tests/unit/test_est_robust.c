@@ -373,6 +373,45 @@ static void test_reset_keeps_config(void **state)
 #ifndef MISFIT_AY
 #define MISFIT_AY 7.5
 #endif
+/* Steering lag (cfg.steer_lag): the road-wheel angle (out.delta) follows a
+ * steering step as a first order of that time constant, also at 1 kHz with
+ * the longest lag (the fixed build keeps the lagged angle x 1024, else the
+ * per-step change would round away); out-of-range lags are refused. */
+static void test_steering_lag(void **state)
+{
+    grip_est_t e;
+    grip_est_config_t cfg;
+    grip_est_output_t o;
+    grip_input_sample_t s;
+    double target, at_tau, at_6tau;
+    (void)state;
+    assert_int_equal(grip_est_config_default(&cfg, tire()), GRIP_OK);
+    cfg.steer_lag = qs(0.6);
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_ERR_PARAM);
+    cfg.steer_lag = qs(-0.01);
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_ERR_PARAM);
+    cfg.steer_lag = qs(0.5);
+    cfg.rate_hz = 1000u;
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_OK);
+    circle(&s, 20.0, 0.0);
+    run(&e, &s, 1000, &o);
+    assert_true(fabs(dq(o.delta)) < 1e-4);
+    circle(&s, 20.0, 3.0);
+    target = dq(s.value[GRIP_IN_STEER_ANGLE]) / 15.5;
+    run(&e, &s, 500, &o);
+    at_tau = dq(o.delta) / target;
+    run(&e, &s, 2500, &o);
+    at_6tau = dq(o.delta) / target;
+    printf("# steering lag 0.5 s at 1 kHz: road-wheel angle %.4f of the step after 0.5 s (first order %.4f), "
+           "%.4f after 3 s (%.4f)\n", at_tau, 1.0 - exp(-1.0), at_6tau, 1.0 - exp(-6.0));
+    assert_true(fabs(at_tau - (1.0 - exp(-1.0))) < 0.01);
+    assert_true(fabs(at_6tau - (1.0 - exp(-6.0))) < 0.01);
+    /* without the lag the angle is the signal's at once */
+    make_est(&e);
+    run(&e, &s, 1, &o);
+    assert_true(fabs(dq(o.delta) / target - 1.0) < 1e-3);
+}
+
 static int misfit_run(const grip_mf_params *t, int *first_flag, int *vmu_after, int *vmu_steps, double *mu_end)
 {
     grip_est_t e;
@@ -444,6 +483,7 @@ int main(void)
         cmocka_unit_test(test_wheel_lock_spin_steer_lock),
         cmocka_unit_test(test_all_wheels_locked),
         cmocka_unit_test(test_reset_keeps_config),
+        cmocka_unit_test(test_steering_lag),
         cmocka_unit_test(test_model_misfit),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -46,7 +46,7 @@ import tempfile
 
 import numpy as np
 
-from . import est_ref, golden_est
+from . import est_ref, golden_est, tir
 
 DEG = 180.0 / math.pi
 WHEELS = ("fl", "fr", "rl", "rr")
@@ -330,6 +330,12 @@ AV21_RATE_HZ = 100
 # Fz0' = 2000 N; static loads 2253 N front, 1622 N rear) and its friction
 # raised to a dry racing slick's (LMUX = LMUY = 1.5, an assumption).
 AV21_STANDIN = {"LFZO": "0.5", "LMUX": "1.5", "LMUY": "1.5"}
+# grip-replay's `--vehicle av21` preset (port/linux/grip_replay.c) as est_ref
+# configuration keys (tests/python/test_est_csv.py checks the two agree);
+# steer_lag is the value steer_lag_fit identified on the log
+AV21_VEHICLE = dict(mass=AV21_MASS, iz=1000.0, lf=1.248, lr=1.7328, track_f=1.6, track_r=1.6, h_cg=0.30,
+                    steer_ratio=1.0, wheel_radius=0.30, roll_split_front=0.5, roll_gradient=0.001,
+                    steer_lag=0.28)
 
 
 def av21_standin_tir(path):
@@ -347,20 +353,38 @@ def av21_standin_tir(path):
         f.write(text)
 
 
+def av21_ins_offset(vx, vy, r, lr=1.7328):
+    """Where the AV-21 log's INS measures vy: the linear bicycle's steady
+    state vy_cg = (lr - k vx^2) r seen at a point x ahead of the CG is
+    vy = c0 + (x + lr) r - k r vx^2; least squares over vx > 5 m/s
+    (vy in the log's own sign). Returns x [m] and the fit's c0, k."""
+    s = vx > 5.0
+    A = np.c_[np.ones(s.sum()), r[s], -r[s] * vx[s] ** 2]
+    c0, xl, k = np.linalg.lstsq(A, vy[s], rcond=None)[0]
+    return float(xl - lr), float(c0), float(k)
+
+
 def av21_inputs(log):
     """The AV-21 log (25 Hz) as estimator inputs at AV21_RATE_HZ (linear
-    interpolation): wheel speeds [km/h -> m/s], delta (ROAD-WHEEL angle,
-    fed as the steering input with steer ratio 1), omega (yaw rate), ax,
-    vehicle speed = the INS vx, and ay = vx r + d(vy)/dt derived from the
-    INS (the log has no ay channel; vy taken positive to the right in the
-    log and turned to ISO, as in residual/av21.py; d(vy)/dt smoothed over
-    0.2 s). Returns t, value (N, 13 IN_COLS), valid and the INS arrays."""
+    interpolation): wheel speeds [km/h -> m/s], delta (the steering signal,
+    fed with steer ratio 1), omega (yaw rate), ax, vehicle speed = the INS
+    vx, and the lateral acceleration at the CG from the INS (the log has no
+    ay channel): ay = vx r + d(vy_cg)/dt, vy_cg = vy - x r with the INS x
+    ahead of the CG (av21_ins_offset), d/dt smoothed over 0.2 s.
+    vy is taken in the log's own sign, the same frame as omega and delta: in
+    slow corners (4 - 9 m/s) vy = 2.0 omega, above lr = 1.73 m as the
+    kinematics of a car turning about a point near its rear axle require
+    (docs/estimator.md; residual/av21.py reads it with the opposite sign).
+    Returns t, value (N, 13 IN_COLS), valid and the INS arrays (vy at the
+    CG, ins_x)."""
     d = np.genfromtxt(log, delimiter=",", skip_header=1)
     t0 = d[0, 0]
     t = d[:, 0] - t0
-    vx, vy = d[:, 3], -d[:, 4]
+    vx, vy = d[:, 3], d[:, 4]
     r, delta, ax = d[:, 7], d[:, 6], d[:, 8]
     ws = d[:, 10:14] / 3.6
+    x_ins = av21_ins_offset(vx, vy, r)[0]
+    vy = vy - x_ins * r
     dvy = np.convolve(np.gradient(vy, t), np.ones(5) / 5.0, mode="same")
     ay = vx * r + dvy
     tg = np.arange(0.0, t[-1], 1.0 / AV21_RATE_HZ)
@@ -370,8 +394,61 @@ def av21_inputs(log):
     for i, c in enumerate(cols):
         value[:, i] = np.interp(tg, t, c)
         valid[:, i] = 1
-    ins = {"vx": np.interp(tg, t, vx), "vy": np.interp(tg, t, vy), "r": value[:, 5], "ay": value[:, 7]}
+    ins = {"vx": np.interp(tg, t, vx), "vy": np.interp(tg, t, vy), "r": value[:, 5], "ay": value[:, 7],
+           "ins_x": x_ins}
     return tg, value, valid, ins
+
+
+def steer_lag_fit(t, delta, vx, yaw, ay, cfg, lags=None, ay_max=4.0):
+    """Identifies the lag of the road wheels behind a logged steering signal
+    (the estimator's `steer_lag`): the configured car's linear bicycle model
+    (est_ref's cornering stiffnesses at static load, mass, yaw inertia, axle
+    distances) is driven by the steering signal lagged by each candidate
+    first-order time constant; the lag whose yaw rate best matches the
+    measured one (least squares over the linear range: vx > 8 m/s,
+    |ay| < ay_max) wins, refined by a parabola through its neighbours.
+    Returns dict(lag, rms, rms_no_lag, gain (least-squares yaw gain at that
+    lag: < 1 means the car understeers more than configured), n, lags, rms_all)."""
+    if lags is None:
+        lags = np.arange(0.0, 0.5001, 0.025)
+    lags = np.asarray(lags, float)
+    e = est_ref.Estimator(cfg)
+    m, iz, lf, lr = cfg["mass"], cfg["iz"], cfg["lf"], cfg["lr"]
+    cf, cr = 2.0 * e.c_alpha[0], 2.0 * e.c_alpha[1]
+    dt = np.diff(t, prepend=t[0] - (t[1] - t[0]))
+    nl = len(lags)
+    dl = np.full(nl, float(delta[0]))
+    vy, r = np.zeros(nl), np.zeros(nl)
+    rb = np.zeros((len(t), nl))
+    sub = 4
+    for i in range(len(t)):
+        h = dt[i]
+        k = np.where(lags > 0.0, np.minimum(h / np.maximum(lags, 1e-9), 1.0), 1.0)
+        dl += k * (delta[i] - dl)
+        v = vx[i]
+        if v < 5.0:
+            vy[:], r[:] = 0.0, 0.0
+        else:
+            hs = h / sub
+            for _ in range(sub):
+                fyf = cf * (dl - (vy + lf * r) / v)
+                fyr = -cr * (vy - lr * r) / v
+                vy += hs * ((fyf + fyr) / m - r * v)
+                r += hs * ((lf * fyf - lr * fyr) / iz)
+        rb[i] = r
+    sel = (vx > 8.0) & (np.abs(ay) < ay_max)
+    rms_all = np.sqrt(np.mean((rb[sel] - yaw[sel, None]) ** 2, axis=0))
+    j = int(np.argmin(rms_all))
+    lag = float(lags[j])
+    if 0 < j < nl - 1:
+        y0, y1, y2 = rms_all[j - 1], rms_all[j], rms_all[j + 1]
+        den = y0 - 2.0 * y1 + y2
+        if den > 0.0:
+            lag += 0.5 * (y0 - y2) / den * (lags[j + 1] - lags[j])
+    gain = float(np.sum(yaw[sel] * rb[sel, j]) / np.sum(rb[sel, j] ** 2))
+    return {"lag": float(lag), "rms": float(rms_all[j]), "rms_no_lag": float(rms_all[0]) if lags[0] == 0.0 else None,
+            "gain": gain, "n": int(sel.sum()), "lags": [float(x) for x in lags],
+            "rms_all": [float(x) for x in rms_all]}
 
 
 def _stats(a, b):
@@ -390,6 +467,15 @@ def av21_report(log, outdir, bins):
     t, value, valid, ins = av21_inputs(log)
     res = {"log": log, "rate_hz": AV21_RATE_HZ, "steps": int(len(t)), "tire": "av21_standin.tir",
            "standin": AV21_STANDIN, "builds": {}}
+    # the logged angle is the steering command: how far the road wheels lag
+    # it, identified with the configured car (the preset's steer_lag)
+    cfg = est_ref.config(tir.load_params(tir_path), rate_hz=AV21_RATE_HZ, **dict(AV21_VEHICLE, steer_lag=0.0))
+    fit = steer_lag_fit(t, value[:, 4], ins["vx"], value[:, 5], value[:, 7], cfg)
+    res["steer_lag_fit"] = fit
+    res["ins_x_m"] = ins["ins_x"]
+    print(f"est-eval av21: steering lag fit {fit['lag']:.3f} s (yaw rate RMS {fit['rms']:.4f} rad/s, "
+          f"{fit['rms_no_lag']:.4f} without a lag, yaw gain {fit['gain']:.3f}, {fit['n']} samples); "
+          f"preset steer_lag {AV21_VEHICLE['steer_lag']}", file=sys.stderr)
     outs = {}
     with tempfile.TemporaryDirectory() as d:
         path = os.path.join(d, "av21_inputs.csv")

@@ -74,6 +74,8 @@ NU_SIGMA, CONF_S0 = 4.0, 0.15
 # capped at CONF_MISFIT while misfit
 MF_TAU, NIS_HI, NIS_LO = 2.0, 3.84, 1.0
 SAT_U, SAT_HI, SAT_LO, CONF_MISFIT = 0.95, 0.7, 0.1, 0.45
+# mu_conf also capped while the saturation share is above SAT_MU
+SAT_MU = 0.4
 BIG = 1000000
 
 # validity and flag bits (grip_est.h)
@@ -174,6 +176,8 @@ class Estimator:
         af = c.get("aero_front", 0.5)
         self.k_aero = [kq * af, kq * (1.0 - af)]
         rate = c["rate_hz"]
+        lag = c.get("steer_lag", 0.0)
+        self.steer_k = min(1.0 / (lag * rate), 1.0) if lag > 0.0 else 1.0
         self.lim_n = int(math.floor(LIM_T * rate + 0.5))
         self.hold_steps = max(1, int(math.floor(HOLD_T * rate + 0.5)))
         self.nowheel_steps = int(math.floor(NOWHEEL_T * rate + 0.5))
@@ -191,6 +195,7 @@ class Estimator:
         self.dr_steps = 0
         self.ax_off = 0.0
         self.r_lin_f = 0.0
+        self.delta_f = 0.0
         self.lim_steps = 0
         self.us_steps = 0
         self.us_clamped = False
@@ -276,6 +281,14 @@ class Estimator:
             delta = _clamp(delta, -DELTA_MAX, DELTA_MAX)
         if not steer_ok:
             delta = 0.0
+        # the road wheels lag the steering signal by the configured first
+        # order (steer-by-wire, a logged steering command): every use of the
+        # angle below, tire slip angles and the yaw reference, takes the lagged one
+        if steer_ok and self.steer_k < 1.0:
+            self.delta_f += self.steer_k * (delta - self.delta_f)
+            delta = self.delta_f
+        else:
+            self.delta_f = delta
         cd, sd = math.cos(delta), math.sin(delta)
         # yaw rate corrected by the estimated gyro bias (state x[3])
         yaw = self.hold[1] - B_UNIT * self.x[3] if yaw_ok else 0.0
@@ -676,6 +689,11 @@ class Estimator:
             # the tire model does not explain the measurements: whatever mu
             # the filter found, it is not the road's
             flags |= F_MODEL_MISFIT
+            o["mu_conf"] = min(o["mu_conf"], CONF_MISFIT)
+        elif self.sat_f > SAT_MU:
+            # the saturation share on its way to the misfit level: no
+            # confidence in mu while the evidence builds up (the check is
+            # low-passed over 2 s and would declare the misfit late)
             o["mu_conf"] = min(o["mu_conf"], CONF_MISFIT)
         if o["mu_conf"] >= 0.5:
             vbits |= V_MU
