@@ -334,7 +334,16 @@ class SteeringLagTests(unittest.TestCase):
         root = os.path.join(os.path.dirname(__file__), "..", "..")
         d = np.genfromtxt(os.path.join(root, "tests", "data", "iac-av21", "putnam_run4_2_subset.csv"),
                           delimiter=",", comments="#")
-        t, vx, vy, delta, r = d[:, 0], d[:, 1], -d[:, 2], d[:, 3], d[:, 4]
+        t, vx, vy, delta, r = d[:, 0], d[:, 1], d[:, 2], d[:, 3], d[:, 4]
+        # vy in the log's own sign (est_eval.av21_inputs): in slow corners
+        # the measuring point moves into the turn, vy / r above lr = 1.73 m
+        slow = (vx > 4.0) & (vx < 9.0) & (np.abs(r) > 0.2)
+        k_slow = float(np.sum(vy[slow] * r[slow]) / np.sum(r[slow] ** 2))
+        x_ins = est_eval.av21_ins_offset(vx, vy, r)[0]
+        print(f"  AV-21 subset: slow-corner vy / r = {k_slow:.2f} m ({int(slow.sum())} samples), "
+              f"INS offset fit {x_ins:.2f} m (full log 0.49 m)")
+        self.assertGreater(k_slow, 1.0)
+        vy = vy - x_ins * r
         ay = vx * r + np.convolve(np.gradient(vy, t), np.ones(5) / 5.0, mode="same")
         with tf.TemporaryDirectory() as dd:
             p = os.path.join(dd, "standin.tir")
