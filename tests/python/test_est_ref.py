@@ -339,12 +339,10 @@ class SteeringLagTests(unittest.TestCase):
         # the measuring point moves into the turn, vy / r above lr = 1.73 m
         slow = (vx > 4.0) & (vx < 9.0) & (np.abs(r) > 0.2)
         k_slow = float(np.sum(vy[slow] * r[slow]) / np.sum(r[slow] ** 2))
-        x_ins = est_eval.av21_ins_offset(vx, vy, r)[0]
+        _, ay, x_ins = est_eval.av21_lateral_at_cg(t, vx, vy, r)
         print(f"  AV-21 subset: slow-corner vy / r = {k_slow:.2f} m ({int(slow.sum())} samples), "
               f"INS offset fit {x_ins:.2f} m (full log 0.49 m)")
         self.assertGreater(k_slow, 1.0)
-        vy = vy - x_ins * r
-        ay = vx * r + np.convolve(np.gradient(vy, t), np.ones(5) / 5.0, mode="same")
         with tf.TemporaryDirectory() as dd:
             p = os.path.join(dd, "standin.tir")
             est_eval.av21_standin_tir(p)

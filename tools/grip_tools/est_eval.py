@@ -364,13 +364,23 @@ def av21_ins_offset(vx, vy, r, lr=1.7328):
     return float(xl - lr), float(c0), float(k)
 
 
+def av21_lateral_at_cg(t, vx, vy, r):
+    """The AV-21 INS's vy (the log's own sign) moved to the CG, and the
+    lateral acceleration there (the log has no ay channel):
+    vy_cg = vy - x r with x from av21_ins_offset, ay = vx r + d(vy_cg)/dt,
+    d/dt smoothed over 5 samples (0.2 s at the log's 25 Hz).
+    Returns vy_cg, ay, x."""
+    x_ins = av21_ins_offset(vx, vy, r)[0]
+    vy_cg = vy - x_ins * r
+    ay = vx * r + np.convolve(np.gradient(vy_cg, t), np.ones(5) / 5.0, mode="same")
+    return vy_cg, ay, x_ins
+
+
 def av21_inputs(log):
     """The AV-21 log (25 Hz) as estimator inputs at AV21_RATE_HZ (linear
     interpolation): wheel speeds [km/h -> m/s], delta (the steering signal,
     fed with steer ratio 1), omega (yaw rate), ax, vehicle speed = the INS
-    vx, and the lateral acceleration at the CG from the INS (the log has no
-    ay channel): ay = vx r + d(vy_cg)/dt, vy_cg = vy - x r with the INS x
-    ahead of the CG (av21_ins_offset), d/dt smoothed over 0.2 s.
+    vx, and the lateral acceleration at the CG (av21_lateral_at_cg).
     vy is taken in the log's own sign, the same frame as omega and delta: in
     slow corners (4 - 9 m/s) vy = 2.0 omega, above lr = 1.73 m as the
     kinematics of a car turning about a point near its rear axle require
@@ -383,10 +393,7 @@ def av21_inputs(log):
     vx, vy = d[:, 3], d[:, 4]
     r, delta, ax = d[:, 7], d[:, 6], d[:, 8]
     ws = d[:, 10:14] / 3.6
-    x_ins = av21_ins_offset(vx, vy, r)[0]
-    vy = vy - x_ins * r
-    dvy = np.convolve(np.gradient(vy, t), np.ones(5) / 5.0, mode="same")
-    ay = vx * r + dvy
+    vy, ay, x_ins = av21_lateral_at_cg(t, vx, vy, r)
     tg = np.arange(0.0, t[-1], 1.0 / AV21_RATE_HZ)
     cols = [ws[:, 0], ws[:, 1], ws[:, 2], ws[:, 3], delta, r, ax, ay, vx]
     value = np.zeros((len(tg), len(IN_COLS)))
