@@ -330,16 +330,14 @@ class SteeringLagTests(unittest.TestCase):
         logged steering command leads the yaw response beyond the configured
         car's own dynamics; the fitted lag halves the yaw-rate error."""
         import tempfile as tf
-        from grip_tools import est_eval, tir
-        root = os.path.join(os.path.dirname(__file__), "..", "..")
-        d = np.genfromtxt(os.path.join(root, "tests", "data", "iac-av21", "putnam_run4_2_subset.csv"),
-                          delimiter=",", comments="#")
-        t, vx, vy, delta, r = d[:, 0], d[:, 1], d[:, 2], d[:, 3], d[:, 4]
-        # vy in the log's own sign (est_eval.av21_inputs): in slow corners
+        from grip_tools import av21_log, est_eval, tir
+        d = av21_log.read(av21_log.SUBSET)
+        t, vx, vy, delta, r = d["t"], d["vx"], d["vy"], d["delta"], d["r"]
+        # vy in the log's own sign (av21_log): in slow corners
         # the measuring point moves into the turn, vy / r above lr = 1.73 m
         slow = (vx > 4.0) & (vx < 9.0) & (np.abs(r) > 0.2)
         k_slow = float(np.sum(vy[slow] * r[slow]) / np.sum(r[slow] ** 2))
-        _, ay, x_ins = est_eval.av21_lateral_at_cg(t, vx, vy, r)
+        _, ay, x_ins = av21_log.lateral_at_cg(t, vx, vy, r)
         print(f"  AV-21 subset: slow-corner vy / r = {k_slow:.2f} m ({int(slow.sum())} samples), "
               f"INS offset fit {x_ins:.2f} m (full log 0.49 m)")
         self.assertGreater(k_slow, 1.0)

@@ -9,7 +9,7 @@ import unittest
 import numpy as np
 
 from grip_tools import datasets, relax_ref
-from grip_tools.residual import attribution, io, report
+from grip_tools.residual import attribution, effects, io, report
 from grip_tools.residual.effects import TireModel
 from grip_tools.residual.io import Dataset
 
@@ -175,6 +175,71 @@ class UndeclaredCamberPressure(unittest.TestCase):
               f"{attribution.verdict(res)}")
         self.assertIsNone(res.chosen)
         self.assertIn("no effect", attribution.verdict(res))
+
+
+def make_front_axle(kind, seed=5, noise=0.005, tau=0.25, dx=0.6):
+    """A front-axle data set as residual/av21.py builds one from vehicle
+    data (alpha from delta, vy, r, vx; delta and r channels), with a
+    kinematic effect hidden in the slip angle the tyre really ran:
+      steer_lag        the wheels follow delta through a first-order lag tau
+      measuring_point  vy was taken dx ahead of the point the data assumes
+      none             the data's slip angle is the true one."""
+    rng = np.random.default_rng(seed)
+    P = datasets.base_params()
+    n, dt, lf = 3000, 0.02, 1.2
+    t = np.arange(n) * dt
+    ph = rng.uniform(0, 6, 4)
+    vx = 25.0 + 5.0 * np.sin(2 * np.pi * 0.02 * t + ph[0])
+    delta = 0.03 * np.sin(2 * np.pi * 0.4 * t + ph[1]) + 0.015 * np.sin(2 * np.pi * 1.1 * t + ph[2])
+    r = 0.25 * np.sin(2 * np.pi * 0.35 * t + ph[3])
+    vy = 0.3 * np.sin(2 * np.pi * 0.23 * t + ph[2])
+    alpha_data = -(delta - np.arctan((vy + lf * r) / vx))
+    if kind == "steer_lag":
+        alpha_true = alpha_data + delta - effects.first_order_lag(delta, t, tau)
+    elif kind == "measuring_point":
+        alpha_true = alpha_data - dx * r / vx
+    else:
+        alpha_true = alpha_data
+    ch = {"t": t, "alpha": alpha_true, "kappa": np.zeros(n), "gamma": np.zeros(n),
+          "fz": 4000.0 + 300.0 * np.sin(2 * np.pi * 0.1 * t), "vx": vx, "delta": delta, "r": r}
+    fy = TireModel(P).predict(ch)["fy"]
+    ch = dict(ch, alpha=alpha_data, fy=fy + noise * np.max(np.abs(fy)) * rng.standard_normal(n))
+    units = {"t": "s", "alpha": "rad", "kappa": "-", "gamma": "rad", "fz": "N", "vx": "m/s", "fy": "N",
+             "delta": "rad", "r": "rad/s"}
+    return Dataset(t, ch, units, ["fy"], {"axle": "front", "generator": "test_residual.make_front_axle"})
+
+
+class UndeclaredKinematics(unittest.TestCase):
+    """Slip angles derived from vehicle motion carry kinematic errors of
+    their own (AV-21: residual/av21.py); the loop must name them."""
+    @classmethod
+    def setUpClass(cls):
+        cls.model = TireModel(datasets.base_params(), "mf61", datasets.TIR)
+
+    def _run(self, kind):
+        ds = make_front_axle(kind)
+        res = attribution.analyse(self.model, ds)
+        c = res.chosen
+        print(f"\n  front axle {kind}: {attribution.verdict(res)}")
+        return res, c
+
+    def test_steer_lag(self):
+        res, c = self._run("steer_lag")
+        self.assertIsNotNone(c)
+        self.assertEqual(c.name, "steer_lag")
+        self.assertAlmostEqual(c.params["tau_s"], 0.25, delta=0.025)
+        self.assertLessEqual(c.ho_rms["fy"], 0.5 * res.base_ho_rms["fy"])
+
+    def test_measuring_point(self):
+        res, c = self._run("measuring_point")
+        self.assertIsNotNone(c)
+        self.assertEqual(c.name, "measuring_point")
+        self.assertAlmostEqual(c.params["dx_m"], 0.6, delta=0.06)
+        self.assertLessEqual(c.ho_rms["fy"], 0.5 * res.base_ho_rms["fy"])
+
+    def test_none_invents_nothing(self):
+        res, c = self._run("none")
+        self.assertIsNone(c)
 
 
 class Schema(unittest.TestCase):

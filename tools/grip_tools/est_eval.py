@@ -46,7 +46,7 @@ import tempfile
 
 import numpy as np
 
-from . import est_ref, golden_est, tir
+from . import av21_log, est_ref, golden_est, tir
 
 DEG = 180.0 / math.pi
 WHEELS = ("fl", "fr", "rl", "rr")
@@ -322,8 +322,8 @@ def table_c(results, c_results, notes):
 # ---------------------------------------------------------------------------
 # Real data: the Dallara AV-21 on the Putnam Park road course
 
-AV21_LOG = "/work/shared/data/iac-av21-deepdynamics/Putnam_park2023_run4_2.csv"
-AV21_MASS = 790.0
+AV21_LOG = av21_log.LOG
+AV21_MASS = av21_log.MASS
 AV21_RATE_HZ = 100
 # No .tir exists for the AV-21's slicks: the stand-in is PacejkaBook_Defaults
 # with its nominal load moved to the car's static wheel load (LFZO = 0.5:
@@ -333,7 +333,7 @@ AV21_STANDIN = {"LFZO": "0.5", "LMUX": "1.5", "LMUY": "1.5"}
 # grip-replay's `--vehicle av21` preset (port/linux/grip_replay.c) as est_ref
 # configuration keys (tests/python/test_est_csv.py checks the two agree);
 # steer_lag is the value steer_lag_fit identified on the log
-AV21_VEHICLE = dict(mass=AV21_MASS, iz=1000.0, lf=1.248, lr=1.7328, track_f=1.6, track_r=1.6, h_cg=0.30,
+AV21_VEHICLE = dict(mass=AV21_MASS, iz=1000.0, lf=av21_log.LF, lr=av21_log.LR, track_f=1.6, track_r=1.6, h_cg=0.30,
                     steer_ratio=1.0, wheel_radius=0.30, roll_split_front=0.5, roll_gradient=0.001,
                     steer_lag=0.28)
 
@@ -353,49 +353,20 @@ def av21_standin_tir(path):
         f.write(text)
 
 
-def av21_ins_offset(vx, vy, r, lr=1.7328):
-    """Where the AV-21 log's INS measures vy: the linear bicycle's steady
-    state vy_cg = (lr - k vx^2) r seen at a point x ahead of the CG is
-    vy = c0 + (x + lr) r - k r vx^2; least squares over vx > 5 m/s
-    (vy in the log's own sign). Returns x [m] and the fit's c0, k."""
-    s = vx > 5.0
-    A = np.c_[np.ones(s.sum()), r[s], -r[s] * vx[s] ** 2]
-    c0, xl, k = np.linalg.lstsq(A, vy[s], rcond=None)[0]
-    return float(xl - lr), float(c0), float(k)
-
-
-def av21_lateral_at_cg(t, vx, vy, r):
-    """The AV-21 INS's vy (the log's own sign) moved to the CG, and the
-    lateral acceleration there (the log has no ay channel):
-    vy_cg = vy - x r with x from av21_ins_offset, ay = vx r + d(vy_cg)/dt,
-    d/dt smoothed over 5 samples (0.2 s at the log's 25 Hz).
-    Returns vy_cg, ay, x."""
-    x_ins = av21_ins_offset(vx, vy, r)[0]
-    vy_cg = vy - x_ins * r
-    ay = vx * r + np.convolve(np.gradient(vy_cg, t), np.ones(5) / 5.0, mode="same")
-    return vy_cg, ay, x_ins
-
-
 def av21_inputs(log):
     """The AV-21 log (25 Hz) as estimator inputs at AV21_RATE_HZ (linear
-    interpolation): wheel speeds [km/h -> m/s], delta (the steering signal,
-    fed with steer ratio 1), omega (yaw rate), ax, vehicle speed = the INS
-    vx, and the lateral acceleration at the CG (av21_lateral_at_cg).
-    vy is taken in the log's own sign, the same frame as omega and delta: in
-    slow corners (4 - 9 m/s) vy = 2.0 omega, above lr = 1.73 m as the
-    kinematics of a car turning about a point near its rear axle require
-    (docs/estimator.md; residual/av21.py reads it with the opposite sign).
+    interpolation): wheel speeds [m/s], delta (the steering signal, fed
+    with steer ratio 1), omega (yaw rate), ax, vehicle speed = the INS vx,
+    and the lateral acceleration at the CG (av21_log.lateral_at_cg; vy in
+    the log's own sign, av21_log's docstring says why).
     Returns t, value (N, 13 IN_COLS), valid and the INS arrays (vy at the
     CG, ins_x)."""
-    d = np.genfromtxt(log, delimiter=",", skip_header=1)
-    t0 = d[0, 0]
-    t = d[:, 0] - t0
-    vx, vy = d[:, 3], d[:, 4]
-    r, delta, ax = d[:, 7], d[:, 6], d[:, 8]
-    ws = d[:, 10:14] / 3.6
-    vy, ay, x_ins = av21_lateral_at_cg(t, vx, vy, r)
+    d = av21_log.read(log)
+    t, vx, r = d["t"], d["vx"], d["r"]
+    ws = d["ws"]
+    vy, ay, x_ins = av21_log.lateral_at_cg(t, vx, d["vy"], r)
+    cols = [ws[:, 0], ws[:, 1], ws[:, 2], ws[:, 3], d["delta"], r, d["ax"], ay, vx]
     tg = np.arange(0.0, t[-1], 1.0 / AV21_RATE_HZ)
-    cols = [ws[:, 0], ws[:, 1], ws[:, 2], ws[:, 3], delta, r, ax, ay, vx]
     value = np.zeros((len(tg), len(IN_COLS)))
     valid = np.zeros((len(tg), len(IN_COLS)), dtype=np.uint8)
     for i, c in enumerate(cols):

@@ -2,17 +2,18 @@
 GPL-3.0): axle lateral forces derived from the measured motion, modelled by
 a Magic Formula from the slip angles, fed to the residual loop.
 
-  ay  = vx r + dvy/dt                              (vx, vy, r from the INS)
+  vy_cg, ay = av21_log.lateral_at_cg(...)          (vx, vy, r from the INS;
+              vy in the log's own sign, moved from the INS 0.49 m ahead of
+              the CG to the CG; ay = vx r + d(vy_cg)/dt)
   Fyf = (m lr ay + Iz dr/dt) / l,   Fyr = (m lf ay - Iz dr/dt) / l
-  alpha_f = delta - atan((vy + lf r) / vx),  alpha_r = -atan((vy - lr r) / vx)
+  alpha_f = delta - atan((vy_cg + lf r) / vx),  alpha_r = -atan((vy_cg - lr r) / vx)
   Fz per tyre = axle static load / 2 -+ m ax h / (2 l)   (no aero: a candidate)
 
-Sign of vy: the log's vy is taken as positive to the RIGHT (VY_SIGN = -1).
-With vy positive left the derived axle forces correlate with the slip
-angles with the wrong sign (r = +0.26 rear, -0.22 front, and a calibrated MF
-collapses to its bounds); with -vy both axles give r = -0.75..-0.77 with
-the ISO sign (alpha > 0 -> Fy < 0). vy also correlates +0.93 with r, which
-for a left turn at speed means the rear slides outward only if vy points right.
+Until session 7 this reader turned vy over (positive to the right) and
+left the INS where it is; both were wrong (av21_log, docs/measured-data-
+loop.md, "AV-21"). The logged delta is a steering command the road wheels
+follow about 0.28 s late (est_eval.steer_lag_fit): that is NOT corrected
+here, it is what the loop should find.
 
 Assumptions (not published for the car): Iz = 1000 kg m^2 (the source
 repository identifies 500-2000), CG height h = 0.3 m. Derivatives: central
@@ -29,17 +30,15 @@ import os
 import numpy as np
 from scipy.optimize import least_squares
 
-from .. import tir
+from .. import av21_log, tir
 from .attribution import block_masks
 from .effects import TireModel
 from .io import Dataset
 
-SHARED = "/work/shared/data/iac-av21-deepdynamics/Putnam_park2023_run4_2.csv"
-SUBSET = os.path.join(os.path.dirname(__file__), "..", "..", "..", "tests", "data", "iac-av21",
-                      "putnam_run4_2_subset.csv")
+SHARED = av21_log.LOG
+SUBSET = av21_log.SUBSET
 TIR = "/work/shared/data/mfeval-tir/MagicFormula61_Paramerters.tir"
-M, LF, LR, IZ, H, G = 790.0, 1.248, 1.7328, 1000.0, 0.3, 9.81
-VY_SIGN = -1.0
+M, LF, LR, IZ, H, G = av21_log.MASS, av21_log.LF, av21_log.LR, 1000.0, 0.3, 9.81
 
 
 def smooth(x, n=5):
@@ -47,21 +46,19 @@ def smooth(x, n=5):
 
 
 def read(path=None):
+    """The log from the first time vx > 10 m/s, vy at the CG (log's sign) and
+    the lateral acceleration there."""
     path = path or SHARED
-    d = np.loadtxt(path, delimiter=",", comments="#", ndmin=2)
-    if d.shape[1] == 17:
-        t, vx, vy, delta, r, ax = d[:, 0], d[:, 3], d[:, 4], d[:, 6], d[:, 7], d[:, 8]
-    else:  # the subset: t, vx, vy, delta, omega, ax
-        t, vx, vy, delta, r, ax = (d[:, i] for i in range(6))
-    t = t - t[0]
-    i0 = int(np.argmax(vx > 10.0))
+    d = av21_log.read(path)
+    vy, ay, _ = av21_log.lateral_at_cg(d["t"], d["vx"], d["vy"], d["r"], av21_log.INS_X)
+    i0 = int(np.argmax(d["vx"] > 10.0))
     s = slice(i0, None)
-    return {"t": t[s], "vx": vx[s], "vy": VY_SIGN * vy[s], "delta": delta[s], "r": r[s], "ax": ax[s]}, path
+    return {"t": d["t"][s], "vx": d["vx"][s], "vy": vy[s], "ay": ay[s], "delta": d["delta"][s], "r": d["r"][s],
+            "ax": d["ax"][s]}, path
 
 
 def axle_data(raw):
-    t, vx, vy, r, delta = raw["t"], raw["vx"], raw["vy"], raw["r"], raw["delta"]
-    ay = vx * r + smooth(np.gradient(vy, t))
+    t, vx, vy, r, delta, ay = raw["t"], raw["vx"], raw["vy"], raw["r"], raw["delta"], raw["ay"]
     rdot = smooth(np.gradient(r, t))
     L = LF + LR
     fyf = (M * LR * ay + IZ * rdot) / L

@@ -234,6 +234,70 @@ class Relaxation(Effect):
         return [np.array([s]) for s in (0.1, 0.5, 1.5)]
 
 
+def first_order_lag(x, t, tau):
+    """x through a first-order lag of time constant tau [s], discretized as
+    lib/est does its steering lag (k = min(dt / tau, 1) per sample)."""
+    if tau <= 0.0:
+        return np.asarray(x, dtype=float).copy()
+    x = np.asarray(x, dtype=float)
+    k = np.minimum(np.diff(np.asarray(t, dtype=float)) / tau, 1.0).tolist()
+    y = [float(x[0])] * len(x)
+    xl = x.tolist()
+    for i in range(1, len(xl)):
+        y[i] = y[i - 1] + k[i - 1] * (xl[i] - y[i - 1])
+    return np.array(y)
+
+
+class SteerLag(Effect):
+    """The road wheels follow the steering signal with a first-order lag
+    (steer-by-wire actuator, a logged steering command, steering
+    compliance): the front slip angle built from delta is rebuilt from the
+    lagged delta, alpha_iso' = alpha_iso + delta - lag(delta). Needs a front
+    axle data set with its delta channel (vehicle data turned into axle
+    forces, residual/av21.py)."""
+    name = "steer_lag"
+    pnames = ("tau_s",)
+    x0 = (0.1,)
+    lo = (0.0,)
+    hi = (0.5,)
+    onboard = "lib/est grip_est_config_t.steer_lag (est_eval.steer_lag_fit identifies it from yaw rate)"
+
+    def applicable(self, ds):
+        if ds.meta.get("axle") != "front":
+            return False, "not a front axle"
+        return (_varies(ds, "delta", 1e-4), "no delta channel")
+
+    def predict(self, model, ds, x):
+        d = ds.ch["delta"]
+        return model.predict(ds.ch, {"alpha": ds.ch["alpha"] + d - first_order_lag(d, ds.t, float(x[0]))})
+
+    def starts(self):
+        return [np.array([s]) for s in (0.05, 0.2, 0.4)]
+
+
+class MeasuringPoint(Effect):
+    """The lateral velocity behind the slip angles was measured (or moved)
+    to a point dx off the one assumed (an INS lever arm along x): the slip
+    angles shift by -dx r / vx on both axles (ISO sign; the force side,
+    which uses d(vy)/dt, is left as it is). Needs r and vx channels."""
+    name = "measuring_point"
+    pnames = ("dx_m",)
+    x0 = (0.0,)
+    lo = (-2.0,)
+    hi = (2.0,)
+    onboard = "no tyre term: the velocity source's position in the data reader (av21_log.INS_X)"
+
+    def applicable(self, ds):
+        return (_varies(ds, "r", 1e-3) and "vx" in ds.ch, "no yaw-rate channel")
+
+    def predict(self, model, ds, x):
+        v = np.maximum(np.abs(ds.ch["vx"]), 1.0)
+        return model.predict(ds.ch, {"alpha": ds.ch["alpha"] - float(x[0]) * ds.ch["r"] / v})
+
+    def starts(self):
+        return [np.array([s]) for s in (-0.5, 0.0, 0.5)]
+
+
 class SlipVelocity(Effect):
     """Friction falling with slip speed in the Magic Formula's own LMUV form,
     LMU* = LMU / (1 + LMUV Vs / LONGVL), Vs = |vx| sqrt(kappa^2 + tan^2 alpha)
@@ -556,5 +620,5 @@ class VThermal(VehicleEffect):
 
 
 def all_effects():
-    return [Thermal(), Relaxation(), SlipVelocity(), LoadSensitivity(), Camber(), Pressure(),
+    return [Thermal(), Relaxation(), SteerLag(), MeasuringPoint(), SlipVelocity(), LoadSensitivity(), Camber(), Pressure(),
             AeroLoad(), Bank(), VThermal(), VRelaxation(), VBank(), VAero(), Bias(), Scale(), Delay()]
