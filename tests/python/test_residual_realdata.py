@@ -5,12 +5,12 @@ import unittest
 
 import numpy as np
 
-from grip_tools import tir
+from grip_tools import av21_log, tir
 from grip_tools.residual import attribution, av21, candidates, vehicle
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
-SUBSET = os.path.join(ROOT, "tests", "data", "iac-av21", "putnam_run4_2_subset.csv")
+SUBSET = av21_log.SUBSET
 REPLAY = os.environ.get("GRIP_REPLAY", os.path.join(ROOT, "build", "float-gcc", "bin", "grip-replay"))
 
 

@@ -59,6 +59,11 @@ def ins_offset(vx, vy, r, lr=LR):
     return float(xl - lr), float(c0), float(k)
 
 
+def smooth(x, n=5):
+    """n-sample centred moving average (the log's derivatives: 0.2 s at 25 Hz)."""
+    return np.convolve(x, np.ones(n) / n, mode="same")
+
+
 def lateral_at_cg(t, vx, vy, r, x_ins=None):
     """The INS's vy moved to the CG and the lateral acceleration there:
     vy_cg = vy - x r (x from ins_offset unless given), ay = vx r +
@@ -67,5 +72,5 @@ def lateral_at_cg(t, vx, vy, r, x_ins=None):
     if x_ins is None:
         x_ins = ins_offset(vx, vy, r)[0]
     vy_cg = vy - x_ins * r
-    ay = vx * r + np.convolve(np.gradient(vy_cg, t), np.ones(5) / 5.0, mode="same")
+    ay = vx * r + smooth(np.gradient(vy_cg, t))
     return vy_cg, ay, x_ins

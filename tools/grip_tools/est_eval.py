@@ -322,8 +322,6 @@ def table_c(results, c_results, notes):
 # ---------------------------------------------------------------------------
 # Real data: the Dallara AV-21 on the Putnam Park road course
 
-AV21_LOG = av21_log.LOG
-AV21_MASS = av21_log.MASS
 AV21_RATE_HZ = 100
 # No .tir exists for the AV-21's slicks: the stand-in is PacejkaBook_Defaults
 # with its nominal load moved to the car's static wheel load (LFZO = 0.5:
@@ -333,7 +331,7 @@ AV21_STANDIN = {"LFZO": "0.5", "LMUX": "1.5", "LMUY": "1.5"}
 # grip-replay's `--vehicle av21` preset (port/linux/grip_replay.c) as est_ref
 # configuration keys (tests/python/test_est_csv.py checks the two agree);
 # steer_lag is the value steer_lag_fit identified on the log
-AV21_VEHICLE = dict(mass=AV21_MASS, iz=1000.0, lf=av21_log.LF, lr=av21_log.LR, track_f=1.6, track_r=1.6, h_cg=0.30,
+AV21_VEHICLE = dict(mass=av21_log.MASS, iz=1000.0, lf=av21_log.LF, lr=av21_log.LR, track_f=1.6, track_r=1.6, h_cg=0.30,
                     steer_ratio=1.0, wheel_radius=0.30, roll_split_front=0.5, roll_gradient=0.001,
                     steer_lag=0.28)
 
@@ -571,7 +569,7 @@ def main(argv=None):
     ap.add_argument("--c-bin", action="append", default=[], metavar="ARITH=PATH",
                     help="grip-replay of a build (default build/float-gcc, build/fixed-gcc)")
     ap.add_argument("--no-c", action="store_true", help="evaluate est_ref only")
-    ap.add_argument("--av21", nargs="?", const=AV21_LOG, default=None, metavar="LOG",
+    ap.add_argument("--av21", nargs="?", const=av21_log.LOG, default=None, metavar="LOG",
                     help="also run the C builds on the Dallara AV-21 log (default %(const)s): <out>/av21.json, "
                          "av21.png, av21_standin.tir")
     a = ap.parse_args(argv)

@@ -35,20 +35,14 @@ from .attribution import block_masks
 from .effects import TireModel
 from .io import Dataset
 
-SHARED = av21_log.LOG
-SUBSET = av21_log.SUBSET
 TIR = "/work/shared/data/mfeval-tir/MagicFormula61_Paramerters.tir"
 M, LF, LR, IZ, H, G = av21_log.MASS, av21_log.LF, av21_log.LR, 1000.0, 0.3, 9.81
-
-
-def smooth(x, n=5):
-    return np.convolve(x, np.ones(n) / n, mode="same")
 
 
 def read(path=None):
     """The log from the first time vx > 10 m/s, vy at the CG (log's sign) and
     the lateral acceleration there."""
-    path = path or SHARED
+    path = path or av21_log.LOG
     d = av21_log.read(path)
     vy, ay, _ = av21_log.lateral_at_cg(d["t"], d["vx"], d["vy"], d["r"], av21_log.INS_X)
     i0 = int(np.argmax(d["vx"] > 10.0))
@@ -59,7 +53,7 @@ def read(path=None):
 
 def axle_data(raw):
     t, vx, vy, r, delta, ay = raw["t"], raw["vx"], raw["vy"], raw["r"], raw["delta"], raw["ay"]
-    rdot = smooth(np.gradient(r, t))
+    rdot = av21_log.smooth(np.gradient(r, t))
     L = LF + LR
     fyf = (M * LR * ay + IZ * rdot) / L
     fyr = (M * LF * ay - IZ * rdot) / L

@@ -13,6 +13,7 @@ import time
 
 import numpy as np
 
+from .. import av21_log
 from . import manoeuvres as M, model, sensors, vehicles
 
 DEG = math.pi / 180.0
@@ -204,24 +205,21 @@ def split_mu(out, rep):
                            v_end_kmh=float(res["vx"][-1, 0] * 3.6))
 
 
-AV21_LOG = "/work/shared/data/iac-av21-deepdynamics/Putnam_park2023_run4_2.csv"
-
-
 def replay_av21(out, rep, t_from=255.0, t_to=285.0):
     """Replay of the measured AV-21 steering and speed (open-loop steering,
     speed tracked by SpeedHold): simulated vs measured yaw rate."""
-    if not os.path.exists(AV21_LOG):
-        print(f"replay_av21: {AV21_LOG} not found, skipped")
+    if not os.path.exists(av21_log.LOG):
+        print(f"replay_av21: {av21_log.LOG} not found, skipped")
         return
-    d = np.loadtxt(AV21_LOG, delimiter=",", comments="#")
-    t = d[:, 0] - d[0, 0]
+    d = av21_log.read()
+    t = d["t"]
     sel = (t >= t_from) & (t <= t_to)
     v = vehicles.av21()
-    sc = M.replay(v, t[sel], d[sel, 3], delta=d[sel, 6])
+    sc = M.replay(v, t[sel], d["vx"][sel], delta=d["delta"][sel])
     res = model.simulate(v, sc, h=2e-3, record_every=10)
     ts = res.t + t[sel][0]
-    om_meas = np.interp(ts, t, d[:, 7])
-    vx_meas = np.interp(ts, t, d[:, 3])
+    om_meas = np.interp(ts, t, d["r"])
+    vx_meas = np.interp(ts, t, d["vx"])
     om_sim = res["r"][:, 0]
     rep["replay_av21"] = dict(window_s=[t_from, t_to],
                               yaw_rms_err=float(np.sqrt(np.mean((om_sim - om_meas) ** 2))),
