@@ -38,6 +38,30 @@ static grip_real_t between_zero(grip_real_t x, grip_real_t f)
     return r_clamp(x, r_min(f, R_ZERO), r_max(f, R_ZERO));
 }
 
+/* Wheel-speed reference while neither braking nor driving, from the mean
+ * of the trusted wheels. When they spread wider than SPREAD_REL |vx| +
+ * SPREAD_ABS (a driven wheel slipping in a corner, below the outlier test)
+ * the mean moves towards the cluster the odd wheel left: a > 0 (mean below
+ * the middle, one wheel high) towards vmin, a < 0 towards vmax, by the
+ * weight w that reaches 1 at twice the threshold. Continuous in every
+ * input: a switch between the mean and one wheel chattered. */
+static grip_real_t spread_reference(grip_real_t v_mean, grip_real_t vmin, grip_real_t vmax, grip_real_t vx_pred)
+{
+    grip_real_t sp = r_sub(vmax, vmin);
+    grip_real_t thr = r_add(r_mul(RC(EST_SPREAD_REL), r_abs(vx_pred)), RC(EST_SPREAD_ABS));
+    grip_real_t v = v_mean;
+    if (sp > thr) {
+        grip_real_t w = r_min(r_div(r_sub(sp, thr), thr), R_ONE);
+        grip_real_t a = sym_clamp(r_div(r_mul(RC(4.0), r_sub(r_add(vmax, vmin), r_mul(RC(2.0), v_mean))), sp), R_ONE);
+        if (a > R_ZERO) {
+            v = r_add(v_mean, r_mul(r_mul(w, a), r_sub(vmin, v_mean)));
+        } else {
+            v = r_sub(v_mean, r_mul(r_mul(w, a), r_sub(vmax, v_mean)));
+        }
+    }
+    return v;
+}
+
 /* One tire evaluation through the axle's model (the tagged union). */
 static grip_status_t tire_eval(const grip_est_tire_t *t, const grip_mf_input *in, grip_mf_output *out)
 {
@@ -708,7 +732,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
             } else if (ax > RC(EST_AX_TH)) {
                 v_ref = vmin;
             } else {
-                v_ref = r_mul(inv_n[n_ws], vsum);
+                v_ref = spread_reference(r_mul(inv_n[n_ws], vsum), vmin, vmax, vx_pred);
             }
             {
                 /* wheels agree with each other: trust them (fully when they also

@@ -25,6 +25,11 @@
 #define EST_AX_TH    0.3     /* m/s^2: braking / driving wheel selection       */
 #define EST_K_HI     5.0     /* 1/s: wheel-speed gain of the vx filter         */
 #define EST_WHEEL_DEV 0.15   /* a wheel 15 % (+0.5 m/s) off the vehicle is locked / spinning */
+/* neither braking nor driving: trusted wheels spread wider than
+ * SPREAD_REL |vx| + SPREAD_ABS move the reference from their mean towards
+ * the cluster the odd wheel left (fully at twice that spread) */
+#define EST_SPREAD_REL 0.01
+#define EST_SPREAD_ABS 0.1   /* m/s */
 #define EST_K_LO     0.5     /* 1/s: gain when the wheels disagree             */
 #define EST_K_MID    1.5     /* 1/s: all wheels agree, but not with the prediction */
 /* braking slips every wheel: wheels below the prediction pull vx at K_SLIP */

@@ -4,7 +4,8 @@ covariance symmetric positive definite, tracking on the internal
 single-track generator (vx, beta, mu after excitation), the understeer-limit
 friction measurement (unused on dry, brings mu down on the simulator's snow
 step steer), the longitudinal speed while braking (slipping and locked
-wheels, the learned ax offset), input handling (hold, NaN, standstill), the
+wheels, the learned ax offset, one wheel slipping below the outlier test),
+input handling (hold, NaN, standstill), the
 steering lag and its identification from a log (est_eval.steer_lag_fit), and
 the golden writer's file format."""
 import math
@@ -289,6 +290,44 @@ class LongitudinalSpeedTests(unittest.TestCase):
         self.assertAlmostEqual(est.ax_off, 0.5, delta=0.05)
         o, v = self._brake(est, ax_offset=0.5)
         self.assertLess(abs(o["vx"] / v - 1.0), 0.01)
+
+
+class SpreadReferenceTests(unittest.TestCase):
+    """The wheel-speed reference while neither braking nor driving when one
+    trusted wheel runs away from the others (a driven wheel slipping in a
+    corner, below the 15 % outlier test)."""
+
+    def test_agreeing_wheels_give_their_mean(self):
+        self.assertEqual(est_ref.spread_reference(20.1, 20.0, 20.2, 20.0), 20.1)
+
+    def test_one_wheel_high_or_low_is_left_out(self):
+        # three wheels at 20, one at 22.4: the mean (20.6) reads 3 % high
+        self.assertAlmostEqual(est_ref.spread_reference(20.6, 20.0, 22.4, 20.0), 20.0)
+        # three at 20, one at 17.6: back to the three
+        self.assertAlmostEqual(est_ref.spread_reference(19.4, 17.6, 20.0, 20.0), 20.0)
+
+    def test_continuous_in_the_odd_wheel(self):
+        # the fourth wheel swept from 20 to 23 m/s in 1 mm/s steps: the
+        # reference never jumps (the switching form moved by the whole
+        # spread at its threshold and chattered)
+        odd = np.arange(20.0, 23.0, 0.001)
+        ref = np.array([est_ref.spread_reference((60.0 + w) / 4.0, 20.0, w, 20.0) for w in odd])
+        step = np.max(np.abs(np.diff(ref)))
+        print(f"\n# spread reference: largest change {step * 1000:.2f} mm/s per 1 mm/s of the odd wheel", flush=True)
+        self.assertLess(step, 0.01)
+        self.assertAlmostEqual(ref[-1], 20.0)
+
+    def test_estimator_ignores_a_wheel_slipping_twelve_percent(self):
+        est = est_ref.Estimator(est_ref.config(_params()))
+        value, valid = _sample(20.0)
+        for _ in range(100):
+            est.step(value, valid)
+        value[0] = 22.4
+        for _ in range(300):
+            o = est.step(value, valid)
+        print(f"\n# one wheel 12 % high for 3 s: vx {o['vx']:.3f} m/s (true 20, mean 20.6)", flush=True)
+        self.assertAlmostEqual(o["vx"], 20.0, delta=0.1)
+        self.assertFalse(o["flags"] & (est_ref.F_WHEEL_SPIN | est_ref.F_WHEEL_LOCK))
 
 
 class SteeringLagTests(unittest.TestCase):

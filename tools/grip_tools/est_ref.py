@@ -31,6 +31,10 @@ V_ON, V_OFF, V_STAND, V_EXC = 3.0, 2.5, 0.3, 5.0
 HOLD_T, NOWHEEL_T = 0.05, 0.5
 DELTA_MAX, WS_MAX, YAW_MAX, ACC_MAX = 0.7, 120.0, 2.5, 15.0
 AX_TH, K_HI, K_LO, K_MID, WHEEL_DEV = 0.3, 5.0, 0.5, 1.5, 0.15
+# neither braking nor driving: wheels spread wider than SPREAD_REL |vx| +
+# SPREAD_ABS (a driven wheel slipping in a corner, below the outlier test)
+# move the mean towards the cluster the odd wheel left, fully at twice that
+SPREAD_REL, SPREAD_ABS = 0.01, 0.1
 # braking: every wheel slips, slower than the car; wheels below the
 # prediction pull vx at K_SLIP only. ax offset (unconfigured grade,
 # accelerometer bias) learned from trusted wheels at K_OFF [1/s^2], within
@@ -123,6 +127,22 @@ def _wheel_velocity(vx, vy, r, xa, ya, cdi, sdi):
     vcx = vx - r * ya
     vcy = vy + r * xa
     return cdi * vcx + sdi * vcy, cdi * vcy - sdi * vcx
+
+
+def spread_reference(v_mean, vmin, vmax, vx_pred):
+    """Wheel-speed reference from the mean of the trusted wheels when they
+    spread wider than the threshold: a > 0 when the mean sits below the
+    middle (one wheel high, e.g. a driven wheel slipping) moves it towards
+    vmin, a < 0 towards vmax; continuous in every input (no switching)."""
+    sp = vmax - vmin
+    thr = SPREAD_REL * abs(vx_pred) + SPREAD_ABS
+    if sp <= thr:
+        return v_mean
+    w = min((sp - thr) / thr, 1.0)
+    a = _clamp(4.0 * (vmax + vmin - 2.0 * v_mean) / sp, -1.0, 1.0)
+    if a > 0.0:
+        return v_mean + w * a * (vmin - v_mean)
+    return v_mean - w * a * (vmax - v_mean)
 
 
 def _tire(P, kappa, alpha, fz, vx):
@@ -361,7 +381,7 @@ class Estimator:
             elif ax > AX_TH:
                 v_ref = vmin
             else:
-                v_ref = vsum / n_ws
+                v_ref = spread_reference(vsum / n_ws, vmin, vmax, vx_pred)
             agree = (vmax - vmin) <= 0.5 + 0.05 * abs(vx_pred)
             k = ((K_MID if (lock or spin) else K_HI) if agree else K_LO)
             trusted = agree and not lock and not spin
