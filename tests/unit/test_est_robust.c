@@ -96,6 +96,15 @@ static void run(grip_est_t *e, grip_input_sample_t *s, int n, grip_est_output_t 
     }
 }
 
+/* A fresh estimator settled for n steps on the steady circle (v, ay);
+ * s is left holding that circle's sample. */
+static void settle(grip_est_t *e, grip_input_sample_t *s, double v, double ay, int n, grip_est_output_t *o)
+{
+    make_est(e);
+    circle(s, v, ay);
+    run(e, s, n, o);
+}
+
 static void test_api_errors(void **state)
 {
     grip_est_t e;
@@ -143,9 +152,7 @@ static void test_steady_circle(void **state)
     grip_est_output_t o;
     grip_input_sample_t s;
     (void)state;
-    make_est(&e);
-    circle(&s, 20.0, 4.0);
-    run(&e, &s, 300, &o);
+    settle(&e, &s, 20.0, 4.0, 300, &o);
     assert_true(o.valid & GRIP_EST_V_VX);
     assert_true(o.valid & GRIP_EST_V_BETA);
     assert_true(o.valid & GRIP_EST_V_YAW_REF);
@@ -170,9 +177,7 @@ static void test_bad_inputs_and_recovery(void **state)
     grip_input_sample_t s, bad;
     int id;
     (void)state;
-    make_est(&e);
-    circle(&s, 20.0, 3.0);
-    run(&e, &s, 200, &ref);
+    settle(&e, &s, 20.0, 3.0, 200, &ref);
     for (id = 0; id < 8; ++id) {
         bad = s;
 #if GRIP_ARITH_FIXED
@@ -273,9 +278,7 @@ static void test_wheel_lock_spin_steer_lock(void **state)
     grip_est_output_t o;
     grip_input_sample_t s, bad;
     (void)state;
-    make_est(&e);
-    circle(&s, 20.0, 0.0);
-    run(&e, &s, 100, &o);
+    settle(&e, &s, 20.0, 0.0, 100, &o);
     /* braking with the rear left wheel locked: vx follows the fastest wheel */
     bad = s;
     bad.value[GRIP_IN_AX] = qs(-4.0);
@@ -315,9 +318,7 @@ static void test_one_driven_wheel_slipping(void **state)
     grip_est_output_t o;
     grip_input_sample_t s, slip;
     (void)state;
-    make_est(&e);
-    circle(&s, 20.0, 4.0);
-    run(&e, &s, 300, &o);
+    settle(&e, &s, 20.0, 4.0, 300, &o);
     slip = s;
     slip.value[GRIP_IN_WHEEL_SPEED_FL] = qs(1.12 * dq(s.value[GRIP_IN_WHEEL_SPEED_FL]));
     run(&e, &slip, 300, &o);
@@ -340,9 +341,7 @@ static void test_all_wheels_locked(void **state)
     grip_input_sample_t s, bad;
     int i;
     (void)state;
-    make_est(&e);
-    circle(&s, 20.0, 0.0);
-    run(&e, &s, 100, &o);
+    settle(&e, &s, 20.0, 0.0, 100, &o);
     bad = s;
     bad.value[GRIP_IN_AX] = qs(-3.0);
     for (i = 0; i < 4; ++i) {
@@ -372,9 +371,7 @@ static void test_reset_keeps_config(void **state)
     grip_est_output_t o;
     grip_input_sample_t s;
     (void)state;
-    make_est(&e);
-    circle(&s, 20.0, 3.0);
-    run(&e, &s, 100, &o);
+    settle(&e, &s, 20.0, 3.0, 100, &o);
     assert_int_equal(grip_est_reset(&e), GRIP_OK);
     run(&e, &s, 1, &o);
     assert_true(o.flags & GRIP_EST_F_RESET);
