@@ -32,6 +32,14 @@ def _sample(ws=20.0):
     return value, valid
 
 
+def _steps(est, n, value, valid):
+    """n steps of the same sample; the last output."""
+    o = None
+    for _ in range(n):
+        o = est.step(value, valid)
+    return o
+
+
 class ConstantsTests(unittest.TestCase):
     def test_derived_constants(self):
         est = est_ref.Estimator(est_ref.config(_params()))
@@ -173,13 +181,11 @@ class InputTests(unittest.TestCase):
     def test_nan_is_invalid_and_held(self):
         est = est_ref.Estimator(est_ref.config(_params()))
         value, valid = _sample()
-        for _ in range(50):
-            est.step(value, valid)
+        _steps(est, 50, value, valid)
         value[est_ref.AY] = float("nan")
         o = est.step(value, valid)
         self.assertTrue(o["valid"] & est_ref.V_BETA)          # held
-        for _ in range(10):
-            o = est.step(value, valid)
+        o = _steps(est, 10, value, valid)
         self.assertFalse(o["valid"] & est_ref.V_BETA)
         self.assertTrue(o["flags"] & est_ref.F_NO_AY)
 
@@ -188,8 +194,7 @@ class InputTests(unittest.TestCase):
         est = est_ref.Estimator(est_ref.config(_params()))
         value, valid = _sample(0.0)
         value[est_ref.YAW] = 0.006
-        for _ in range(200):
-            o = est.step(value, valid)
+        o = _steps(est, 200, value, valid)
         self.assertLess(abs(o["yaw_rate_bias"] - 0.006), 0.0005)
         self.assertLess(abs(o["yaw_rate"]), 0.0005)
 
@@ -215,8 +220,7 @@ class InputTests(unittest.TestCase):
         est = est_ref.Estimator(est_ref.config(_params()))
         value, valid = _sample(0.0)
         value[est_ref.AX] = 0.3
-        for _ in range(300):
-            o = est.step(value, valid)
+        o = _steps(est, 300, value, valid)
         self.assertEqual(o["vx"], 0.0)
         self.assertTrue(o["flags"] & est_ref.F_STANDSTILL)
         self.assertFalse(o["valid"] & est_ref.V_BETA)
@@ -231,10 +235,7 @@ class LongitudinalSpeedTests(unittest.TestCase):
         """n steps with every wheel at ws and the accelerometer at ax."""
         value, valid = _sample(ws)
         value[est_ref.AX] = ax
-        o = None
-        for _ in range(n):
-            o = est.step(value, valid)
-        return o
+        return _steps(est, n, value, valid)
 
     def _brake(self, est, ax_offset=0.0):
         """2 s braking at 4 m/s^2 from 20 m/s with every wheel 3 % slower
@@ -320,11 +321,9 @@ class SpreadReferenceTests(unittest.TestCase):
     def test_estimator_ignores_a_wheel_slipping_twelve_percent(self):
         est = est_ref.Estimator(est_ref.config(_params()))
         value, valid = _sample(20.0)
-        for _ in range(100):
-            est.step(value, valid)
+        _steps(est, 100, value, valid)
         value[0] = 22.4
-        for _ in range(300):
-            o = est.step(value, valid)
+        o = _steps(est, 300, value, valid)
         print(f"\n# one wheel 12 % high for 3 s: vx {o['vx']:.3f} m/s (true 20, mean 20.6)", flush=True)
         self.assertAlmostEqual(o["vx"], 20.0, delta=0.1)
         self.assertFalse(o["flags"] & (est_ref.F_WHEEL_SPIN | est_ref.F_WHEEL_LOCK))
