@@ -165,7 +165,7 @@ class UndersteerLimitTests(unittest.TestCase):
             cli.main(["-m", "step-steer", "-s", "snow", "-o", d, "--no-plot"])
             cols = est_eval.read_csv(os.path.join(d, "sensors.csv"))
             t, value, valid = est_ref.inputs_from_sensors(cols)
-            t_limit = est_eval.evaluate(d, est_eval.estimate(d))["mu_t0_lim"]
+            t_limit = est_eval.limit_onset(d, t)
         ends = {}
         for zmax in (est_ref.US_ZMAX, 0.0):
             saved = est_ref.US_ZMAX

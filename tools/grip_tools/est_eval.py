@@ -204,11 +204,7 @@ def evaluate(run_dir, est):
     mu_t = np.mean([at(f"mu_road_{w}") for w in WHEELS], axis=0)
     fyf_t = at("fy_fl") + at("fy_fr")
     fyr_t = at("fy_rl") + at("fy_rr")
-    util_t = np.zeros_like(t)
-    for w in WHEELS:
-        fz = np.maximum(at(f"fz_{w}"), 1.0)
-        peak = np.maximum(np.maximum(at(f"mux_{w}"), at(f"muy_{w}")), 1e-3)
-        util_t = np.maximum(util_t, np.hypot(at(f"fx_{w}"), at(f"fy_{w}")) / (peak * fz))
+    util_t = _truth_utilization(at)
     ok = ((est["valid"] & est_ref.V_BETA) != 0) & (vx_t > 5.0)
     r = {"rows": int(len(t)), "valid_rows": int(ok.sum())}
     if ok.sum() == 0:
@@ -231,15 +227,43 @@ def evaluate(run_dir, est):
     return r
 
 
+def _truth_utilization(at):
+    """Largest friction utilization of the truth's four tires at each time
+    (at(name): the truth column on the evaluation's time grid)."""
+    util_t = 0.0
+    for w in WHEELS:
+        fz = np.maximum(at(f"fz_{w}"), 1.0)
+        peak = np.maximum(np.maximum(at(f"mux_{w}"), at(f"muy_{w}")), 1e-3)
+        util_t = np.maximum(util_t, np.hypot(at(f"fx_{w}"), at(f"fy_{w}")) / (peak * fz))
+    return util_t
+
+
+def _onset(t, util_t, vx_t, u_exc):
+    """First time a tire of the truth uses u_exc of its friction above
+    5 m/s ("sufficient excitation"), or None."""
+    exc = np.nonzero((util_t >= u_exc) & (vx_t > 5.0))[0]
+    return float(t[exc[0]]) if len(exc) else None
+
+
+def limit_onset(run_dir, t, u_exc=EXC_LIMIT):
+    """The friction-limit onset of a simulator run (evaluate's mu_t0_lim)
+    on the time grid t, from the truth alone."""
+    tr = read_csv(os.path.join(run_dir, "truth.csv"))
+
+    def at(name):
+        return np.interp(t, tr["time"], tr[name])
+
+    return _onset(t, _truth_utilization(at), at("vx"), u_exc)
+
+
 def _mu_after(t, util_t, vx_t, est, mu_t, u_exc, suffix):
     """mu error, confidence and share within 0.1 one second after the first
     time a tire of the truth uses u_exc of its friction (keys end in suffix)."""
     r = {}
-    exc = np.nonzero((util_t >= u_exc) & (vx_t > 5.0))[0]
-    if len(exc) == 0:
+    t0 = _onset(t, util_t, vx_t, u_exc)
+    if t0 is None:
         r["mu_t0" + suffix] = None
         return r
-    t0 = float(t[exc[0]])
     k1 = int(np.searchsorted(t, t0 + 1.0))
     r["mu_t0" + suffix] = t0
     if k1 < len(t):
