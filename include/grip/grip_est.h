@@ -82,6 +82,12 @@ typedef struct {
                                 * loads before load transfer                          */
     grip_real_t aero_front;    /* QS front share of the downforce, [0, 1]              */
     grip_real_t air_density;   /* QS kg/m^3, [0.5, 1.5]                                */
+    grip_real_t cda;           /* QS m^2 aerodynamic drag area C_D A, [0, 5]: the drag
+                                * 0.5 air_density cda vx^2 opposes the motion in the
+                                * longitudinal force balance (the ax friction update) */
+    grip_real_t crr;           /* QS rolling-resistance coefficient, [0, 0.05]: crr mass g
+                                * opposes the motion in the same balance (the tire's QSY1
+                                * is the usual value)                                   */
     grip_real_t tan_bank;      /* QS road plane, earth-fixed as in the residual tool: rise
                                 * per metre to the LEFT of the heading at init / reset,
                                 * [-0.5, 0.5]                                          */
@@ -197,6 +203,8 @@ typedef struct {
     grip_real_t ay_fac;         /* QS 1 / (1 + g roll_gradient) */
     grip_real_t fz_base[2];     /* QL per wheel at rest on the road plane: fz_static x cos */
     grip_real_t k_aero[2];      /* QS N/(m/s)^2 downforce per wheel, front / rear */
+    grip_real_t k_drag;         /* QS N/(m/s)^2 drag: 0.5 air_density cda */
+    grip_real_t f_roll;         /* QL N rolling resistance: crr mass g */
     int32_t plane;              /* 1: tan_bank or tan_grade non-zero */
     grip_real_t psi;            /* QS rad heading since reset (only with plane), (-pi, pi] */
     /* state */

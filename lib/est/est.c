@@ -104,6 +104,8 @@ grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_para
     cfg->cla = R_ZERO;
     cfg->aero_front = RC(0.5);
     cfg->air_density = RC(1.2);
+    cfg->cda = R_ZERO;
+    cfg->crr = R_ZERO;
     cfg->tan_bank = R_ZERO;
     cfg->tan_grade = R_ZERO;
     cfg->latency = R_ZERO;
@@ -159,7 +161,8 @@ static grip_status_t check_config(const grip_est_config_t *c)
         !in_range(c->wheel_radius, RC(0.05), RC(2.0)) ||
         !in_range(c->roll_split_front, R_ZERO, R_ONE) || !in_range(c->roll_gradient, R_ZERO, RC(0.05)) || c->rate_hz < 50u || c->rate_hz > 2000u ||
         c->speed_ref_mu > 1u || !in_range(c->cla, R_ZERO, RC(20.0)) || !in_range(c->aero_front, R_ZERO, R_ONE) ||
-        !in_range(c->air_density, RC(0.5), RC(1.5)) || !in_range(c->tan_bank, RC(-0.5), RC(0.5)) ||
+        !in_range(c->air_density, RC(0.5), RC(1.5)) || !in_range(c->cda, R_ZERO, RC(5.0)) ||
+        !in_range(c->crr, R_ZERO, RC(0.05)) || !in_range(c->tan_bank, RC(-0.5), RC(0.5)) ||
         !in_range(c->tan_grade, RC(-0.5), RC(0.5)) || !in_range(c->latency, R_ZERO, RC(0.1)) ||
         !in_range(c->steer_lag, R_ZERO, RC(0.5))) {
         return GRIP_ERR_PARAM;
@@ -310,6 +313,8 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
         }
         est->k_aero[0] = r_mul(kq, cfg->aero_front);
         est->k_aero[1] = r_mul(kq, r_sub(R_ONE, cfg->aero_front));
+        est->k_drag = r_mul(RC(0.5), r_mul(cfg->air_density, cfg->cda));
+        est->f_roll = r_mul(cfg->crr, r_mul(RC(EST_G), cfg->mass));
     }
     est->q[0] = r_div(RC(EST_Q_VY), est->rate);
     est->q[1] = r_div(RC(EST_Q_R), est->rate);
@@ -1005,7 +1010,9 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
             }
         }
         ay_m = r_div(sfy, m);
-        ax_m = r_div(sfx, m);
+        /* the measured ax also carries the drag and the rolling resistance
+         * (vx > 0 here: the lateral observer runs above EST_V_OFF) */
+        ax_m = r_div(r_sub(sfx, r_add(r_mul(est->k_drag, r_qs_to_ql(r_sq(vx))), est->f_roll)), m);
         racc = r_div(smz, c->iz);
 
         excited = vx >= RC(EST_V_EXC) && umax >= RC(EST_EXC_U) && ay_ok && ax_ok && /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */

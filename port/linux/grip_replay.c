@@ -189,7 +189,7 @@ static int vehicle_config(const char *name, const grip_mf_params *tire, int rate
 /* Reads a vehicle file: lines `key = value` (SI units), '#' comments, blank
  * lines. Keys: mass, iz, lf, lr, track (both), track_f, track_r, h_cg,
  * steer_ratio, wheel_radius, roll_split_front, roll_gradient, speed_ref_mu,
- * cla, aero_front, air_density, tan_bank, tan_grade, latency, steer_lag.
+ * cla, aero_front, air_density, cda, crr, tan_bank, tan_grade, latency, steer_lag.
  * The estimator's init checks the ranges. */
 static int vehicle_file(const char *path, grip_est_config_t *cfg)
 {
@@ -217,6 +217,8 @@ static int vehicle_file(const char *path, grip_est_config_t *cfg)
         { "cla", offsetof(grip_est_config_t, cla), VK_QS },
         { "aero_front", offsetof(grip_est_config_t, aero_front), VK_QS },
         { "air_density", offsetof(grip_est_config_t, air_density), VK_QS },
+        { "cda", offsetof(grip_est_config_t, cda), VK_QS },
+        { "crr", offsetof(grip_est_config_t, crr), VK_QS },
         { "tan_bank", offsetof(grip_est_config_t, tan_bank), VK_QS },
         { "tan_grade", offsetof(grip_est_config_t, tan_grade), VK_QS },
         { "latency", offsetof(grip_est_config_t, latency), VK_QS },
@@ -359,7 +361,7 @@ static void usage(FILE *f)
             "      --vehicle-file F   override vehicle values: lines `key = value` (SI): mass iz lf lr\n"
             "                         track track_f track_r h_cg steer_ratio wheel_radius\n"
             "                         roll_split_front roll_gradient speed_ref_mu (0/1) cla aero_front\n"
-            "                         air_density tan_bank tan_grade latency steer_lag [s]\n"
+            "                         air_density cda crr tan_bank tan_grade latency steer_lag [s]\n"
             "      --csv FILE         estimator inputs from FILE ('-' = stdin) instead of CAN: one row per\n"
             "                         estimator step (every --step-ms), '#' lines skipped, a header row\n"
             "                         naming the columns: t_s [s], wheel_speed_fl wheel_speed_fr\n"

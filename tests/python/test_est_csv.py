@@ -167,10 +167,11 @@ class CsvModeTests(unittest.TestCase):
         # a different mass changes the estimate (the file was applied)
         base = np.array([o["beta"] for o in self.ref])
         self.assertGreater(np.max(np.abs(col(rows, "beta") - base)), 10 * TOL["float"]["beta"])
-        # the vehicle-level keys: road plane, downforce, sensor latency, steering lag
+        # the vehicle-level keys: road plane, downforce, drag, rolling
+        # resistance, sensor latency, steering lag
         veh2 = os.path.join(d, "car2.txt")
-        kw = dict(cla=1.5, aero_front=0.45, air_density=1.1, tan_bank=0.03, tan_grade=-0.01, latency=0.02,
-                  steer_lag=0.15)
+        kw = dict(cla=1.5, aero_front=0.45, air_density=1.1, cda=0.7, crr=0.012, tan_bank=0.03, tan_grade=-0.01,
+                  latency=0.02, steer_lag=0.15)
         with open(veh2, "w") as f:
             f.write("".join(f"{k} = {v}\n" for k, v in kw.items()))
         rc, out, err = run(b, ["-e", TIR, "--vehicle", "generic", "--vehicle-file", veh2, "--csv", self.path])

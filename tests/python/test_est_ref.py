@@ -132,6 +132,25 @@ def _run_counting_clamps(cfg, value, valid):
     return outs, n, first
 
 
+def _simulated(test, manoeuvre, surface):
+    """A reference-simulator run (sensor models on) as estimator inputs:
+    (t, value, valid, the truth's friction-limit onset, the truth's road
+    friction on t); skips the test where the simulator is not importable."""
+    try:
+        from grip_tools import est_eval
+        from grip_tools.vehsim import cli
+    except ImportError as e:       # pragma: no cover - scipy-less machine
+        test.skipTest(f"simulator not importable: {e}")
+    with tempfile.TemporaryDirectory() as d:
+        cli.main(["-m", manoeuvre, "-s", surface, "-o", d, "--no-plot"])
+        cols = est_eval.read_csv(os.path.join(d, "sensors.csv"))
+        t, value, valid = est_ref.inputs_from_sensors(cols)
+        tr = est_eval.read_csv(os.path.join(d, "truth.csv"))
+        t_limit = est_eval.limit_onset(d, t)
+    mu_t = np.interp(t, tr["time"], np.mean([tr[f"mu_road_{w}"] for w in ("fl", "fr", "rl", "rr")], axis=0))
+    return t, value, valid, t_limit, mu_t
+
+
 class UndersteerLimitTests(unittest.TestCase):
     """The low-friction measurement at the understeer limit (docs/
     estimator.md, "Friction at the understeer limit")."""
@@ -153,19 +172,11 @@ class UndersteerLimitTests(unittest.TestCase):
         # the reference simulator's step steer on snow (mu 0.3, sensor
         # models on): without the measurement mu stays at its prior 1.0
         # (the model's slips are linear at mu = 1); with it mu ends near 0.3
-        try:
-            from grip_tools import est_eval
-            from grip_tools.vehsim import cli
-        except ImportError as e:       # pragma: no cover - scipy-less machine
-            self.skipTest(f"simulator not importable: {e}")
         # The bound must act early enough for the mu target (within 0.1 one
         # second after the truth reaches the friction limit): within half of
         # that second (a 30 % deficit threshold took 0.96 s here).
-        with tempfile.TemporaryDirectory() as d:
-            cli.main(["-m", "step-steer", "-s", "snow", "-o", d, "--no-plot"])
-            cols = est_eval.read_csv(os.path.join(d, "sensors.csv"))
-            t, value, valid = est_ref.inputs_from_sensors(cols)
-            t_limit = est_eval.limit_onset(d, t)
+        t, value, valid, t_limit, _ = _simulated(self, "step-steer", "snow")
+        from grip_tools import est_eval
         ends = {}
         for zmax in (est_ref.US_ZMAX, 0.0):
             saved = est_ref.US_ZMAX
@@ -184,6 +195,33 @@ class UndersteerLimitTests(unittest.TestCase):
         self.assertEqual(n_off, 0)
         self.assertLess(abs(mu_on - 0.3), 0.1)
         self.assertGreater(mu_off, 0.6)
+
+
+class DrivingResistanceTests(unittest.TestCase):
+    """Drag and rolling resistance in the longitudinal force balance
+    (grip_est_config_t cda / crr; docs/estimator.md, "The ax update")."""
+
+    def test_locked_wheel_mu_on_wet_brake_in_turn(self):
+        # The reference simulator's braking in a turn on a wet road (mu 0.6,
+        # sensor models on): the locked-wheel ax update compares the model's
+        # sum of Fx with the measured ax, which also carries the car's drag
+        # and rolling resistance. Declared (the simulator car's 0.62 m^2 and
+        # QSY1 0.01), mu must stay within the 0.1 target at every step from
+        # one second after the truth reaches its friction limit.
+        t, value, valid, t_limit, mu_t = _simulated(self, "brake-in-turn", "wet")
+        from grip_tools import est_eval
+        self.assertIsNotNone(t_limit)
+        after = t >= t_limit + 1.0
+        cfg = est_eval.est_config()
+        self.assertGreater(cfg["cda"], 0.0)
+        self.assertGreater(cfg["crr"], 0.0)
+        worst = {}
+        for name, c in (("declared", cfg), ("zero", {**cfg, "cda": 0.0, "crr": 0.0})):
+            mu = np.array([o["mu"] for o in est_ref.run(c, value, valid)])
+            worst[name] = float(np.max(np.abs(mu[after] - mu_t[after])))
+        print(f"\n# wet brake in turn: largest |mu error| from {t_limit + 1.0:.2f} s: {worst['declared']:.3f} "
+              f"with cda {cfg['cda']} m^2 and crr {cfg['crr']}, {worst['zero']:.3f} with both 0", flush=True)
+        self.assertLessEqual(worst["declared"], 0.1)
 
 
 class InputTests(unittest.TestCase):

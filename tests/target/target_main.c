@@ -60,7 +60,7 @@ typedef struct {
 } tv_seq;
 
 #include "tv_vectors.h"
-#if TV_EST_NCFG != 7
+#if TV_EST_NCFG != 9
 #error "tv_vectors.h: EST_CFG_KEYS of gen_vectors.py changed; update run_est's field table"
 #endif
 
@@ -263,10 +263,12 @@ static int run_est(void)
             field[0] = &cfg.cla;
             field[1] = &cfg.aero_front;
             field[2] = &cfg.air_density;
-            field[3] = &cfg.tan_bank;
-            field[4] = &cfg.tan_grade;
-            field[5] = &cfg.latency;
-            field[6] = &cfg.steer_lag;
+            field[3] = &cfg.cda;
+            field[4] = &cfg.crr;
+            field[5] = &cfg.tan_bank;
+            field[6] = &cfg.tan_grade;
+            field[7] = &cfg.latency;
+            field[8] = &cfg.steer_lag;
             for (k = 0; k < TV_EST_NCFG; k++) {
                 if ((sq->cfg_mask >> k) & 1u) {
                     *field[k] = real(tv_est_cfg[q][k]);

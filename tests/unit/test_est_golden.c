@@ -119,6 +119,8 @@ static void run_sequence(const seq_t *sq)
         cfg.cla = to_qs(2.5);
         cfg.aero_front = to_qs(0.42);
         cfg.air_density = to_qs(1.2);
+        cfg.cda = to_qs(0.62);
+        cfg.crr = to_qs(0.01);
         cfg.tan_bank = to_qs(0.04);
         cfg.tan_grade = to_qs(0.02);
         cfg.latency = to_qs(0.02);

@@ -83,13 +83,24 @@ def sim_imu_latency():
     return float(ch.delay + ch.tau)
 
 
+def sim_resistance():
+    """The simulator car's drag area, air density and rolling-resistance
+    coefficient (vehsim vehicles.passenger; the tire's QSY1, the rolling
+    resistance moment the simulator applies to each wheel): what a vehicle
+    data sheet gives for grip_est_config_t.cda / air_density / crr."""
+    from .vehsim import vehicles
+    veh = vehicles.passenger()
+    qsy1 = tir.read_tir(golden_est.tire_path()).get("ROLLING_COEFFICIENTS", "QSY1")
+    return dict(cda=float(veh.cda), air_density=float(veh.rho), crr=float(qsy1))
+
+
 def est_vehicle():
     """The estimator settings for the simulator's runs beyond the passenger
     car of est_ref.config / grip-replay's `generic`: the simulator's IMU
-    latency, and speed_ref_mu = 1 because the simulator's vehicle-speed
-    signal is the true speed with sensor noise, i.e. a calibrated reference
-    that may drive the longitudinal mu update."""
-    return dict(speed_ref_mu=1, latency=sim_imu_latency())
+    latency and its car's drag and rolling resistance. (The simulator sends
+    no vehicle-speed signal, so speed_ref_mu stays 0: the longitudinal mu
+    update runs only with a locked wheel.)"""
+    return dict(latency=sim_imu_latency(), **sim_resistance())
 
 
 def est_config():
@@ -174,7 +185,7 @@ def estimate_c(run_dir, bins):
         path = os.path.join(d, "inputs.csv")
         write_input_csv(path, t, value, valid)
         for a, b in bins.items():
-            # as estimate(): the simulator's speed signal is a calibrated reference
+            # as estimate(): the simulator car's latency, drag and rolling resistance
             out[a] = run_c(b, golden_est.tire_path(), path, vehicle_lines=est_vehicle_lines())
     return out
 

@@ -105,7 +105,7 @@ def config(tire_front, tire_rear=None, rate_hz=100, **kw):
              rate_hz=int(rate_hz),
              dt=1.0 / int(rate_hz),
              speed_ref_mu=0,
-             cla=0.0, aero_front=0.5, air_density=1.2, tan_bank=0.0, tan_grade=0.0,
+             cla=0.0, aero_front=0.5, air_density=1.2, cda=0.0, crr=0.0, tan_bank=0.0, tan_grade=0.0,
              tire=(tire_front, tire_rear if tire_rear is not None else tire_front))
     c.update(kw)
     return c
@@ -195,6 +195,8 @@ class Estimator:
         self.fz_base = [f * fzn for f in self.fz_static] if self.plane else list(self.fz_static)
         af = c.get("aero_front", 0.5)
         self.k_aero = [kq * af, kq * (1.0 - af)]
+        self.k_drag = 0.5 * c.get("air_density", 1.2) * c.get("cda", 0.0)
+        self.f_roll = c.get("crr", 0.0) * G * c["mass"]
         rate = c["rate_hz"]
         lag = c.get("steer_lag", 0.0)
         self.steer_k = min(1.0 / (lag * rate), 1.0) if lag > 0.0 else 1.0
@@ -553,7 +555,10 @@ class Estimator:
                 fxa = fx[2 * a] + fx[2 * a + 1]
                 if fzx > 100.0:
                     o["util_axle"][a] = min(math.hypot(fxa / fzx, (fy[2 * a] + fy[2 * a + 1]) / fzx) / (mu * self.mu0[a]), 1.5)
-            ay_m, ax_m, racc = sfy / m, sfx / m, smz / c["iz"]
+            # the measured ax also carries the drag and the rolling resistance
+            # (vx > 0 here: the lateral observer runs above V_OFF)
+            ay_m, racc = sfy / m, smz / c["iz"]
+            ax_m = (sfx - (self.k_drag * vx * vx + self.f_roll)) / m
             excited = (vx >= V_EXC and umax >= EXC_U and ay_ok and ax_ok and abs(ax) + abs(ay) >= EXC_A)
             av2 = 0.01 * self.k_us * vx * vx
             den_l = max(l * (1 + av2), 0.1 * l)

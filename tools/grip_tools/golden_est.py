@@ -12,9 +12,13 @@ Input sequences (the C test replays exactly the same rows):
   aero_bank_100hz the internal generator at 30 m/s, run with the vehicle-level
                   effects on: downforce C_L A = 2.5 m^2 (front share 0.42,
                   rho 1.2), road bank tan = 0.04 (rise to the left) and grade
-                  tan = 0.02, sensor latency 20 ms (outputs extrapolated),
+                  tan = 0.02, drag area C_D A = 0.62 m^2 and rolling
+                  resistance 0.01, sensor latency 20 ms (outputs extrapolated),
                   road wheels 0.1 s (first order) behind the steering signal
-                  (AERO_BANK below; test_est_golden.c sets the same)
+                  (AERO_BANK below; test_est_golden.c sets the same); the
+                  rear-left wheel locked 0.3 s while braking, so the
+                  locked-wheel ax update (the one that uses drag and rolling
+                  resistance) runs
   sim_sine_dwell  the reference vehicle simulator (grip_tools.vehsim) when
                   present: sine with dwell on a wet road, its sensor models
                   (noise, delay, quantization); skipped if the simulator is
@@ -181,8 +185,9 @@ def out_row(o):
     return row
 
 
-AERO_BANK = dict(cla=2.5, aero_front=0.42, air_density=1.2, tan_bank=0.04, tan_grade=0.02, latency=0.02,
-                 steer_lag=0.1)
+AERO_BANK = dict(cla=2.5, aero_front=0.42, air_density=1.2, cda=0.62, crr=0.01, tan_bank=0.04, tan_grade=0.02,
+                 latency=0.02, steer_lag=0.1)
+AERO_BANK_LOCK = (4.6, 4.9)   # [s] rear-left wheel locked while braking (the locked-wheel ax update)
 
 
 def write_sequence(outdir, name, dt, t, value, valid, note, **cfg_kw):
@@ -223,7 +228,8 @@ def write_golden(outdir):
     fv, fok = inject_faults(t, v, ok)
     write_sequence(outdir, "faults_100hz", 0.01, t, fv, fok, "internal generator with injected faults")
     t, v, ok, _ = bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), v0=30.0)
-    write_sequence(outdir, "aero_bank_100hz", 0.01, t, v, ok, "internal generator at 30 m/s, aero, bank, latency and steering lag on",
+    v[(t >= AERO_BANK_LOCK[0]) & (t < AERO_BANK_LOCK[1]), 2] = 0.0
+    write_sequence(outdir, "aero_bank_100hz", 0.01, t, v, ok, "internal generator at 30 m/s, aero, drag, bank, latency and steering lag on, RL locked while braking",
                    **AERO_BANK)
     sim = sim_inputs()
     path = os.path.join(outdir, "est_sim_sine_dwell.txt")
