@@ -1152,14 +1152,14 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
              * a speed reference that reads a few per cent off the wheel
              * speeds (a speedometer calibration) makes slip of the wrong
              * sign, which would otherwise drive mu down (RAV4 log). */
-            /* A locked wheel slides at the road's friction whatever the
-             * exact speed, so braking with one is a friction measurement
-             * without a speed reference. It is biased (the free wheels'
-             * slips and the drag are in the same sum: mu 0.1 high on the wet
-             * brake in turn), so it moves mu but adds no confidence: the
-             * covariance is kept */
+            /* A braked wheel at 15 % slip or more (locked, or cycled by an
+             * ABS past the tire's peak) works at the road's friction, and
+             * its slip is far above what a 0.3 % speed-reference error
+             * moves: braking with one is a friction measurement without a
+             * speed reference. The free wheels' slips are in the same sum,
+             * so it moves mu but adds no confidence: the covariance is kept */
             ref_ok = (c->speed_ref_mu != 0u) && vs_ok; /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
-            locked = lock && ax < RC(-EST_AX_TH) && kappa_lock; /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
+            locked = ax < RC(-EST_AX_TH) && kappa_lock; /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
             if (excited && (ref_ok || locked) && wheels_ok && umax_x >= RC(EST_EXC_U) &&
                 r_abs(ax) >= RC(EST_EXC_A) && r_mul(kappa_sum, ax) > R_ZERO) {
                 grip_real_t ax_pred = r_add(ax_m, r_mul(r_div(jax_mu, m), r_sub(est->x[2], mu)));

@@ -42,9 +42,10 @@
  * vx valid for DR_T, beta not valid */
 #define EST_DR_AX    0.5     /* m/s^2 */
 #define EST_DR_T     2.0     /* s */
-/* braking with a wheel at |kappa| >= LOCK_K: the ax update measures mu
- * without a speed reference, noise R_LOCK (scaled: 1.5 m/s^2) */
-#define EST_LOCK_K   0.5
+/* braking with a wheel at |kappa| >= LOCK_K (locked, or cycled by an ABS
+ * past the tire's peak): the ax update measures mu without a speed
+ * reference, noise R_LOCK (scaled: 1.5 m/s^2) */
+#define EST_LOCK_K   0.15
 #define EST_R_LOCK   9.0
 #define EST_MU_MIN   0.1
 #define EST_MU_MAX   1.2

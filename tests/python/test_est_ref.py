@@ -224,6 +224,36 @@ class DrivingResistanceTests(unittest.TestCase):
         self.assertLessEqual(worst["declared"], 0.1)
 
 
+class AbsBrakingTests(unittest.TestCase):
+    """Straight braking with an ABS: a braked wheel past 15 % slip is a
+    friction measurement (docs/estimator.md, "The ax update")."""
+
+    def test_mu_on_wet_mu_step(self):
+        # The reference simulator's straight ABS stop from a wet road onto
+        # mu 0.3 (sensor models on, no vehicle-speed signal): the ABS keeps
+        # every wheel below 30 % slip, so a lock threshold of 50 % never
+        # sees one and mu stays at its prior 1.0; at 15 % the cycled wheels
+        # measure it. The mu target: within 0.1 one second after the truth
+        # reaches its friction limit, and from then on.
+        t, value, valid, t_limit, mu_t = _simulated(self, "mu-step", "wet")
+        from grip_tools import est_eval
+        self.assertIsNotNone(t_limit)
+        after = t >= t_limit + 1.0
+        worst = {}
+        saved = est_ref.LOCK_K
+        for lock_k in (saved, 0.5):
+            est_ref.LOCK_K = lock_k
+            try:
+                mu = np.array([o["mu"] for o in est_ref.run(est_eval.est_config(), value, valid)])
+            finally:
+                est_ref.LOCK_K = saved
+            worst[lock_k] = float(np.max(np.abs(mu[after] - mu_t[after])))
+        print(f"\n# wet mu step: largest |mu error| from {t_limit + 1.0:.2f} s: {worst[saved]:.3f} with the "
+              f"slip threshold {saved}, {worst[0.5]:.3f} with 0.5", flush=True)
+        self.assertLessEqual(worst[saved], 0.1)
+        self.assertGreater(worst[0.5], 0.1)
+
+
 class InputTests(unittest.TestCase):
     def test_nan_is_invalid_and_held(self):
         est = est_ref.Estimator(est_ref.config(_params()))

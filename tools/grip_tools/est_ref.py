@@ -40,11 +40,12 @@ SPREAD_REL, SPREAD_ABS = 0.01, 0.1
 # accelerometer bias) learned from trusted wheels at K_OFF [1/s^2], within
 # AX_OFF_MAX [m/s^2]. Every wheel locked or spinning while |ax| >= DR_AX:
 # dead reckoning on ax, V_VX kept for DR_T [s]. A wheel at |kappa| >= LOCK_K
-# while braking makes the ax update a friction measurement (noise R_LOCK)
-# that moves the state but leaves the covariance: no confidence added
+# while braking (locked, or cycled by an ABS past the tire's peak) makes the
+# ax update a friction measurement (noise R_LOCK) that moves the state but
+# leaves the covariance: no confidence added
 K_SLIP, K_OFF, AX_OFF_MAX = 0.2, 1.0, 1.5
 DR_AX, DR_T = 0.5, 2.0
-LOCK_K, R_LOCK = 0.5, 9.0
+LOCK_K, R_LOCK = 0.15, 9.0
 MU_MIN, MU_MAX, MU_INIT = 0.1, 1.2, 1.0
 LIM_TAU, LIM_A, LIM_REL, LIM_ABS, LIM_T = 0.15, 2.0, 0.15, 0.03, 0.2
 # understeer limit (low-friction detection): yaw deficit share US_D against
@@ -649,13 +650,14 @@ class Estimator:
             # ... and only when the slips push the way the car accelerates
             # (a speed reference a few per cent off the wheel speeds makes
             # slip of the wrong sign, which would drive mu down: RAV4 log)
-            # A locked wheel slides at the road's friction whatever the exact
-            # speed, so braking with one is a friction measurement without a
-            # speed reference. It is biased (the free wheels' slips and the
-            # drag are in the same sum: mu 0.1 high on the wet brake in
-            # turn), so it moves mu but adds no confidence (P is kept)
+            # A braked wheel at 15 % slip or more (locked, or cycled by an ABS
+            # past the tire's peak) works at the road's friction, and its slip
+            # is far above what a 0.3 % speed-reference error moves: braking
+            # with one is a friction measurement without a speed reference.
+            # The free wheels' slips are in the same sum, so it moves mu but
+            # adds no confidence (P is kept)
             ref_ok = bool(self.cfg["speed_ref_mu"]) and vs_ok
-            locked = lock and ax < -AX_TH and bool(np.any(np.abs(kappa) >= LOCK_K))
+            locked = ax < -AX_TH and bool(np.any(np.abs(kappa) >= LOCK_K))
             if (excited and (ref_ok or locked) and wheels_ok and umax_x >= EXC_U
                     and abs(ax) >= EXC_A and float(np.sum(kappa)) * ax > 0.0):
                 ax_pred = ax_m + jax_mu / m * (self.x[2] - mu)
