@@ -882,7 +882,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         grip_real_t sfx = R_ZERO, sfy = R_ZERO, smz = R_ZERO;
         grip_real_t vy = est->x[0], r = est->x[1];
         grip_real_t umax = R_ZERO, umax_x = R_ZERO, kappa_sum = R_ZERO, umax_est = R_ZERO;
-        int at_limit = 0, b_ok, kappa_lock = 0, ref_ok, locked;
+        int at_limit = 0, b_ok, kappa_slip = 0, ref_ok, braked_slip;
         grip_real_t f[2][GRIP_EST_NX];   /* rows vy, r of the transition (mu, bias: identity) */
         grip_real_t ay_m, ax_m, racc, dvy, dr, m = c->mass, mu_lb = RC(EST_MU_MIN), nis_ay;
         grip_real_t mu_us = R_ZERO;      /* > 0: upper friction measurement at the understeer limit */
@@ -963,7 +963,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                 umax_x = r_max(umax_x, ulin_x);
                 kappa_sum = r_add(kappa_sum, kappa);
                 if (r_abs(kappa) >= RC(EST_LOCK_K)) {
-                    kappa_lock = 1;
+                    kappa_slip = 1;
                 }
             }
             c2 = r_div(R_ONE, r_add(R_ONE, r_sq(sym_clamp(t, RC(100.0)))));
@@ -1159,8 +1159,8 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
              * speed reference. The free wheels' slips are in the same sum,
              * so it moves mu but adds no confidence: the covariance is kept */
             ref_ok = (c->speed_ref_mu != 0u) && vs_ok; /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
-            locked = ax < RC(-EST_AX_TH) && kappa_lock; /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
-            if (excited && (ref_ok || locked) && wheels_ok && umax_x >= RC(EST_EXC_U) &&
+            braked_slip = ax < RC(-EST_AX_TH) && kappa_slip; /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
+            if (excited && (ref_ok || braked_slip) && wheels_ok && umax_x >= RC(EST_EXC_U) &&
                 r_abs(ax) >= RC(EST_EXC_A) && r_mul(kappa_sum, ax) > R_ZERO) {
                 grip_real_t ax_pred = r_add(ax_m, r_mul(r_div(jax_mu, m), r_sub(est->x[2], mu)));
                 h[0] = R_ZERO;

@@ -99,7 +99,7 @@ def est_vehicle():
     car of est_ref.config / grip-replay's `generic`: the simulator's IMU
     latency and its car's drag and rolling resistance. (The simulator sends
     no vehicle-speed signal, so speed_ref_mu stays 0: the longitudinal mu
-    update runs only with a locked wheel.)"""
+    update runs only while braking with a wheel at 15 % slip or more.)"""
     return dict(latency=sim_imu_latency(), **sim_resistance())
 
 

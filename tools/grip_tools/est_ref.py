@@ -657,8 +657,8 @@ class Estimator:
             # The free wheels' slips are in the same sum, so it moves mu but
             # adds no confidence (P is kept)
             ref_ok = bool(self.cfg["speed_ref_mu"]) and vs_ok
-            locked = ax < -AX_TH and bool(np.any(np.abs(kappa) >= LOCK_K))
-            if (excited and (ref_ok or locked) and wheels_ok and umax_x >= EXC_U
+            braked_slip = ax < -AX_TH and bool(np.any(np.abs(kappa) >= LOCK_K))
+            if (excited and (ref_ok or braked_slip) and wheels_ok and umax_x >= EXC_U
                     and abs(ax) >= EXC_A and float(np.sum(kappa)) * ax > 0.0):
                 ax_pred = ax_m + jax_mu / m * (self.x[2] - mu)
                 h = np.array([0.0, 0.0, _clamp(jax_mu / m * S[2] / S_AY, -H_MAX, H_MAX), 0.0])
