@@ -219,6 +219,10 @@ typedef struct {
     grip_real_t r_lin_f;        /* QS linear yaw-rate reference, low-passed (limit detection) */
     int32_t lim_steps;          /* consecutive steps at the friction limit */
     int32_t us_steps;           /* consecutive steps at the understeer limit (low-friction detection) */
+    int32_t us_low;             /* 1: mu held down by the understeer bound, unconfirmed since */
+    int32_t rel_steps;          /* consecutive steps that contradict that bound (withdrawal) */
+    grip_real_t mu_pre;         /* QS mu before the understeer bound held it down */
+    grip_real_t use_b;          /* QS front friction in use at the bound's last step */
     grip_real_t nis_a;          /* QS low-pass gain of the misfit statistic per step */
     grip_real_t nis_f;          /* QS low-passed ay NIS, [0, 16] (misfit check) */
     grip_real_t sat_f;          /* QS low-passed share of saturated-but-not-at-limit steps, [0, 1] */

@@ -212,6 +212,10 @@ grip_status_t grip_est_reset(grip_est_t *est)
     est->delta_f = R_ZERO;
     est->lim_steps = 0;
     est->us_steps = 0;
+    est->us_low = 0;
+    est->rel_steps = 0;
+    est->mu_pre = R_ZERO;
+    est->use_b = R_ZERO;
     est->nis_f = R_ZERO;
     est->sat_f = R_ZERO;
     est->misfit = 0;
@@ -459,29 +463,65 @@ enum { H_STEER = 0, H_YAW = 1, H_AX = 2, H_AY = 3, H_VS = 4 };
 
 /* Low-friction detection at the understeer limit (docs/estimator.md,
  * "Friction at the understeer limit"): with the yaw rate held below the
- * lagged linear reference by the share dd, the front axle works near its
- * peak. Its friction in use (steady-state share lr / l of ay, load share of
- * ax) over its peak at mu = 1 (each front wheel's peak at its current load)
- * and over the utilization the deficit implies, min(US_UMAX, US_U0 + US_U1
- * dd), bounds mu from above (a bound on the state, no update: it adds no
- * confidence). Returned only when below US_ZMAX (low
- * friction): on dry the test cannot tell 1.0 from 0.85. 0 = no measurement. */
-static grip_real_t understeer_limit_mu(const grip_est_t *est, const grip_real_t fz[4], grip_real_t ay,
-                                       grip_real_t ax, grip_real_t dd, grip_real_t l)
+ * lagged linear reference by the share dd for lim_n steps (us_steps), the
+ * front axle works near its peak. Its friction in use (steady-state share
+ * lr / l of ay, load share of ax) over its peak at mu = 1 (each front
+ * wheel's peak at its current load) and over the utilization the deficit
+ * implies, min(US_UMAX, US_U0 + US_U1 dd), bounds mu from above (a bound on
+ * the state, no update: it adds no confidence). Returned only when below
+ * US_ZMAX (low friction): on dry the test cannot tell 1.0 from 0.85.
+ * 0 = no bound.
+ * Withdrawal: with mu held down by the bound and unconfirmed since
+ * (us_low), the same test saying "no deficit" (steady: |ax| < B_AX) at a
+ * front friction in use of at least REL_K of the one that set the bound, for
+ * lim_n steps, means the deficit was not the tires' (a steering-angle offset
+ * fakes one; once it ends nothing else would lift mu, since in the linear
+ * range the ay update does not see it): mu goes back to its value before. */
+static grip_real_t understeer_bound(grip_est_t *est, const grip_real_t fz[4], grip_real_t ay, grip_real_t ax,
+                                    grip_real_t dd, grip_real_t l, int test_ok)
 {
     const grip_est_config_t *c = &est->cfg;
     grip_real_t fzf = r_add(fz[0], fz[1]);
     grip_real_t fzs = r_max(r_add(fzf, r_add(fz[2], fz[3])), RCL(1.0));
-    grip_real_t pkf = R_ZERO, use_f, z;
+    grip_real_t pkf = R_ZERO, use_f, z = R_ZERO;
     int i;
+    if (test_ok && dd >= RC(EST_US_D)) {
+        est->us_steps = count_up(est->us_steps);
+    } else {
+        est->us_steps = 0;
+    }
+    if (est->p[2][2] <= RC(EST_P_CONF)) {
+        est->us_low = 0;
+    }
+    if (est->us_steps < est->lim_n && !est->us_low) {
+        est->rel_steps = 0;
+        return R_ZERO;
+    }
     for (i = 0; i < 2; ++i) {
         grip_real_t cf = r_add(est->mu0[0], r_mul(est->mu0_k[0], r_sub(r_div(fz[i], est->fz_static[0]), R_ONE)));
         pkf = r_add(pkf, r_mul(cf, fz[i]));
     }
     use_f = r_div(r_sqrt(r_add(r_sq(r_mul(ay, r_div(c->lr, l))), r_sq(r_mul(ax, r_div(fzf, fzs))))),
                   r_max(r_div(pkf, c->mass), RC(0.5)));
-    z = r_div(use_f, r_min(RC(EST_US_UMAX), r_add(RC(EST_US_U0), r_mul(RC(EST_US_U1), dd))));
-    return (z < RC(EST_US_ZMAX)) ? z : R_ZERO; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
+    if (est->us_steps >= est->lim_n) {
+        z = r_div(use_f, r_min(RC(EST_US_UMAX), r_add(RC(EST_US_U0), r_mul(RC(EST_US_U1), dd))));
+        if (z < RC(EST_US_ZMAX)) {
+            est->use_b = use_f;
+        } else {
+            z = R_ZERO;
+        }
+    }
+    if (est->us_low && test_ok && dd > RC(-EST_LIM_REL) && dd < RC(EST_US_D) && r_abs(ax) < RC(EST_B_AX) &&
+        use_f >= r_mul(RC(EST_REL_K), est->use_b)) {
+        est->rel_steps = count_up(est->rel_steps);
+    } else {
+        est->rel_steps = 0;
+    }
+    if (est->rel_steps >= est->lim_n) {
+        est->x[2] = r_max(est->x[2], est->mu_pre);
+        est->us_low = 0;
+    }
+    return z;
 }
 
 static void zero_output(grip_est_output_t *out)
@@ -858,6 +898,8 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         est->r_lin_f = yaw;
         est->lim_steps = 0;
         est->us_steps = 0;
+        est->us_low = 0;
+        est->rel_steps = 0;
         /* gyro bias: random walk; at standstill (every wheel at rest) the
          * yaw rate is zero and the gyro reads its bias */
         est->p[3][3] = r_add(est->p[3][3], est->q[3]);
@@ -1041,15 +1083,9 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
              * the yaw rate against the lagged reference, same turn direction) */
             {
                 grip_real_t dd = (r_abs(est->r_lin_f) > RC(EST_US_R)) ? r_sub(R_ONE, r_div(yaw, est->r_lin_f)) : R_ZERO; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
-                if (lim_ok && ((est->r_lin_f > R_ZERO && ay > R_ZERO) || (est->r_lin_f < R_ZERO && ay < R_ZERO)) &&
-                    dd >= RC(EST_US_D)) {
-                    est->us_steps = count_up(est->us_steps);
-                } else {
-                    est->us_steps = 0;
-                }
-                if (est->us_steps >= est->lim_n) {
-                    mu_us = understeer_limit_mu(est, out->fz, ay, ax, dd, l);
-                }
+                mu_us = understeer_bound(est, out->fz, ay, ax, dd, l,
+                                         lim_ok && ((est->r_lin_f > R_ZERO && ay > R_ZERO) ||
+                                                    (est->r_lin_f < R_ZERO && ay < R_ZERO)));
             }
             if (at_limit) {
                 excited = 1;
@@ -1176,6 +1212,10 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
          * measurements: they add no confidence (a steering-angle offset
          * fakes an understeer deficit, docs/faults.md) */
         mu_lb = r_max(RC(EST_MU_MIN), mu_lb);
+        if (mu_us > R_ZERO && !est->us_low && est->x[2] > r_max(mu_us, mu_lb)) {
+            est->us_low = 1;
+            est->mu_pre = est->x[2];
+        }
         est->x[2] = r_clamp(est->x[2], mu_lb, (mu_us > R_ZERO) ? r_max(mu_us, mu_lb) : RC(EST_MU_MAX)); /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
         est->x[0] = sym_clamp(est->x[0], r_add(r_mul(RC(EST_VY_K), r_abs(vx)), R_ONE));
         est->x[1] = sym_clamp(est->x[1], RC(EST_YAW_MAX));

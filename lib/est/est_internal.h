@@ -68,6 +68,13 @@
 #define EST_US_U1    1.4
 #define EST_US_UMAX  0.85
 #define EST_US_ZMAX  0.8
+/* withdrawal of that bound: mu held down by it and unconfirmed since
+ * (P_mu > EST_P_CONF, i.e. mu_conf < 0.5) goes back to its value before the
+ * bound once the bound's own test has said "no deficit" (-LIM_REL < deficit
+ * < US_D) with |ax| < B_AX for LIM_T at a front friction in use of at
+ * least REL_K of the one at which the bound was last set */
+#define EST_REL_K    0.8
+#define EST_P_CONF   (((EST_CONF_S0 - 0.05) / EST_S_MU) * ((EST_CONF_S0 - 0.05) / EST_S_MU))
 #define EST_G_MIN    0.05    /* floor of the slope factor sqrt(1 - u)          */
 /* scaled units of the covariance (state i in units of S_i) */
 #define EST_S_VY     0.05    /* m/s   */

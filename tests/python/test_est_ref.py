@@ -3,7 +3,7 @@ constants against their definitions, the Joseph update keeping the
 covariance symmetric positive definite, tracking on the internal
 single-track generator (vx, beta, mu after excitation), the understeer-limit
 friction measurement (unused on dry, brings mu down on the simulator's snow
-step steer), the longitudinal speed while braking (slipping and locked
+step steer, withdrawn after a steering-angle offset that faked it), the longitudinal speed while braking (slipping and locked
 wheels, the learned ax offset, one wheel slipping below the outlier test),
 input handling (hold, NaN, standstill), the
 steering lag and its identification from a log (est_eval.steer_lag_fit), and
@@ -195,6 +195,40 @@ class UndersteerLimitTests(unittest.TestCase):
         self.assertEqual(n_off, 0)
         self.assertLess(abs(mu_on - 0.3), 0.1)
         self.assertGreater(mu_off, 0.6)
+
+
+    def test_withdrawn_after_a_steering_offset(self):
+        # golden_est's steer_offset sequence: mu = 1 road, a steady turn at
+        # about 3.4 m/s^2, a steering-wheel offset for 0.7 s that fakes a
+        # yaw deficit. The bound holds mu near 0.35 during it; after it, at
+        # the same lateral acceleration and no deficit, the bound is
+        # withdrawn and mu is back at its value before within 0.6 s.
+        # Without the withdrawal (REL_K out of reach) mu stays low.
+        so = golden_est.STEER_OFFSET
+        t, v, ok, _ = golden_est.bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 1.0), seed=golden_est.SEED + 2,
+                                               steer_gain=so["steer_gain"], brake_demand=0.0)
+        a, b = so["span"]
+        v[(t >= a) & (t < b), est_ref.STEER] += so["offset"]
+        res = {}
+        for rel_k in (est_ref.REL_K, 1e9):
+            saved = est_ref.REL_K
+            est_ref.REL_K = rel_k
+            try:
+                est = est_ref.Estimator(est_ref.config(_params()))
+                mu = np.array([est.step(v[k], ok[k])["mu"] for k in range(len(t))])
+            finally:
+                est_ref.REL_K = saved
+            res[rel_k] = mu
+        on, off = res[est_ref.REL_K], res[1e9]
+        before = on[np.searchsorted(t, a) - 1]
+        during = float(np.min(on[(t >= a) & (t < b)]))
+        back = on[np.searchsorted(t, b + 0.6)]
+        print(f"\n# steering offset {a}-{b} s on mu = 1: mu {before:.3f} before, {during:.3f} lowest during, "
+              f"{back:.3f} at the end + 0.6 s ({off[np.searchsorted(t, b + 0.6)]:.3f} without the withdrawal)",
+              flush=True)
+        self.assertLess(during, 0.5)
+        self.assertLess(abs(back - before), 0.05)
+        self.assertLess(float(np.max(off[(t >= b) & (t < b + 1.0)])), 0.5)
 
 
 class DrivingResistanceTests(unittest.TestCase):

@@ -38,7 +38,8 @@ Q16_STRIDE = 50
 MF89_STRIDE = 8
 THERMAL_F_STRIDE = 16
 BRUSH_STRIDE = 1
-EST_SEQS = ['bicycle_100hz', 'faults_100hz', 'bicycle_1khz', 'sim_sine_dwell', 'aero_bank_100hz']
+EST_SEQS = ['bicycle_100hz', 'faults_100hz', 'bicycle_1khz', 'sim_sine_dwell', 'aero_bank_100hz',
+            'steer_offset_100hz']
 # grip_est_config_t fields a sequence's header may set (golden_est
 # write_sequence's cfg_kw; all QS); the others keep grip_est_config_default
 EST_CFG_KEYS = ['cla', 'aero_front', 'air_density', 'cda', 'crr', 'tan_bank', 'tan_grade', 'latency', 'steer_lag']

@@ -214,6 +214,7 @@ static const seq_t seqs[] = {
     { "est_faults_100hz.txt", 0.01, 0, 0 },
     { "est_sim_sine_dwell.txt", 0.01, 1, 0 },
     { "est_aero_bank_100hz.txt", 0.01, 0, 1 },
+    { "est_steer_offset_100hz.txt", 0.01, 0, 0 },
 };
 
 static void test_bicycle_100hz(void **state) { (void)state; run_sequence(&seqs[0]); }
@@ -221,6 +222,7 @@ static void test_bicycle_1khz(void **state) { (void)state; run_sequence(&seqs[1]
 static void test_faults_100hz(void **state) { (void)state; run_sequence(&seqs[2]); }
 static void test_sim_sine_dwell(void **state) { (void)state; run_sequence(&seqs[3]); }
 static void test_aero_bank_100hz(void **state) { (void)state; run_sequence(&seqs[4]); }
+static void test_steer_offset_100hz(void **state) { (void)state; run_sequence(&seqs[5]); }
 
 int main(void)
 {
@@ -230,6 +232,7 @@ int main(void)
         cmocka_unit_test(test_faults_100hz),
         cmocka_unit_test(test_sim_sine_dwell),
         cmocka_unit_test(test_aero_bank_100hz),
+        cmocka_unit_test(test_steer_offset_100hz),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -52,6 +52,12 @@ LIM_TAU, LIM_A, LIM_REL, LIM_ABS, LIM_T = 0.15, 2.0, 0.15, 0.03, 0.2
 # the lagged reference (above US_R rad/s), implied front-axle utilization
 # min(US_UMAX, US_U0 + US_U1 deficit), an upper bound of mu below US_ZMAX
 US_D, US_R, US_U0, US_U1, US_UMAX, US_ZMAX = 0.2, 0.02, 0.3, 1.4, 0.85, 0.8
+# withdrawal of that bound: mu held down by it and not confirmed since
+# (P_mu above P_CONF, i.e. mu_conf < 0.5) goes back to its value before the
+# bound once the bound's own test has said "no deficit" (-LIM_REL < d <
+# US_D) for LIM_T at a front friction in use of at least REL_K of the one
+# at which the bound was last set
+REL_K = 0.8
 EXC_U, EXC_A, G_MIN = 0.5, 1.0, 0.05
 S = np.array([0.05, 0.005, 0.02, 0.001])  # scaled units of vy, r, mu, gyro bias
 # states are SI except the gyro bias, which is kept in its scaled unit
@@ -70,6 +76,7 @@ VY_K = 1.0              # |vy| <= VY_K |vx| + 1 m/s
 P_MIN, P_MAX = 0.01, 400.0
 H_MAX_VY, H_MAX = 5.0, 2.0
 NU_SIGMA, CONF_S0 = 4.0, 0.15
+P_CONF = ((CONF_S0 - 0.05) / 0.02) ** 2  # P_mu at mu_conf = 0.5 (sigma_mu 0.1)
 # model-consistency (misfit) check (docs/estimator.md), two statistics
 # low-passed over MF_TAU: the ay update's normalized innovation squared
 # (misfit above NIS_HI, the chi-square(1) 95 % point, cleared below NIS_LO)
@@ -222,6 +229,10 @@ class Estimator:
         self.lim_steps = 0
         self.us_steps = 0
         self.us_clamped = False
+        self.us_low = False     # mu held down by the understeer bound, unconfirmed since
+        self.mu_pre = 0.0       # mu before that bound
+        self.use_b = 0.0        # front friction in use at the bound's last step
+        self.rel_steps = 0
         self.active = False
         self.vx_init = False
         self.nis_f = 0.0
@@ -473,6 +484,8 @@ class Estimator:
             self.lim_steps = 0
             self.us_steps = 0
             self.us_clamped = False
+            self.us_low = False
+            self.rel_steps = 0
             # gyro bias: random walk; at standstill (every wheel at rest) the
             # yaw rate is zero, so the gyro reads its bias
             self.P[3, 3] = self.P[3, 3] + self.q[3]
@@ -589,14 +602,33 @@ class Estimator:
             else:
                 self.us_steps = 0
             mu_us = 0.0
-            if self.us_steps >= self.lim_n:
+            if self.P[2, 2] <= P_CONF:
+                self.us_low = False
+            if self.us_steps >= self.lim_n or self.us_low:
                 cf = [self.mu0[0] + self.mu0_k[0] * (fz[i] / self.fz_static[0] - 1.0) for i in (0, 1)]
                 a_pk = max((cf[0] * fz[0] + cf[1] * fz[1]) / m, 0.5)
                 fzs = max(fz[0] + fz[1] + fz[2] + fz[3], 1.0)
                 use_f = math.hypot(ay * (c["lr"] / l), ax * ((fz[0] + fz[1]) / fzs)) / a_pk
-                z = use_f / min(US_UMAX, US_U0 + US_U1 * dd)
-                if z < US_ZMAX:
-                    mu_us = z
+                if self.us_steps >= self.lim_n:
+                    z = use_f / min(US_UMAX, US_U0 + US_U1 * dd)
+                    if z < US_ZMAX:
+                        mu_us = z
+                        self.use_b = use_f
+                # Withdrawal (docs/estimator.md): at the same front friction
+                # in use the deficit that set the bound is gone, so it was
+                # not the tires' (a steering-angle offset fakes one, and its
+                # end leaves mu low with nothing to pull it back: in the
+                # linear range the ay update does not see mu)
+                if (self.us_low and lim_ok and same_turn and -LIM_REL < dd < US_D and abs(ax) < B_AX
+                        and use_f >= REL_K * self.use_b):
+                    self.rel_steps = min(self.rel_steps + 1, BIG)
+                else:
+                    self.rel_steps = 0
+                if self.rel_steps >= self.lim_n:
+                    self.x[2] = max(self.x[2], self.mu_pre)
+                    self.us_low = False
+            else:
+                self.rel_steps = 0
             if at_limit:
                 excited = True
 
@@ -671,6 +703,8 @@ class Estimator:
             mu_lb = max(MU_MIN, min(a_tot / (G * max(self.mu0)), MU_MAX) if (ax_ok and ay_ok) else MU_MIN)
             mu_ub = max(mu_us, mu_lb) if mu_us > 0.0 else MU_MAX
             self.us_clamped = self.x[2] > mu_ub
+            if mu_us > 0.0 and self.us_clamped and not self.us_low:
+                self.us_low, self.mu_pre = True, float(self.x[2])
             self.x[2] = _clamp(self.x[2], mu_lb, mu_ub)
             lim = VY_K * abs(vx) + 1.0
             self.x[0] = _clamp(self.x[0], -lim, lim)

@@ -19,6 +19,12 @@ Input sequences (the C test replays exactly the same rows):
                   rear-left wheel locked 0.3 s while braking, so the
                   locked-wheel ax update (the one that uses drag and rolling
                   resistance) runs
+  steer_offset_100hz the internal generator on mu = 1.0 at 40 % steering and
+                  no braking, a +0.26 rad steering-wheel offset from 4.3 to
+                  5.0 s in the steady turn (STEER_OFFSET below): the offset
+                  fakes an understeer deficit, the understeer bound holds mu
+                  down (~0.35), and after the offset the bound is withdrawn
+                  (mu back to its value before), so that branch runs
   sim_sine_dwell  the reference vehicle simulator (grip_tools.vehsim) when
                   present: sine with dwell on a wet road, its sensor models
                   (noise, delay, quantization); skipped if the simulator is
@@ -53,10 +59,12 @@ def tire_params():
 # ---------------------------------------------------------------------------
 # internal generator: single-track model with Magic Formula axle forces
 
-def bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED, v0=22.0):
+def bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED, v0=22.0, steer_gain=1.0,
+                   brake_demand=3.0):
     """A nonlinear single-track run (steer steps, slalom, braking in a turn).
     mu_road: (mu of the first half, mu of the second half), as a scale of the
-    tire's friction (LMUX, LMUY). Returns time, value (N, 17), valid (N, 17)
+    tire's friction (LMUX, LMUY); steer_gain scales the steering-wheel angle,
+    brake_demand [m/s^2] the braking in the turn. Returns time, value (N, 17), valid (N, 17)
     and the truth dict (vx, vy, r, mu)."""
     P0 = tire_params()
     cfg = est_ref.config(P0)
@@ -86,7 +94,8 @@ def bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED, v0=22.
             swa = 1.6 * math.sin(2 * math.pi * 0.5 * (ph - 2.5))
         else:
             swa = 0.9
-        brake = 3.0 if (ph > 4.5 and ph < 5.5) else 0.0      # m/s^2 deceleration demand
+        swa *= steer_gain
+        brake = brake_demand if (ph > 4.5 and ph < 5.5) else 0.0      # m/s^2 deceleration demand
         delta = swa / cfg["steer_ratio"]
         af = math.atan2(vy + lf * r, vx) - delta
         ar = math.atan2(vy - lr * r, vx)
@@ -187,6 +196,7 @@ def out_row(o):
 
 AERO_BANK = dict(cla=2.5, aero_front=0.42, air_density=1.2, cda=0.62, crr=0.01, tan_bank=0.04, tan_grade=0.02,
                  latency=0.02, steer_lag=0.1)
+STEER_OFFSET = dict(steer_gain=0.4, offset=0.26, span=(4.3, 5.0))  # [-], [rad] steering wheel, [s]
 AERO_BANK_LOCK = (4.6, 4.9)   # [s] rear-left wheel locked while braking (the locked-wheel ax update)
 
 
@@ -231,6 +241,12 @@ def write_golden(outdir):
     v[(t >= AERO_BANK_LOCK[0]) & (t < AERO_BANK_LOCK[1]), 2] = 0.0
     write_sequence(outdir, "aero_bank_100hz", 0.01, t, v, ok, "internal generator at 30 m/s, aero, drag, bank, latency and steering lag on, RL locked while braking",
                    **AERO_BANK)
+    t, v, ok, _ = bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 1.0), seed=SEED + 2,
+                                 steer_gain=STEER_OFFSET["steer_gain"], brake_demand=0.0)
+    a, b = STEER_OFFSET["span"]
+    v[(t >= a) & (t < b), est_ref.STEER] += STEER_OFFSET["offset"]
+    write_sequence(outdir, "steer_offset_100hz", 0.01, t, v, ok,
+                   "internal generator, mu 1.0, 40 % steering, steering offset 4.3-5.0 s (understeer bound withdrawn)")
     sim = sim_inputs()
     path = os.path.join(outdir, "est_sim_sine_dwell.txt")
     if sim is not None:
