@@ -55,8 +55,8 @@ US_D, US_R, US_U0, US_U1, US_UMAX, US_ZMAX = 0.2, 0.02, 0.3, 1.4, 0.85, 0.8
 # withdrawal of that bound: mu held down by it and not confirmed since
 # (P_mu above P_CONF, i.e. mu_conf < 0.5) goes back to its value before the
 # bound once the bound's own test has said "no deficit" (-LIM_REL < d <
-# US_D) for LIM_T at a front friction in use of at least REL_K of the one
-# at which the bound was last set
+# US_D, steady: |ax| < B_AX) for LIM_T at a front friction in use of at
+# least REL_K of the one at which the bound was last set
 REL_K = 0.8
 EXC_U, EXC_A, G_MIN = 0.5, 1.0, 0.05
 S = np.array([0.05, 0.005, 0.02, 0.001])  # scaled units of vy, r, mu, gyro bias
@@ -76,7 +76,7 @@ VY_K = 1.0              # |vy| <= VY_K |vx| + 1 m/s
 P_MIN, P_MAX = 0.01, 400.0
 H_MAX_VY, H_MAX = 5.0, 2.0
 NU_SIGMA, CONF_S0 = 4.0, 0.15
-P_CONF = ((CONF_S0 - 0.05) / 0.02) ** 2  # P_mu at mu_conf = 0.5 (sigma_mu 0.1)
+P_CONF = ((CONF_S0 - 0.05) / S[2]) ** 2  # P_mu at mu_conf = 0.5 (sigma_mu 0.1)
 # model-consistency (misfit) check (docs/estimator.md), two statistics
 # low-passed over MF_TAU: the ay update's normalized innovation squared
 # (misfit above NIS_HI, the chi-square(1) 95 % point, cleared below NIS_LO)
