@@ -472,13 +472,16 @@ enum { H_STEER = 0, H_YAW = 1, H_AX = 2, H_AY = 3, H_VS = 4 };
  * US_ZMAX (low friction): on dry the test cannot tell 1.0 from 0.85.
  * 0 = no bound.
  * Withdrawal: with mu held down by the bound and unconfirmed since
- * (us_low), the same test saying "no deficit" (steady: |ax| < B_AX) at a
- * front friction in use of at least REL_K of the one that set the bound, for
- * lim_n steps, means the deficit was not the tires' (a steering-angle offset
- * fakes one; once it ends nothing else would lift mu, since in the linear
- * range the ay update does not see it): mu goes back to its value before. */
+ * (us_low), the same test saying "no deficit" in steady cornering (steady:
+ * |ax| and |dvy/dt| below B_AX; braking in a turn lowers the deficit while
+ * the front is still at its limit, and a spinning car's yaw rate can match
+ * the reference with the rear sliding) at a front friction in use of at
+ * least REL_K of the one that set the bound, for lim_n steps, means the
+ * deficit was not the tires' (a steering-angle offset fakes one; once it
+ * ends nothing else would lift mu, since in the linear range the ay update
+ * does not see it): mu goes back to its value before. */
 static grip_real_t understeer_bound(grip_est_t *est, const grip_real_t fz[4], grip_real_t ay, grip_real_t ax,
-                                    grip_real_t dd, grip_real_t l, int test_ok)
+                                    grip_real_t dd, grip_real_t l, int test_ok, int steady)
 {
     const grip_est_config_t *c = &est->cfg;
     grip_real_t fzf = r_add(fz[0], fz[1]);
@@ -511,7 +514,7 @@ static grip_real_t understeer_bound(grip_est_t *est, const grip_real_t fz[4], gr
             z = R_ZERO;
         }
     }
-    if (est->us_low && test_ok && dd > RC(-EST_LIM_REL) && dd < RC(EST_US_D) && r_abs(ax) < RC(EST_B_AX) &&
+    if (est->us_low && test_ok && steady && dd > RC(-EST_LIM_REL) && dd < RC(EST_US_D) &&
         use_f >= r_mul(RC(EST_REL_K), est->use_b)) {
         est->rel_steps = count_up(est->rel_steps);
     } else {
@@ -1085,7 +1088,9 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                 grip_real_t dd = (r_abs(est->r_lin_f) > RC(EST_US_R)) ? r_sub(R_ONE, r_div(yaw, est->r_lin_f)) : R_ZERO; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
                 mu_us = understeer_bound(est, out->fz, ay, ax, dd, l,
                                          lim_ok && ((est->r_lin_f > R_ZERO && ay > R_ZERO) ||
-                                                    (est->r_lin_f < R_ZERO && ay < R_ZERO)));
+                                                    (est->r_lin_f < R_ZERO && ay < R_ZERO)),
+                                         r_abs(ax) < RC(EST_B_AX) &&
+                                             r_abs(r_sub(r_add(ay, g_y), r_mul(yaw, vx))) < RC(EST_B_AX));
             }
             if (at_limit) {
                 excited = 1;

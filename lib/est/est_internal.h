@@ -71,8 +71,9 @@
 /* withdrawal of that bound: mu held down by it and unconfirmed since
  * (P_mu > EST_P_CONF, i.e. mu_conf < 0.5) goes back to its value before the
  * bound once the bound's own test has said "no deficit" (-LIM_REL < deficit
- * < US_D) with |ax| < B_AX for LIM_T at a front friction in use of at
- * least REL_K of the one at which the bound was last set */
+ * < US_D) in steady cornering (|ax| and |dvy/dt| = |ay - r vx| below B_AX)
+ * for LIM_T at a front friction in use of at least REL_K of the one at
+ * which the bound was last set */
 #define EST_REL_K    0.8
 #define EST_P_CONF   (((EST_CONF_S0 - 0.05) / EST_S_MU) * ((EST_CONF_S0 - 0.05) / EST_S_MU))
 #define EST_G_MIN    0.05    /* floor of the slope factor sqrt(1 - u)          */

@@ -55,8 +55,9 @@ US_D, US_R, US_U0, US_U1, US_UMAX, US_ZMAX = 0.2, 0.02, 0.3, 1.4, 0.85, 0.8
 # withdrawal of that bound: mu held down by it and not confirmed since
 # (P_mu above P_CONF, i.e. mu_conf < 0.5) goes back to its value before the
 # bound once the bound's own test has said "no deficit" (-LIM_REL < d <
-# US_D, steady: |ax| < B_AX) for LIM_T at a front friction in use of at
-# least REL_K of the one at which the bound was last set
+# US_D) in steady cornering (|ax| and |dvy/dt| = |ay - r vx| below B_AX)
+# for LIM_T at a front friction in use of at least REL_K of the one at
+# which the bound was last set
 REL_K = 0.8
 EXC_U, EXC_A, G_MIN = 0.5, 1.0, 0.05
 S = np.array([0.05, 0.005, 0.02, 0.001])  # scaled units of vy, r, mu, gyro bias
@@ -618,9 +619,12 @@ class Estimator:
                 # in use the deficit that set the bound is gone, so it was
                 # not the tires' (a steering-angle offset fakes one, and its
                 # end leaves mu low with nothing to pull it back: in the
-                # linear range the ay update does not see mu)
+                # linear range the ay update does not see mu). Only in steady
+                # cornering: braking in a turn lowers the deficit while the
+                # front is still at its limit, and a spinning car's yaw rate
+                # can match the reference with the rear axle sliding
                 if (self.us_low and lim_ok and same_turn and -LIM_REL < dd < US_D and abs(ax) < B_AX
-                        and use_f >= REL_K * self.use_b):
+                        and abs(ay + g_y - yaw * vx) < B_AX and use_f >= REL_K * self.use_b):
                     self.rel_steps = min(self.rel_steps + 1, BIG)
                 else:
                     self.rel_steps = 0
