@@ -204,11 +204,8 @@ class UndersteerLimitTests(unittest.TestCase):
         # the same lateral acceleration and no deficit, the bound is
         # withdrawn and mu is back at its value before within 0.6 s.
         # Without the withdrawal (REL_K out of reach) mu stays low.
-        so = golden_est.STEER_OFFSET
-        t, v, ok, _ = golden_est.bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 1.0), seed=golden_est.SEED + 2,
-                                               steer_gain=so["steer_gain"], brake_demand=0.0)
-        a, b = so["span"]
-        v[(t >= a) & (t < b), est_ref.STEER] += so["offset"]
+        t, v, ok = golden_est.steer_offset_inputs()
+        a, b = golden_est.STEER_OFFSET["span"]
         res = {}
         for rel_k in (est_ref.REL_K, 1e9):
             saved = est_ref.REL_K

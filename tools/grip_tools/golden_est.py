@@ -124,6 +124,16 @@ def bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED, v0=22.
     return t, value, valid, truth
 
 
+def steer_offset_inputs():
+    """The steer_offset_100hz inputs (module doc, STEER_OFFSET): time,
+    value, valid."""
+    t, v, ok, _ = bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 1.0), seed=SEED + 2,
+                                 steer_gain=STEER_OFFSET["steer_gain"], brake_demand=0.0)
+    a, b = STEER_OFFSET["span"]
+    v[(t >= a) & (t < b), est_ref.STEER] += STEER_OFFSET["offset"]
+    return t, v, ok
+
+
 def inject_faults(t, value, valid):
     """Faults on a copy of a 100 Hz sequence (documented in the module doc)."""
     v, ok = value.copy(), valid.copy()
@@ -241,10 +251,7 @@ def write_golden(outdir):
     v[(t >= AERO_BANK_LOCK[0]) & (t < AERO_BANK_LOCK[1]), 2] = 0.0
     write_sequence(outdir, "aero_bank_100hz", 0.01, t, v, ok, "internal generator at 30 m/s, aero, drag, bank, latency and steering lag on, RL locked while braking",
                    **AERO_BANK)
-    t, v, ok, _ = bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 1.0), seed=SEED + 2,
-                                 steer_gain=STEER_OFFSET["steer_gain"], brake_demand=0.0)
-    a, b = STEER_OFFSET["span"]
-    v[(t >= a) & (t < b), est_ref.STEER] += STEER_OFFSET["offset"]
+    t, v, ok = steer_offset_inputs()
     write_sequence(outdir, "steer_offset_100hz", 0.01, t, v, ok,
                    "internal generator, mu 1.0, 40 % steering, steering offset 4.3-5.0 s (understeer bound withdrawn)")
     sim = sim_inputs()
