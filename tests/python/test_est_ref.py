@@ -12,6 +12,7 @@ import math
 import os
 import tempfile
 import unittest
+from unittest import mock
 
 import numpy as np
 
@@ -179,12 +180,8 @@ class UndersteerLimitTests(unittest.TestCase):
         from grip_tools import est_eval
         ends = {}
         for zmax in (est_ref.US_ZMAX, 0.0):
-            saved = est_ref.US_ZMAX
-            est_ref.US_ZMAX = zmax
-            try:
+            with mock.patch.object(est_ref, "US_ZMAX", zmax):
                 outs, n, first = _run_counting_clamps(est_eval.est_config(), value, valid)
-            finally:
-                est_ref.US_ZMAX = saved
             ends[zmax] = (outs[-1]["mu"], n, first)
         (mu_on, n_on, first_on), (mu_off, n_off, _) = ends[est_ref.US_ZMAX], ends[0.0]
         print(f"\n# snow step steer: mu end {mu_on:.3f} with the bound ({n_on} steps lowered mu, the first "
@@ -208,13 +205,9 @@ class UndersteerLimitTests(unittest.TestCase):
         a, b = golden_est.STEER_OFFSET["span"]
         res = {}
         for rel_k in (est_ref.REL_K, 1e9):
-            saved = est_ref.REL_K
-            est_ref.REL_K = rel_k
-            try:
+            with mock.patch.object(est_ref, "REL_K", rel_k):
                 est = est_ref.Estimator(est_ref.config(_params()))
                 mu = np.array([est.step(v[k], ok[k])["mu"] for k in range(len(t))])
-            finally:
-                est_ref.REL_K = saved
             res[rel_k] = mu
         on, off = res[est_ref.REL_K], res[1e9]
         before = on[np.searchsorted(t, a) - 1]
@@ -273,11 +266,8 @@ class AbsBrakingTests(unittest.TestCase):
         worst = {}
         saved = est_ref.LOCK_K
         for lock_k in (saved, 0.5):
-            est_ref.LOCK_K = lock_k
-            try:
+            with mock.patch.object(est_ref, "LOCK_K", lock_k):
                 mu = np.array([o["mu"] for o in est_ref.run(est_eval.est_config(), value, valid)])
-            finally:
-                est_ref.LOCK_K = saved
             worst[lock_k] = float(np.max(np.abs(mu[after] - mu_t[after])))
         print(f"\n# wet mu step: largest |mu error| from {t_limit + 1.0:.2f} s: {worst[saved]:.3f} with the "
               f"slip threshold {saved}, {worst[0.5]:.3f} with 0.5", flush=True)
