@@ -227,6 +227,7 @@ typedef struct {
     grip_real_t nis_f;          /* QS low-passed ay NIS, [0, 16] (misfit check) */
     grip_real_t sat_f;          /* QS low-passed share of saturated-but-not-at-limit steps, [0, 1] */
     int32_t misfit;             /* model misfit declared (hysteresis state) */
+    int32_t sat_cap;            /* mu confidence capped by the saturation share (hysteresis state) */
     int32_t no_wheel_steps;
     int32_t dr_steps;           /* consecutive dead-reckoning steps */
     int32_t active;             /* lateral observer running */

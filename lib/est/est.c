@@ -218,6 +218,7 @@ grip_status_t grip_est_reset(grip_est_t *est)
     est->use_b = R_ZERO;
     est->nis_f = R_ZERO;
     est->sat_f = R_ZERO;
+    est->sat_cap = 0;
     est->misfit = 0;
     est->active = 0;
     est->vx_init = 0;
@@ -460,6 +461,28 @@ static grip_real_t kf_update(grip_est_t *e, const grip_real_t h[GRIP_EST_NX], gr
 /* ------------------------------------------------------------------ */
 
 enum { H_STEER = 0, H_YAW = 1, H_AX = 2, H_AY = 3, H_VS = 4 };
+
+/* load-weighted mean utilization of an axle's two tires */
+static grip_real_t axle_utilization(grip_real_t u0, grip_real_t u1, grip_real_t fz0, grip_real_t fz1)
+{
+    grip_real_t num = r_add(r_mul(r_min(u0, R_ONE), fz0), r_mul(r_min(u1, R_ONE), fz1));
+    return r_div(num, r_max(r_add(fz0, fz1), RCL(1.0)));
+}
+
+/* Noise of the ay measurement. At the friction limit the tire model is
+ * least certain: R grows from utilization U_R0 to 1 by up to R_LIM x with
+ * the most-used tire, and by up to R_AXLE x more with an axle's load-weighted
+ * mean utilization, i.e. with both tires of an axle at the limit: in a spin
+ * the model, past its peak, pulls vy the wrong way, while one tire's
+ * utilization alone may be a faulty wheel speed's slip (docs/estimator.md). */
+static grip_real_t ay_noise(const grip_est_output_t *out, grip_real_t umax)
+{
+    grip_real_t u_axle = r_max(axle_utilization(out->util[0], out->util[1], out->fz[0], out->fz[1]),
+                               axle_utilization(out->util[2], out->util[3], out->fz[2], out->fz[3]));
+    grip_real_t r = r_add(R_ONE, r_mul(RC(EST_R_LIM), r_clamp(r_div(r_sub(umax, RC(EST_U_R0)), RC(1.0 - EST_U_R0)), R_ZERO, R_ONE)));
+    r = r_add(r, r_mul(RC(EST_R_AXLE), r_clamp(r_div(r_sub(u_axle, RC(EST_U_R0)), RC(1.0 - EST_U_R0)), R_ZERO, R_ONE)));
+    return r_mul(RC(EST_R_AY), r);
+}
 
 /* Low-friction detection at the understeer limit (docs/estimator.md,
  * "Friction at the understeer limit"): with the yaw rate held below the
@@ -1158,15 +1181,8 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                 h[1] = sym_clamp(r_mul(a_vr, RC(EST_S_R / EST_S_AY)), RC(EST_H_MAX));
                 h[2] = sym_clamp(r_mul(a_vm, RC(EST_S_MU / EST_S_AY)), RC(EST_H_MAX));
                 h[3] = R_ZERO;
-                {
-                    /* at the friction limit the tire model is least certain: the
-                     * ay noise grows 10x from utilization 0.8 to 1, leaving vy to
-                     * the kinematics there */
-                    grip_real_t ulim = r_clamp(r_div(r_sub(umax_est, RC(EST_U_R0)), RC(1.0 - EST_U_R0)),
-                                               R_ZERO, R_ONE);
-                    grip_real_t r_ay = r_mul(RC(EST_R_AY), r_add(R_ONE, r_mul(RC(EST_R_LIM), ulim)));
-                    nis_ay = kf_update(est, h, r_div(r_sub(ay, ay_pred), RC(EST_S_AY)), r_ay, excited, b_ok, 0);
-                }
+                nis_ay = kf_update(est, h, r_div(r_sub(ay, ay_pred), RC(EST_S_AY)), ay_noise(out, umax_est),
+                                   excited, b_ok, 0);
                 kf_condition(est);
                 {
                     /* model consistency (docs/estimator.md): the low-passed ay
@@ -1182,6 +1198,13 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                         est->misfit = 1;
                     } else if (est->nis_f < RC(EST_NIS_LO) && est->sat_f < RC(EST_SAT_LO)) {
                         est->misfit = 0;
+                    } /* grip-deviation: MISRA-15.7 between the thresholds the state is kept (hysteresis) */
+                    /* the confidence cap below has its own hysteresis: a share
+                     * that hovers at SAT_MU would toggle mu's validity */
+                    if (est->sat_f > RC(EST_SAT_MU)) {
+                        est->sat_cap = 1;
+                    } else if (est->sat_f < RC(EST_SAT_MU_LO)) {
+                        est->sat_cap = 0;
                     } /* grip-deviation: MISRA-15.7 between the thresholds the state is kept (hysteresis) */
                 }
             }
@@ -1262,7 +1285,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
              * the filter found, it is not the road's */
             flags |= GRIP_EST_F_MODEL_MISFIT;
             out->mu_conf = r_min(out->mu_conf, RC(EST_CONF_MISFIT));
-        } else if (est->sat_f > RC(EST_SAT_MU)) {
+        } else if (est->sat_cap) {
             /* the saturation share on its way to the misfit level: no
              * confidence in mu while that evidence builds up (the check is
              * low-passed over 2 s and declares the misfit late) */

@@ -100,7 +100,8 @@
 #define EST_P0_B     100.0   /* gyro bias sigma 0.01 rad/s at start */
 #define EST_B_MAX    0.05    /* rad/s: bound of the gyro bias state */
 #define EST_U_R0     0.8     /* ay noise grows from R_AY at this utilization ... */
-#define EST_R_LIM    9.0     /* ... to (1 + R_LIM) R_AY at utilization 1 */
+#define EST_R_LIM    9.0     /* ... by R_LIM R_AY at the most-used tire's 1 ... */
+#define EST_R_AXLE   40.0    /* ... and by R_AXLE R_AY at an axle's mean 1 */
 #define EST_B_U      0.5     /* gyro bias adapts below this model utilization ... */
 #define EST_B_A      4.0     /* ... below this |ay| [m/s^2] ... */
 #define EST_B_AX     1.0     /* ... and below this |ax| [m/s^2] */
@@ -123,6 +124,7 @@
 #define EST_SAT_HI   0.7     /* misfit above: saturated 70 % of the window     */
 #define EST_SAT_LO   0.1     /* ... cleared below (with NIS below NIS_LO)      */
 #define EST_CONF_MISFIT 0.45 /* mu_conf cap while misfit (below V_MU's 0.5)    */
-#define EST_SAT_MU   0.4     /* ... and while the saturation share is above     */
+#define EST_SAT_MU   0.1     /* ... and from when the saturation share rises    */
+#define EST_SAT_MU_LO 0.05   /* above this until it falls below this            */
 
 #endif

@@ -221,6 +221,46 @@ class UndersteerLimitTests(unittest.TestCase):
         self.assertLess(float(np.max(off[(t >= b) & (t < b + 1.0)])), 0.5)
 
 
+class AyNoiseAtLimitTests(unittest.TestCase):
+    """The ay measurement's noise at the friction limit (docs/estimator.md,
+    "Measurements" and Limitations, spin-outs)."""
+
+    def test_one_tire_at_its_limit_is_not_an_axle(self):
+        # One tire at utilization 1 (what a wheel speed 10 % high fakes)
+        # gives 10 x R; both tires of an axle there (a sliding axle) 50 x R;
+        # below utilization 0.8 nothing grows
+        fz = np.full(4, 4000.0)
+        one = est_ref._ay_noise(np.array([1.0, 0.5, 0.5, 0.5]), fz) / est_ref.R_AY
+        axle = est_ref._ay_noise(np.array([0.5, 0.5, 1.0, 1.0]), fz) / est_ref.R_AY
+        low = est_ref._ay_noise(np.full(4, 0.79), fz) / est_ref.R_AY
+        print(f"\n# ay noise / R_AY: one tire at 1: {one:.1f}, rear axle at 1: {axle:.1f}, all at 0.79: {low:.1f}",
+              flush=True)
+        self.assertAlmostEqual(one, 1.0 + est_ref.R_LIM, places=9)  # front mean 0.75: no axle term
+        self.assertAlmostEqual(axle, 1.0 + est_ref.R_LIM + est_ref.R_AXLE, places=9)
+        self.assertAlmostEqual(low, 1.0, places=9)
+
+    def test_spin_out_on_wet_sine_with_dwell(self):
+        # The simulator's sine with dwell on a wet road spins the car (true
+        # sideslip 47 deg). With the ay noise growing only with the most-used
+        # tire (R_AXLE = 0, session 11) the update pulled vy towards the
+        # model's force past the tire's peak: beta 2.81 deg RMS.
+        try:
+            from grip_tools import est_eval
+            from grip_tools.vehsim import cli
+        except ImportError as e:   # pragma: no cover - scipy-less machine
+            self.skipTest(f"simulator not importable: {e}")
+        with tempfile.TemporaryDirectory() as d:
+            cli.main(["-m", "sine-dwell", "-s", "wet", "-o", d, "--no-plot"])
+            rms = {}
+            for name, r_axle in (("axle term", est_ref.R_AXLE), ("one tire only", 0.0)):
+                with mock.patch.object(est_ref, "R_AXLE", r_axle):
+                    rms[name] = est_eval.evaluate(d, est_eval.estimate(d))["beta_rms_deg"]
+        print(f"\n# wet sine with dwell beta RMS: {rms['axle term']:.2f} deg with the axle term, "
+              f"{rms['one tire only']:.2f} without", flush=True)
+        self.assertLess(rms["axle term"], 1.5)
+        self.assertLess(rms["axle term"], 0.6 * rms["one tire only"])
+
+
 class DrivingResistanceTests(unittest.TestCase):
     """Drag and rolling resistance in the longitudinal force balance
     (grip_est_config_t cda / crr; docs/estimator.md, "The ax update")."""

@@ -71,7 +71,7 @@ Q_C = np.array([100.0, 3600.0, 6.25, 0.25])
 P0 = np.array([36.0, 16.0, 225.0, 100.0])
 NX = 4
 B_MAX = 50.0            # gyro bias bound [0.001 rad/s]
-U_R0, R_LIM = 0.8, 9.0
+U_R0, R_LIM, R_AXLE = 0.8, 9.0, 40.0  # ay noise at the limit (_ay_noise)
 B_U, B_A, B_AX = 0.5, 4.0, 1.0  # gyro bias adapts below this model utilization, |ay|, |ax| [m/s^2]
 VY_K = 1.0              # |vy| <= VY_K |vx| + 1 m/s
 P_MIN, P_MAX = 0.01, 400.0
@@ -87,8 +87,10 @@ P_CONF = ((CONF_S0 - 0.05) / S[2]) ** 2  # P_mu at mu_conf = 0.5 (sigma_mu 0.1)
 # capped at CONF_MISFIT while misfit
 MF_TAU, NIS_HI, NIS_LO = 2.0, 3.84, 1.0
 SAT_U, SAT_HI, SAT_LO, CONF_MISFIT = 0.95, 0.7, 0.1, 0.45
-# mu_conf also capped while the saturation share is above SAT_MU
-SAT_MU = 0.4
+# mu_conf also capped from when the saturation share rises above SAT_MU
+# until it falls below SAT_MU_LO (hysteresis: a share hovering at one
+# threshold would toggle the validity of mu)
+SAT_MU, SAT_MU_LO = 0.1, 0.05
 BIG = 1000000
 
 # validity and flag bits (grip_est.h)
@@ -169,6 +171,20 @@ def _peak_friction(P, fz):
     return float(np.max(u)), float(al[int(np.argmax(u))])
 
 
+def _ay_noise(util, fz):
+    """Noise of the ay measurement. At the friction limit the tire model is
+    least certain: R grows from utilization U_R0 to 1 by up to R_LIM x with
+    the most-used tire, and by up to R_AXLE x more with an axle's
+    load-weighted mean utilization, i.e. with both tires of an axle at the
+    limit: in a spin the model, past its peak, pulls vy the wrong way, while
+    one tire's utilization alone may be a faulty wheel speed's slip
+    (docs/estimator.md)."""
+    u = np.minimum(util, 1.0)
+    u_axle = max((u[2 * a] * fz[2 * a] + u[2 * a + 1] * fz[2 * a + 1]) / max(fz[2 * a] + fz[2 * a + 1], 1.0)
+                 for a in range(2))
+    ramp = lambda x: _clamp((x - U_R0) / (1.0 - U_R0), 0.0, 1.0)
+    return R_AY * (1.0 + R_LIM * ramp(float(np.max(util))) + R_AXLE * ramp(float(u_axle)))
+
 class Estimator:
     def __init__(self, cfg):
         self.cfg = cfg
@@ -238,6 +254,7 @@ class Estimator:
         self.vx_init = False
         self.nis_f = 0.0
         self.sat_f = 0.0
+        self.sat_cap = False
         self.misfit = False
 
     # -- Kalman pieces (scaled units) --
@@ -665,11 +682,7 @@ class Estimator:
                 h = np.array([_clamp(a_vv * S[0] / S_AY, -H_MAX_VY, H_MAX_VY),
                               _clamp(a_vr * S[1] / S_AY, -H_MAX, H_MAX),
                               _clamp(a_vm * S[2] / S_AY, -H_MAX, H_MAX), 0.0])
-                # at the friction limit the tire model is least certain: the ay
-                # noise grows 10x from utilization 0.8 to 1, leaving vy to the
-                # kinematics there
-                ulim = _clamp((float(np.max(o["util"])) - U_R0) / (1.0 - U_R0), 0.0, 1.0)
-                nis = self._update(h, (ay - ay_pred) / S_AY, R_AY * (1.0 + R_LIM * ulim), excited, b_ok)
+                nis = self._update(h, (ay - ay_pred) / S_AY, _ay_noise(o["util"], o["fz"]), excited, b_ok)
                 self._condition()
                 # model consistency (docs/estimator.md): the low-passed ay
                 # NIS (1 on average for a consistent filter), and the share of
@@ -683,6 +696,12 @@ class Estimator:
                     self.misfit = True
                 elif self.nis_f < NIS_LO and self.sat_f < SAT_LO:
                     self.misfit = False
+                # the confidence cap has its own hysteresis: a share that
+                # hovers at SAT_MU would toggle mu's validity
+                if self.sat_f > SAT_MU:
+                    self.sat_cap = True
+                elif self.sat_f < SAT_MU_LO:
+                    self.sat_cap = False
             # ... and only when the slips push the way the car accelerates
             # (a speed reference a few per cent off the wheel speeds makes
             # slip of the wrong sign, which would drive mu down: RAV4 log)
@@ -755,7 +774,7 @@ class Estimator:
             # the filter found, it is not the road's
             flags |= F_MODEL_MISFIT
             o["mu_conf"] = min(o["mu_conf"], CONF_MISFIT)
-        elif self.sat_f > SAT_MU:
+        elif self.sat_cap:
             # the saturation share on its way to the misfit level: no
             # confidence in mu while the evidence builds up (the check is
             # low-passed over 2 s and would declare the misfit late)
