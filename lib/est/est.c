@@ -498,11 +498,13 @@ static grip_real_t ay_noise(const grip_est_output_t *out, grip_real_t umax)
  * (us_low), the same test saying "no deficit" in steady cornering (steady:
  * |ax| and |dvy/dt| below B_AX; braking in a turn lowers the deficit while
  * the front is still at its limit, and a spinning car's yaw rate can match
- * the reference with the rear sliding) at a front friction in use of at
- * least REL_K of the one that set the bound, for lim_n steps, means the
+ * the reference with the rear sliding) at about the front friction in use
+ * that set the bound (REL_K to 1 / REL_K of it), for lim_n steps, means the
  * deficit was not the tires' (a steering-angle offset fakes one; once it
  * ends nothing else would lift mu, since in the linear range the ay update
- * does not see it): mu goes back to its value before. */
+ * does not see it): mu goes back to its value before. Far more friction in
+ * use than at the bound shows the bound too low, which the friction in use
+ * lifts by itself; the value before would overshoot (docs/estimator.md). */
 static grip_real_t understeer_bound(grip_est_t *est, const grip_real_t fz[4], grip_real_t ay, grip_real_t ax,
                                     grip_real_t dd, grip_real_t l, int test_ok, int steady)
 {
@@ -538,7 +540,7 @@ static grip_real_t understeer_bound(grip_est_t *est, const grip_real_t fz[4], gr
         }
     }
     if (est->us_low && test_ok && steady && dd > RC(-EST_LIM_REL) && dd < RC(EST_US_D) &&
-        use_f >= r_mul(RC(EST_REL_K), est->use_b)) {
+        use_f >= r_mul(RC(EST_REL_K), est->use_b) && use_f <= r_div(est->use_b, RC(EST_REL_K))) {
         est->rel_steps = count_up(est->rel_steps);
     } else {
         est->rel_steps = 0;

@@ -72,8 +72,8 @@
  * (P_mu > EST_P_CONF, i.e. mu_conf < 0.5) goes back to its value before the
  * bound once the bound's own test has said "no deficit" (-LIM_REL < deficit
  * < US_D) in steady cornering (|ax| and |dvy/dt| = |ay - r vx| below B_AX)
- * for LIM_T at a front friction in use of at least REL_K of the one at
- * which the bound was last set */
+ * for LIM_T at a front friction in use between REL_K and 1 / REL_K of the
+ * one at which the bound was last set */
 #define EST_REL_K    0.8
 #define EST_P_CONF   (((EST_CONF_S0 - 0.05) / EST_S_MU) * ((EST_CONF_S0 - 0.05) / EST_S_MU))
 #define EST_G_MIN    0.05    /* floor of the slope factor sqrt(1 - u)          */
@@ -101,7 +101,7 @@
 #define EST_B_MAX    0.05    /* rad/s: bound of the gyro bias state */
 #define EST_U_R0     0.8     /* ay noise grows from R_AY at this utilization ... */
 #define EST_R_LIM    9.0     /* ... by R_LIM R_AY at the most-used tire's 1 ... */
-#define EST_R_AXLE   40.0    /* ... and by R_AXLE R_AY at an axle's mean 1 */
+#define EST_R_AXLE   290.0   /* ... and by R_AXLE R_AY at an axle's mean 1 */
 #define EST_B_U      0.5     /* gyro bias adapts below this model utilization ... */
 #define EST_B_A      4.0     /* ... below this |ay| [m/s^2] ... */
 #define EST_B_AX     1.0     /* ... and below this |ax| [m/s^2] */

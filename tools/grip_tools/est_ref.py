@@ -56,8 +56,10 @@ US_D, US_R, US_U0, US_U1, US_UMAX, US_ZMAX = 0.2, 0.02, 0.3, 1.4, 0.85, 0.8
 # (P_mu above P_CONF, i.e. mu_conf < 0.5) goes back to its value before the
 # bound once the bound's own test has said "no deficit" (-LIM_REL < d <
 # US_D) in steady cornering (|ax| and |dvy/dt| = |ay - r vx| below B_AX)
-# for LIM_T at a front friction in use of at least REL_K of the one at
-# which the bound was last set
+# for LIM_T at a front friction in use between REL_K and 1 / REL_K of the
+# one at which the bound was last set (far more friction in use shows the
+# bound too low, which the friction-in-use bound lifts by itself; the value
+# before would overshoot)
 REL_K = 0.8
 EXC_U, EXC_A, G_MIN = 0.5, 1.0, 0.05
 S = np.array([0.05, 0.005, 0.02, 0.001])  # scaled units of vy, r, mu, gyro bias
@@ -71,7 +73,7 @@ Q_C = np.array([100.0, 3600.0, 6.25, 0.25])
 P0 = np.array([36.0, 16.0, 225.0, 100.0])
 NX = 4
 B_MAX = 50.0            # gyro bias bound [0.001 rad/s]
-U_R0, R_LIM, R_AXLE = 0.8, 9.0, 40.0  # ay noise at the limit (_ay_noise)
+U_R0, R_LIM, R_AXLE = 0.8, 9.0, 290.0  # ay noise at the limit (_ay_noise)
 B_U, B_A, B_AX = 0.5, 4.0, 1.0  # gyro bias adapts below this model utilization, |ay|, |ax| [m/s^2]
 VY_K = 1.0              # |vy| <= VY_K |vx| + 1 m/s
 P_MIN, P_MAX = 0.01, 400.0
@@ -641,7 +643,7 @@ class Estimator:
                 # front is still at its limit, and a spinning car's yaw rate
                 # can match the reference with the rear axle sliding
                 if (self.us_low and lim_ok and same_turn and -LIM_REL < dd < US_D and abs(ax) < B_AX
-                        and abs(ay + g_y - yaw * vx) < B_AX and use_f >= REL_K * self.use_b):
+                        and abs(ay + g_y - yaw * vx) < B_AX and REL_K * self.use_b <= use_f <= self.use_b / REL_K):
                     self.rel_steps = min(self.rel_steps + 1, BIG)
                 else:
                     self.rel_steps = 0
