@@ -227,8 +227,8 @@ class AyNoiseAtLimitTests(unittest.TestCase):
 
     def test_one_tire_at_its_limit_is_not_an_axle(self):
         # One tire at utilization 1 (what a wheel speed 10 % high fakes)
-        # gives 10 x R; both tires of an axle there (a sliding axle) 50 x R;
-        # below utilization 0.8 nothing grows
+        # gives (1 + R_LIM) x R; both tires of an axle there (a sliding
+        # axle) (1 + R_LIM + R_AXLE) x R; below utilization 0.8 nothing grows
         fz = np.full(4, 4000.0)
         one = est_ref._ay_noise(np.array([1.0, 0.5, 0.5, 0.5]), fz) / est_ref.R_AY
         axle = est_ref._ay_noise(np.array([0.5, 0.5, 1.0, 1.0]), fz) / est_ref.R_AY
