@@ -469,6 +469,12 @@ static grip_real_t axle_utilization(grip_real_t u0, grip_real_t u1, grip_real_t 
     return r_div(num, r_max(r_add(fz0, fz1), RCL(1.0)));
 }
 
+/* how far a utilization is into the band U_R0 .. 1 where the ay noise grows, [0, 1] */
+static grip_real_t limit_share(grip_real_t u)
+{
+    return r_clamp(r_div(r_sub(u, RC(EST_U_R0)), RC(1.0 - EST_U_R0)), R_ZERO, R_ONE);
+}
+
 /* Noise of the ay measurement. At the friction limit the tire model is
  * least certain: R grows from utilization U_R0 to 1 by up to R_LIM x with
  * the most-used tire, and by up to R_AXLE x more with an axle's load-weighted
@@ -479,8 +485,8 @@ static grip_real_t ay_noise(const grip_est_output_t *out, grip_real_t umax)
 {
     grip_real_t u_axle = r_max(axle_utilization(out->util[0], out->util[1], out->fz[0], out->fz[1]),
                                axle_utilization(out->util[2], out->util[3], out->fz[2], out->fz[3]));
-    grip_real_t r = r_add(R_ONE, r_mul(RC(EST_R_LIM), r_clamp(r_div(r_sub(umax, RC(EST_U_R0)), RC(1.0 - EST_U_R0)), R_ZERO, R_ONE)));
-    r = r_add(r, r_mul(RC(EST_R_AXLE), r_clamp(r_div(r_sub(u_axle, RC(EST_U_R0)), RC(1.0 - EST_U_R0)), R_ZERO, R_ONE)));
+    grip_real_t r = r_add(R_ONE, r_mul(RC(EST_R_LIM), limit_share(umax)));
+    r = r_add(r, r_mul(RC(EST_R_AXLE), limit_share(u_axle)));
     return r_mul(RC(EST_R_AY), r);
 }
 

@@ -187,6 +187,7 @@ def _ay_noise(util, fz):
     ramp = lambda x: _clamp((x - U_R0) / (1.0 - U_R0), 0.0, 1.0)
     return R_AY * (1.0 + R_LIM * ramp(float(np.max(util))) + R_AXLE * ramp(float(u_axle)))
 
+
 class Estimator:
     def __init__(self, cfg):
         self.cfg = cfg
