@@ -783,6 +783,20 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                 wheels_ok = 0;
             }
         }
+        /* every valid wheel off the prediction on the side the measured
+         * acceleration rules out (all above it while the car slows, all below
+         * while it speeds up): no wheel spins while the car decelerates and
+         * none locks while it accelerates, so the prediction is what is lost
+         * (after a speed-reference fault): the wheels are taken */
+        if (n_good == 0 && n_ws > 0 && ax_ok &&
+            ((spin && !lock && ax <= RC(-EST_DR_AX)) || (lock && !spin && ax >= RC(EST_DR_AX)))) {
+            for (i = 0; i < 4; ++i) {
+                outl[i] = 0;
+            }
+            n_good = n_ws;
+            lock = 0;
+            spin = 0;
+        }
         /* the reference uses the wheels that are not locked or spinning
          * (all valid ones when every wheel is) */
         for (i = 0; i < 4; ++i) {

@@ -397,6 +397,16 @@ class Estimator:
                     n_good += 1
             else:
                 wheels_ok = False
+        # every valid wheel off the prediction on the side the measured
+        # acceleration rules out (all above it while the car slows, all below
+        # while it speeds up): no wheel spins while the car decelerates and
+        # none locks while it accelerates, so the prediction is what is lost
+        # (after a speed-reference fault): the wheels are taken
+        if (n_good == 0 and n_ws > 0 and ax_ok
+                and ((spin and not lock and ax <= -DR_AX) or (lock and not spin and ax >= DR_AX))):
+            outl = [False] * 4
+            n_good = n_ws
+            lock = spin = False
         for i in range(4):
             if ws_ok[i] and (not outl[i] or n_good == 0):
                 vmin, vmax, vsum = min(vmin, vcs[i]), max(vmax, vcs[i]), vsum + vcs[i]
