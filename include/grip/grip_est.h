@@ -191,6 +191,7 @@ typedef struct {
     grip_real_t c_kappa[2];     /* QL N per wheel at static load */
     grip_real_t mu0[2];         /* QS peak |F|/Fz of the tire at static load */
     grip_real_t alpha_pk[2];    /* QS slip angle of that peak [rad] */
+    grip_real_t kappa_pk[2];    /* QS |slip ratio| of the braking force's peak at static load */
     grip_real_t mu0_k[2];       /* QS load sensitivity of the peak: mu0(Fz) = mu0 + mu0_k (Fz / Fz_static - 1) */
     grip_real_t k_us;           /* QS stability factor A [s^2/m^2] times 100 */
     grip_real_t steer_k;        /* QS per-step gain of the steering lag, 1: none */

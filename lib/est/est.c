@@ -117,6 +117,25 @@ grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_para
     return GRIP_OK;
 }
 
+/* The slip ratio at which the tire model (fitted at friction 1) is
+ * evaluated on a road of friction mu: similarity (kappa / mu) up to the
+ * stretched peak mu kappa_pk; past it the tire's own sliding branch,
+ * shifted to start there (a locked wheel slides at the tire's sliding ratio
+ * of the road's friction, not further down a stretched branch); within the
+ * model's +-1.5. */
+static grip_real_t kappa_at_friction(grip_real_t kappa, grip_real_t mu, grip_real_t kappa_pk)
+{
+    grip_real_t tk = r_div(kappa, mu);
+    if (tk > kappa_pk) {
+        tk = r_add(kappa, r_mul(kappa_pk, r_sub(R_ONE, mu)));   /* kappa_pk + (kappa - mu kappa_pk) */
+    } else if (tk < r_neg(kappa_pk)) {
+        tk = r_sub(kappa, r_mul(kappa_pk, r_sub(R_ONE, mu)));
+    } else {
+        /* within the stretched peak: similarity */
+    }
+    return r_clamp(tk, RC(-1.5), RC(1.5));
+}
+
 /* A step counter, saturating so that it never wraps */
 static int32_t count_up(int32_t n)
 {
@@ -124,28 +143,34 @@ static int32_t count_up(int32_t n)
 }
 
 /* Peak lateral friction coefficient |Fy| / Fz of a tire at load fz over the
- * sweep alpha = 0.02 .. 0.5 rad (pure side slip, 20 m/s); *alpha_pk gets
- * the slip angle of the peak (0.5 if no force). -1 if a tire call fails. */
-static int peak_friction(const grip_est_tire_t *t, grip_real_t fz, grip_real_t *mu_pk, grip_real_t *alpha_pk)
+ * sweep alpha = 0.02 .. 0.5 rad (pure side slip, 20 m/s); *slip_pk gets
+ * the slip angle of the peak (0.5 if no force). longitudinal: |Fx| / Fz over
+ * the braking slips kappa = -0.02 .. -0.5 (pure longitudinal slip), *slip_pk
+ * |kappa| there. -1 if a tire call fails. */
+static int peak_friction(const grip_est_tire_t *t, grip_real_t fz, int longitudinal, grip_real_t *mu_pk,
+                         grip_real_t *slip_pk)
 {
     grip_mf_input in;
     grip_mf_output o;
     int k;
-    in.kappa = R_ZERO;
     in.gamma = R_ZERO;
     in.fz = fz;
     in.p = R_ZERO;
     in.vx = RC(20.0);
     *mu_pk = R_ZERO;
-    *alpha_pk = RC(0.5);
+    *slip_pk = RC(0.5);
     for (k = 1; k <= 25; ++k) {
-        in.alpha = r_mul(RC(0.02), r_from_int(k));
+        grip_real_t s = r_mul(RC(0.02), r_from_int(k));
+        grip_real_t u;
+        in.kappa = longitudinal ? r_neg(s) : R_ZERO;
+        in.alpha = longitudinal ? R_ZERO : s;
         if (tire_eval(t, &in, &o) < 0) {
             return -1;
         }
-        if (r_abs(r_div(o.fy, in.fz)) > *mu_pk) {
-            *mu_pk = r_abs(r_div(o.fy, in.fz));
-            *alpha_pk = in.alpha;
+        u = r_abs(r_div(longitudinal ? o.fx : o.fy, in.fz));
+        if (u > *mu_pk) {
+            *mu_pk = u;
+            *slip_pk = s;
         }
     }
     return 0;
@@ -255,7 +280,7 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
     for (a = 0; a < 2; ++a) {
         grip_mf_input in;
         grip_mf_output o1, o2;
-        grip_real_t best, best2, alpha2;
+        grip_real_t best, best2, best2x, alpha2;
         in.kappa = R_ZERO;
         in.alpha = RC(0.01);
         in.gamma = R_ZERO;
@@ -284,8 +309,9 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
          * sensitivity from the same sweep at 1.5 x static load (the
          * understeer-limit friction measurement sums the front wheels' peaks
          * at their current loads) */
-        if (peak_friction(&cfg->tire[a], est->fz_static[a], &best, &est->alpha_pk[a]) < 0 ||
-            peak_friction(&cfg->tire[a], r_mul(RC(1.5), est->fz_static[a]), &best2, &alpha2) < 0) {
+        if (peak_friction(&cfg->tire[a], est->fz_static[a], 0, &best, &est->alpha_pk[a]) < 0 ||
+            peak_friction(&cfg->tire[a], r_mul(RC(1.5), est->fz_static[a]), 0, &best2, &alpha2) < 0 ||
+            peak_friction(&cfg->tire[a], est->fz_static[a], 1, &best2x, &est->kappa_pk[a]) < 0) {
             return GRIP_ERR_PARAM;
         }
         est->mu0[a] = best;
@@ -996,7 +1022,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
             if (ws_ok[i]) {
                 kappa = r_clamp(r_div(r_sub(ws[i], vxw), den), RC(-1.0), RC(1.5));
             }
-            ti.kappa = r_clamp(r_div(kappa, mu), RC(-1.5), RC(1.5));
+            ti.kappa = kappa_at_friction(kappa, mu, est->kappa_pk[axle]);
             /* beyond the peak slip angle the model force is held at its peak:
              * the falling branch would make vy and mu unobservable together */
             ti.alpha = sym_clamp(r_div(alpha, mu), est->alpha_pk[axle]);

@@ -261,6 +261,34 @@ class AyNoiseAtLimitTests(unittest.TestCase):
         self.assertLess(rms["axle term"], 0.6 * rms["one tire only"])
 
 
+class SlidingBranchTests(unittest.TestCase):
+    """Past the peak slip ratio the tire's own sliding branch, not the
+    similarity-stretched one (docs/estimator.md, "mu")."""
+
+    def test_straight_braking_onto_low_friction(self):
+        # The simulator's straight ABS stop from dry onto mu 0.3: the cycled
+        # and locked wheels are the friction measurement. Stretching the
+        # sliding branch by 1 / mu (kappa / mu up to 1.5) put the model's
+        # locked-wheel force too far down the tire's falling branch, so the
+        # ax update needed a higher mu for the measured deceleration
+        t, value, valid, t_limit, mu_t = _simulated(self, "mu-step", "dry")
+        from grip_tools import est_eval
+        self.assertIsNotNone(t_limit)
+        k = int(np.searchsorted(t, t_limit + 1.0))
+        err = {}
+        for name, kpk in (("sliding branch", None), ("stretched", 100.0)):
+            est = est_ref.Estimator(est_eval.est_config())
+            if kpk is not None:
+                est.kappa_pk = [kpk, kpk]
+            mu = np.array([est.step(value[j], valid[j])["mu"] for j in range(len(t))])
+            err[name] = abs(mu[k] - mu_t[k])
+        print(f"\n# mu-step dry, |mu error| 1 s after the limit: {err['sliding branch']:.3f} with the tire's "
+              f"sliding branch, {err['stretched']:.3f} stretched (kappa_pk {est_ref.Estimator(est_eval.est_config()).kappa_pk})",
+              flush=True)
+        self.assertLessEqual(err["sliding branch"], 0.1)
+        self.assertGreater(err["stretched"], 0.1)
+
+
 class DrivingResistanceTests(unittest.TestCase):
     """Drag and rolling resistance in the longitudinal force balance
     (grip_est_config_t cda / crr; docs/estimator.md, "The ax update")."""

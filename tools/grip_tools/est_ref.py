@@ -164,13 +164,17 @@ def _tire(P, kappa, alpha, fz, vx):
     return np.asarray(o["fx"], float), np.asarray(o["fy"], float), np.asarray(o["mz"], float)
 
 
-def _peak_friction(P, fz):
+def _peak_friction(P, fz, longitudinal=False):
     """Peak |Fy| / Fz at load fz over alpha = 0.02 .. 0.5 rad and its slip
-    angle (grip_est_init's peak_friction)."""
-    al = 0.02 * np.arange(1, 26)
-    _, fy, _ = _tire(P, np.zeros(25), al, np.full(25, fz), np.full(25, 20.0))
-    u = np.abs(fy / fz)
-    return float(np.max(u)), float(al[int(np.argmax(u))])
+    angle; longitudinal: peak |Fx| / Fz over the braking slips kappa =
+    -0.02 .. -0.5 and |kappa| there (grip_est_init's peak_friction)."""
+    s = 0.02 * np.arange(1, 26)
+    if longitudinal:
+        f, _, _ = _tire(P, -s, np.zeros(25), np.full(25, fz), np.full(25, 20.0))
+    else:
+        _, f, _ = _tire(P, np.zeros(25), s, np.full(25, fz), np.full(25, 20.0))
+    u = np.abs(f / fz)
+    return float(np.max(u)), float(s[int(np.argmax(u))])
 
 
 def _ay_noise(util, fz):
@@ -197,6 +201,7 @@ class Estimator:
         self.fz_static = [c["lr"] / l * m_g, c["lf"] / l * m_g]
         self.c_alpha, self.c_kappa, self.mu0 = [0.0, 0.0], [0.0, 0.0], [0.0, 0.0]
         self.alpha_pk = [0.5, 0.5]
+        self.kappa_pk = [0.5, 0.5]
         self.mu0_k = [0.0, 0.0]
         for a in range(2):
             P = c["tire"][a]
@@ -209,6 +214,7 @@ class Estimator:
             # (understeer-limit friction measurement)
             self.mu0[a], self.alpha_pk[a] = _peak_friction(P, fz)
             self.mu0_k[a] = 2.0 * (_peak_friction(P, 1.5 * fz)[0] - self.mu0[a])
+            self.kappa_pk[a] = _peak_friction(P, fz, longitudinal=True)[1]
             if self.c_alpha[a] <= 0 or self.c_kappa[a] <= 0 or self.mu0[a] < 0.05:
                 raise ValueError("tire model gives no cornering/slip stiffness or friction")
         cf, cr = 2 * self.c_alpha[0], 2 * self.c_alpha[1]
@@ -541,7 +547,12 @@ class Estimator:
                               for i in range(4)])
             lever = xa * cdi + ya * sdi
             side = np.array([1.0, -1.0, 1.0, -1.0])
-            tk = np.clip(kappa / mu, -1.5, 1.5)
+            # similarity up to the peak slip ratio; past it the tire's own
+            # sliding branch, shifted to start at the stretched peak (a locked
+            # wheel slides at the tire's sliding ratio of the road's friction)
+            kpk = np.array([self.kappa_pk[0], self.kappa_pk[0], self.kappa_pk[1], self.kappa_pk[1]])
+            ak = np.abs(kappa)
+            tk = np.clip(np.sign(kappa) * np.where(ak <= mu * kpk, ak / mu, kpk + ak - mu * kpk), -1.5, 1.5)
             apk = np.array([self.alpha_pk[0], self.alpha_pk[0], self.alpha_pk[1], self.alpha_pk[1]])
             ta = np.clip(alpha / mu, -apk, apk) * side
             fx = np.zeros(4)
