@@ -280,7 +280,7 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
     for (a = 0; a < 2; ++a) {
         grip_mf_input in;
         grip_mf_output o1, o2;
-        grip_real_t best, best2, best2x, alpha2;
+        grip_real_t best, best2, alpha2, mux_pk;   /* mux_pk: the braking peak, not used */
         in.kappa = R_ZERO;
         in.alpha = RC(0.01);
         in.gamma = R_ZERO;
@@ -308,10 +308,11 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
         /* peak lateral friction coefficient at static load, and its load
          * sensitivity from the same sweep at 1.5 x static load (the
          * understeer-limit friction measurement sums the front wheels' peaks
-         * at their current loads) */
+         * at their current loads); the braking slip of the longitudinal peak
+         * (kappa_at_friction) */
         if (peak_friction(&cfg->tire[a], est->fz_static[a], 0, &best, &est->alpha_pk[a]) < 0 ||
             peak_friction(&cfg->tire[a], r_mul(RC(1.5), est->fz_static[a]), 0, &best2, &alpha2) < 0 ||
-            peak_friction(&cfg->tire[a], est->fz_static[a], 1, &best2x, &est->kappa_pk[a]) < 0) {
+            peak_friction(&cfg->tire[a], est->fz_static[a], 1, &mux_pk, &est->kappa_pk[a]) < 0) {
             return GRIP_ERR_PARAM;
         }
         est->mu0[a] = best;

@@ -214,6 +214,7 @@ class Estimator:
             # (understeer-limit friction measurement)
             self.mu0[a], self.alpha_pk[a] = _peak_friction(P, fz)
             self.mu0_k[a] = 2.0 * (_peak_friction(P, 1.5 * fz)[0] - self.mu0[a])
+            # the braking slip of the longitudinal peak (the sliding branch in step())
             self.kappa_pk[a] = _peak_friction(P, fz, longitudinal=True)[1]
             if self.c_alpha[a] <= 0 or self.c_kappa[a] <= 0 or self.mu0[a] < 0.05:
                 raise ValueError("tire model gives no cornering/slip stiffness or friction")
