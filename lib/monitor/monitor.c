@@ -453,8 +453,11 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
             res[i] = e;
             if (r_abs(e) > r_add(RC(WH_ABS), r_mul(RC(WH_REL), vx))) {
                 /* a driven wheel faster than the others at high |ay| is the
-                 * unloaded inner wheel spinning, not a sensor */
-                int spin = e > R_ZERO && ((c->driven >> (uint32_t)(i / 2)) & 1u) != 0u && /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
+                 * unloaded inner wheel spinning (open differential), not a
+                 * sensor; the loaded outer wheel does not spin alone. Inner:
+                 * the left wheels (0, 2) in a left turn (ay > 0) */
+                int inner = (ay_u > R_ZERO) ? ((i % 2) == 0) : ((i % 2) == 1); /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
+                int spin = e > R_ZERO && ((c->driven >> (uint32_t)(i / 2)) & 1u) != 0u && inner && /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
                            r_abs(ay_u) > RC(WH_SPIN_AY);
                 if (!spin) {
                     sus[i] = 1;

@@ -124,6 +124,33 @@ class MonitorTests(unittest.TestCase):
         # estimator rejects a non-finite value itself (its own check)
 
 
+    def test_only_the_inner_driven_wheel_may_spin(self):
+        # a steady left turn at 3.3 m/s^2 (ay > 0: the left wheels are the
+        # inner ones): a front (driven) wheel 1.5 m/s fast is a spinning
+        # inner wheel on the left, a sensor fault on the loaded outer right
+        def turn(wheel):
+            mon = MR.Monitor(MR.config())
+            reps = []
+            rng = np.random.default_rng(5)
+            V, r = 22.0, 0.15
+            d = r * 2.7 * (1 + 3.68e-4 * V * V) / V
+            for k in range(500):
+                v = [(V - r * 0.775) * math.cos(d), (V + r * 0.775) * math.cos(d), V - r * 0.765, V + r * 0.765,
+                     d * 15.5, r, 0.0, r * V * (1 + 9.80665 * 0.0088)] + [0.0] * 9
+                v = [x + float(rng.normal(0, s)) for x, s in zip(v, [0.01] * 4 + [0.002, 0.002, 0.03, 0.03] + [0] * 9)]
+                if 300 <= k < 400:
+                    v[wheel] += 1.5
+                reps.append(mon.step(v, [1] * 8 + [0] * 9, None))
+            return reps
+        outer = turn(1)
+        t = self._first(outer, 1, MR.C_PLAUS)
+        self.assertIsNotNone(t)
+        self.assertLessEqual(t, 0.2)
+        inner = turn(0)
+        self.assertIsNone(self._first(inner, 0, MR.C_PLAUS))
+        self.assertFalse(any(r["detected"] for r in outer[:300]))
+
+
 class GateTests(unittest.TestCase):
     """MR.gate = grip_monitor_gate (tests/unit/test_monitor.c
     test_gate checks the C function with the same cases)."""

@@ -20,6 +20,8 @@
  * wheel-based acceleration is steady (the ax step closes only the ax gate).
  * The degraded report: no bit before the fault, and the SUSPECT bit set no
  * later than the expected code (it is set while a check accumulates).
+ * In a steady left turn a fast front wheel is a fault on the outer side
+ * and a spinning wheel on the inner side (test_only_the_inner_driven_wheel_may_spin).
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -54,11 +56,10 @@ static double noise(double a)
     return a * ((double)(lcg >> 8) / 8388608.0 - 1.0);
 }
 
-/* the clean signals at time t (SI) */
-static void clean(double t, double v[9])
+/* the clean signals at 22 m/s and yaw rate r (SI), steady-state bicycle */
+static void signals_at(double r, double v[9])
 {
     const double V = 22.0, lf = 1.10, lr = 1.60, tf = 1.55, tr = 1.53, sr = 15.5, A = 3.68e-4;
-    double r = 0.08 * sin(2.0 * PI * 0.2 * t);
     double d = r * (lf + lr) * (1.0 + A * V * V) / V;
     v[0] = (V - r * tf / 2.0) * cos(d);
     v[1] = (V + r * tf / 2.0) * cos(d);
@@ -69,6 +70,12 @@ static void clean(double t, double v[9])
     v[6] = 0.0;
     v[7] = r * V * (1.0 + 9.80665 * 0.0088);
     v[8] = 0.0;
+}
+
+/* the clean signals at time t: the slow weave */
+static void clean(double t, double v[9])
+{
+    signals_at(0.08 * sin(2.0 * PI * 0.2 * t), v);
 }
 
 /* fault magnitudes in SI (the fault tool's, grip_tools.faults.MAG) */
@@ -247,11 +254,61 @@ static void test_each_fault(void **state)
     }
 }
 
+/* A steady left turn (r 0.15 rad/s at 22 m/s, ay 3.3 m/s^2 > WH_SPIN_AY:
+ * the left wheels are the inner ones) with one front (driven) wheel 1.5 m/s
+ * fast from 3 s: the loaded outer right wheel is a sensor fault (PLAUS
+ * within 0.2 s), the unloaded inner left one a spinning wheel (no code).
+ * Returns the first PLAUS time after the onset, -1 without. */
+static double turn_wheel_fast(int wheel)
+{
+    grip_monitor_config_t cfg;
+    grip_monitor_t mon;
+    grip_monitor_report_t rep;
+    grip_input_sample_t in;
+    double v[9], t_det = -1.0;
+    int k, s;
+    lcg = 777u;
+    assert_int_equal(grip_monitor_config_default(&cfg), GRIP_OK);
+    assert_int_equal(grip_monitor_init(&mon, &cfg), GRIP_OK);
+    for (k = 0; k < 5 * RATE; ++k) {
+        double t = (double)k / RATE;
+        signals_at(0.15, v);
+        if (t >= T_F - 1e-9 && t < T_F + T_LEN - 1e-9) {
+            v[wheel] += 1.5;
+        }
+        assert_int_equal(grip_input_sample_clear(&in), GRIP_OK);
+        for (s = 0; s < 8; ++s) {
+            in.value[s] = q(v[s] + noise(s < 4 ? 0.01 : (s < 6 ? 0.002 : 0.03)));
+            in.valid[s] = 1u;
+            in.fault[s] = GRIP_SIG_OK;
+        }
+        assert_int_equal(grip_monitor_step(&mon, &in, NULL, &rep), GRIP_OK);
+        assert_true(t >= T_F - 1e-9 || rep.code[wheel] == 0u);
+        if (t_det < 0.0 && t >= T_F - 1e-9 && (rep.code[wheel] & GRIP_MON_C_PLAUS) != 0u) {
+            t_det = t - T_F;
+        }
+    }
+    return t_det;
+}
+
+static void test_only_the_inner_driven_wheel_may_spin(void **state)
+{
+    double outer, inner;
+    (void)state;
+    outer = turn_wheel_fast(1);
+    inner = turn_wheel_fast(0);
+    printf("# left turn at 3.3 m/s^2, a front wheel 1.5 m/s fast: outer (right) PLAUS after %.2f s, "
+           "inner (left) %.2f s (-1: none, a spinning inner wheel)\n", outer, inner);
+    assert_true(outer >= 0.0 && outer <= 0.2 + 1e-9);
+    assert_true(inner < 0.0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_fault_free),
         cmocka_unit_test(test_each_fault),
+        cmocka_unit_test(test_only_the_inner_driven_wheel_may_spin),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -303,8 +303,11 @@ class Monitor:
                 wh_chk[i] = 1
                 res[i] = e
                 # a driven wheel faster than the others at high |ay| is the
-                # unloaded inner wheel spinning (open differential), not a sensor
-                spin = e > 0.0 and ((c["driven"] >> (i // 2)) & 1) and abs(ay_u) > WH_SPIN_AY
+                # unloaded inner wheel spinning (open differential), not a
+                # sensor; the loaded outer wheel does not spin alone. Inner:
+                # the left wheels (0, 2) in a left turn (ay > 0)
+                inner = (i % 2 == 0) if ay_u > 0.0 else (i % 2 == 1)
+                spin = e > 0.0 and ((c["driven"] >> (i // 2)) & 1) and inner and abs(ay_u) > WH_SPIN_AY
                 if abs(e) > WH_ABS + WH_REL * vx and not spin:
                     sus[i] = 1
 
