@@ -105,7 +105,10 @@ typedef struct {
                                 * logged steering command); tire slip angles and the yaw
                                 * reference use the lagged angle. 0 (default): none, a
                                 * mechanical column                                   */
-    grip_est_tire_t tire[2];   /* front, rear axle                          */
+    grip_est_tire_t tire[2];   /* front, rear axle; the tires' lateral relaxation
+                                * length comes from the parameter set (C_alpha /
+                                * LATERAL_STIFFNESS, else PTY1 / PTY2, else none:
+                                * docs/estimator.md, "Tire relaxation")       */
 } grip_est_config_t;
 
 /* ---- outputs ---- */
@@ -229,6 +232,9 @@ typedef struct {
     grip_real_t sat_f;          /* QS low-passed share of saturated-but-not-at-limit steps, [0, 1] */
     int32_t misfit;             /* model misfit declared (hysteresis state) */
     int32_t sat_cap;            /* mu confidence capped by the saturation share (hysteresis state) */
+    grip_real_t sig_a[2];       /* QS m lateral relaxation length at static load, front / rear; 0: none */
+    grip_real_t alpha_t[4];     /* QS rad lagged (relaxed) slip angles the tires work at */
+    int32_t rlx_init;           /* alpha_t set since the lateral observer started */
     int32_t no_wheel_steps;
     int32_t dr_steps;           /* consecutive dead-reckoning steps */
     int32_t active;             /* lateral observer running */

@@ -176,6 +176,49 @@ static int peak_friction(const grip_est_tire_t *t, grip_real_t fz, int longitudi
     return 0;
 }
 
+/* Lateral relaxation length [m] of the tire at load fz (est_internal.h):
+ * C_alpha / LATERAL_STIFFNESS, else PTY1 sin(2 atan(Fz / (PTY2 Fz0'))) R0
+ * LFZO (MF 5.2), else 0 (no lag); at most EST_SIG_MAX. */
+static grip_real_t relax_length(const grip_est_tire_t *t, grip_real_t c_alpha, grip_real_t fz)
+{
+    const grip_mf_params *p;
+    grip_real_t fz0;
+    if (t->kind != GRIP_EST_TIRE_MF || t->model.mf == NULL) {
+        return R_ZERO;
+    }
+    p = t->model.mf;
+    fz0 = r_mul(p->lfzo, p->fnomin);
+    if (p->lateral_stiffness > R_ZERO) {
+        return r_min(r_div(c_alpha, p->lateral_stiffness), RC(EST_SIG_MAX));
+    }
+    if (p->pty1 > R_ZERO && p->pty2 > R_ZERO && fz0 > R_ZERO) {
+        grip_real_t s = r_sin(r_mul(RC(2.0), r_atan(r_div(fz, r_mul(p->pty2, fz0)))));
+        return r_min(r_mul(r_mul(r_mul(p->pty1, s), p->unloaded_radius), p->lfzo), RC(EST_SIG_MAX));
+    }
+    return R_ZERO;
+}
+
+/* A wheel's relaxation length: the axle's at static load in proportion to
+ * the wheel's load, at least EST_SIG_MIN; 0 where the tire file gives none. */
+static grip_real_t wheel_sigma(const grip_est_t *est, int axle, grip_real_t fz)
+{
+    if (est->sig_a[axle] <= R_ZERO) {
+        return R_ZERO;
+    }
+    return r_max(r_mul(est->sig_a[axle], r_div(fz, est->fz_static[axle])), RC(EST_SIG_MIN));
+}
+
+/* 1 - exp(-dist / sig): the share of the way the lagged slip angle moves
+ * towards the kinematic one over the distance dist; 1 without a relaxation
+ * length. The comparison first keeps the exponent within EST_RLX_A_MAX. */
+static grip_real_t relax_share(grip_real_t dist, grip_real_t sig)
+{
+    if (sig <= R_ZERO || dist >= r_mul(RC(EST_RLX_A_MAX), sig)) {
+        return R_ONE;
+    }
+    return r_sub(R_ONE, r_exp(r_neg(r_div(dist, sig))));
+}
+
 static grip_status_t check_config(const grip_est_config_t *c)
 {
     int a;
@@ -245,6 +288,10 @@ grip_status_t grip_est_reset(grip_est_t *est)
     est->sat_f = R_ZERO;
     est->sat_cap = 0;
     est->misfit = 0;
+    for (i = 0; i < 4; ++i) {
+        est->alpha_t[i] = R_ZERO;
+    }
+    est->rlx_init = 0;
     est->active = 0;
     est->vx_init = 0;
     est->psi = R_ZERO;
@@ -320,6 +367,7 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
         if (est->c_alpha[a] <= R_ZERO || est->c_kappa[a] <= R_ZERO || best < RC(0.05)) {
             return GRIP_ERR_PARAM;
         }
+        est->sig_a[a] = relax_length(&cfg->tire[a], est->c_alpha[a], est->fz_static[a]);
     }
     {
         /* stability factor A = m (lr Cr - lf Cf) / (l^2 Cf Cr), Cf, Cr per axle
@@ -377,7 +425,7 @@ static const grip_real_t est_s[GRIP_EST_NX] = { RC(EST_S_VY), RC(EST_S_R), RC(ES
  * given (f, 2 x 4): mu and the gyro bias are random walks (identity rows),
  * so their block of P only gets its process noise; this keeps the
  * temporaries at 2 x 4 (stack: the step's frame is the deepest part). */
-static void kf_predict(grip_est_t *e, grip_real_t f[2][GRIP_EST_NX])
+static EST_NOINLINE void kf_predict(grip_est_t *e, grip_real_t f[2][GRIP_EST_NX])
 {
     grip_real_t fp[2][GRIP_EST_NX];
     int i, j, k;
@@ -645,9 +693,17 @@ static int take_input(grip_est_t *e, const grip_input_sample_t *in, int id, int 
  * sensors' latency: vy and r along their derivatives (vyd, racc), the slip
  * angles exactly at that state, the forces to first order along the local
  * slope d Fy / d alpha of the step's tire evaluation (the same slope as the
- * Jacobians: -max(G_MIN, sqrt(1 - u)) Fz/Fz_static C_alpha). */
-static void lateral_outputs(const grip_est_t *est, grip_est_output_t *out, grip_real_t vx, grip_real_t cd,
-                            grip_real_t sd, grip_real_t vyd, grip_real_t racc)
+ * Jacobians: -max(G_MIN, sqrt(1 - u)) Fz/Fz_static C_alpha) times the share
+ * of the way the tire's lagged slip angle moves over the latency.
+ * The updates' correction of vy (duv: posterior - predicted) moves each
+ * lagged slip angle along the kinematic slope first: vy is predicted from
+ * the measured ay, so its correction is a re-estimate of where the car is,
+ * not motion the tire lags (the Jacobians assume the whole slope). r is
+ * predicted from the model's yaw moment: its correction stays in the lag,
+ * else a model-vs-gyro fight drifts the lagged angles (docs/estimator.md,
+ * "Tire relaxation"). */
+static EST_NOINLINE void lateral_outputs(grip_est_t *est, grip_est_output_t *out, grip_real_t vx, grip_real_t cd,
+                            grip_real_t sd, grip_real_t vyd, grip_real_t racc, grip_real_t duv)
 {
     grip_real_t lat = est->cfg.latency;
     grip_real_t vy = sym_clamp(r_add(est->x[0], r_mul(lat, vyd)), r_add(r_mul(RC(EST_VY_K), r_abs(vx)), R_ONE));
@@ -661,16 +717,27 @@ static void lateral_outputs(const grip_est_t *est, grip_est_output_t *out, grip_
          * step (measured; the budget margin is 32 B) */
         grip_real_t vcx = r_sub(vx, r_mul(r, est->yw[i]));
         grip_real_t vcy = r_add(vy, r_mul(r, est->xw[i]));
-        grip_real_t vxw, vyw, alpha, fzr = R_ZERO, g, dfda;
+        grip_real_t vxw, vyw, alpha, fzr = R_ZERO, g, dfda, den, t;
         vxw = r_add(r_mul(cdi, vcx), r_mul(sdi, vcy));
         vyw = r_sub(r_mul(cdi, vcy), r_mul(sdi, vcx));
-        alpha = r_atan(r_div(vyw, r_max(r_abs(vxw), RC(EST_V_OFF))));
+        den = r_max(r_abs(vxw), RC(EST_V_OFF));
+        t = r_div(vyw, den);
+        alpha = r_atan(t);
+        /* d alpha = c2 cdi duv / den, c2 = 1 / (1 + t^2) */
+        est->alpha_t[i] = r_add(est->alpha_t[i],
+                                r_div(r_div(r_mul(cdi, duv), r_add(R_ONE, r_sq(sym_clamp(t, RC(100.0))))), den));
         if (out->fz[i] > RCL(50.0)) {
             fzr = r_div(out->fz[i], est->fz_static[axle]);
         }
         g = r_max(RC(EST_G_MIN), r_sqrt(r_sub(R_ONE, r_min(out->util[i], R_ONE))));
         dfda = r_neg(r_mul(g, r_mul(fzr, est->c_alpha[axle])));
-        out->fy[i] = r_add(out->fy[i], r_mul(dfda, r_sub(alpha, out->alpha[i])));
+        /* the tire's lagged slip angle (the step's tire worked at out->alpha[i])
+         * moves towards the kinematic one over the latency's distance */
+        out->fy[i] = r_add(out->fy[i],
+                           r_mul(dfda, r_sub(r_add(est->alpha_t[i],
+                                                   r_mul(relax_share(r_mul(r_abs(vxw), lat), wheel_sigma(est, axle, out->fz[i])),
+                                                         r_sub(alpha, est->alpha_t[i]))),
+                                             out->alpha[i])));
         out->alpha[i] = alpha;
     }
     out->fy_axle[0] = r_add(out->fy[0], out->fy[1]);
@@ -968,6 +1035,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     est->active = active;
     if (!active) {
         flags |= GRIP_EST_F_LOW_SPEED;
+        est->rlx_init = 0;
         est->x[0] = R_ZERO;
         est->x[1] = yaw;
         est->r_lin_f = yaw;
@@ -1013,7 +1081,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
             grip_real_t vyw = r_sub(r_mul(cdi, vcy), r_mul(sdi, vcx));
             grip_real_t den = r_max(r_abs(vxw), RC(EST_V_OFF));
             grip_real_t t = r_div(vyw, den);
-            grip_real_t alpha = r_atan(t);
+            grip_real_t alpha = r_atan(t);       /* kinematic, then lagged (relaxation) */
             grip_real_t kappa = R_ZERO;
             grip_real_t lever = r_add(r_mul(est->xw[i], cdi), r_mul(est->yw[i], sdi));
             grip_real_t c2, dady, dadr, ca, g, u, dfda, dfdmu, fxn, fyn, fzr;
@@ -1023,6 +1091,17 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
             if (ws_ok[i]) {
                 kappa = r_clamp(r_div(r_sub(ws[i], vxw), den), RC(-1.0), RC(1.5));
             }
+            /* the tires work at the lagged slip angle; the Jacobians below keep
+             * the kinematic slope (the lag settles within sigma / |vx|, ~20 ms
+             * at speed, inside the filter's horizon). The lag filters the
+             * slip angles of the predicted states: the update's correction
+             * enters with the next step's prediction */
+            if (!est->rlx_init) {
+                est->alpha_t[i] = alpha;
+            }
+            alpha = r_add(est->alpha_t[i], r_mul(relax_share(r_div(r_abs(vxw), est->rate), wheel_sigma(est, axle, out->fz[i])),
+                                                  r_sub(alpha, est->alpha_t[i])));
+            est->alpha_t[i] = alpha;
             ti.kappa = kappa_at_friction(kappa, mu, est->kappa_pk[axle]);
             /* beyond the peak slip angle the model force is held at its peak:
              * the falling branch would make vy and mu unobservable together */
@@ -1115,6 +1194,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                 smz = r_add(smz, r_add(r_sub(r_mul(est->xw[i], fby), r_mul(est->yw[i], fbx)), out->mz[i]));
             }
         }
+        est->rlx_init = 1;
         out->fy_axle[0] = r_add(out->fy[0], out->fy[1]);
         out->fy_axle[1] = r_add(out->fy[2], out->fy[3]);
         for (i = 0; i < 2; ++i) {
@@ -1180,8 +1260,9 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
          * model's ay stands in when the accelerometer is missing */
         /* the gyro bias adapts only where the tire model is trusted (linear
          * range, no locked or spinning wheel, no hard braking or driving, no
-         * friction-limit indication); else it would absorb the model's errors */
-        b_ok = umax_est < RC(EST_B_U) && r_abs(ay) < RC(EST_B_A) && r_abs(ax) < RC(EST_B_AX) && !lock && !spin && /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
+         * friction-limit indication, no fast yaw transient, where the modelled
+         * tire lag errs most); else it would absorb the model's errors */
+        b_ok = r_abs(racc) < RC(EST_B_RACC) && umax_est < RC(EST_B_U) && r_abs(ay) < RC(EST_B_A) && r_abs(ax) < RC(EST_B_AX) && !lock && !spin && /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
                !at_limit;
         dvy = r_div(r_sub(r_add(ay_ok ? ay : ay_m, g_y), r_mul(r, vx)), rate);
         dr = r_div(racc, rate);
@@ -1311,7 +1392,8 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         if (excited) {
             flags |= GRIP_EST_F_EXCITED;
         }
-        lateral_outputs(est, out, vx, cd, sd, r_sub(r_add(ay_ok ? ay : ay_m, g_y), r_mul(est->x[1], vx)), racc);
+        lateral_outputs(est, out, vx, cd, sd, r_sub(r_add(ay_ok ? ay : ay_m, g_y), r_mul(est->x[1], vx)), racc,
+                        r_sub(est->x[0], r_add(vy, dvy)));
     }
     mu = est->x[2];
 

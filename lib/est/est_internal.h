@@ -11,6 +11,17 @@
 
 #define EST_MAGIC 0x45535431u  /* "EST1" */
 
+/* Keeps a helper of the step out of the step's stack frame: its locals then
+ * take stack only while it runs, not under the Magic Formula evaluations
+ * (M0+ worst-case stack 1024 -> 992 B with kf_predict and lateral_outputs,
+ * docs/estimator.md "Cost"). GCC and clang; other compilers inline as they
+ * see fit (the stack budget is measured with arm-none-eabi-gcc). */
+#if defined(__GNUC__)
+#define EST_NOINLINE __attribute__((noinline))
+#else
+#define EST_NOINLINE
+#endif
+
 #define EST_G        9.80665
 #define EST_V_ON     3.0     /* m/s: lateral observer starts above          */
 #define EST_V_OFF    2.5     /* m/s: and stops below                         */
@@ -77,6 +88,15 @@
 #define EST_REL_K    0.8
 #define EST_P_CONF   (((EST_CONF_S0 - 0.05) / EST_S_MU) * ((EST_CONF_S0 - 0.05) / EST_S_MU))
 #define EST_G_MIN    0.05    /* floor of the slope factor sqrt(1 - u)          */
+/* tire relaxation: the tires work at the slip angle lagged by the relaxation
+ * length, sigma d(alpha_t)/dt + |vx| alpha_t = |vx| alpha; sigma at the
+ * axle's static load from the tire file (C_alpha / LATERAL_STIFFNESS, else
+ * the MF 5.2 PTY1 / PTY2 form, else no lag), in proportion to the wheel's
+ * load, at least SIG_MIN (the axle's at most SIG_MAX); exponent |vx| dt / sigma capped at RLX_A_MAX
+ * (exp(-16) is below one QS unit) */
+#define EST_SIG_MIN  0.02    /* m */
+#define EST_SIG_MAX  5.0     /* m: a file's stiffnesses far off give at most this */
+#define EST_RLX_A_MAX 16.0
 /* scaled units of the covariance (state i in units of S_i) */
 #define EST_S_VY     0.05    /* m/s   */
 #define EST_S_R      0.005   /* rad/s */
@@ -104,7 +124,8 @@
 #define EST_R_AXLE   290.0   /* ... and by R_AXLE R_AY at an axle's mean 1 */
 #define EST_B_U      0.5     /* gyro bias adapts below this model utilization ... */
 #define EST_B_A      4.0     /* ... below this |ay| [m/s^2] ... */
-#define EST_B_AX     1.0     /* ... and below this |ax| [m/s^2] */
+#define EST_B_AX     1.0     /* ... below this |ax| [m/s^2] ... */
+#define EST_B_RACC   2.0     /* ... and below this model yaw acceleration [rad/s^2] */
 #define EST_VY_K     1.0     /* |vy| <= VY_K |vx| + 1 m/s (sideslip up to ~45 deg: spins) */
 #define EST_P_MIN    0.01
 #define EST_P_MAX    400.0

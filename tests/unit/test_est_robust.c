@@ -302,6 +302,32 @@ static void test_speed_recovers_after_reference_fault(void **state)
     assert_true(o.valid & GRIP_EST_V_VX);
 }
 
+/* The tires' relaxation length at static load (docs/estimator.md, "Tire
+ * relaxation"): C_alpha / LATERAL_STIFFNESS from the file; a file with
+ * neither that nor PTY1 / PTY2 gives none (0: no lag). */
+static void test_relaxation_length(void **state)
+{
+    grip_est_t e;
+    grip_est_config_t cfg;
+    grip_mf_params bare;
+    int a;
+    (void)state;
+    make_est(&e);
+    for (a = 0; a < 2; ++a) {
+        double want = dl(e.c_alpha[a]) / dl(tire()->lateral_stiffness);
+        printf("# relaxation length axle %d: %.4f m (C_alpha / c_lat %.4f m)\n", a, dq(e.sig_a[a]), want);
+        assert_true(fabs(dq(e.sig_a[a]) - want) < 1e-4);
+        assert_true(dq(e.sig_a[a]) > 0.2 && dq(e.sig_a[a]) < 1.0);
+    }
+    bare = *tire();
+    bare.lateral_stiffness = 0;
+    bare.pty1 = 0;
+    bare.pty2 = 0;
+    assert_int_equal(grip_est_config_default(&cfg, &bare), GRIP_OK);
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_OK);
+    assert_true(e.sig_a[0] == 0 && e.sig_a[1] == 0);
+}
+
 static void test_wheel_lock_spin_steer_lock(void **state)
 {
     grip_est_t e;
@@ -535,6 +561,7 @@ int main(void)
         cmocka_unit_test(test_wheel_lock_spin_steer_lock),
         cmocka_unit_test(test_one_driven_wheel_slipping),
         cmocka_unit_test(test_speed_recovers_after_reference_fault),
+        cmocka_unit_test(test_relaxation_length),
         cmocka_unit_test(test_all_wheels_locked),
         cmocka_unit_test(test_reset_keeps_config),
         cmocka_unit_test(test_steering_lag),

@@ -75,6 +75,7 @@ NX = 4
 B_MAX = 50.0            # gyro bias bound [0.001 rad/s]
 U_R0, R_LIM, R_AXLE = 0.8, 9.0, 290.0  # ay noise at the limit (_ay_noise)
 B_U, B_A, B_AX = 0.5, 4.0, 1.0  # gyro bias adapts below this model utilization, |ay|, |ax| [m/s^2]
+B_RACC = 2.0           # ... and below this model yaw acceleration [rad/s^2] (the tires' lag is least known there)
 VY_K = 1.0              # |vy| <= VY_K |vx| + 1 m/s
 P_MIN, P_MAX = 0.01, 400.0
 H_MAX_VY, H_MAX = 5.0, 2.0
@@ -94,6 +95,17 @@ SAT_U, SAT_HI, SAT_LO, CONF_MISFIT = 0.95, 0.7, 0.1, 0.45
 # threshold would toggle the validity of mu)
 SAT_MU, SAT_MU_LO = 0.1, 0.05
 BIG = 1000000
+# tire relaxation (the slip angle the tire works at lags the kinematic one
+# by the relaxation length sigma: sigma d(alpha_t)/dt + |vx| alpha_t = |vx|
+# alpha, Pacejka ch. 7.2): sigma at the axle's static load from the tire
+# file (LATERAL_STIFFNESS: sigma = C_alpha / c_lat; else the MF 5.2 PTY1 /
+# PTY2 form; neither: no lag; at most SIG_MAX), in proportion to each
+# wheel's load, at least SIG_MIN [m]; the exponent |vx| dt / sigma is capped
+# at RLX_A_MAX (exp(-16) is below one Q15.16 unit)
+SIG_MIN, SIG_MAX, RLX_A_MAX = 0.02, 5.0, 16.0
+# the updates' correction moves the lagged slip angles along the kinematic
+# slope (RLX_CARRY; off only to measure what it does: TireRelaxationTests)
+RLX_CARRY = True
 
 # validity and flag bits (grip_est.h)
 V_VX, V_BETA, V_YAW, V_YAW_REF, V_FZ = 1, 2, 4, 8, 16
@@ -192,6 +204,31 @@ def _ay_noise(util, fz):
     return R_AY * (1.0 + R_LIM * ramp(float(np.max(util))) + R_AXLE * ramp(float(u_axle)))
 
 
+def _relax_length(P, c_alpha, fz):
+    """Lateral relaxation length [m] at load fz (0: the file gives none)."""
+    c_lat = float(P.get("lateral_stiffness", 0.0))
+    if c_lat > 0.0:
+        return min(c_alpha / c_lat, SIG_MAX)
+    pty1, pty2 = float(P.get("pty1", 0.0)), float(P.get("pty2", 0.0))
+    lfzo = float(P.get("lfzo", 1.0))
+    fz0 = lfzo * float(P.get("fnomin", 0.0))
+    if pty1 > 0.0 and pty2 > 0.0 and fz0 > 0.0:
+        return min(pty1 * math.sin(2.0 * math.atan(fz / (pty2 * fz0))) * float(P.get("unloaded_radius", 0.0)) * lfzo,
+                   SIG_MAX)
+    return 0.0
+
+
+def _relax_share(dist, sig):
+    """1 - exp(-dist / sig) per wheel: the share of the way the lagged slip
+    angle moves towards the kinematic one over the distance dist; 1 where
+    the tire file gives no relaxation length."""
+    out = np.ones(4)
+    for i in range(4):
+        if sig[i] > 0.0:
+            out[i] = 1.0 if dist[i] >= RLX_A_MAX * sig[i] else 1.0 - math.exp(-dist[i] / sig[i])
+    return out
+
+
 class Estimator:
     def __init__(self, cfg):
         self.cfg = cfg
@@ -203,6 +240,7 @@ class Estimator:
         self.alpha_pk = [0.5, 0.5]
         self.kappa_pk = [0.5, 0.5]
         self.mu0_k = [0.0, 0.0]
+        self.sig_a = [0.0, 0.0]
         for a in range(2):
             P = c["tire"][a]
             fz = self.fz_static[a]
@@ -218,6 +256,7 @@ class Estimator:
             self.kappa_pk[a] = _peak_friction(P, fz, longitudinal=True)[1]
             if self.c_alpha[a] <= 0 or self.c_kappa[a] <= 0 or self.mu0[a] < 0.05:
                 raise ValueError("tire model gives no cornering/slip stiffness or friction")
+            self.sig_a[a] = _relax_length(P, self.c_alpha[a], fz)
         cf, cr = 2 * self.c_alpha[0], 2 * self.c_alpha[1]
         self.k_us = 100.0 * c["mass"] * (c["lr"] * cr - c["lf"] * cf) / (l * l * cf * cr)
         self.q = Q_C / c["rate_hz"]
@@ -266,6 +305,8 @@ class Estimator:
         self.sat_f = 0.0
         self.sat_cap = False
         self.misfit = False
+        self.alpha_t = np.zeros(4)   # lagged (relaxed) slip angles
+        self.rlx_init = False        # alpha_t set since the observer started
 
     # -- Kalman pieces (scaled units) --
     def _condition(self):
@@ -517,6 +558,7 @@ class Estimator:
         self.active = active
         if not active:
             flags |= F_LOW_SPEED
+            self.rlx_init = False
             self.x[0], self.x[1] = 0.0, yaw
             self.r_lin_f = yaw
             self.lim_steps = 0
@@ -543,7 +585,19 @@ class Estimator:
             vxw, vyw = _wheel_velocity(vx, vy, r, xa, ya, cdi, sdi)
             den = np.maximum(np.abs(vxw), V_OFF)
             t = vyw / den
-            alpha = np.arctan(t)
+            alpha_k = np.arctan(t)
+            # the tires work at the lagged slip angle (relaxation, SIG_MIN);
+            # the Jacobians below keep the kinematic slope: the lag settles
+            # within sigma / |vx| (~20 ms at speed), inside the filter's horizon
+            sig = [max(self.sig_a[i // 2] * fz[i] / self.fz_static[i // 2], SIG_MIN) if self.sig_a[i // 2] > 0.0
+                   else 0.0 for i in range(4)]
+            phi = _relax_share(np.abs(vxw) * dt, sig)
+            if not self.rlx_init:
+                self.alpha_t, self.rlx_init = alpha_k.copy(), True
+            alpha = self.alpha_t + phi * (alpha_k - self.alpha_t)
+            # (the lag filters the slip angles of the predicted states: the
+            # update's correction enters with the next step's prediction)
+            self.alpha_t = alpha.copy()
             kappa = np.array([_clamp((ws[i] - vxw[i]) / den[i], -1.0, 1.5) if ws_ok[i] else 0.0
                               for i in range(4)])
             lever = xa * cdi + ya * sdi
@@ -681,8 +735,10 @@ class Estimator:
             # the gyro bias adapts only where the tire model is trusted
             # (linear range), else it would absorb model errors at the limit
             # (and not with a locked or spinning wheel, hard braking or driving,
-            # or the yaw-rate limit test set)
-            b_ok = (float(np.max(o["util"])) < B_U and abs(ay) < B_A and abs(ax) < B_AX and not lock
+            # the yaw-rate limit test set, or in a fast yaw transient, where
+            # the modelled tire lag errs most: a bias is a constant, a
+            # transient's residual is not)
+            b_ok = (abs(racc) < B_RACC and float(np.max(o["util"])) < B_U and abs(ay) < B_A and abs(ax) < B_AX and not lock
                     and not spin and not at_limit)
             dvy = ((ay if ay_ok else ay_m) + g_y - r * vx) * dt
             dr = racc * dt
@@ -777,8 +833,22 @@ class Estimator:
             vy_o = _clamp(float(self.x[0]) + lat * vyd, -lim, lim)
             r_o = _clamp(float(self.x[1]) + lat * racc, -YAW_MAX, YAW_MAX)
             vxw, vyw = _wheel_velocity(vx, vy_o, r_o, xa, ya, cdi, sdi)
-            alpha_o = np.arctan(vyw / np.maximum(np.abs(vxw), V_OFF))
-            fy_o = fy + dfda * (alpha_o - alpha)
+            den_o = np.maximum(np.abs(vxw), V_OFF)
+            t_o = vyw / den_o
+            alpha_o = np.arctan(t_o)
+            # The updates' correction of vy (posterior - predicted) moves each
+            # lagged slip angle along the kinematic slope: vy is predicted from
+            # the measured ay, so its correction is a re-estimate of where the
+            # car is, not motion the tire lags (the Jacobians assume the whole
+            # slope). r is predicted from the model's yaw moment: its correction
+            # stays in the lag, else a model-vs-gyro fight drifts the lagged
+            # angles (AV-21 log: 11 deg apart within 0.2 s at 3 m/s)
+            duv = float(self.x[0]) - (vy + dvy)
+            if RLX_CARRY:
+                self.alpha_t = self.alpha_t + cdi * duv / (1.0 + np.clip(t_o, -100.0, 100.0) ** 2) / den_o
+            # ... and carried over the latency towards alpha_o
+            alpha_to = self.alpha_t + _relax_share(np.abs(vxw) * lat, sig) * (alpha_o - self.alpha_t)
+            fy_o = fy + dfda * (alpha_to - alpha)
             o.update(alpha=alpha_o, fy=fy_o)
             o["fy_axle"] = np.array([fy_o[0] + fy_o[1], fy_o[2] + fy_o[3]])
         mu = float(self.x[2])

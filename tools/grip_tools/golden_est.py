@@ -3,8 +3,9 @@ run through the float64 reference grip_tools.est_ref, written as
 build/golden/est_<name>.txt for tests/unit/test_est_golden.c.
 
 Input sequences (the C test replays exactly the same rows):
-  bicycle_100hz   internal generator (below): steer steps, slalom, braking
-                  in a turn, on mu = 1.0 then 0.5, 100 Hz
+  bicycle_100hz   internal generator (below; single-track, Magic Formula
+                  axles with the tire's lateral relaxation): steer steps,
+                  slalom, braking in a turn, on mu = 1.0 then 0.5, 100 Hz
   bicycle_1khz    the same generator at 1 kHz, mu = 0.6, shorter
   faults_100hz    the generator's signals with faults injected: invalid and
                   stale flags, NaN/Inf values (valid flag set), saturated
@@ -77,6 +78,16 @@ def bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED, v0=22.
     value = np.zeros((n, est_ref.N_IN))
     valid = np.zeros((n, est_ref.N_IN), dtype=np.uint8)
     truth = {k: np.zeros(n) for k in ("vx", "vy", "r", "mu")}
+    # the tires' lateral relaxation (first-order lag of the slip angle over
+    # sigma = cornering stiffness / LATERAL_STIFFNESS, as the reference
+    # simulator's MF 6.x tires): a tire answers a slip-angle change over a
+    # rolling distance, not at once
+    sigma = []
+    for fz in (fzf, fzr):
+        o = est_ref.mf.evaluate(P0, np.zeros(2), np.array([0.01, -0.01]), 0.0, np.full(2, fz), None, 20.0)
+        k_alpha = (o["fy"][1] - o["fy"][0]) / 0.02
+        sigma.append(k_alpha / P0["lateral_stiffness"] if P0.get("lateral_stiffness", 0.0) > 0 else 0.0)
+    a_lag = None
     vx, vy, r = v0, 0.0, 0.0
     for k in range(n):
         tk = t[k]
@@ -99,7 +110,14 @@ def bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED, v0=22.
         delta = swa / cfg["steer_ratio"]
         af = math.atan2(vy + lf * r, vx) - delta
         ar = math.atan2(vy - lr * r, vx)
-        o = est_ref.mf.evaluate(P, np.zeros(2), np.array([af, ar]), 0.0, np.array([fzf, fzr]), None, vx)
+        if a_lag is None:
+            a_lag = [af, ar]
+        for i, a in enumerate((af, ar)):
+            if sigma[i] > 0.0:
+                a_lag[i] += (1.0 - math.exp(-abs(vx) * dt / sigma[i])) * (a - a_lag[i])
+            else:
+                a_lag[i] = a
+        o = est_ref.mf.evaluate(P, np.zeros(2), np.array(a_lag), 0.0, np.array([fzf, fzr]), None, vx)
         fyf, fyr = 2 * o["fy"][0], 2 * o["fy"][1]
         ax = -brake * min(1.0, mu)
         vyd = (fyf * math.cos(delta) + fyr) / m - r * vx
