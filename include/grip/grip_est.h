@@ -164,10 +164,10 @@ typedef struct {
     grip_real_t yaw_error;       /* QS rad/s yaw_rate - yaw_rate_ref              */
     grip_real_t delta;           /* QS rad road-wheel steer angle                 */
     grip_real_t kappa[4];        /* QS slip ratio (ISO, > 0 driving)              */
-    grip_real_t alpha[4];        /* QS rad slip angle (ISO-W)                     */
+    grip_real_t alpha[4];        /* QS rad slip angle (ISO-W), kinematic          */
     grip_real_t fz[4];           /* QL N vertical load                            */
     grip_real_t fx[4];           /* QL N                                          */
-    grip_real_t fy[4];           /* QL N (wheel frame)                            */
+    grip_real_t fy[4];           /* QL N (wheel frame), at the lagged slip angle  */
     grip_real_t mz[4];           /* QL N m                                        */
     grip_real_t util[4];         /* QS friction utilization |F| / (mu mu0 Fz), [0, 1.5] */
     grip_real_t fy_axle[2];      /* QL N front, rear (wheel frame, summed)        */
