@@ -1093,9 +1093,10 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
             }
             /* the tires work at the lagged slip angle; the Jacobians below keep
              * the kinematic slope (the lag settles within sigma / |vx|, ~20 ms
-             * at speed, inside the filter's horizon). The lag filters the
-             * slip angles of the predicted states: the update's correction
-             * enters with the next step's prediction */
+             * at speed, inside the filter's horizon). The updates' correction
+             * of vy was carried into alpha_t at the end of the last step
+             * (lateral_outputs); what is lagged here is the rest of the
+             * motion since then */
             if (!est->rlx_init) {
                 est->alpha_t[i] = alpha;
             }

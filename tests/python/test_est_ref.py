@@ -341,7 +341,6 @@ class TireRelaxationTests(unittest.TestCase):
         for surface in ("dry", "wet"):
             self.assertLess(rms[surface, "lag"], 0.8 * rms[surface, "none"])
 
-
     def test_update_moves_the_lagged_angle(self):
         # An ay offset of 1.5 m/s^2 from 1.0 s of the step steer (the fault
         # table's case, without the monitor): the ay update corrects vy; had

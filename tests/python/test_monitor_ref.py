@@ -15,6 +15,16 @@ import numpy as np
 from grip_tools import est_ref, faults, monitor_ref as MR
 
 
+def signals(r, rng):
+    """The 17 SI input values at 22 m/s and yaw rate r (steady-state
+    bicycle), with small noise from rng."""
+    V = 22.0
+    d = r * 2.7 * (1 + 3.68e-4 * V * V) / V
+    v = [(V - r * 0.775) * math.cos(d), (V + r * 0.775) * math.cos(d), V - r * 0.765, V + r * 0.765,
+         d * 15.5, r, 0.0, r * V * (1 + 9.80665 * 0.0088)] + [0.0] * 9
+    return [x + float(rng.normal(0, s)) for x, s in zip(v, [0.01] * 4 + [0.002, 0.002, 0.03, 0.03] + [0] * 9)]
+
+
 def drive(n=600, fault=None):
     """22 m/s, slow weave; fault(k, values) may edit the SI values (list of
     17) and return a valid list."""
@@ -22,13 +32,7 @@ def drive(n=600, fault=None):
     reps = []
     rng = np.random.default_rng(3)
     for k in range(n):
-        t = k / 100.0
-        V = 22.0
-        r = 0.08 * math.sin(2 * math.pi * 0.2 * t)
-        d = r * 2.7 * (1 + 3.68e-4 * V * V) / V
-        v = [(V - r * 0.775) * math.cos(d), (V + r * 0.775) * math.cos(d), V - r * 0.765, V + r * 0.765,
-             d * 15.5, r, 0.0, r * V * (1 + 9.80665 * 0.0088)] + [0.0] * 9
-        v = [x + float(rng.normal(0, s)) for x, s in zip(v, [0.01] * 4 + [0.002, 0.002, 0.03, 0.03] + [0] * 9)]
+        v = signals(0.08 * math.sin(2 * math.pi * 0.2 * k / 100.0), rng)
         valid = [1] * 8 + [0] * 9
         if fault is not None:
             valid = fault(k, v) or valid
@@ -123,7 +127,6 @@ class MonitorTests(unittest.TestCase):
         self.assertEqual(reps[300]["valid"][MR.AX], 1)   # the monitor drops what it judges; the
         # estimator rejects a non-finite value itself (its own check)
 
-
     def test_only_the_inner_driven_wheel_may_spin(self):
         # a steady left turn at 3.3 m/s^2 (ay > 0: the left wheels are the
         # inner ones): a front (driven) wheel 1.5 m/s fast is a spinning
@@ -132,12 +135,8 @@ class MonitorTests(unittest.TestCase):
             mon = MR.Monitor(MR.config())
             reps = []
             rng = np.random.default_rng(5)
-            V, r = 22.0, 0.15
-            d = r * 2.7 * (1 + 3.68e-4 * V * V) / V
             for k in range(500):
-                v = [(V - r * 0.775) * math.cos(d), (V + r * 0.775) * math.cos(d), V - r * 0.765, V + r * 0.765,
-                     d * 15.5, r, 0.0, r * V * (1 + 9.80665 * 0.0088)] + [0.0] * 9
-                v = [x + float(rng.normal(0, s)) for x, s in zip(v, [0.01] * 4 + [0.002, 0.002, 0.03, 0.03] + [0] * 9)]
+                v = signals(0.15, rng)
                 if 300 <= k < 400:
                     v[wheel] += 1.5
                 reps.append(mon.step(v, [1] * 8 + [0] * 9, None))

@@ -595,8 +595,9 @@ class Estimator:
             if not self.rlx_init:
                 self.alpha_t, self.rlx_init = alpha_k.copy(), True
             alpha = self.alpha_t + phi * (alpha_k - self.alpha_t)
-            # (the lag filters the slip angles of the predicted states: the
-            # update's correction enters with the next step's prediction)
+            # (the updates' correction of vy was carried into alpha_t at the
+            # end of the last step, below; what is lagged here is the rest of
+            # the motion since then)
             self.alpha_t = alpha.copy()
             kappa = np.array([_clamp((ws[i] - vxw[i]) / den[i], -1.0, 1.5) if ws_ok[i] else 0.0
                               for i in range(4)])
