@@ -73,7 +73,7 @@
  * front axle's friction in use over the utilization the deficit implies,
  * min(US_UMAX, US_U0 + US_U1 deficit), bounds mu from above when it is below
  * US_ZMAX */
-#define EST_US_D     0.2
+#define EST_US_D     0.15
 #define EST_US_R     0.02
 #define EST_US_U0    0.3
 #define EST_US_U1    1.4

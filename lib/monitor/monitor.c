@@ -69,6 +69,7 @@ static const grip_real_t FROZEN_MOVE_[GRIP_MON_N] = { RC(0.5), RC(0.5), RC(0.5),
 #define DR_MAX 0.15
 #define DAX_MAX 3.0
 #define BETA_UNST 0.1
+#define BETA_CALM 0.025
 #define UNST_MS 1000
 #define DIFF_MAX 10.0
 #define STEADY_MS 500
@@ -507,7 +508,12 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
           r_abs(est_prev->beta) > RC(BETA_UNST)) ||
          ((est_prev->valid & GRIP_EST_V_STEER) != 0u && est_prev->steer_char < 0))) {
         m->unst = m->n_unst;
-    } else if (m->unst > 0) {
+    } else if (m->unst > 0 &&
+               !(est_prev != NULL && (est_prev->valid & GRIP_EST_V_BETA) != 0u && r_is_finite(est_prev->beta) &&
+                 r_abs(est_prev->beta) > RC(BETA_CALM))) {
+        /* the hold's time runs only once the sideslip is back near the
+         * linear range: a car still drifting at 2 - 5 deg can swing into
+         * the next oversteer, and the hold would lapse in between */
         m->unst -= 1;
     } /* grip-deviation: MISRA-15.7 no hold to start or count down */
     r_steady = r_steady && m->unst == 0; /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */

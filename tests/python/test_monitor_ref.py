@@ -149,6 +149,25 @@ class MonitorTests(unittest.TestCase):
         self.assertIsNone(self._first(inner, 0, MR.C_PLAUS))
         self.assertFalse(any(r["detected"] for r in outer[:300]))
 
+    def test_unstable_hold_runs_out_only_near_the_linear_range(self):
+        # the estimator shows a sideslip beyond BETA_UNST for 0.1 s, then
+        # 0.04 rad (a car still drifting) for 2 s, then 0.01 rad: the hold
+        # (UNVERIFIED) stays through the drift and runs out UNST_T after
+        # the sideslip is back below BETA_CALM (it lapsed 1 s after the
+        # trigger before session 15, mid-drift)
+        mon = MR.Monitor(MR.config())
+        rng = np.random.default_rng(7)
+        est = {"valid": est_ref.V_BETA | est_ref.V_VX, "beta": 0.0, "steer_char": 0, "vx": 22.0}
+        unver = []
+        for k in range(500):
+            est["beta"] = 0.12 if k < 10 else (0.04 if k < 210 else 0.01)
+            rep = mon.step(signals(0.08, rng), [1] * 8 + [0] * 9, dict(est))
+            unver.append(bool(rep["degraded"] & MR.DEGR_UNVERIFIED))
+        # the first calm step (210) counts the first of the hold's n steps
+        end = 210 + int(round(MR.UNST_T * 100)) - 1
+        self.assertTrue(all(unver[:end]))
+        self.assertFalse(any(unver[end:]))
+
 
 class GateTests(unittest.TestCase):
     """MR.gate = grip_monitor_gate (tests/unit/test_monitor.c

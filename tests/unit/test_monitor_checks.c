@@ -22,6 +22,10 @@
  * later than the expected code (it is set while a check accumulates).
  * In a steady left turn a fast front wheel is a fault on the outer side
  * and a spinning wheel on the inner side (test_only_the_inner_driven_wheel_may_spin).
+ * The unstable-driving hold (UNVERIFIED) set by a large estimated sideslip
+ * runs out only once the sideslip is back near the linear range
+ * (test_unstable_hold_waits_for_the_linear_range; monitor_ref's test of the
+ * same name has the same sequence).
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -32,6 +36,7 @@
 #include <string.h>
 #include <cmocka.h>
 
+#include "grip/grip_est.h"
 #include "grip/grip_monitor.h"
 
 #if GRIP_ARITH_FIXED
@@ -303,12 +308,53 @@ static void test_only_the_inner_driven_wheel_may_spin(void **state)
     assert_true(inner < 0.0);
 }
 
+/* the estimator's sideslip: 0.12 rad for 0.1 s (beyond the hold's 0.1),
+ * then 0.04 rad (a car still drifting) for 2 s, then 0.01 rad: UNVERIFIED
+ * through the drift, running out 1 s (100 steps, the first calm step
+ * counting) after the sideslip is back below 0.025 rad */
+static void test_unstable_hold_waits_for_the_linear_range(void **state)
+{
+    grip_monitor_config_t cfg;
+    grip_monitor_t mon;
+    grip_monitor_report_t rep;
+    grip_input_sample_t in;
+    grip_est_output_t est;
+    double v[9];
+    int k, s, last = -1;
+    (void)state;
+    lcg = 4242u;
+    memset(&est, 0, sizeof est);
+    est.valid = GRIP_EST_V_BETA | GRIP_EST_V_VX;
+    est.vx = q(22.0);
+    assert_int_equal(grip_monitor_config_default(&cfg), GRIP_OK);
+    assert_int_equal(grip_monitor_init(&mon, &cfg), GRIP_OK);
+    for (k = 0; k < 5 * RATE; ++k) {
+        signals_at(0.08, v);
+        assert_int_equal(grip_input_sample_clear(&in), GRIP_OK);
+        for (s = 0; s < 8; ++s) {
+            in.value[s] = q(v[s] + noise(s < 4 ? 0.01 : (s < 6 ? 0.002 : 0.03)));
+            in.valid[s] = 1u;
+            in.fault[s] = GRIP_SIG_OK;
+        }
+        est.beta = q(k < 10 ? 0.12 : (k < 210 ? 0.04 : 0.01));
+        assert_int_equal(grip_monitor_step(&mon, &in, &est, &rep), GRIP_OK);
+        if ((rep.degraded & GRIP_MON_DEGR_UNVERIFIED) != 0u) {
+            assert_int_equal(last, k - 1); /* one unbroken hold from the start */
+            last = k;
+        }
+    }
+    printf("# unstable hold: sideslip 0.12 rad to 0.10 s, 0.04 to 2.10 s, then 0.01: UNVERIFIED to %.2f s\n",
+           (double)last / RATE);
+    assert_int_equal(last, 210 + RATE - 2);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_fault_free),
         cmocka_unit_test(test_each_fault),
         cmocka_unit_test(test_only_the_inner_driven_wheel_may_spin),
+        cmocka_unit_test(test_unstable_hold_waits_for_the_linear_range),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

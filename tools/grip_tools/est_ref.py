@@ -51,7 +51,7 @@ LIM_TAU, LIM_A, LIM_REL, LIM_ABS, LIM_T = 0.15, 2.0, 0.15, 0.03, 0.2
 # understeer limit (low-friction detection): yaw deficit share US_D against
 # the lagged reference (above US_R rad/s), implied front-axle utilization
 # min(US_UMAX, US_U0 + US_U1 deficit), an upper bound of mu below US_ZMAX
-US_D, US_R, US_U0, US_U1, US_UMAX, US_ZMAX = 0.2, 0.02, 0.3, 1.4, 0.85, 0.8
+US_D, US_R, US_U0, US_U1, US_UMAX, US_ZMAX = 0.15, 0.02, 0.3, 1.4, 0.85, 0.8
 # withdrawal of that bound: mu held down by it and not confirmed since
 # (P_mu above P_CONF, i.e. mu_conf < 0.5) goes back to its value before the
 # bound once the bound's own test has said "no deficit" (-LIM_REL < d <

@@ -21,11 +21,15 @@ Input sequences (the C test replays exactly the same rows):
                   locked-wheel ax update (the one that uses drag and rolling
                   resistance) runs
   steer_offset_100hz the internal generator on mu = 1.0 at 40 % steering and
-                  no braking, a +0.26 rad steering-wheel offset from 4.3 to
+                  no braking, a +0.24 rad steering-wheel offset from 4.3 to
                   5.0 s in the steady turn (STEER_OFFSET below): the offset
                   fakes an understeer deficit, the understeer bound holds mu
                   down (~0.35), and after the offset the bound is withdrawn
-                  (mu back to its value before), so that branch runs
+                  (mu back to its value before), so that branch runs. (0.26
+                  until session 15: with the deficit threshold at 0.15 its
+                  deficit fell on 0.15000 in the step the withdrawal starts,
+                  and Q15.16 took that decision a step later than est_ref;
+                  at 0.24 the nearest step is 0.005 from the threshold)
   sim_sine_dwell  the reference vehicle simulator (grip_tools.vehsim) when
                   present: sine with dwell on a wet road, its sensor models
                   (noise, delay, quantization); skipped if the simulator is
@@ -224,7 +228,7 @@ def out_row(o):
 
 AERO_BANK = dict(cla=2.5, aero_front=0.42, air_density=1.2, cda=0.62, crr=0.01, tan_bank=0.04, tan_grade=0.02,
                  latency=0.02, steer_lag=0.1)
-STEER_OFFSET = dict(steer_gain=0.4, offset=0.26, span=(4.3, 5.0))  # [-], [rad] steering wheel, [s]
+STEER_OFFSET = dict(steer_gain=0.4, offset=0.24, span=(4.3, 5.0))  # [-], [rad] steering wheel, [s]
 AERO_BANK_LOCK = (4.6, 4.9)   # [s] rear-left wheel locked while braking (the locked-wheel ax update)
 
 

@@ -101,6 +101,7 @@ DR_TAU, DR_MAX = 0.1, 0.15                    # dr/dt low-passed [s, rad/s^2]
 DAX_MAX = 3.0                                 # dax/dt, d(dv)/dt low-passed (AX_TAU) [m/s^3]
 STEADY_T = 0.5
 BETA_UNST, UNST_T = 0.1, 1.0                  # |beta| of the estimator [rad], hold [s]
+BETA_CALM = 0.025     # the hold's time runs only while |beta| of the estimator <= this [rad]
 DIFF_MAX = 10.0      # a step difference is clamped to this before it is turned into a rate
 DEB_T = 0.1          # residual debounce [s]
 HEAL_T = 1.0         # a latched signal is released after its checks pass this long
@@ -339,7 +340,10 @@ class Monitor:
         if est is not None and (((est["valid"] & V_BETA) and abs(est["beta"]) > BETA_UNST) or
                                 ((est["valid"] & V_STEER) and est["steer_char"] < 0)):
             self.unst = self.n_unst
-        elif self.unst > 0:
+        elif self.unst > 0 and not (est is not None and (est["valid"] & V_BETA) and abs(est["beta"]) > BETA_CALM):
+            # the hold's time runs only once the estimated sideslip is back
+            # near the linear range (a car still drifting at 2 - 5 deg can
+            # turn into the next oversteer swing: the hold would lapse between)
             self.unst -= 1
         r_steady = r_steady and self.unst == 0
 
