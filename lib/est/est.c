@@ -743,7 +743,7 @@ static EST_NOINLINE void lateral_outputs(grip_est_t *est, grip_est_output_t *out
     out->fy_axle[0] = r_add(out->fy[0], out->fy[1]);
     out->fy_axle[1] = r_add(out->fy[2], out->fy[3]);
     out->vy = vy;
-    out->beta = r_atan(r_div(vy, r_max(vx, RC(EST_V_OFF))));
+    out->beta = r_atan(r_div(vy, r_max(out->vx, RC(EST_V_OFF))));
     out->yaw_rate = r;
 }
 
@@ -1375,7 +1375,19 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
             est->us_low = 1;
             est->mu_pre = est->x[2];
         }
-        est->x[2] = r_clamp(est->x[2], mu_lb, (mu_us > R_ZERO) ? r_max(mu_us, mu_lb) : RC(EST_MU_MAX)); /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
+        /* the understeer measurement cutting mu is applied as an estimate
+         * projection (the constrained Kalman filter): the whole state moves
+         * along mu's covariance onto the bound, P kept (a bound adds no
+         * confidence); vy and r were fitted with the mu it rejects. Not the
+         * friction-in-use bound (docs/estimator.md) */
+        {
+            static const grip_real_t h_mu[GRIP_EST_NX] = { R_ZERO, R_ZERO, R_ONE, R_ZERO };
+            grip_real_t mu_hi = (mu_us > R_ZERO) ? r_max(mu_us, mu_lb) : RC(EST_MU_MAX); /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
+            if (mu_us > R_ZERO && est->x[2] > mu_hi) {
+                (void)kf_update(est, h_mu, r_div(r_sub(mu_hi, est->x[2]), RC(EST_S_MU)), R_ZERO, 1, 0, 1);
+            }
+            est->x[2] = r_clamp(est->x[2], mu_lb, mu_hi);
+        }
         est->x[0] = sym_clamp(est->x[0], r_add(r_mul(RC(EST_VY_K), r_abs(vx)), R_ONE));
         est->x[1] = sym_clamp(est->x[1], RC(EST_YAW_MAX));
         est->x[3] = sym_clamp(est->x[3], RC(EST_B_MAX / EST_S_B));
@@ -1393,15 +1405,18 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         if (excited) {
             flags |= GRIP_EST_F_EXCITED;
         }
+        /* vx at the output's time too, like vy and r: its prediction's
+         * rate at the updated state (a spin slows it by ~6 m/s^2) */
+        out->vx = r_add(vx, r_mul(c->latency, r_add(r_add(r_sub(ax, est->ax_off), r_mul(est->x[1], est->x[0])), g_x)));
         lateral_outputs(est, out, vx, cd, sd, r_sub(r_add(ay_ok ? ay : ay_m, g_y), r_mul(est->x[1], vx)), racc,
                         r_sub(est->x[0], r_add(vy, dvy)));
     }
     mu = est->x[2];
 
     /* ---- outputs ---- */
-    out->vx = vx;
     if (!active) {
-        out->yaw_rate = yaw;   /* vy, beta stay 0; active: lateral_outputs set them */
+        out->vx = vx;
+        out->yaw_rate = yaw;   /* vy, beta stay 0; active: vx above, lateral_outputs the rest */
     }
     if (yaw_ok) {
         valid |= GRIP_EST_V_YAW;
