@@ -97,9 +97,9 @@ typedef struct {
                                 * integral of the (bias-corrected) yaw rate since reset */
     grip_real_t latency;       /* QS s, [0, 0.1]: age of the inertial data (yaw rate, ay) when
                                 * the step runs, i.e. the sensors' transport delay plus
-                                * their filter time constant. vy, beta, yaw_rate, alpha[],
-                                * fy[] and fy_axle are extrapolated over it from the
-                                * state derivative; 0 (default): outputs at the state */
+                                * their filter time constant. vx, vy, beta, yaw_rate,
+                                * alpha[], fy[] and fy_axle are extrapolated over it from
+                                * the state derivative; 0 (default): outputs at the state */
     grip_real_t steer_lag;     /* QS s, [0, 0.5]: first-order time constant of the road
                                 * wheels behind the steering signal (steer-by-wire, a
                                 * logged steering command); tire slip angles and the yaw
@@ -167,7 +167,8 @@ typedef struct {
     grip_real_t alpha[4];        /* QS rad slip angle (ISO-W), kinematic          */
     grip_real_t fz[4];           /* QL N vertical load                            */
     grip_real_t fx[4];           /* QL N                                          */
-    grip_real_t fy[4];           /* QL N (wheel frame), at the lagged slip angle  */
+    grip_real_t fy[4];           /* QL N (wheel frame), at the lagged slip angle,
+                                  * plus the yaw balance's share (yaw_mb)      */
     grip_real_t mz[4];           /* QL N m                                        */
     grip_real_t util[4];         /* QS friction utilization |F| / (mu mu0 Fz), [0, 1.5] */
     grip_real_t fy_axle[2];      /* QL N front, rear (wheel frame, summed)        */
@@ -234,6 +235,7 @@ typedef struct {
     int32_t sat_cap;            /* mu confidence capped by the saturation share (hysteresis state) */
     grip_real_t sig_a[2];       /* QS m lateral relaxation length at static load, front / rear; 0: none */
     grip_real_t alpha_t[4];     /* QS rad lagged (relaxed) slip angles the tires work at */
+    grip_real_t yaw_mb;         /* QL N front-axle force the model's yaw moment lacks (low-passed) */
     int32_t rlx_init;           /* alpha_t set since the lateral observer started */
     int32_t no_wheel_steps;
     int32_t dr_steps;           /* consecutive dead-reckoning steps */

@@ -292,6 +292,7 @@ grip_status_t grip_est_reset(grip_est_t *est)
         est->alpha_t[i] = R_ZERO;
     }
     est->rlx_init = 0;
+    est->yaw_mb = R_ZERO;
     est->active = 0;
     est->vx_init = 0;
     est->psi = R_ZERO;
@@ -740,6 +741,21 @@ static EST_NOINLINE void lateral_outputs(grip_est_t *est, grip_est_output_t *out
                                              out->alpha[i])));
         out->alpha[i] = alpha;
     }
+    /* the yaw balance: +df on the front axle, -df on the rear (the lateral
+     * sum unchanged, the moment l df), shared by load, at most the axle's
+     * friction */
+    for (i = 0; i < 2; ++i) {
+        int w0 = i + i, w1 = i + i + 1; /* the axle's left and right wheel */
+        grip_real_t fza = r_max(r_add(out->fz[w0], out->fz[w1]), RCL(1.0));
+        grip_real_t cap = r_mul(r_mul(est->x[2], est->mu0[i]), fza);
+        grip_real_t df = est->yaw_mb;
+        if (i == 1) {
+            df = r_neg(df);
+        }
+        df = r_clamp(df, r_neg(cap), cap);
+        out->fy[w0] = r_add(out->fy[w0], r_mul(df, r_div(out->fz[w0], fza)));
+        out->fy[w1] = r_add(out->fy[w1], r_mul(df, r_div(out->fz[w1], fza)));
+    }
     out->fy_axle[0] = r_add(out->fy[0], out->fy[1]);
     out->fy_axle[1] = r_add(out->fy[2], out->fy[3]);
     out->vy = vy;
@@ -1036,6 +1052,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     if (!active) {
         flags |= GRIP_EST_F_LOW_SPEED;
         est->rlx_init = 0;
+        est->yaw_mb = R_ZERO;
         est->x[0] = R_ZERO;
         est->x[1] = yaw;
         est->r_lin_f = yaw;
@@ -1304,6 +1321,17 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                 (void)kf_update(est, h, r_div(r_sub(yaw, est->x[1]), RC(EST_S_R)),
                           RC(EST_R_YAW), 0, b_ok, 0);
                 kf_condition(est);
+            }
+            /* the yaw moment the model lacks (the gyro's yaw acceleration
+             * against the model's) as a front-axle force Iz dr / l */
+            {
+                grip_real_t dmr = R_ZERO;
+                if (yaw_ok && r_abs(ax) < RC(EST_MB_AX)) {
+                    dmr = sym_clamp(r_mul(r_sub(est->x[1], r_add(r, dr)), rate), RC(EST_MB_RACC));
+                }
+                est->yaw_mb = r_add(est->yaw_mb,
+                                    r_mul(r_min(r_div(R_ONE, r_mul(rate, RC(EST_MB_TAU))), R_ONE),
+                                          r_sub(r_div(r_mul(c->iz, dmr), r_add(c->lf, c->lr)), est->yaw_mb)));
             }
             if (ay_ok) {
                 ay_pred = r_add(ay_m, r_add(r_mul(a_vv, r_sub(est->x[0], vy)), r_mul(a_vr, r_sub(est->x[1], r))));

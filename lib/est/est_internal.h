@@ -147,5 +147,13 @@
 #define EST_CONF_MISFIT 0.45 /* mu_conf cap while misfit (below V_MU's 0.5)    */
 #define EST_SAT_MU   0.1     /* ... and from when the saturation share rises    */
 #define EST_SAT_MU_LO 0.05   /* above this until it falls below this            */
+/* the axle forces' yaw balance (docs/estimator.md): the yaw moment the
+ * model lacks (the yaw-rate update's correction of the predicted r as a yaw
+ * acceleration, at most MB_RACC rad/s^2, times Iz / l) moves force from one
+ * axle to the other at the outputs, low-passed over MB_TAU s; not while
+ * |ax| >= MB_AX m/s^2 (the model's left / right Fx moment errs there too) */
+#define EST_MB_TAU   0.1
+#define EST_MB_RACC  20.0
+#define EST_MB_AX    1.0
 
 #endif

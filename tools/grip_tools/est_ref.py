@@ -103,6 +103,12 @@ BIG = 1000000
 # wheel's load, at least SIG_MIN [m]; the exponent |vx| dt / sigma is capped
 # at RLX_A_MAX (exp(-16) is below one Q15.16 unit)
 SIG_MIN, SIG_MAX, RLX_A_MAX = 0.02, 5.0, 16.0
+# the axle forces' yaw balance: the yaw moment the model lacks (the yaw-rate
+# update's correction of the predicted r, as a yaw acceleration clamped at
+# MB_RACC [rad/s^2], times Iz) moves force from one axle to the other at
+# the outputs, low-passed over MB_TAU [s]; not while |ax| >= MB_AX [m/s^2]
+# (braking or driving: the model's left / right Fx moment errs there too)
+MB_TAU, MB_RACC, MB_AX = 0.1, 20.0, 1.0
 # the updates' correction moves the lagged slip angles along the kinematic
 # slope (RLX_CARRY; off only to measure what it does: TireRelaxationTests)
 RLX_CARRY = True
@@ -310,6 +316,7 @@ class Estimator:
         self.sat_f = 0.0
         self.sat_cap = False
         self.misfit = False
+        self.mb_f = 0.0              # front-axle force the model's yaw moment lacks [N]
         self.alpha_t = np.zeros(4)   # lagged (relaxed) slip angles
         self.rlx_init = False        # alpha_t set since the observer started
 
@@ -564,6 +571,7 @@ class Estimator:
         if not active:
             flags |= F_LOW_SPEED
             self.rlx_init = False
+            self.mb_f = 0.0
             self.x[0], self.x[1] = 0.0, yaw
             self.r_lin_f = yaw
             self.lim_steps = 0
@@ -764,6 +772,10 @@ class Estimator:
                 self._update(np.array([0.0, 1.0, 0.0, S[3] / S[1]]), (self.hold[1] - self.x[1] - B_UNIT * self.x[3]) / S[1],
                              R_YAW, False, b_ok)
                 self._condition()
+            # the yaw moment the model lacks (the gyro's yaw acceleration
+            # against the model's), as a front-axle force: Iz dr / l
+            dmr = _clamp((float(self.x[1]) - (r + dr)) / dt, -MB_RACC, MB_RACC) if (yaw_ok and abs(ax) < MB_AX) else 0.0
+            self.mb_f += min(dt / MB_TAU, 1.0) * (c["iz"] * dmr / l - self.mb_f)
             if ay_ok:
                 ay_pred = ay_m + a_vv * (self.x[0] - vy) + a_vr * (self.x[1] - r) + a_vm * (self.x[2] - mu)
                 h = np.array([_clamp(a_vv * S[0] / S_AY, -H_MAX_VY, H_MAX_VY),
@@ -867,6 +879,15 @@ class Estimator:
             # ... and carried over the latency towards alpha_o
             alpha_to = self.alpha_t + _relax_share(np.abs(vxw) * lat, sig) * (alpha_o - self.alpha_t)
             fy_o = fy + dfda * (alpha_to - alpha)
+            # the yaw balance (MB_*): +df on the front axle, -df on the rear
+            # (the lateral sum unchanged, the moment a df + b df = l df),
+            # shared by load, at most the axle's friction
+            for a in range(2):
+                fza = max(fz[2 * a] + fz[2 * a + 1], 1.0)
+                cap = float(self.x[2]) * self.mu0[a] * fza
+                dfa = _clamp(self.mb_f if a == 0 else -self.mb_f, -cap, cap)
+                for i in (2 * a, 2 * a + 1):
+                    fy_o[i] = fy_o[i] + dfa * fz[i] / fza
             o.update(alpha=alpha_o, fy=fy_o)
             o["fy_axle"] = np.array([fy_o[0] + fy_o[1], fy_o[2] + fy_o[3]])
         mu = float(self.x[2])
