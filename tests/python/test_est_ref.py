@@ -133,17 +133,25 @@ def _run_counting_clamps(cfg, value, valid):
     return outs, n, first
 
 
-def _simulated(test, manoeuvre, surface):
-    """A reference-simulator run (sensor models on) as estimator inputs:
-    (t, value, valid, the truth's friction-limit onset, the truth's road
-    friction on t); skips the test where the simulator is not importable."""
+def _sim_run(manoeuvre, surface, out_dir):
+    """Runs the reference simulator (sensor models on) into out_dir; returns
+    grip_tools.est_eval. Raises unittest.SkipTest where the simulator is not
+    importable (a scipy-less machine)."""
     try:
         from grip_tools import est_eval
         from grip_tools.vehsim import cli
     except ImportError as e:       # pragma: no cover - scipy-less machine
-        test.skipTest(f"simulator not importable: {e}")
+        raise unittest.SkipTest(f"simulator not importable: {e}")
+    cli.main(["-m", manoeuvre, "-s", surface, "-o", out_dir, "--no-plot"])
+    return est_eval
+
+
+def _simulated(test, manoeuvre, surface):
+    """A reference-simulator run (sensor models on) as estimator inputs:
+    (t, value, valid, the truth's friction-limit onset, the truth's road
+    friction on t); skips the test where the simulator is not importable."""
     with tempfile.TemporaryDirectory() as d:
-        cli.main(["-m", manoeuvre, "-s", surface, "-o", d, "--no-plot"])
+        est_eval = _sim_run(manoeuvre, surface, d)
         cols = est_eval.read_csv(os.path.join(d, "sensors.csv"))
         t, value, valid = est_ref.inputs_from_sensors(cols)
         tr = est_eval.read_csv(os.path.join(d, "truth.csv"))
@@ -244,13 +252,8 @@ class AyNoiseAtLimitTests(unittest.TestCase):
         # sideslip 47 deg). With the ay noise growing only with the most-used
         # tire (R_AXLE = 0, session 11) the update pulled vy towards the
         # model's force past the tire's peak: beta 2.81 deg RMS.
-        try:
-            from grip_tools import est_eval
-            from grip_tools.vehsim import cli
-        except ImportError as e:   # pragma: no cover - scipy-less machine
-            self.skipTest(f"simulator not importable: {e}")
         with tempfile.TemporaryDirectory() as d:
-            cli.main(["-m", "sine-dwell", "-s", "wet", "-o", d, "--no-plot"])
+            est_eval = _sim_run("sine-dwell", "wet", d)
             rms = {}
             for name, r_axle in (("axle term", est_ref.R_AXLE), ("one tire only", 0.0)):
                 with mock.patch.object(est_ref, "R_AXLE", r_axle):
@@ -322,16 +325,11 @@ class TireRelaxationTests(unittest.TestCase):
         # the estimator's model force leads the truth's through every steering
         # reversal: beta RMS 0.35 (dry) and 0.76 deg (wet, a spin-out) before
         # session 13
-        try:
-            from grip_tools import est_eval
-            from grip_tools.vehsim import cli
-        except ImportError as e:   # pragma: no cover - scipy-less machine
-            self.skipTest(f"simulator not importable: {e}")
         rms = {}
         with tempfile.TemporaryDirectory() as d:
             for surface in ("dry", "wet"):
                 run = os.path.join(d, surface)
-                cli.main(["-m", "sine-dwell", "-s", surface, "-o", run, "--no-plot"])
+                est_eval = _sim_run("sine-dwell", surface, run)
                 for name, length in (("lag", est_ref._relax_length), ("none", lambda *a: 0.0)):
                     with mock.patch.object(est_ref, "_relax_length", length):
                         rms[surface, name] = est_eval.evaluate(run, est_eval.estimate(run))["beta_rms_deg"]
@@ -377,15 +375,9 @@ class SpinOutputTests(unittest.TestCase):
 
     @classmethod
     def setUpClass(cls):
-        try:
-            from grip_tools import est_eval
-            from grip_tools.vehsim import cli
-        except ImportError as e:   # pragma: no cover - scipy-less machine
-            raise unittest.SkipTest(f"simulator not importable: {e}")
-        cls.est_eval = est_eval
         cls.tmp = tempfile.TemporaryDirectory()
         cls.run_dir = os.path.join(cls.tmp.name, "wet")
-        cli.main(["-m", "sine-dwell", "-s", "wet", "-o", cls.run_dir, "--no-plot"])
+        cls.est_eval = _sim_run("sine-dwell", "wet", cls.run_dir)
 
     @classmethod
     def tearDownClass(cls):
@@ -430,15 +422,10 @@ class YawBalanceTests(unittest.TestCase):
         # low) while the sum matches ay; the gyro's yaw acceleration shows
         # the moment that split makes (measured: Fy RMS front / rear 3.1 /
         # 2.4 % of peak against 6.2 / 5.3 % without)
-        try:
-            from grip_tools import est_eval
-            from grip_tools.vehsim import cli
-        except ImportError as e:   # pragma: no cover - scipy-less machine
-            self.skipTest(f"simulator not importable: {e}")
         res = {}
         with tempfile.TemporaryDirectory() as d:
             run = os.path.join(d, "snow")
-            cli.main(["-m", "step-steer", "-s", "snow", "-o", run, "--no-plot"])
+            est_eval = _sim_run("step-steer", "snow", run)
             for name, mb_ax in (("on", est_ref.MB_AX), ("off", 0.0)):
                 with mock.patch.object(est_ref, "MB_AX", mb_ax):
                     r = est_eval.evaluate(run, est_eval.estimate(run))
