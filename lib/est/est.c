@@ -742,17 +742,18 @@ static EST_NOINLINE void lateral_outputs(grip_est_t *est, grip_est_output_t *out
         out->alpha[i] = alpha;
     }
     /* the yaw balance: +df on the front axle, -df on the rear (the lateral
-     * sum unchanged, the moment l df), shared by load, at most the axle's
-     * friction */
+     * sum unchanged, the moment l df), shared by load; the axle's force
+     * stays within its friction */
     for (i = 0; i < 2; ++i) {
         int w0 = i + i, w1 = i + i + 1; /* the axle's left and right wheel */
         grip_real_t fza = r_max(r_add(out->fz[w0], out->fz[w1]), RCL(1.0));
         grip_real_t cap = r_mul(r_mul(est->x[2], est->mu0[i]), fza);
+        grip_real_t fa = r_add(out->fy[w0], out->fy[w1]);
         grip_real_t df = est->yaw_mb;
         if (i == 1) {
             df = r_neg(df);
         }
-        df = r_clamp(df, r_neg(cap), cap);
+        df = r_clamp(df, r_sub(r_neg(cap), fa), r_sub(cap, fa));
         out->fy[w0] = r_add(out->fy[w0], r_mul(df, r_div(out->fz[w0], fza)));
         out->fy[w1] = r_add(out->fy[w1], r_mul(df, r_div(out->fz[w1], fza)));
     }

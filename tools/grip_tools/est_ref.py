@@ -881,11 +881,12 @@ class Estimator:
             fy_o = fy + dfda * (alpha_to - alpha)
             # the yaw balance (MB_*): +df on the front axle, -df on the rear
             # (the lateral sum unchanged, the moment a df + b df = l df),
-            # shared by load, at most the axle's friction
+            # shared by load; the axle's force stays within its friction
             for a in range(2):
                 fza = max(fz[2 * a] + fz[2 * a + 1], 1.0)
                 cap = float(self.x[2]) * self.mu0[a] * fza
-                dfa = _clamp(self.mb_f if a == 0 else -self.mb_f, -cap, cap)
+                fa = fy_o[2 * a] + fy_o[2 * a + 1]
+                dfa = _clamp(self.mb_f if a == 0 else -self.mb_f, -cap - fa, cap - fa)
                 for i in (2 * a, 2 * a + 1):
                     fy_o[i] = fy_o[i] + dfa * fz[i] / fza
             o.update(alpha=alpha_o, fy=fy_o)
