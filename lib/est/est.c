@@ -1403,6 +1403,8 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         if (mu_us > R_ZERO && !est->us_low && est->x[2] > r_max(mu_us, mu_lb)) {
             est->us_low = 1;
             est->mu_pre = est->x[2];
+            est->yaw_mb = R_ZERO; /* the model's forces jump with the cut: the
+                                   * balance's memory was the old model's */
         }
         /* the understeer measurement cutting mu is applied as an estimate
          * projection (the constrained Kalman filter): the whole state moves

@@ -420,7 +420,7 @@ class YawBalanceTests(unittest.TestCase):
         # on snow the model runs at mu = 1 until the understeer bound (1.4 s)
         # and splits the force wrongly between the axles (front high, rear
         # low) while the sum matches ay; the gyro's yaw acceleration shows
-        # the moment that split makes (measured: Fy RMS front / rear 3.1 /
+        # the moment that split makes (measured: Fy RMS front / rear 3.4 /
         # 2.4 % of peak against 6.2 / 5.3 % without)
         res = {}
         with tempfile.TemporaryDirectory() as d:

@@ -827,6 +827,9 @@ class Estimator:
             self.us_clamped = self.x[2] > mu_ub
             if mu_us > 0.0 and self.us_clamped and not self.us_low:
                 self.us_low, self.mu_pre = True, float(self.x[2])
+                # the model's forces jump with the cut: the yaw balance's
+                # memory is the moment error of the model before it
+                self.mb_f = 0.0
             # The understeer measurement cutting mu is applied as an estimate
             # projection (the constrained Kalman filter): the whole state
             # moves along mu's covariance onto the bound, the covariance
