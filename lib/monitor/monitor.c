@@ -307,6 +307,13 @@ static int exceeds(grip_real_t e, grip_real_t abs_, grip_real_t rel, grip_real_t
     return r_abs(e) > r_add(abs_, r_mul(rel, r_abs(ref)));
 }
 
+/* the estimator's previous sideslip is valid, finite and beyond lim */
+static int beta_beyond(const grip_est_output_t *est_prev, grip_real_t lim)
+{
+    return est_prev != NULL && (est_prev->valid & GRIP_EST_V_BETA) != 0u && r_is_finite(est_prev->beta) && /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
+           r_abs(est_prev->beta) > lim;
+}
+
 grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
                                 const grip_est_output_t *est_prev, grip_monitor_report_t *rep)
 {
@@ -503,14 +510,10 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
 
     /* unstable driving (the estimator sees a large sideslip or oversteer):
      * the sideslip rate, ay - r vx, and the bicycle model are then unbounded */
-    if (est_prev != NULL &&
-        (((est_prev->valid & GRIP_EST_V_BETA) != 0u && r_is_finite(est_prev->beta) &&
-          r_abs(est_prev->beta) > RC(BETA_UNST)) ||
-         ((est_prev->valid & GRIP_EST_V_STEER) != 0u && est_prev->steer_char < 0))) {
+    if (beta_beyond(est_prev, RC(BETA_UNST)) ||
+        (est_prev != NULL && (est_prev->valid & GRIP_EST_V_STEER) != 0u && est_prev->steer_char < 0)) {
         m->unst = m->n_unst;
-    } else if (m->unst > 0 &&
-               !(est_prev != NULL && (est_prev->valid & GRIP_EST_V_BETA) != 0u && r_is_finite(est_prev->beta) &&
-                 r_abs(est_prev->beta) > RC(BETA_CALM))) {
+    } else if (m->unst > 0 && !beta_beyond(est_prev, RC(BETA_CALM))) {
         /* the hold's time runs only once the sideslip is back near the
          * linear range: a car still drifting at 2 - 5 deg can swing into
          * the next oversteer, and the hold would lapse in between */

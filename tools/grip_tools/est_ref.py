@@ -114,7 +114,7 @@ MB_TAU, MB_RACC, MB_AX = 0.1, 20.0, 1.0
 RLX_CARRY = True
 # vx extrapolated over the latency like vy and r (VX_AT_OUTPUT) and the
 # understeer bound applied as an estimate projection (PROJECT_US_BOUND):
-# off only to measure what they do (OutputTimeTests, UndersteerLimitTests)
+# off only to measure what they do (SpinOutputTests)
 VX_AT_OUTPUT = True
 PROJECT_US_BOUND = True
 
