@@ -185,6 +185,7 @@ typedef struct {
 
 /* ---- instance (all state; fixed size, no heap) ---- */
 #define GRIP_EST_NX 4
+#define GRIP_EST_SHAPE_N 16     /* intervals of the tabulated lateral force shape */
 typedef struct {
     uint32_t magic;
     grip_est_config_t cfg;
@@ -195,6 +196,9 @@ typedef struct {
     grip_real_t c_kappa[2];     /* QL N per wheel at static load */
     grip_real_t mu0[2];         /* QS peak |F|/Fz of the tire at static load */
     grip_real_t alpha_pk[2];    /* QS slip angle of that peak [rad] */
+    grip_real_t inv_apk[2];     /* QS 1 / alpha_pk [1/rad] */
+    grip_real_t fy_shape[2][GRIP_EST_SHAPE_N + 1]; /* QS |Fy| / Fz at static load, alpha = k alpha_pk / N
+                                                     * (mu's secant, docs/estimator.md) */
     grip_real_t kappa_pk[2];    /* QS |slip ratio| of the braking force's peak at static load */
     grip_real_t mu0_k[2];       /* QS load sensitivity of the peak: mu0(Fz) = mu0 + mu0_k (Fz / Fz_static - 1) */
     grip_real_t k_us;           /* QS stability factor A [s^2/m^2] times 100 */

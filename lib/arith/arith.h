@@ -104,4 +104,32 @@ static inline grip_real_t r_from_int(int32_t n)
 #endif
 }
 
+/* Linear interpolation in row[0..m] (m + 1 values at y = k / m) at y,
+ * clamped to [0, 1]; the index is the truncated y m (exact in the fixed
+ * build: y <= 2^16 and m < 32768). Shared by the brush model's pressure
+ * tables and the estimator's force shape. */
+static inline grip_real_t r_table_lerp(const grip_real_t *row, int32_t m, grip_real_t y)
+{
+    grip_real_t t;
+    grip_real_t frac;
+    int32_t j;
+    y = r_clamp(y, R_ZERO, R_ONE);
+#if GRIP_ARITH_FIXED
+    t = y * m;
+    j = t >> 16;
+    if (j > m - 1) {
+        j = m - 1;
+    }
+    frac = t - (j << 16);
+#else
+    t = y * (grip_real_t)m;
+    j = (int32_t)t;
+    if (j > m - 1) {
+        j = m - 1;
+    }
+    frac = t - (grip_real_t)j;
+#endif
+    return r_add(row[j], r_mul(frac, r_sub(row[j + 1], row[j])));
+}
+
 #endif /* GRIP_ARITH_H */

@@ -232,26 +232,7 @@ grip_real_t brush_core_slide(grip_real_t rh, int32_t n, grip_real_t inv1)
 /* rh of the table variable y in [0, 1] (y = 1: rh = 0). */
 static grip_real_t table_rh(const grip_real_t *row, grip_real_t y)
 {
-    grip_real_t t;
-    grip_real_t frac;
-    int32_t j;
-    y = r_clamp(y, R_ZERO, R_ONE);
-#if GRIP_ARITH_FIXED
-    t = y * GRIP_BRUSH_TABLE_M;                 /* exact: y <= 2^16 */
-    j = t >> 16;
-    if (j > GRIP_BRUSH_TABLE_M - 1) {
-        j = GRIP_BRUSH_TABLE_M - 1;
-    }
-    frac = t - (j << 16);
-#else
-    t = y * (grip_real_t)GRIP_BRUSH_TABLE_M;
-    j = (int32_t)t;
-    if (j > GRIP_BRUSH_TABLE_M - 1) {
-        j = GRIP_BRUSH_TABLE_M - 1;
-    }
-    frac = t - (grip_real_t)j;
-#endif
-    return r_add(row[j], r_mul(frac, r_sub(row[j + 1], row[j])));
+    return r_table_lerp(row, GRIP_BRUSH_TABLE_M, y);
 }
 
 /* Per-call coefficients of core_state that do not depend on the trial

@@ -219,6 +219,33 @@ static grip_real_t relax_share(grip_real_t dist, grip_real_t sig)
     return r_sub(R_ONE, r_exp(r_neg(r_div(dist, sig))));
 }
 
+/* d Fy / d mu of one wheel (docs/estimator.md, "mu's secant"): the secant
+ * of mu F0(alpha / mu) from mu down to mu - dmu, dmu = SEC_K sigma_mu, on
+ * the axle's tabulated force shape: the shape's ratio F(mu - dmu) / F(mu)
+ * applied to the wheel's own force fy (its load and combined slip), within
+ * [0, fy / mu] like the tangent (F - alpha F') / mu. The tangent is 0 while
+ * the model tire is linear, however far a lower mu would take it (the snow
+ * onset: mu stayed at its prior while vy took the ay deficit). dmu and
+ * 1 / mu are formed per wheel, not held across the wheel loop (the M0+
+ * step's frame is within 24 B of the stack budget). */
+static grip_real_t mu_secant(const grip_est_t *est, int axle, grip_real_t alpha, grip_real_t fy, grip_real_t mu)
+{
+    grip_real_t sig = r_mul(r_sqrt(est->p[2][2]), RC(EST_S_MU));
+    grip_real_t dmu = r_max(r_min(r_mul(RC(EST_SEC_K), sig), r_sub(mu, RC(EST_MU_MIN))), RC(EST_SEC_MIN));
+    grip_real_t mu2 = r_sub(mu, dmu);
+    grip_real_t inv_mu = r_div(R_ONE, mu);
+    grip_real_t f1 = r_table_lerp(est->fy_shape[axle], GRIP_EST_SHAPE_N,
+                                  r_mul(r_mul(r_abs(alpha), inv_mu), est->inv_apk[axle]));
+    grip_real_t q = R_ZERO;
+    if (f1 > RC(EST_SHAPE_F_MIN)) {
+        grip_real_t f2 = r_table_lerp(est->fy_shape[axle], GRIP_EST_SHAPE_N,
+                                      r_mul(r_mul(r_abs(alpha), r_div(R_ONE, mu2)), est->inv_apk[axle]));
+        q = r_mul(r_sub(R_ONE, r_mul(r_mul(mu2, inv_mu), r_div(f2, f1))), r_div(R_ONE, dmu));
+        q = r_clamp(q, R_ZERO, inv_mu);
+    }
+    return r_mul(q, fy);
+}
+
 static grip_status_t check_config(const grip_est_config_t *c)
 {
     int a;
@@ -303,7 +330,7 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
 {
     grip_status_t st;
     grip_real_t l, m_g;
-    int a;
+    int a, k;
     if (est == NULL || cfg == NULL) {
         return GRIP_ERR_NULL;
     }
@@ -369,6 +396,17 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
             return GRIP_ERR_PARAM;
         }
         est->sig_a[a] = relax_length(&cfg->tire[a], est->c_alpha[a], est->fz_static[a]);
+        /* the lateral force's shape over [0, alpha_pk] for mu's secant */
+        est->inv_apk[a] = r_div(R_ONE, est->alpha_pk[a]);
+        in.kappa = R_ZERO;
+        in.fz = est->fz_static[a];
+        for (k = 0; k <= GRIP_EST_SHAPE_N; ++k) {
+            in.alpha = r_mul(est->alpha_pk[a], r_div(r_from_int(k), r_from_int(GRIP_EST_SHAPE_N)));
+            if (tire_eval(&cfg->tire[a], &in, &o1) < 0) {
+                return GRIP_ERR_PARAM;
+            }
+            est->fy_shape[a][k] = r_abs(r_div(o1.fy, in.fz));
+        }
     }
     {
         /* stability factor A = m (lr Cr - lf Cf) / (l^2 Cf Cr), Cf, Cr per axle
@@ -1185,10 +1223,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
             dady = r_div(r_mul(c2, cdi), den);                    /* d alpha / d vy  [s/m] */
             dadr = r_div(r_mul(c2, lever), den);                  /* d alpha / d r   [s]   */
             dfda = r_neg(r_mul(g, ca));                           /* d Fy / d alpha  [N/rad] */
-            /* d(mu F0(s/mu))/dmu = (F - s F')/mu lies between 0 (linear) and
-             * F/mu (sliding) for a concave force curve: the slope
-             * approximation may not leave that interval (it flips the sign) */
-            dfdmu = r_div_keep(between_zero(r_sub(out->fy[i], r_mul(alpha, dfda)), out->fy[i]), mu);   /* d Fy / d mu [N] */
+            dfdmu = mu_secant(est, axle, alpha, out->fy[i], mu);   /* d Fy / d mu [N] */
             {
                 grip_real_t dfy_dvy = r_mul(dady, dfda);
                 grip_real_t dfy_dr = r_mul(dadr, dfda);

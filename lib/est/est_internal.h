@@ -155,5 +155,13 @@
 #define EST_MB_TAU   0.1
 #define EST_MB_RACC  20.0
 #define EST_MB_AX    1.0
+/* mu's column of the Jacobians (docs/estimator.md, "mu's secant"): the
+ * secant of mu F0(alpha / mu) from mu down to mu - dmu, dmu = SEC_K
+ * sigma_mu within [SEC_MIN, mu - MU_MIN], on the force shape tabulated at
+ * init (grip_est_t.fy_shape); no column where the shape is below
+ * SHAPE_F_MIN (the origin: 0 / 0, and the column is 0 there anyway) */
+#define EST_SEC_K    1.0
+#define EST_SEC_MIN  0.02
+#define EST_SHAPE_F_MIN 0.01
 
 #endif

@@ -396,20 +396,73 @@ class SpinOutputTests(unittest.TestCase):
     def test_vx_at_the_output_time(self):
         # in the spin the body-frame vx falls by ~6 m/s^2 (r vy); a vx 20 ms
         # old against vy extrapolated to the output's time made beta small
-        # (measured: beta RMS 0.37 against 0.48 deg)
+        # (measured: beta RMS 0.20 against 0.30 deg, vx error in the spin
+        # 0.25 against 0.50 %; before mu's secant, session 16, 0.37 / 0.48
+        # deg and 0.20 / 0.55 %, when the vx bound was 0.5 x; the secant
+        # changes the spin's path, the vx error with it)
         on, off = self._run(True, True), self._run(False, True)
         print(f"\n# sine with dwell wet: beta RMS {on[0]:.3f} / {off[0]:.3f} deg, vx error RMS in the spin "
               f"{100 * on[1]:.2f} / {100 * off[1]:.2f} % with / without vx at the output time", flush=True)
         self.assertLess(on[0], 0.85 * off[0])
-        self.assertLess(on[1], 0.5 * off[1])
+        self.assertLess(on[1], 0.6 * off[1])
 
     def test_projection_onto_the_understeer_bound(self):
         # vy and r move with mu when the understeer bound cuts it (measured:
-        # beta RMS 0.37 against 0.44 deg with the bound a plain clamp)
+        # beta RMS 0.20 against 0.26 deg with the bound a plain clamp; 0.37 /
+        # 0.44 before mu's secant)
         on, off = self._run(True, True), self._run(True, False)
         print(f"\n# sine with dwell wet: beta RMS {on[0]:.3f} / {off[0]:.3f} deg with the bound projected / "
               f"clamped", flush=True)
         self.assertLess(on[0], 0.9 * off[0])
+
+
+class MuSecantTests(unittest.TestCase):
+    """mu's column as the secant over mu's uncertainty (MU_SECANT,
+    docs/estimator.md "mu's secant")."""
+
+    def test_table_secant_matches_the_tire_secant(self):
+        # the tabulated shape's secant against the secant of the tire model
+        # itself (two evaluations at mu and mu - dmu), pure lateral slip at
+        # static load, as a share of the column's range Fy / mu (measured:
+        # 2.5 % with 16 intervals, at small slip where the column is near 0;
+        # 10 % with 8, 0.7 % with 32)
+        e = est_ref.Estimator(est_ref.config(golden_est.tire_params()))
+        P = e.cfg["tire"][0]
+        fz = e.fz_static[0]
+        worst = 0.0
+        for mu in (1.0, 0.7, 0.4):
+            e.P[2, 2] = (0.3 / est_ref.S[2]) ** 2 * (mu / 1.0)
+            sig = math.sqrt(e.P[2, 2]) * est_ref.S[2]
+            dmu = max(min(est_ref.SEC_K * sig, mu - est_ref.MU_MIN), est_ref.SEC_MIN)
+            for alpha in np.linspace(0.01, 0.25, 25):
+                f = [float(m_ * abs(est_ref._tire(P, np.zeros(1), np.array([min(alpha / m_, e.alpha_pk[0])]),
+                                                      np.full(1, fz), np.full(1, 20.0))[1][0]))
+                     for m_ in (mu, mu - dmu)]
+                exact = (f[0] - f[1]) / dmu
+                got = float(e._mu_secant(np.array([alpha, 0.0, 0.0, 0.0]), np.array([f[0], 0.0, 0.0, 0.0]), mu)[0])
+                worst = max(worst, abs(got - exact) / (f[0] / mu))
+        print(f"\n# mu's secant, table ({est_ref.SHAPE_N} intervals) against the tire's own: worst error "
+              f"{100 * worst:.2f} % of Fy / mu", flush=True)
+        self.assertLess(worst, 0.03)
+
+    def test_snow_sine_with_dwell_onset(self):
+        # the tangent (F - alpha F') / mu is 0 while the model tire is linear
+        # at the prior mu = 1: at the snow onset vy took the ay deficit
+        # (measured: beta RMS / max 0.30 / 1.14 deg against 0.47 / 1.63)
+        with tempfile.TemporaryDirectory() as d:
+            run = os.path.join(d, "snow")
+            est_eval = _sim_run("sine-dwell", "snow", run)
+            res = {}
+            for name, on in (("secant", True), ("tangent", False)):
+                with mock.patch.object(est_ref, "MU_SECANT", on):
+                    res[name] = est_eval.evaluate(run, est_eval.estimate(run))
+        on, off = res["secant"], res["tangent"]
+        print(f"\n# sine with dwell snow: beta RMS / max {on['beta_rms_deg']:.2f} / {on['beta_max_deg']:.2f} deg "
+              f"(tangent {off['beta_rms_deg']:.2f} / {off['beta_max_deg']:.2f}), Fy front / rear "
+              f"{on['fy_front_rms_pct']:.1f} / {on['fy_rear_rms_pct']:.1f} % "
+              f"({off['fy_front_rms_pct']:.1f} / {off['fy_rear_rms_pct']:.1f})", flush=True)
+        self.assertLessEqual(on["beta_max_deg"], 1.5)
+        self.assertLess(on["beta_rms_deg"], 0.8 * off["beta_rms_deg"])
 
 
 class YawBalanceTests(unittest.TestCase):

@@ -47,6 +47,12 @@ static void make_est(grip_est_t *e)
 /* steady circle: speed v [m/s], lateral acceleration ay; the steering-wheel
  * angle of the linear bicycle model (l = 2.7 m, stability factor
  * A = 3.7e-4 s^2/m^2 of the estimator's car and tire, steering ratio 15.5) */
+/* A steady circle of the default car at speed v and lateral acceleration
+ * ay: steering from the linear bicycle, yaw rate ay / v, and the
+ * accelerometer's reading of a body rolled by the default roll gradient
+ * (0.0088 rad per m/s^2: ay (1 + g 0.0088)), which the estimator removes.
+ * (Until session 16 the reading left the roll out, 8 % below the
+ * kinematics: docs/estimator.md, "mu's secant".) */
 static void circle(grip_input_sample_t *s, double v, double ay)
 {
     double r = (v > 0.1) ? ay / v : 0.0;
@@ -60,7 +66,7 @@ static void circle(grip_input_sample_t *s, double v, double ay)
     s->value[GRIP_IN_STEER_ANGLE] = qs(swa);
     s->value[GRIP_IN_YAW_RATE] = qs(r);
     s->value[GRIP_IN_AX] = qs(0.0);
-    s->value[GRIP_IN_AY] = qs(ay);
+    s->value[GRIP_IN_AY] = qs(ay * (1.0 + 9.80665 * 0.0088));
     for (i = 0; i < 8; ++i) {
         s->valid[i] = 1;
     }
@@ -441,12 +447,18 @@ static void test_reset_keeps_config(void **state)
 /* Model-consistency check: the same steady circles (inputs from the linear
  * bicycle of the right tire, ay ramped to 7.5 m/s^2 on a dry road) run
  * through the estimator with the right tire and with a deliberately wrong one
- * (cornering-stiffness scale LKY * MISFIT_LKY = 4: the model predicts more force
- * than the car makes at these slip angles, like the stand-in tire on the
- * AV-21 log). The right tire must never raise GRIP_EST_F_MODEL_MISFIT; the
- * wrong one must raise it, and V_MU must stay cleared from then on. */
-#ifndef MISFIT_LKY
-#define MISFIT_LKY 4.0
+ * (friction scale LMUY * MISFIT_LMUY = 0.6: the model tire saturates where
+ * the car does not, the case the saturation-share statistic is for). The
+ * right tire must never raise GRIP_EST_F_MODEL_MISFIT; the wrong one must
+ * raise it, and V_MU must stay cleared from then on.
+ * (Until session 16 the wrong tire was a cornering-stiffness scale LKY x 4
+ * and the circle's accelerometer left out the body roll, 8 % below the
+ * kinematics: with the roll in, neither the tangent nor the secant form of
+ * mu's column flags LKY x 4 in steady circles, the filter fits it with a
+ * different beta; the old test found it through the 8 % only.
+ * docs/estimator.md, "Model consistency".) */
+#ifndef MISFIT_LMUY
+#define MISFIT_LMUY 0.6
 #endif
 #ifndef MISFIT_AY
 #define MISFIT_AY 7.5
@@ -543,10 +555,10 @@ static void test_model_misfit(void **state)
     printf("# misfit: right tire: %d flagged steps, V_MU in %d steps, mu %.3f\n", n, vmu_steps, mu_end);
     assert_int_equal(n, 0);
     wrong = *tire();
-    wrong.lky = qs(dq(wrong.lky) * MISFIT_LKY);
+    wrong.lmuy = qs(dq(wrong.lmuy) * MISFIT_LMUY);
     n = misfit_run(&wrong, &first, &vmu_after, &vmu_steps, &mu_end);
-    printf("# misfit: LKY x %.1f: %d flagged steps (first at step %d), V_MU in %d steps (%d after the flag), "
-           "mu %.3f\n", MISFIT_LKY, n, first, vmu_steps, vmu_after, mu_end);
+    printf("# misfit: LMUY x %.1f: %d flagged steps (first at step %d), V_MU in %d steps (%d after the flag), "
+           "mu %.3f\n", MISFIT_LMUY, n, first, vmu_steps, vmu_after, mu_end);
     assert_true(n > 0);
     assert_int_equal(vmu_after, 0);
 }

@@ -109,6 +109,16 @@ SIG_MIN, SIG_MAX, RLX_A_MAX = 0.02, 5.0, 16.0
 # the outputs, low-passed over MB_TAU [s]; not while |ax| >= MB_AX [m/s^2]
 # (braking or driving: the model's left / right Fx moment errs there too)
 MB_TAU, MB_RACC, MB_AX = 0.1, 20.0, 1.0
+# mu's column of the Jacobians is the secant over mu's own uncertainty
+# (statistical linearization, MU_SECANT): from mu down to mu - dmu, dmu =
+# SEC_K sigma_mu within [SEC_MIN, mu - MU_MIN], on the tire's lateral
+# force shape |Fy| / Fz at static load tabulated at SHAPE_N + 1 slip angles
+# over [0, alpha_pk]; no column below SHAPE_F_MIN of Fz (the origin, where
+# the secant is 0 / 0 and the column 0 anyway). The tangent is 0 while the
+# model tire is linear, however far from it a lower mu would take it: at
+# the snow onset mu stayed at its prior while vy took the ay deficit
+SHAPE_N, SEC_K, SEC_MIN, SHAPE_F_MIN = 16, 1.0, 0.02, 0.01
+MU_SECANT = True
 # the updates' correction moves the lagged slip angles along the kinematic
 # slope (RLX_CARRY; off only to measure what it does: TireRelaxationTests)
 RLX_CARRY = True
@@ -187,6 +197,15 @@ def _tire(P, kappa, alpha, fz, vx):
     return np.asarray(o["fx"], float), np.asarray(o["fy"], float), np.asarray(o["mz"], float)
 
 
+def shape_lookup(row, y):
+    """Linear interpolation in a table of len(row) values over y in [0, 1]
+    (arith.h r_table_lerp: the index from the truncated product)."""
+    m = len(row) - 1
+    t = _clamp(y, 0.0, 1.0) * m
+    j = min(int(t), m - 1)
+    return row[j] + (t - j) * (row[j + 1] - row[j])
+
+
 def _peak_friction(P, fz, longitudinal=False):
     """Peak |Fy| / Fz at load fz over alpha = 0.02 .. 0.5 rad and its slip
     angle; longitudinal: peak |Fx| / Fz over the braking slips kappa =
@@ -252,6 +271,8 @@ class Estimator:
         self.kappa_pk = [0.5, 0.5]
         self.mu0_k = [0.0, 0.0]
         self.sig_a = [0.0, 0.0]
+        self.fy_shape = [None, None]
+        self.inv_apk = [0.0, 0.0]
         for a in range(2):
             P = c["tire"][a]
             fz = self.fz_static[a]
@@ -268,6 +289,11 @@ class Estimator:
             if self.c_alpha[a] <= 0 or self.c_kappa[a] <= 0 or self.mu0[a] < 0.05:
                 raise ValueError("tire model gives no cornering/slip stiffness or friction")
             self.sig_a[a] = _relax_length(P, self.c_alpha[a], fz)
+            # the lateral force's shape for mu's secant (MU_SECANT)
+            sj = self.alpha_pk[a] * np.arange(SHAPE_N + 1) / SHAPE_N
+            _, fy, _ = _tire(P, np.zeros(SHAPE_N + 1), sj, np.full(SHAPE_N + 1, fz), np.full(SHAPE_N + 1, 20.0))
+            self.fy_shape[a] = list(np.abs(fy) / fz)
+            self.inv_apk[a] = 1.0 / self.alpha_pk[a]
         cf, cr = 2 * self.c_alpha[0], 2 * self.c_alpha[1]
         self.k_us = 100.0 * c["mass"] * (c["lr"] * cr - c["lf"] * cf) / (l * l * cf * cr)
         self.q = Q_C / c["rate_hz"]
@@ -351,6 +377,27 @@ class Estimator:
             self.P = 0.5 * (Pn + Pn.T)
         w = _clamp(nu / math.sqrt(s), -NU_SIGMA, NU_SIGMA)
         return w * w
+
+    def _mu_secant(self, alpha, fy, mu):
+        """d Fy / d mu of each wheel as the secant of mu F0(alpha / mu) from
+        mu down to mu - dmu (MU_SECANT), on the tabulated force shape: the
+        ratio F(mu - dmu) / F(mu) of the shape applied to the wheel's own
+        force (its load and combined slip), within [0, F / mu] like the
+        tangent it replaces."""
+        sig = math.sqrt(self.P[2, 2]) * S[2]
+        dmu = max(min(SEC_K * sig, mu - MU_MIN), SEC_MIN)
+        mu2 = mu - dmu
+        inv_mu, inv_mu2, inv_dmu = 1.0 / mu, 1.0 / mu2, 1.0 / dmu
+        r2 = mu2 * inv_mu
+        out = np.zeros(4)
+        for i in range(4):
+            a = i // 2
+            f1 = shape_lookup(self.fy_shape[a], abs(alpha[i]) * inv_mu * self.inv_apk[a])
+            if f1 > SHAPE_F_MIN:
+                f2 = shape_lookup(self.fy_shape[a], abs(alpha[i]) * inv_mu2 * self.inv_apk[a])
+                q = _clamp((1.0 - r2 * (f2 / f1)) * inv_dmu, 0.0, inv_mu)
+                out[i] = fy[i] * q
+        return out
 
     def _take(self, value, valid, idx, slot, lim, st):
         ok = False
@@ -664,7 +711,10 @@ class Estimator:
             # d(mu F0(s/mu))/dmu = (F - s F')/mu lies between 0 (linear) and
             # F/mu (sliding) for a concave force curve: the slope
             # approximation may not leave that interval (it flips the sign)
-            dfdmu = _between(fy - alpha * dfda, fy) / mu
+            if MU_SECANT:
+                dfdmu = self._mu_secant(alpha, fy, mu)
+            else:
+                dfdmu = _between(fy - alpha * dfda, fy) / mu
             dfy_dvy, dfy_dr = dady * dfda, dadr * dfda
             jay = [float(np.sum(cdi * dfy_dvy)), float(np.sum(cdi * dfy_dr)), float(np.sum(cdi * dfdmu))]
             jr = [float(np.sum(lever * dfy_dvy)), float(np.sum(lever * dfy_dr)), float(np.sum(lever * dfdmu))]
