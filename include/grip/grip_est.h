@@ -233,6 +233,7 @@ typedef struct {
     grip_real_t mu_pre;         /* QS mu before the understeer bound held it down */
     grip_real_t use_b;          /* QS front friction in use at the bound's last step */
     grip_real_t nis_a;          /* QS low-pass gain of the misfit statistic per step */
+    grip_real_t mb_a;           /* QS low-pass gain of the yaw balance (yaw_mb) per step */
     grip_real_t nis_f;          /* QS low-passed ay NIS, [0, 16] (misfit check) */
     grip_real_t sat_f;          /* QS low-passed share of saturated-but-not-at-limit steps, [0, 1] */
     int32_t misfit;             /* model misfit declared (hysteresis state) */

@@ -246,6 +246,14 @@ static grip_real_t mu_secant(const grip_est_t *est, int axle, grip_real_t alpha,
     return r_mul(q, fy);
 }
 
+/* vx's rate of change in the body frame: the measured ax less its learned
+ * offset, plus r vy, plus gravity's component along the road's grade
+ * (vx's prediction over a step, and vx at the outputs' time) */
+static grip_real_t vx_rate(const grip_est_t *est, grip_real_t ax, grip_real_t r, grip_real_t vy, grip_real_t g_x)
+{
+    return r_add(r_add(r_sub(ax, est->ax_off), r_mul(r, vy)), g_x);
+}
+
 static grip_status_t check_config(const grip_est_config_t *c)
 {
     int a;
@@ -440,6 +448,7 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
     est->q[2] = r_div(RC(EST_Q_MU), est->rate);
     est->q[3] = r_div(RC(EST_Q_B), est->rate);
     est->nis_a = r_min(r_div(R_ONE, r_mul(RC(EST_MF_TAU), est->rate)), R_ONE);
+    est->mb_a = r_min(r_div(R_ONE, r_mul(est->rate, RC(EST_MB_TAU))), R_ONE);
     est->steer_k = (cfg->steer_lag > R_ZERO) ? r_min(r_div(R_ONE, r_mul(cfg->steer_lag, est->rate)), R_ONE) : R_ONE;
     est->lim_n = r_to_int(r_mul(RC(EST_LIM_T), est->rate));
     est->hold_steps = r_to_int(r_mul(RC(EST_HOLD_T), est->rate));
@@ -896,7 +905,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     {
         grip_real_t r_now = est->active ? est->x[1] : yaw;
         grip_real_t vy_now = est->active ? est->x[0] : R_ZERO;
-        grip_real_t vx_pred = r_add(est->vx, r_div(r_add(r_add(r_sub(ax, est->ax_off), r_mul(r_now, vy_now)), g_x), rate));
+        grip_real_t vx_pred = r_add(est->vx, r_div(vx_rate(est, ax, r_now, vy_now, g_x), rate));
         grip_real_t k = R_ZERO;
         grip_real_t vcs[4];
         int outl[4], n_good = 0;
@@ -1366,8 +1375,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                     dmr = sym_clamp(r_mul(r_sub(est->x[1], r_add(r, dr)), rate), RC(EST_MB_RACC));
                 }
                 est->yaw_mb = r_add(est->yaw_mb,
-                                    r_mul(r_min(r_div(R_ONE, r_mul(rate, RC(EST_MB_TAU))), R_ONE),
-                                          r_sub(r_div(r_mul(c->iz, dmr), r_add(c->lf, c->lr)), est->yaw_mb)));
+                                    r_mul(est->mb_a, r_sub(r_div(r_mul(c->iz, dmr), r_add(c->lf, c->lr)), est->yaw_mb)));
             }
             if (ay_ok) {
                 ay_pred = r_add(ay_m, r_add(r_mul(a_vv, r_sub(est->x[0], vy)), r_mul(a_vr, r_sub(est->x[1], r))));
@@ -1473,7 +1481,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         }
         /* vx at the output's time too, like vy and r: its prediction's
          * rate at the updated state (a spin slows it by ~6 m/s^2) */
-        out->vx = r_add(vx, r_mul(c->latency, r_add(r_add(r_sub(ax, est->ax_off), r_mul(est->x[1], est->x[0])), g_x)));
+        out->vx = r_add(vx, r_mul(c->latency, vx_rate(est, ax, est->x[1], est->x[0], g_x)));
         lateral_outputs(est, out, vx, cd, sd, r_sub(r_add(ay_ok ? ay : ay_m, g_y), r_mul(est->x[1], vx)), racc,
                         r_sub(est->x[0], r_add(vy, dvy)));
     }

@@ -378,6 +378,11 @@ class Estimator:
         w = _clamp(nu / math.sqrt(s), -NU_SIGMA, NU_SIGMA)
         return w * w
 
+    def _vx_rate(self, ax, r, vy, g_x):
+        """vx's rate in the body frame (est.c vx_rate): ax less its learned
+        offset, plus r vy, plus gravity along the grade."""
+        return ax - self.ax_off + r * vy + g_x
+
     def _mu_secant(self, alpha, fy, mu):
         """d Fy / d mu of each wheel as the secant of mu F0(alpha / mu) from
         mu down to mu - dmu (MU_SECANT), on the tabulated force shape: the
@@ -475,7 +480,7 @@ class Estimator:
         # longitudinal speed
         r_now = self.x[1] if self.active else yaw
         vy_now = self.x[0] if self.active else 0.0
-        vx_pred = self.vx + (ax - self.ax_off + r_now * vy_now + g_x) * dt
+        vx_pred = self.vx + self._vx_rate(ax, r_now, vy_now, g_x) * dt
         ws, ws_ok = [0.0] * 4, [False] * 4
         n_ws, vmin, vmax, vsum = 0, 1000.0, -1000.0, 0.0
         lock = spin = False
@@ -952,7 +957,7 @@ class Estimator:
         # deg RMS). The slip angles and ratios keep the state's vx
         vx_o = vx
         if active and VX_AT_OUTPUT:
-            vx_o = vx + c.get("latency", 0.0) * (ax - self.ax_off + float(self.x[1]) * float(self.x[0]) + g_x)
+            vx_o = vx + c.get("latency", 0.0) * self._vx_rate(ax, float(self.x[1]), float(self.x[0]), g_x)
         o["vx"] = vx_o
         o["vy"] = vy_o if active else 0.0
         o["beta"] = math.atan(vy_o / max(vx_o, V_OFF)) if active else 0.0
