@@ -56,6 +56,7 @@ static const grip_real_t FROZEN_MOVE_[GRIP_MON_N] = { RC(0.5), RC(0.5), RC(0.5),
 #define AY_REL 0.10
 #define AY_DR 0.30
 #define AY_DR_CAP 20.0
+#define AY_DR_DEAD 0.08
 #define AX_TAU 0.1
 #define AX_ABS 0.8
 #define AX_REL 0.15
@@ -526,7 +527,11 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
      * sideslip rate does in a transient -- */
     if (moving && ok[IN_AY] && rc_ok && m->unst == 0) {
         grip_real_t r_x = rw_ok ? r_w : r_c; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
-        grip_real_t wide = r_mul(RC(AY_DR), r_mul(vx, r_min(r_abs(m->dr_f), RC(AY_DR_CAP))));
+        /* the widening counts only the yaw acceleration beyond AY_DR_DEAD
+         * (the settling tail of a steering step kept it 0.7 - 1 m/s^2 wide
+         * for 0.5 s: docs/faults.md, session 16) */
+        grip_real_t wide = r_mul(RC(AY_DR),
+                                 r_mul(vx, r_min(r_max(r_sub(r_abs(m->dr_f), RC(AY_DR_DEAD)), R_ZERO), RC(AY_DR_CAP))));
         res[IN_AY] = r_sub(ay_c, r_mul(r_x, vx));
         if (exceeds(res[IN_AY], r_add(RC(AY_ABS), wide), RC(AY_REL), ay_c)) {
             sus[IN_AY] = 1;

@@ -93,6 +93,11 @@ YAW_ABS, YAW_REL, YAW_AX_MAX = 0.04, 0.10, 1.0
 AY_ABS, AY_REL = 0.5, 0.10
 AY_DR = 0.30         # ay threshold widening with the yaw acceleration: + AY_DR vx |dr/dt| [s]
 AY_DR_CAP = 20.0     # |dr/dt| clamp there [rad/s^2] (keeps it in Q15.16; 0.25 * 5 * 20 > any ay)
+# ... counting only the yaw acceleration beyond AY_DR_DEAD [rad/s^2]: the
+# settling tail of a steering step kept the threshold 0.7 - 1 m/s^2 wide at
+# 22 m/s for 0.5 s, and an ay offset of 1.5 m/s^2 there went unseen for
+# 0.3 s while beta drifted 0.7 deg (docs/faults.md, session 16)
+AY_DR_DEAD = 0.08
 AX_TAU, AX_ABS, AX_REL = 0.1, 0.8, 0.15
 ST_TAU, ST_ABS, ST_REL, ST_A_MAX = 0.15, 0.04, 0.20, 2.0
 VS_ABS, VS_REL = 1.0, 0.05
@@ -354,7 +359,7 @@ class Monitor:
             r_x = r_w if rw_ok else r_c
             e = ay_c - r_x * vx
             res[AY] = e
-            if abs(e) > AY_ABS + AY_DR * vx * min(abs(self.dr_f), AY_DR_CAP) + AY_REL * abs(ay_c):
+            if abs(e) > AY_ABS + AY_DR * vx * min(max(abs(self.dr_f) - AY_DR_DEAD, 0.0), AY_DR_CAP) + AY_REL * abs(ay_c):
                 sus[AY] = 1
 
         # -- ax against the derivative of the wheel median --
