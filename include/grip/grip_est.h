@@ -105,6 +105,12 @@ typedef struct {
                                 * logged steering command); tire slip angles and the yaw
                                 * reference use the lagged angle. 0 (default): none, a
                                 * mechanical column                                   */
+    grip_real_t steer_latency; /* QS s, [0, 0.1]: age of the steering angle when the step
+                                * runs (its transport delay), like latency for the inertial
+                                * data: the angle moves along its last step's change to
+                                * the state's time (the inertial data's) for the tire
+                                * slip angles and the yaw reference, and to now for
+                                * alpha[], fy[] and fy_axle. 0 (default): a fresh angle */
     grip_est_tire_t tire[2];   /* front, rear axle; the tires' lateral relaxation
                                 * length comes from the parameter set (C_alpha /
                                 * LATERAL_STIFFNESS, else PTY1 / PTY2, else none:
@@ -203,6 +209,10 @@ typedef struct {
     grip_real_t mu0_k[2];       /* QS load sensitivity of the peak: mu0(Fz) = mu0 + mu0_k (Fz / Fz_static - 1) */
     grip_real_t k_us;           /* QS stability factor A [s^2/m^2] times 100 */
     grip_real_t steer_k;        /* QS per-step gain of the steering lag, 1: none */
+    grip_real_t st_k_in;        /* QS (steer_latency - latency) rate: steps of the angle's change to the state's time */
+    grip_real_t st_k_out;       /* QS steer_latency rate: ... and to the outputs' time */
+    grip_real_t sb_a;           /* QS low-pass gain of the lateral balance (lat_sb) per step */
+    grip_real_t sb_share_f;     /* QS front share lr / l of the lateral balance */
     grip_real_t q[GRIP_EST_NX]; /* QS process noise per step (scaled units) */
     int32_t hold_steps;         /* steps an input is held after it became invalid */
     int32_t lim_n;              /* steps of the friction-limit test */
@@ -241,6 +251,10 @@ typedef struct {
     grip_real_t sig_a[2];       /* QS m lateral relaxation length at static load, front / rear; 0: none */
     grip_real_t alpha_t[4];     /* QS rad lagged (relaxed) slip angles the tires work at */
     grip_real_t yaw_mb;         /* QL N front-axle force the model's yaw moment lacks (low-passed) */
+    grip_real_t lat_sb;         /* QL N lateral force the model lacks after the updates (low-passed) */
+    grip_real_t delta_prev;     /* QS rad road-wheel angle of the previous step */
+    grip_real_t delta_o_d;      /* QS rad this step's outputs' road-wheel angle less the state's */
+    int32_t delta_prev_ok;      /* delta_prev from a valid steering angle */
     int32_t rlx_init;           /* alpha_t set since the lateral observer started */
     int32_t no_wheel_steps;
     int32_t dr_steps;           /* consecutive dead-reckoning steps */

@@ -110,6 +110,7 @@ grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_para
     cfg->tan_grade = R_ZERO;
     cfg->latency = R_ZERO;
     cfg->steer_lag = R_ZERO;
+    cfg->steer_latency = R_ZERO;
     cfg->tire[0].kind = GRIP_EST_TIRE_MF;
     cfg->tire[0].model.mf = tire;
     cfg->tire[1].kind = GRIP_EST_TIRE_MF;
@@ -267,7 +268,7 @@ static grip_status_t check_config(const grip_est_config_t *c)
         !in_range(c->air_density, RC(0.5), RC(1.5)) || !in_range(c->cda, R_ZERO, RC(5.0)) ||
         !in_range(c->crr, R_ZERO, RC(0.05)) || !in_range(c->tan_bank, RC(-0.5), RC(0.5)) ||
         !in_range(c->tan_grade, RC(-0.5), RC(0.5)) || !in_range(c->latency, R_ZERO, RC(0.1)) ||
-        !in_range(c->steer_lag, R_ZERO, RC(0.5))) {
+        !in_range(c->steer_lag, R_ZERO, RC(0.5)) || !in_range(c->steer_latency, R_ZERO, RC(0.1))) {
         return GRIP_ERR_PARAM;
     }
     for (a = 0; a < 2; ++a) {
@@ -313,6 +314,9 @@ grip_status_t grip_est_reset(grip_est_t *est)
     est->ax_off = R_ZERO;
     est->r_lin_f = R_ZERO;
     est->delta_f = R_ZERO;
+    est->delta_prev = R_ZERO;
+    est->delta_o_d = R_ZERO;
+    est->delta_prev_ok = 0;
     est->lim_steps = 0;
     est->us_steps = 0;
     est->us_low = 0;
@@ -328,6 +332,7 @@ grip_status_t grip_est_reset(grip_est_t *est)
     }
     est->rlx_init = 0;
     est->yaw_mb = R_ZERO;
+    est->lat_sb = R_ZERO;
     est->active = 0;
     est->vx_init = 0;
     est->psi = R_ZERO;
@@ -450,6 +455,10 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
     est->nis_a = r_min(r_div(R_ONE, r_mul(RC(EST_MF_TAU), est->rate)), R_ONE);
     est->mb_a = r_min(r_div(R_ONE, r_mul(est->rate, RC(EST_MB_TAU))), R_ONE);
     est->steer_k = (cfg->steer_lag > R_ZERO) ? r_min(r_div(R_ONE, r_mul(cfg->steer_lag, est->rate)), R_ONE) : R_ONE;
+    est->st_k_in = r_mul(r_sub(cfg->steer_latency, cfg->latency), est->rate);
+    est->st_k_out = r_mul(cfg->steer_latency, est->rate);
+    est->sb_a = r_min(r_div(R_ONE, r_mul(est->rate, RC(EST_SB_TAU))), R_ONE);
+    est->sb_share_f = r_div(cfg->lr, r_add(cfg->lf, cfg->lr));
     est->lim_n = r_to_int(r_mul(RC(EST_LIM_T), est->rate));
     est->hold_steps = r_to_int(r_mul(RC(EST_HOLD_T), est->rate));
     est->nowheel_n = r_to_int(r_mul(RC(EST_NOWHEEL_T), est->rate));
@@ -756,10 +765,13 @@ static EST_NOINLINE void lateral_outputs(grip_est_t *est, grip_est_output_t *out
     grip_real_t lat = est->cfg.latency;
     grip_real_t vy = sym_clamp(r_add(est->x[0], r_mul(lat, vyd)), r_add(r_mul(RC(EST_VY_K), r_abs(vx)), R_ONE));
     grip_real_t r = sym_clamp(r_add(est->x[1], r_mul(lat, racc)), RC(EST_YAW_MAX));
+    /* the outputs' road-wheel angle (steering latency), to first order about
+     * the state's (a few mrad) */
+    grip_real_t cd_o = r_sub(cd, r_mul(sd, est->delta_o_d)), sd_o = r_add(sd, r_mul(cd, est->delta_o_d));
     int i;
     for (i = 0; i < 4; ++i) {
         int axle = i >> 1;
-        grip_real_t cdi = axle ? R_ONE : cd, sdi = axle ? R_ZERO : sd; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
+        grip_real_t cdi = axle ? R_ONE : cd_o, sdi = axle ? R_ZERO : sd_o; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
         /* the wheel kinematics of the step's tire loop, written out again: a
          * shared helper with out-parameters cost 24 B of M0+ stack in the
          * step (measured; the budget margin is 32 B) */
@@ -789,16 +801,18 @@ static EST_NOINLINE void lateral_outputs(grip_est_t *est, grip_est_output_t *out
         out->alpha[i] = alpha;
     }
     /* the yaw balance: +df on the front axle, -df on the rear (the lateral
-     * sum unchanged, the moment l df), shared by load; the axle's force
-     * stays within its friction */
+     * sum unchanged, the moment l df), and the lateral balance in the axles'
+     * static shares (no moment), shared by load; the axle's force stays
+     * within its friction */
     for (i = 0; i < 2; ++i) {
         int w0 = i + i, w1 = i + i + 1; /* the axle's left and right wheel */
         grip_real_t fza = r_max(r_add(out->fz[w0], out->fz[w1]), RCL(1.0));
         grip_real_t cap = r_mul(r_mul(est->x[2], est->mu0[i]), fza);
         grip_real_t fa = r_add(out->fy[w0], out->fy[w1]);
-        grip_real_t df = est->yaw_mb;
+        grip_real_t sb_f = r_mul(est->sb_share_f, est->lat_sb);
+        grip_real_t df = r_add(est->yaw_mb, sb_f);
         if (i == 1) {
-            df = r_neg(df);
+            df = r_sub(r_sub(est->lat_sb, sb_f), est->yaw_mb);
         }
         df = r_clamp(df, r_sub(r_neg(cap), fa), r_sub(cap, fa));
         out->fy[w0] = r_add(out->fy[w0], r_mul(df, r_div(out->fz[w0], fza)));
@@ -873,6 +887,17 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         delta = r_mul(est->delta_f, RC(1.0 / 1024.0));
     } else {
         est->delta_f = r_mul(RC(1024.0), delta);
+    }
+    /* steering latency (cfg.steer_latency against cfg.latency): the state
+     * lives at the inertial data's time, the outputs now; the angle moves
+     * along its last step's change to both */
+    {
+        grip_real_t d_step = (steer_ok && est->delta_prev_ok) ? r_sub(delta, est->delta_prev) : R_ZERO; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
+        grip_real_t delta_s = sym_clamp(r_add(delta, r_mul(est->st_k_in, d_step)), RC(EST_DELTA_MAX));
+        est->delta_prev = delta;
+        est->delta_prev_ok = steer_ok;
+        est->delta_o_d = r_sub(sym_clamp(r_add(delta, r_mul(est->st_k_out, d_step)), RC(EST_DELTA_MAX)), delta_s);
+        delta = delta_s;
     }
     cd = r_cos(delta);
     sd = r_sin(delta);
@@ -1101,6 +1126,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         flags |= GRIP_EST_F_LOW_SPEED;
         est->rlx_init = 0;
         est->yaw_mb = R_ZERO;
+        est->lat_sb = R_ZERO;
         est->x[0] = R_ZERO;
         est->x[1] = yaw;
         est->r_lin_f = yaw;
@@ -1411,6 +1437,18 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                     } /* grip-deviation: MISRA-15.7 between the thresholds the state is kept (hysteresis) */
                 }
             }
+            {
+                /* the lateral balance: the lateral force the model still
+                 * lacks at the updated state (the ay update is weak at the
+                 * limit, where the model is least trusted) */
+                grip_real_t sb_t = R_ZERO;
+                if (ay_ok && r_abs(ax) < RC(EST_MB_AX)) {
+                    ay_pred = r_add(ay_m, r_add(r_mul(a_vv, r_sub(est->x[0], vy)), r_mul(a_vr, r_sub(est->x[1], r))));
+                    ay_pred = r_add(ay_pred, r_mul(a_vm, r_sub(est->x[2], mu)));
+                    sb_t = r_mul(c->mass, r_sub(ay, ay_pred));
+                }
+                est->lat_sb = r_add(est->lat_sb, r_mul(est->sb_a, r_sub(sb_t, est->lat_sb)));
+            }
             /* longitudinal update only with an independent speed reference:
              * from the wheel speeds alone, vx is biased by the very slip that
              * carries the information (braking on the simulator's wet road
@@ -1447,7 +1485,8 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
             est->us_low = 1;
             est->mu_pre = est->x[2];
             est->yaw_mb = R_ZERO; /* the model's forces jump with the cut: the
-                                   * balance's memory was the old model's */
+                                   * balances' memory was the old model's */
+            est->lat_sb = R_ZERO;
         }
         /* the understeer measurement cutting mu is applied as an estimate
          * projection (the constrained Kalman filter): the whole state moves

@@ -155,6 +155,11 @@
 #define EST_MB_TAU   0.1
 #define EST_MB_RACC  20.0
 #define EST_MB_AX    1.0
+/* ... and the lateral balance: the lateral force the model lacks after the
+ * updates (mass times the measured ay less the model's at the updated
+ * state), low-passed over SB_TAU s, in the axles' static shares (no yaw
+ * moment); not while |ax| >= MB_AX */
+#define EST_SB_TAU   0.02
 /* mu's column of the Jacobians (docs/estimator.md, "mu's secant"): the
  * secant of mu F0(alpha / mu) from mu down to mu - dmu, dmu = SEC_K
  * sigma_mu within [SEC_MIN, mu - MU_MIN], on the force shape tabulated at

@@ -189,7 +189,8 @@ static int vehicle_config(const char *name, const grip_mf_params *tire, int rate
 /* Reads a vehicle file: lines `key = value` (SI units), '#' comments, blank
  * lines. Keys: mass, iz, lf, lr, track (both), track_f, track_r, h_cg,
  * steer_ratio, wheel_radius, roll_split_front, roll_gradient, speed_ref_mu,
- * cla, aero_front, air_density, cda, crr, tan_bank, tan_grade, latency, steer_lag.
+ * cla, aero_front, air_density, cda, crr, tan_bank, tan_grade, latency, steer_lag,
+ * steer_latency.
  * The estimator's init checks the ranges. */
 static int vehicle_file(const char *path, grip_est_config_t *cfg)
 {
@@ -223,6 +224,7 @@ static int vehicle_file(const char *path, grip_est_config_t *cfg)
         { "tan_grade", offsetof(grip_est_config_t, tan_grade), VK_QS },
         { "latency", offsetof(grip_est_config_t, latency), VK_QS },
         { "steer_lag", offsetof(grip_est_config_t, steer_lag), VK_QS },
+        { "steer_latency", offsetof(grip_est_config_t, steer_latency), VK_QS },
     };
     const size_t nkeys = sizeof keys / sizeof keys[0];
     char line[512];
@@ -361,7 +363,8 @@ static void usage(FILE *f)
             "      --vehicle-file F   override vehicle values: lines `key = value` (SI): mass iz lf lr\n"
             "                         track track_f track_r h_cg steer_ratio wheel_radius\n"
             "                         roll_split_front roll_gradient speed_ref_mu (0/1) cla aero_front\n"
-            "                         air_density cda crr tan_bank tan_grade latency steer_lag [s]\n"
+            "                         air_density cda crr tan_bank tan_grade latency steer_lag\n"
+            "                         steer_latency [s]\n"
             "      --csv FILE         estimator inputs from FILE ('-' = stdin) instead of CAN: one row per\n"
             "                         estimator step (every --step-ms), '#' lines skipped, a header row\n"
             "                         naming the columns: t_s [s], wheel_speed_fl wheel_speed_fr\n"

@@ -42,7 +42,8 @@ EST_SEQS = ['bicycle_100hz', 'faults_100hz', 'bicycle_1khz', 'sim_sine_dwell', '
             'steer_offset_100hz']
 # grip_est_config_t fields a sequence's header may set (golden_est
 # write_sequence's cfg_kw; all QS); the others keep grip_est_config_default
-EST_CFG_KEYS = ['cla', 'aero_front', 'air_density', 'cda', 'crr', 'tan_bank', 'tan_grade', 'latency', 'steer_lag']
+EST_CFG_KEYS = ['cla', 'aero_front', 'air_density', 'cda', 'crr', 'tan_bank', 'tan_grade', 'latency', 'steer_lag',
+                'steer_latency']
 # brush models: (name, parameter field formats in struct order, input formats);
 # S = QS, L = QL, I = int32 (the same word in both builds); as
 # tools/grip_tools/brush.py C_UNITS and tests/unit/test_brush.c

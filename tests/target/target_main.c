@@ -60,7 +60,7 @@ typedef struct {
 } tv_seq;
 
 #include "tv_vectors.h"
-#if TV_EST_NCFG != 9
+#if TV_EST_NCFG != 10
 #error "tv_vectors.h: EST_CFG_KEYS of gen_vectors.py changed; update run_est's field table"
 #endif
 
@@ -269,6 +269,7 @@ static int run_est(void)
             field[6] = &cfg.tan_grade;
             field[7] = &cfg.latency;
             field[8] = &cfg.steer_lag;
+            field[9] = &cfg.steer_latency;
             for (k = 0; k < TV_EST_NCFG; k++) {
                 if ((sq->cfg_mask >> k) & 1u) {
                     *field[k] = real(tv_est_cfg[q][k]);

@@ -125,6 +125,7 @@ static void run_sequence(const seq_t *sq)
         cfg.tan_grade = to_qs(0.02);
         cfg.latency = to_qs(0.02);
         cfg.steer_lag = to_qs(0.1);
+        cfg.steer_latency = to_qs(0.01);
     }
     assert_int_equal(grip_est_init(&est, &cfg), GRIP_OK);
     grip_debug_saturation_reset();

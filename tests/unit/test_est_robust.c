@@ -502,6 +502,54 @@ static void test_steering_lag(void **state)
     assert_true(fabs(dq(o.delta) / target - 1.0) < 1e-3);
 }
 
+/* Steering latency (cfg.steer_latency against cfg.latency): on a steering
+ * ramp the model's road-wheel angle (out.delta) is the angle at the state's
+ * time, the inertial data's: with the steering 10 ms and the inertial data
+ * 20 ms old at 100 Hz, the previous step's angle; with both equally old,
+ * the signal's own; out-of-range latencies are refused. */
+static double steer_ramp_delta(double latency, double steer_latency, double *swa_now, double *swa_prev)
+{
+    grip_est_t e;
+    grip_est_config_t cfg;
+    grip_est_output_t o;
+    grip_input_sample_t s;
+    int k;
+    assert_int_equal(grip_est_config_default(&cfg, tire()), GRIP_OK);
+    cfg.latency = qs(latency);
+    cfg.steer_latency = qs(steer_latency);
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_OK);
+    circle(&s, 20.0, 0.0);
+    run(&e, &s, 200, &o);
+    for (k = 1; k <= 50; ++k) {
+        *swa_prev = dq(s.value[GRIP_IN_STEER_ANGLE]);
+        s.value[GRIP_IN_STEER_ANGLE] = qs(0.002 * k);    /* 0.2 rad/s at the steering wheel */
+        *swa_now = dq(s.value[GRIP_IN_STEER_ANGLE]);
+        run(&e, &s, 1, &o);
+    }
+    return dq(o.delta);
+}
+
+static void test_steering_latency(void **state)
+{
+    grip_est_t e;
+    grip_est_config_t cfg;
+    double now, prev, d_older, d_same, d_none;
+    (void)state;
+    assert_int_equal(grip_est_config_default(&cfg, tire()), GRIP_OK);
+    cfg.steer_latency = qs(0.11);
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_ERR_PARAM);
+    cfg.steer_latency = qs(-0.01);
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_ERR_PARAM);
+    d_older = steer_ramp_delta(0.02, 0.01, &now, &prev) * 15.5;
+    d_same = steer_ramp_delta(0.02, 0.02, &now, &prev) * 15.5;
+    d_none = steer_ramp_delta(0.0, 0.0, &now, &prev) * 15.5;
+    printf("# steering ramp, steering-wheel angle now %.5f, a step before %.5f rad: the model's angle x 15.5 "
+           "%.5f (inertial data 10 ms older), %.5f (as old), %.5f (no latencies)\n", now, prev, d_older, d_same, d_none);
+    assert_true(fabs(d_older - prev) < 2e-4);
+    assert_true(fabs(d_same - now) < 2e-4);
+    assert_true(fabs(d_none - now) < 2e-4);
+}
+
 static int misfit_run(const grip_mf_params *t, int *first_flag, int *vmu_after, int *vmu_steps, double *mu_end)
 {
     grip_est_t e;
@@ -577,6 +625,7 @@ int main(void)
         cmocka_unit_test(test_all_wheels_locked),
         cmocka_unit_test(test_reset_keeps_config),
         cmocka_unit_test(test_steering_lag),
+        cmocka_unit_test(test_steering_latency),
         cmocka_unit_test(test_model_misfit),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -83,6 +83,14 @@ def sim_imu_latency():
     return float(ch.delay + ch.tau)
 
 
+def sim_steer_latency():
+    """The simulator's steering-angle latency (vehsim/sensors.py: a 10 ms
+    transport delay, no low-pass): grip_est_config_t.steer_latency."""
+    from .vehsim import sensors
+    ch = sensors.SensorConfig().channel("SteeringAngle")
+    return float(ch.delay + ch.tau)
+
+
 def sim_resistance():
     """The simulator car's drag area, air density and rolling-resistance
     coefficient (vehsim vehicles.passenger; the tire's QSY1, the rolling
@@ -97,10 +105,10 @@ def sim_resistance():
 def est_vehicle():
     """The estimator settings for the simulator's runs beyond the passenger
     car of est_ref.config / grip-replay's `generic`: the simulator's IMU
-    latency and its car's drag and rolling resistance. (The simulator sends
+    and steering-angle latencies and its car's drag and rolling resistance. (The simulator sends
     no vehicle-speed signal, so speed_ref_mu stays 0: the longitudinal mu
     update runs only while braking with a wheel at 15 % slip or more.)"""
-    return dict(latency=sim_imu_latency(), **sim_resistance())
+    return dict(latency=sim_imu_latency(), steer_latency=sim_steer_latency(), **sim_resistance())
 
 
 def est_config():

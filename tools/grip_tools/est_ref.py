@@ -109,6 +109,12 @@ SIG_MIN, SIG_MAX, RLX_A_MAX = 0.02, 5.0, 16.0
 # the outputs, low-passed over MB_TAU [s]; not while |ax| >= MB_AX [m/s^2]
 # (braking or driving: the model's left / right Fx moment errs there too)
 MB_TAU, MB_RACC, MB_AX = 0.1, 20.0, 1.0
+# the axle forces' lateral balance: the lateral force the model lacks after
+# the updates (m times the measured ay less the model's at the updated
+# state), low-passed over SB_TAU [s], split between the axles in their
+# static shares (lr / l front, lf / l rear: no yaw moment, that is the yaw
+# balance's); not while |ax| >= MB_AX, like the yaw balance
+SB_TAU = 0.02
 # mu's column of the Jacobians is the secant over mu's own uncertainty
 # (statistical linearization, MU_SECANT): from mu down to mu - dmu, dmu =
 # SEC_K sigma_mu within [SEC_MIN, mu - MU_MIN], on the tire's lateral
@@ -127,6 +133,11 @@ RLX_CARRY = True
 # off only to measure what they do (SpinOutputTests)
 VX_AT_OUTPUT = True
 PROJECT_US_BOUND = True
+# the steering latency's alignment (STEER_ALIGN) and the axle forces'
+# lateral balance (LAT_BALANCE): off only to measure what they do
+# (SteeringLatencyTests, LateralBalanceTests)
+STEER_ALIGN = True
+LAT_BALANCE = True
 
 # validity and flag bits (grip_est.h)
 V_VX, V_BETA, V_YAW, V_YAW_REF, V_FZ = 1, 2, 4, 8, 16
@@ -311,6 +322,14 @@ class Estimator:
         rate = c["rate_hz"]
         lag = c.get("steer_lag", 0.0)
         self.steer_k = min(1.0 / (lag * rate), 1.0) if lag > 0.0 else 1.0
+        # the steering angle's age against the inertial data's: per step of
+        # the angle's change, how far to move it to the state's time (the
+        # inertial data's) and to the outputs' time (now)
+        sl = c.get("steer_latency", 0.0)
+        self.st_k_in = (sl - c.get("latency", 0.0)) * rate
+        self.st_k_out = sl * rate
+        self.sb_a = min(1.0 / (SB_TAU * rate), 1.0)
+        self.sb_f_share = c["lr"] / (c["lf"] + c["lr"])
         self.lim_n = int(math.floor(LIM_T * rate + 0.5))
         self.hold_steps = max(1, int(math.floor(HOLD_T * rate + 0.5)))
         self.nowheel_steps = int(math.floor(NOWHEEL_T * rate + 0.5))
@@ -329,6 +348,9 @@ class Estimator:
         self.ax_off = 0.0
         self.r_lin_f = 0.0
         self.delta_f = 0.0
+        self.delta_prev = 0.0        # road-wheel angle of the previous step (steering latency)
+        self.delta_prev_ok = False
+        self.lat_sb = 0.0            # lateral force the model lacks (lateral balance) [N]
         self.lim_steps = 0
         self.us_steps = 0
         self.us_clamped = False
@@ -456,7 +478,19 @@ class Estimator:
             delta = self.delta_f
         else:
             self.delta_f = delta
+        # Steering latency (config 'steer_latency' against 'latency'): the
+        # state lives at the inertial data's time, the outputs now; the angle
+        # moves along its last step's change to both (sine with dwell: the
+        # front slip angles led the truth's by the steering's 10 ms fresher
+        # data, and at the outputs lagged it)
+        d_step = delta - self.delta_prev if (steer_ok and self.delta_prev_ok and STEER_ALIGN) else 0.0
+        self.delta_prev, self.delta_prev_ok = delta, steer_ok
+        delta_o = _clamp(delta + self.st_k_out * d_step, -DELTA_MAX, DELTA_MAX)
+        delta = _clamp(delta + self.st_k_in * d_step, -DELTA_MAX, DELTA_MAX)
         cd, sd = math.cos(delta), math.sin(delta)
+        # the outputs' angle to first order about the state's (a few mrad)
+        dd_o = delta_o - delta
+        cd_o, sd_o = cd - sd * dd_o, sd + cd * dd_o
         # yaw rate corrected by the estimated gyro bias (state x[3])
         yaw = self.hold[1] - B_UNIT * self.x[3] if yaw_ok else 0.0
         ax = self.hold[2] if ax_ok else 0.0
@@ -624,6 +658,7 @@ class Estimator:
             flags |= F_LOW_SPEED
             self.rlx_init = False
             self.mb_f = 0.0
+            self.lat_sb = 0.0
             self.x[0], self.x[1] = 0.0, yaw
             self.r_lin_f = yaw
             self.lim_steps = 0
@@ -831,6 +866,7 @@ class Estimator:
             # against the model's), as a front-axle force: Iz dr / l
             dmr = _clamp((float(self.x[1]) - (r + dr)) / dt, -MB_RACC, MB_RACC) if (yaw_ok and abs(ax) < MB_AX) else 0.0
             self.mb_f += min(dt / MB_TAU, 1.0) * (c["iz"] * dmr / l - self.mb_f)
+            sb_t = 0.0
             if ay_ok:
                 ay_pred = ay_m + a_vv * (self.x[0] - vy) + a_vr * (self.x[1] - r) + a_vm * (self.x[2] - mu)
                 h = np.array([_clamp(a_vv * S[0] / S_AY, -H_MAX_VY, H_MAX_VY),
@@ -838,6 +874,12 @@ class Estimator:
                               _clamp(a_vm * S[2] / S_AY, -H_MAX, H_MAX), 0.0])
                 nis = self._update(h, (ay - ay_pred) / S_AY, _ay_noise(o["util"], o["fz"]), excited, b_ok)
                 self._condition()
+                # the lateral force the model still lacks at the updated state
+                # (the lateral balance, SB_*): the ay update is weak at the
+                # limit, where the model is least trusted
+                if abs(ax) < MB_AX and LAT_BALANCE:
+                    ay_post = ay_m + a_vv * (self.x[0] - vy) + a_vr * (self.x[1] - r) + a_vm * (self.x[2] - mu)
+                    sb_t = m * (ay - ay_post)
                 # model consistency (docs/estimator.md): the low-passed ay
                 # NIS (1 on average for a consistent filter), and the share of
                 # time the model claims saturated tires while the car's yaw
@@ -856,6 +898,7 @@ class Estimator:
                     self.sat_cap = True
                 elif self.sat_f < SAT_MU_LO:
                     self.sat_cap = False
+            self.lat_sb += self.sb_a * (sb_t - self.lat_sb)
             # ... and only when the slips push the way the car accelerates
             # (a speed reference a few per cent off the wheel speeds makes
             # slip of the wrong sign, which would drive mu down: RAV4 log)
@@ -882,9 +925,10 @@ class Estimator:
             self.us_clamped = self.x[2] > mu_ub
             if mu_us > 0.0 and self.us_clamped and not self.us_low:
                 self.us_low, self.mu_pre = True, float(self.x[2])
-                # the model's forces jump with the cut: the yaw balance's
-                # memory is the moment error of the model before it
+                # the model's forces jump with the cut: the balances' memory
+                # is the error of the model before it
                 self.mb_f = 0.0
+                self.lat_sb = 0.0
             # The understeer measurement cutting mu is applied as an estimate
             # projection (the constrained Kalman filter): the whole state
             # moves along mu's covariance onto the bound, the covariance
@@ -920,7 +964,9 @@ class Estimator:
             vyd = (ay if ay_ok else ay_m) + g_y - float(self.x[1]) * vx
             vy_o = _clamp(float(self.x[0]) + lat * vyd, -lim, lim)
             r_o = _clamp(float(self.x[1]) + lat * racc, -YAW_MAX, YAW_MAX)
-            vxw, vyw = _wheel_velocity(vx, vy_o, r_o, xa, ya, cdi, sdi)
+            cdi_o = np.array([cd_o, cd_o, 1.0, 1.0])
+            sdi_o = np.array([sd_o, sd_o, 0.0, 0.0])
+            vxw, vyw = _wheel_velocity(vx, vy_o, r_o, xa, ya, cdi_o, sdi_o)
             den_o = np.maximum(np.abs(vxw), V_OFF)
             t_o = vyw / den_o
             alpha_o = np.arctan(t_o)
@@ -933,18 +979,21 @@ class Estimator:
             # angles (AV-21 log: 11 deg apart within 0.2 s at 3 m/s)
             duv = float(self.x[0]) - (vy + dvy)
             if RLX_CARRY:
-                self.alpha_t = self.alpha_t + cdi * duv / (1.0 + np.clip(t_o, -100.0, 100.0) ** 2) / den_o
+                self.alpha_t = self.alpha_t + cdi_o * duv / (1.0 + np.clip(t_o, -100.0, 100.0) ** 2) / den_o
             # ... and carried over the latency towards alpha_o
             alpha_to = self.alpha_t + _relax_share(np.abs(vxw) * lat, sig) * (alpha_o - self.alpha_t)
             fy_o = fy + dfda * (alpha_to - alpha)
             # the yaw balance (MB_*): +df on the front axle, -df on the rear
             # (the lateral sum unchanged, the moment a df + b df = l df),
-            # shared by load; the axle's force stays within its friction
+            # and the lateral balance (SB_*) in the axles' static shares (no
+            # moment), shared by load; the axle's force stays within its
+            # friction
             for a in range(2):
                 fza = max(fz[2 * a] + fz[2 * a + 1], 1.0)
                 cap = float(self.x[2]) * self.mu0[a] * fza
                 fa = fy_o[2 * a] + fy_o[2 * a + 1]
-                dfa = _clamp(self.mb_f if a == 0 else -self.mb_f, -cap - fa, cap - fa)
+                dfa = (self.mb_f + self.sb_f_share * self.lat_sb) if a == 0 else (self.lat_sb - self.sb_f_share * self.lat_sb - self.mb_f)
+                dfa = _clamp(dfa, -cap - fa, cap - fa)
                 for i in (2 * a, 2 * a + 1):
                     fy_o[i] = fy_o[i] + dfa * fz[i] / fza
             o.update(alpha=alpha_o, fy=fy_o)
