@@ -152,7 +152,7 @@
  * acceleration, at most MB_RACC rad/s^2, times Iz / l) moves force from one
  * axle to the other at the outputs, low-passed over MB_TAU s; not while
  * |ax| >= MB_AX m/s^2 (the model's left / right Fx moment errs there too) */
-#define EST_MB_TAU   0.1
+#define EST_MB_TAU   0.05
 #define EST_MB_RACC  20.0
 #define EST_MB_AX    1.0
 /* ... and the lateral balance: the lateral force the model lacks after the

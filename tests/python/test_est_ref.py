@@ -491,7 +491,8 @@ class YawBalanceTests(unittest.TestCase):
         # and splits the force wrongly between the axles (front high, rear
         # low) while the sum matches ay; the gyro's yaw acceleration shows
         # the moment that split makes (measured: Fy RMS front / rear 3.4 /
-        # 2.4 % of peak against 6.2 / 5.3 % without)
+        # 2.4 % of peak against 6.2 / 5.3 % without; session 17, over 0.05 s
+        # and with the steering alignment, 4.0 / 2.7 against 6.5 / 4.8)
         res = {}
         with tempfile.TemporaryDirectory() as d:
             run = os.path.join(d, "snow")
@@ -516,8 +517,9 @@ class LateralBalanceTests(unittest.TestCase):
         # near 1 and its axle sum exceeds m ay by up to 1,000 N; the ay update
         # is weak there (its noise rises with the model's utilization), so the
         # residual stays and the balance hands it to the outputs (measured,
-        # session 17: Fy RMS front / rear 9.1 / 6.0 % of peak against 12.4 /
-        # 8.4 % without)
+        # session 17, yaw balance over 0.05 s: Fy RMS front / rear 7.3 / 4.7 %
+        # of peak against 10.4 / 8.8 % without; 9.1 / 6.0 against 12.4 / 8.4
+        # with the yaw balance over 0.1 s)
         res = _flag_effect("sine-dwell", "snow", "LAT_BALANCE", ("fy_front_rms_pct", "fy_rear_rms_pct"))
         print(f"\n# sine with dwell snow: Fy RMS front / rear {res['on'][0]:.2f} / {res['on'][1]:.2f} % of peak "
               f"with the lateral balance, {res['off'][0]:.2f} / {res['off'][1]:.2f} % without", flush=True)
@@ -535,7 +537,7 @@ class SteeringLatencyTests(unittest.TestCase):
         # ms: without the alignment the model's front slip angles led the
         # truth's in the state and lagged it at the outputs through every
         # steering reversal (measured, session 17: beta max 0.35 against
-        # 0.54 deg, Fy RMS front 1.8 against 2.9 % of peak)
+        # 0.54 deg, Fy RMS front 1.9 against 3.0 % of peak)
         res = _flag_effect("sine-dwell", "dry", "STEER_ALIGN", ("beta_max_deg", "fy_front_rms_pct"),
                            check=lambda e: self.assertGreater(e.est_config()["steer_latency"], 0.0))
         print(f"\n# sine with dwell dry: beta max {res['on'][0]:.3f} / {res['off'][0]:.3f} deg, Fy RMS front "

@@ -108,7 +108,7 @@ SIG_MIN, SIG_MAX, RLX_A_MAX = 0.02, 5.0, 16.0
 # MB_RACC [rad/s^2], times Iz) moves force from one axle to the other at
 # the outputs, low-passed over MB_TAU [s]; not while |ax| >= MB_AX [m/s^2]
 # (braking or driving: the model's left / right Fx moment errs there too)
-MB_TAU, MB_RACC, MB_AX = 0.1, 20.0, 1.0
+MB_TAU, MB_RACC, MB_AX = 0.05, 20.0, 1.0
 # the axle forces' lateral balance: the lateral force the model lacks after
 # the updates (m times the measured ay less the model's at the updated
 # state), low-passed over SB_TAU [s], split between the axles in their
