@@ -1445,7 +1445,8 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                 if (ay_ok && r_abs(ax) < RC(EST_MB_AX)) {
                     ay_pred = r_add(ay_m, r_add(r_mul(a_vv, r_sub(est->x[0], vy)), r_mul(a_vr, r_sub(est->x[1], r))));
                     ay_pred = r_add(ay_pred, r_mul(a_vm, r_sub(est->x[2], mu)));
-                    sb_t = r_mul(c->mass, r_sub(ay, ay_pred));
+                    /* within the accelerometer's range: mass x residual then fits QL */
+                    sb_t = r_mul(c->mass, sym_clamp(r_sub(ay, ay_pred), RC(EST_ACC_MAX)));
                 }
                 est->lat_sb = r_add(est->lat_sb, r_mul(est->sb_a, r_sub(sb_t, est->lat_sb)));
             }

@@ -879,7 +879,7 @@ class Estimator:
                 # limit, where the model is least trusted
                 if abs(ax) < MB_AX and LAT_BALANCE:
                     ay_post = ay_m + a_vv * (self.x[0] - vy) + a_vr * (self.x[1] - r) + a_vm * (self.x[2] - mu)
-                    sb_t = m * (ay - ay_post)
+                    sb_t = m * _clamp(ay - ay_post, -ACC_MAX, ACC_MAX)
                 # model consistency (docs/estimator.md): the low-passed ay
                 # NIS (1 on average for a consistent filter), and the share of
                 # time the model claims saturated tires while the car's yaw
