@@ -252,6 +252,9 @@ typedef struct {
     grip_real_t alpha_t[4];     /* QS rad lagged (relaxed) slip angles the tires work at */
     grip_real_t yaw_mb;         /* QL N front-axle force the model's yaw moment lacks (low-passed) */
     grip_real_t lat_sb;         /* QL N lateral force the model lacks after the updates (low-passed) */
+    grip_real_t fy_dmu[4];      /* QL N d Fy / d mu of the step's tire evaluation (mu's secant) */
+    grip_real_t mu_lin;         /* QS mu the step's tire evaluation used (before the updates) */
+    grip_real_t mu_floor;       /* QS the step's friction in use, mu's lower bound and its secant's floor */
     grip_real_t delta_prev;     /* QS rad road-wheel angle of the previous step */
     grip_real_t delta_o_d;      /* QS rad this step's outputs' road-wheel angle less the state's */
     int32_t delta_prev_ok;      /* delta_prev from a valid steering angle */

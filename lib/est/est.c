@@ -232,7 +232,7 @@ static grip_real_t relax_share(grip_real_t dist, grip_real_t sig)
 static grip_real_t mu_secant(const grip_est_t *est, int axle, grip_real_t alpha, grip_real_t fy, grip_real_t mu)
 {
     grip_real_t sig = r_mul(r_sqrt(est->p[2][2]), RC(EST_S_MU));
-    grip_real_t dmu = r_max(r_min(r_mul(RC(EST_SEC_K), sig), r_sub(mu, RC(EST_MU_MIN))), RC(EST_SEC_MIN));
+    grip_real_t dmu = r_max(r_min(r_mul(RC(EST_SEC_K), sig), r_sub(mu, est->mu_floor)), RC(EST_SEC_MIN));
     grip_real_t mu2 = r_sub(mu, dmu);
     grip_real_t inv_mu = r_div(R_ONE, mu);
     grip_real_t f1 = r_table_lerp(est->fy_shape[axle], GRIP_EST_SHAPE_N,
@@ -329,7 +329,10 @@ grip_status_t grip_est_reset(grip_est_t *est)
     est->misfit = 0;
     for (i = 0; i < 4; ++i) {
         est->alpha_t[i] = R_ZERO;
+        est->fy_dmu[i] = R_ZERO;
     }
+    est->mu_lin = RC(EST_MU_INIT);
+    est->mu_floor = RC(EST_MU_MIN);
     est->rlx_init = 0;
     est->yaw_mb = R_ZERO;
     est->lat_sb = R_ZERO;
@@ -612,12 +615,16 @@ static grip_real_t limit_share(grip_real_t u)
  * the most-used tire, and by up to R_AXLE x more with an axle's load-weighted
  * mean utilization, i.e. with both tires of an axle at the limit: in a spin
  * the model, past its peak, pulls vy the wrong way, while one tire's
- * utilization alone may be a faulty wheel speed's slip (docs/estimator.md). */
-static grip_real_t ay_noise(const grip_est_output_t *out, grip_real_t umax)
+ * utilization alone may be a faulty wheel speed's slip (docs/estimator.md).
+ * The utilizations are scaled by k (the caller's: mu / (mu + AY_U_K
+ * sigma_mu) at the car's limit, else 1), i.e. taken at a mu that much
+ * higher: a mu still too high puts the model at its own limit, and R at
+ * the limit would keep the ay update from lowering mu. */
+static grip_real_t ay_noise(const grip_est_output_t *out, grip_real_t umax, grip_real_t k)
 {
-    grip_real_t u_axle = r_max(axle_utilization(out->util[0], out->util[1], out->fz[0], out->fz[1]),
-                               axle_utilization(out->util[2], out->util[3], out->fz[2], out->fz[3]));
-    grip_real_t r = r_add(R_ONE, r_mul(RC(EST_R_LIM), limit_share(umax)));
+    grip_real_t u_axle = r_max(axle_utilization(r_mul(k, out->util[0]), r_mul(k, out->util[1]), out->fz[0], out->fz[1]),
+                               axle_utilization(r_mul(k, out->util[2]), r_mul(k, out->util[3]), out->fz[2], out->fz[3]));
+    grip_real_t r = r_add(R_ONE, r_mul(RC(EST_R_LIM), limit_share(r_mul(k, umax))));
     r = r_add(r, r_mul(RC(EST_R_AXLE), limit_share(u_axle)));
     return r_mul(RC(EST_R_AY), r);
 }
@@ -680,12 +687,19 @@ static grip_real_t understeer_bound(grip_est_t *est, const grip_real_t fz[4], gr
     if (est->us_low && test_ok && steady && dd > RC(-EST_LIM_REL) && dd < RC(EST_US_D) &&
         use_f >= r_mul(RC(EST_REL_K), est->use_b) && use_f <= r_div(est->use_b, RC(EST_REL_K))) {
         est->rel_steps = count_up(est->rel_steps);
+    } else if (est->us_low && test_ok) {
+        /* a step out of the band counts one back, not to 0: at a car's own
+         * understeer the deficit hovers at US_D (wet step steer after a
+         * steering offset: 0.13 - 0.16; mu stayed at the bound) */
+        est->rel_steps = (est->rel_steps > 0) ? (est->rel_steps - 1) : 0;
     } else {
         est->rel_steps = 0;
     }
     if (est->rel_steps >= est->lim_n) {
         est->x[2] = r_max(est->x[2], est->mu_pre);
         est->us_low = 0;
+        /* the confidence the updates gained at the bound's mu goes with it */
+        est->p[2][2] = r_max(est->p[2][2], RC((EST_CONF_S0 / EST_S_MU) * (EST_CONF_S0 / EST_S_MU)));
     }
     return z;
 }
@@ -798,6 +812,8 @@ static EST_NOINLINE void lateral_outputs(grip_est_t *est, grip_est_output_t *out
                                                    r_mul(relax_share(r_mul(r_abs(vxw), lat), wheel_sigma(est, axle, out->fz[i])),
                                                          r_sub(alpha, est->alpha_t[i]))),
                                              out->alpha[i])));
+        /* ... and along d Fy / d mu with the updates' change of mu */
+        out->fy[i] = r_add(out->fy[i], r_mul(est->fy_dmu[i], r_sub(est->x[2], est->mu_lin)));
         out->alpha[i] = alpha;
     }
     /* the yaw balance: +df on the front axle, -df on the rear (the lateral
@@ -1150,6 +1166,15 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         }
     }
     mu = est->x[2];
+    est->mu_lin = mu;
+    /* the friction in use bounds mu from below; mu's secant spans no lower
+     * (a steering offset's onset took mu 1.0 -> 0.49 in 0.05 s on a dry road
+     * with the secant down to MU_MIN) */
+    est->mu_floor = (ax_ok && ay_ok) ? r_max(RC(EST_MU_MIN),
+                                             r_min(r_div(r_sqrt(r_add(r_sq(ax), r_sq(ay))),
+                                                         r_mul(RC(EST_G), r_max(est->mu0[0], est->mu0[1]))),
+                                                   RC(EST_MU_MAX)))
+                                     : RC(EST_MU_MIN);
 
     if (active) {
         grip_real_t jay[3] = { R_ZERO, R_ZERO, R_ZERO };   /* d(sum Fby)/d(vy, r, mu) [QL] */
@@ -1259,6 +1284,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
             dadr = r_div(r_mul(c2, lever), den);                  /* d alpha / d r   [s]   */
             dfda = r_neg(r_mul(g, ca));                           /* d Fy / d alpha  [N/rad] */
             dfdmu = mu_secant(est, axle, alpha, out->fy[i], mu);   /* d Fy / d mu [N] */
+            est->fy_dmu[i] = dfdmu; /* the output forces move along it with the updates' mu */
             {
                 grip_real_t dfy_dvy = r_mul(dady, dfda);
                 grip_real_t dfy_dr = r_mul(dadr, dfda);
@@ -1337,9 +1363,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                 excited = 1;
             }
             /* the friction in use is a lower bound of the friction available */
-            mu_lb = (ax_ok && ay_ok) ? r_min(r_div(a_tot, r_mul(RC(EST_G), r_max(est->mu0[0], est->mu0[1]))),
-                                             RC(EST_MU_MAX))
-                                     : RC(EST_MU_MIN);
+            mu_lb = est->mu_floor;
         }
 
         /* ---- predict ---- */
@@ -1403,14 +1427,29 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
                 est->yaw_mb = r_add(est->yaw_mb,
                                     r_mul(est->mb_a, r_sub(r_div(r_mul(c->iz, dmr), r_add(c->lf, c->lr)), est->yaw_mb)));
             }
-            if (ay_ok) {
+            /* a road-wheel angle beyond the rack's travel (STEER_LIMIT) is not
+             * the car's: the model's slip angles would be fitted to it (at
+             * lock on a straight road vy went to 2.3 m/s, past both axles'
+             * peaks, and stayed there after the steering recovered) */
+            if (ay_ok && ((flags & GRIP_EST_F_STEER_LIMIT) == 0u)) {
                 ay_pred = r_add(ay_m, r_add(r_mul(a_vv, r_sub(est->x[0], vy)), r_mul(a_vr, r_sub(est->x[1], r))));
                 ay_pred = r_add(ay_pred, r_mul(a_vm, r_sub(est->x[2], mu)));
                 h[0] = sym_clamp(r_mul(a_vv, RC(EST_S_VY / EST_S_AY)), RC(EST_H_MAX_VY));
                 h[1] = sym_clamp(r_mul(a_vr, RC(EST_S_R / EST_S_AY)), RC(EST_H_MAX));
                 h[2] = sym_clamp(r_mul(a_vm, RC(EST_S_MU / EST_S_AY)), RC(EST_H_MAX));
                 h[3] = R_ZERO;
-                nis_ay = kf_update(est, h, r_div(r_sub(ay, ay_pred), RC(EST_S_AY)), ay_noise(out, umax_est),
+                /* the utilization at mu + AY_U_K sigma_mu only while the car's
+                 * own yaw response (the mu-independent limit test) says it is
+                 * at its limit: elsewhere a model at its own limit is the
+                 * model's claim, not evidence (AV-21 log: with a mu cut by the
+                 * understeer bound, the updates confirmed it to mu_conf 0.74);
+                 * nor while the bound holds mu (a steering offset fakes both
+                 * the deficit and the limit test) */
+                nis_ay = kf_update(est, h, r_div(r_sub(ay, ay_pred), RC(EST_S_AY)),
+                                   ay_noise(out, umax_est,
+                                            (at_limit && !est->us_low) ? r_div(mu, r_add(mu, r_mul(RC(EST_AY_U_K * EST_S_MU),
+                                                                                 r_sqrt(est->p[2][2]))))
+                                                     : R_ONE),
                                    excited, b_ok, 0);
                 kf_condition(est);
                 {
@@ -1485,9 +1524,12 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         if (mu_us > R_ZERO && !est->us_low && est->x[2] > r_max(mu_us, mu_lb)) {
             est->us_low = 1;
             est->mu_pre = est->x[2];
-            est->yaw_mb = R_ZERO; /* the model's forces jump with the cut: the
-                                   * balances' memory was the old model's */
-            est->lat_sb = R_ZERO;
+            if (r_sub(est->x[2], r_max(mu_us, mu_lb)) > RC(EST_CUT_CLEAR)) {
+                est->yaw_mb = R_ZERO; /* the model's forces jump with a large
+                                       * cut: the balances' memory was the
+                                       * old model's */
+                est->lat_sb = R_ZERO;
+            }
         }
         /* the understeer measurement cutting mu is applied as an estimate
          * projection (the constrained Kalman filter): the whole state moves
@@ -1509,8 +1551,9 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
          * model's range and the lateral force no longer tells the slip
          * angle: beta is dead reckoning too, flagged; and a tire model
          * that does not fit the car (misfit) does not give a sideslip to
-         * stand behind either */
-        if (ay_ok && yaw_ok && !dead_reck && !est->misfit) {
+         * stand behind either, nor does a steering angle beyond the rack's
+         * travel (no ay update: dead reckoning as well) */
+        if (ay_ok && yaw_ok && !dead_reck && !est->misfit && ((flags & GRIP_EST_F_STEER_LIMIT) == 0u)) {
             valid |= GRIP_EST_V_BETA | GRIP_EST_V_AXLE;
         }
         if (!(valid & GRIP_EST_V_BETA)) {

@@ -61,7 +61,10 @@
 #define EST_MU_MIN   0.1
 #define EST_MU_MAX   1.2
 #define EST_MU_INIT  1.0
-#define EST_EXC_U    0.5     /* utilization that counts as excitation          */
+/* excitation: a tire at EXC_U of its own friction (mu = 1); at 0.5 the gate
+ * opened at the snow sine-with-dwell onset only once the truth's front axle
+ * was at 90 % of its limit */
+#define EST_EXC_U    0.2     /* utilization that counts as excitation          */
 #define EST_EXC_A    1.0     /* m/s^2: and at least this much acceleration     */
 #define EST_LIM_TAU  0.15    /* s: lag of the linear yaw reference in the limit test */
 #define EST_LIM_A    2.0     /* m/s^2: limit test needs this much acceleration  */
@@ -162,11 +165,21 @@
 #define EST_SB_TAU   0.02
 /* mu's column of the Jacobians (docs/estimator.md, "mu's secant"): the
  * secant of mu F0(alpha / mu) from mu down to mu - dmu, dmu = SEC_K
- * sigma_mu within [SEC_MIN, mu - MU_MIN], on the force shape tabulated at
- * init (grip_est_t.fy_shape); no column where the shape is below
+ * sigma_mu within [SEC_MIN, mu - mu_floor] (the friction in use), on the
+ * force shape tabulated at init (grip_est_t.fy_shape); no column where the shape is below
  * SHAPE_F_MIN (the origin: 0 / 0, and the column is 0 there anyway) */
-#define EST_SEC_K    1.0
+#define EST_SEC_K    3.0     /* the prior 1.0 +- 0.3 puts snow 2.3 sigma away */
 #define EST_SEC_MIN  0.02
 #define EST_SHAPE_F_MIN 0.01
+/* while the car is at its limit (the limit test) and mu is not held by the
+ * understeer bound, the ay noise's utilization is the model's at mu +
+ * AY_U_K sigma_mu: with mu still too high the model sits at its own limit,
+ * R is up to 150 x and the ay update cannot pull mu down (snow sine with
+ * dwell) */
+#define EST_AY_U_K   0.5
+/* the balances' memory is cleared at the understeer bound's cut only when
+ * the cut exceeds CUT_CLEAR: small cuts re-armed the bound every few steps
+ * and the balances never built up (step steer snow) */
+#define EST_CUT_CLEAR 0.05
 
 #endif

@@ -424,13 +424,16 @@ class SpinOutputTests(unittest.TestCase):
         self.assertLess(on[1], 0.6 * off[1])
 
     def test_projection_onto_the_understeer_bound(self):
-        # vy and r move with mu when the understeer bound cuts it (measured:
-        # beta RMS 0.20 against 0.26 deg with the bound a plain clamp; 0.37 /
-        # 0.44 before mu's secant)
-        on, off = self._run(True, True), self._run(True, False)
-        print(f"\n# sine with dwell wet: beta RMS {on[0]:.3f} / {off[0]:.3f} deg with the bound projected / "
-              f"clamped", flush=True)
-        self.assertLess(on[0], 0.9 * off[0])
+        # vy and r move with mu when the understeer bound cuts it. Since
+        # session 19 mu reaches the low road faster by itself and the bound
+        # cuts less: on this run 0.194 against 0.216 deg (0.20 / 0.26 in
+        # session 16), so the check is on the brake in turn on snow, where
+        # the bound still carries most (measured: 0.421 against 0.472 deg;
+        # ramp steer snow 0.108 / 0.131, step steer snow 0.452 / 0.497)
+        res = _flag_effect("brake-in-turn", "snow", "PROJECT_US_BOUND", ("beta_rms_deg",))
+        print(f"\n# brake in turn snow: beta RMS {res['on'][0]:.3f} / {res['off'][0]:.3f} deg with the bound "
+              f"projected / clamped", flush=True)
+        self.assertLess(res["on"][0], 0.93 * res["off"][0])
 
 
 class MuSecantTests(unittest.TestCase):
@@ -456,7 +459,8 @@ class MuSecantTests(unittest.TestCase):
                                                       np.full(1, fz), np.full(1, 20.0))[1][0]))
                      for m_ in (mu, mu - dmu)]
                 exact = (f[0] - f[1]) / dmu
-                got = float(e._mu_secant(np.array([alpha, 0.0, 0.0, 0.0]), np.array([f[0], 0.0, 0.0, 0.0]), mu)[0])
+                got = float(e._mu_secant(np.array([alpha, 0.0, 0.0, 0.0]), np.array([f[0], 0.0, 0.0, 0.0]), mu,
+                                         est_ref.MU_MIN)[0])
                 worst = max(worst, abs(got - exact) / (f[0] / mu))
         print(f"\n# mu's secant, table ({est_ref.SHAPE_N} intervals) against the tire's own: worst error "
               f"{100 * worst:.2f} % of Fy / mu", flush=True)
@@ -525,6 +529,23 @@ class LateralBalanceTests(unittest.TestCase):
               f"with the lateral balance, {res['off'][0]:.2f} / {res['off'][1]:.2f} % without", flush=True)
         self.assertLess(res["on"][0], 0.85 * res["off"][0])
         self.assertLess(res["on"][1], 0.85 * res["off"][1])
+
+
+class OutputMuTests(unittest.TestCase):
+    """The output forces move with the updates' change of mu along mu's
+    column (OUT_MU, docs/estimator.md "Outputs at the updated state",
+    session 19)."""
+
+    def test_snow_sine_dwell_front_force(self):
+        # at the snow onset mu falls fast; forces at the prior mu lag the
+        # estimate by a step's change (measured: front Fy RMS
+        # 4.64 % of peak with, 5.45 % without; the target is 5 %)
+        res = _flag_effect("sine-dwell", "snow", "OUT_MU", ("fy_front_rms_pct", "fy_rear_rms_pct"))
+        print(f"\n# sine with dwell snow: Fy RMS front / rear {res['on'][0]:.2f} / {res['on'][1]:.2f} % of peak "
+              f"with the output forces along mu's change, {res['off'][0]:.2f} / {res['off'][1]:.2f} % without",
+              flush=True)
+        self.assertLess(res["on"][0], 0.9 * res["off"][0])
+        self.assertLess(res["on"][0], 5.0)
 
 
 class SteeringLatencyTests(unittest.TestCase):

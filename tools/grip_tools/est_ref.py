@@ -61,7 +61,10 @@ US_D, US_R, US_U0, US_U1, US_UMAX, US_ZMAX = 0.15, 0.02, 0.3, 1.4, 0.85, 0.8
 # bound too low, which the friction-in-use bound lifts by itself; the value
 # before would overshoot)
 REL_K = 0.8
-EXC_U, EXC_A, G_MIN = 0.5, 1.0, 0.05
+# excitation: a tire at EXC_U of its own friction (mu = 1). 0.5 opened the
+# gate at the snow sine-with-dwell onset only after the truth's front axle
+# had reached 90 % of its limit; by then the model was a second behind
+EXC_U, EXC_A, G_MIN = 0.2, 1.0, 0.05
 S = np.array([0.05, 0.005, 0.02, 0.001])  # scaled units of vy, r, mu, gyro bias
 # states are SI except the gyro bias, which is kept in its scaled unit
 # (0.001 rad/s) so that its small per-step corrections survive Q15.16
@@ -117,17 +120,33 @@ MB_TAU, MB_RACC, MB_AX = 0.05, 20.0, 1.0
 SB_TAU = 0.02
 # mu's column of the Jacobians is the secant over mu's own uncertainty
 # (statistical linearization, MU_SECANT): from mu down to mu - dmu, dmu =
-# SEC_K sigma_mu within [SEC_MIN, mu - MU_MIN], on the tire's lateral
+# SEC_K sigma_mu within [SEC_MIN, mu - mu_lb] (mu_lb: the friction in use,
+# mu's lower bound), on the tire's lateral
 # force shape |Fy| / Fz at static load tabulated at SHAPE_N + 1 slip angles
 # over [0, alpha_pk]; no column below SHAPE_F_MIN of Fz (the origin, where
 # the secant is 0 / 0 and the column 0 anyway). The tangent is 0 while the
 # model tire is linear, however far from it a lower mu would take it: at
-# the snow onset mu stayed at its prior while vy took the ay deficit
-SHAPE_N, SEC_K, SEC_MIN, SHAPE_F_MIN = 16, 1.0, 0.02, 0.01
+# the snow onset mu stayed at its prior while vy took the ay deficit.
+# SEC_K 3: the prior 1.0 +- 0.3 puts snow 2.3 sigma away, and a 1-sigma
+# secant saw only the top of that span (mu stalled at 0.55 - 0.6)
+SHAPE_N, SEC_K, SEC_MIN, SHAPE_F_MIN = 16, 3.0, 0.02, 0.01
 MU_SECANT = True
 # the updates' correction moves the lagged slip angles along the kinematic
 # slope (RLX_CARRY; off only to measure what it does: TireRelaxationTests)
 RLX_CARRY = True
+# the ay noise's utilization is the model's at mu + AY_U_K sigma_mu while
+# the car is at its limit (the limit test) and mu is not held by the
+# understeer bound (its cut is no evidence to confirm): at a mu still too high the
+# model's tires sit at their own limit, R grew 150 x and the ay update could
+# no longer pull mu down (snow sine with dwell)
+AY_U_K = 0.5
+# the output forces move with the update's change of mu along d Fy / d mu,
+# as they do with its change of slip angle (OUT_MU; off only to measure)
+OUT_MU = True
+# the balances' memory is cleared at the understeer bound's cut only when
+# the cut is larger than CUT_CLEAR: a small cut re-armed the bound every
+# few steps and the balances never built up (step steer snow)
+CUT_CLEAR = 0.05
 # vx extrapolated over the latency like vy and r (VX_AT_OUTPUT) and the
 # understeer bound applied as an estimate projection (PROJECT_US_BOUND):
 # off only to measure what they do (SpinOutputTests)
@@ -237,7 +256,8 @@ def _ay_noise(util, fz):
     load-weighted mean utilization, i.e. with both tires of an axle at the
     limit: in a spin the model, past its peak, pulls vy the wrong way, while
     one tire's utilization alone may be a faulty wheel speed's slip
-    (docs/estimator.md)."""
+    (docs/estimator.md). The caller passes the utilizations at mu + AY_U_K
+    sigma_mu (scaled by mu / (mu + AY_U_K sigma_mu))."""
     u = np.minimum(util, 1.0)
     u_axle = max((u[2 * a] * fz[2 * a] + u[2 * a + 1] * fz[2 * a + 1]) / max(fz[2 * a] + fz[2 * a + 1], 1.0)
                  for a in range(2))
@@ -405,14 +425,14 @@ class Estimator:
         offset, plus r vy, plus gravity along the grade."""
         return ax - self.ax_off + r * vy + g_x
 
-    def _mu_secant(self, alpha, fy, mu):
+    def _mu_secant(self, alpha, fy, mu, floor):
         """d Fy / d mu of each wheel as the secant of mu F0(alpha / mu) from
         mu down to mu - dmu (MU_SECANT), on the tabulated force shape: the
         ratio F(mu - dmu) / F(mu) of the shape applied to the wheel's own
         force (its load and combined slip), within [0, F / mu] like the
         tangent it replaces."""
         sig = math.sqrt(self.P[2, 2]) * S[2]
-        dmu = max(min(SEC_K * sig, mu - MU_MIN), SEC_MIN)
+        dmu = max(min(SEC_K * sig, mu - floor), SEC_MIN)
         mu2 = mu - dmu
         inv_mu, inv_mu2, inv_dmu = 1.0 / mu, 1.0 / mu2, 1.0 / dmu
         r2 = mu2 * inv_mu
@@ -679,6 +699,11 @@ class Estimator:
 
         if active:
             vy, r = float(self.x[0]), float(self.x[1])
+            # the friction in use bounds mu from below; mu's secant spans no
+            # lower (a steering offset's onset took mu 1.0 -> 0.49 in 0.05 s
+            # on a dry road with the secant down to MU_MIN)
+            mu_lb = max(MU_MIN, min(math.sqrt(ax * ax + ay * ay) / (G * max(self.mu0)), MU_MAX)
+                        if (ax_ok and ay_ok) else MU_MIN)
             cdi = np.array([cd, cd, 1.0, 1.0])
             sdi = np.array([sd, sd, 0.0, 0.0])
             xa, ya = np.array(xw), np.array(yw)
@@ -752,7 +777,7 @@ class Estimator:
             # F/mu (sliding) for a concave force curve: the slope
             # approximation may not leave that interval (it flips the sign)
             if MU_SECANT:
-                dfdmu = self._mu_secant(alpha, fy, mu)
+                dfdmu = self._mu_secant(alpha, fy, mu, mu_lb)
             else:
                 dfdmu = _between(fy - alpha * dfda, fy) / mu
             dfy_dvy, dfy_dr = dady * dfda, dadr * dfda
@@ -826,11 +851,20 @@ class Estimator:
                 if (self.us_low and lim_ok and same_turn and -LIM_REL < dd < US_D and abs(ax) < B_AX
                         and abs(ay + g_y - yaw * vx) < B_AX and REL_K * self.use_b <= use_f <= self.use_b / REL_K):
                     self.rel_steps = min(self.rel_steps + 1, BIG)
+                elif self.us_low and lim_ok and same_turn:
+                    # a step out of the band counts one back, not to 0: at a
+                    # car's own understeer the deficit hovers at US_D (wet
+                    # step steer after a steering offset: 0.13 - 0.16, the
+                    # count never reached LIM_T and mu stayed at the bound)
+                    self.rel_steps = max(self.rel_steps - 1, 0)
                 else:
                     self.rel_steps = 0
                 if self.rel_steps >= self.lim_n:
                     self.x[2] = max(self.x[2], self.mu_pre)
                     self.us_low = False
+                    # the confidence the updates gained at the bound's mu
+                    # goes with it (back to mu_conf 0)
+                    self.P[2, 2] = max(self.P[2, 2], (CONF_S0 / S[2]) ** 2)
             else:
                 self.rel_steps = 0
             if at_limit:
@@ -867,12 +901,26 @@ class Estimator:
             dmr = _clamp((float(self.x[1]) - (r + dr)) / dt, -MB_RACC, MB_RACC) if (yaw_ok and abs(ax) < MB_AX) else 0.0
             self.mb_f += min(dt / MB_TAU, 1.0) * (c["iz"] * dmr / l - self.mb_f)
             sb_t = 0.0
-            if ay_ok:
+            # a road-wheel angle beyond the rack's travel (F_STEER_LIMIT) is
+            # not the car's: the model's slip angles would be fitted to it
+            # (at lock on a straight road vy went to 2.3 m/s, past both
+            # axles' peaks, and stayed there after the steering recovered)
+            steer_in_range = not (flags & F_STEER_LIMIT)
+            if ay_ok and steer_in_range:
                 ay_pred = ay_m + a_vv * (self.x[0] - vy) + a_vr * (self.x[1] - r) + a_vm * (self.x[2] - mu)
                 h = np.array([_clamp(a_vv * S[0] / S_AY, -H_MAX_VY, H_MAX_VY),
                               _clamp(a_vr * S[1] / S_AY, -H_MAX, H_MAX),
                               _clamp(a_vm * S[2] / S_AY, -H_MAX, H_MAX), 0.0])
-                nis = self._update(h, (ay - ay_pred) / S_AY, _ay_noise(o["util"], o["fz"]), excited, b_ok)
+                # at mu + AY_U_K sigma_mu only while the car's own yaw
+                # response (the mu-independent limit test) says it is at its
+                # limit: elsewhere a model at its own limit is the model's
+                # claim, not evidence (AV-21 log: with a mu cut by the
+                # understeer bound, the updates confirmed it to mu_conf 0.74);
+                # nor while the bound holds mu (a steering offset fakes both
+                # the deficit and the limit test)
+                sig_mu = math.sqrt(self.P[2, 2]) * S[2] if (at_limit and not self.us_low) else 0.0
+                nis = self._update(h, (ay - ay_pred) / S_AY,
+                                   _ay_noise(o["util"] * (mu / (mu + AY_U_K * sig_mu)), o["fz"]), excited, b_ok)
                 self._condition()
                 # the lateral force the model still lacks at the updated state
                 # (the lateral balance, SB_*): the ay update is weak at the
@@ -920,15 +968,15 @@ class Estimator:
             # at the understeer limit mu_us (above) an upper one. Both are
             # bounds on the state, not measurements: they add no confidence
             # (a steering-angle offset fakes an understeer deficit)
-            mu_lb = max(MU_MIN, min(a_tot / (G * max(self.mu0)), MU_MAX) if (ax_ok and ay_ok) else MU_MIN)
             mu_ub = max(mu_us, mu_lb) if mu_us > 0.0 else MU_MAX
             self.us_clamped = self.x[2] > mu_ub
             if mu_us > 0.0 and self.us_clamped and not self.us_low:
                 self.us_low, self.mu_pre = True, float(self.x[2])
-                # the model's forces jump with the cut: the balances' memory
-                # is the error of the model before it
-                self.mb_f = 0.0
-                self.lat_sb = 0.0
+                # the model's forces jump with a large cut: the balances'
+                # memory is the error of the model before it
+                if self.x[2] - mu_ub > CUT_CLEAR:
+                    self.mb_f = 0.0
+                    self.lat_sb = 0.0
             # The understeer measurement cutting mu is applied as an estimate
             # projection (the constrained Kalman filter): the whole state
             # moves along mu's covariance onto the bound, the covariance
@@ -950,8 +998,9 @@ class Estimator:
             # model's range and the lateral force no longer tells the slip
             # angle: beta is dead reckoning too, flagged (docs/estimator.md);
             # and a tire model that does not fit the car (misfit) does not
-            # give a sideslip to stand behind either
-            if ay_ok and yaw_ok and not dead_reck and not self.misfit:
+            # give a sideslip to stand behind either, nor does a steering angle
+            # beyond the rack's travel (no ay update: dead reckoning as well)
+            if ay_ok and yaw_ok and not dead_reck and not self.misfit and steer_in_range:
                 vbits |= V_BETA | V_AXLE
             if not (vbits & V_BETA):
                 vbits &= ~(V_WHEEL(0) | V_WHEEL(1) | V_WHEEL(2) | V_WHEEL(3))
@@ -983,6 +1032,8 @@ class Estimator:
             # ... and carried over the latency towards alpha_o
             alpha_to = self.alpha_t + _relax_share(np.abs(vxw) * lat, sig) * (alpha_o - self.alpha_t)
             fy_o = fy + dfda * (alpha_to - alpha)
+            if OUT_MU:
+                fy_o = fy_o + dfdmu * (float(self.x[2]) - mu)
             # the yaw balance (MB_*): +df on the front axle, -df on the rear
             # (the lateral sum unchanged, the moment a df + b df = l df),
             # and the lateral balance (SB_*) in the axles' static shares (no
