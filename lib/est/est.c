@@ -1167,14 +1167,6 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     }
     mu = est->x[2];
     est->mu_lin = mu;
-    /* the friction in use bounds mu from below; mu's secant spans no lower
-     * (a steering offset's onset took mu 1.0 -> 0.49 in 0.05 s on a dry road
-     * with the secant down to MU_MIN) */
-    est->mu_floor = (ax_ok && ay_ok) ? r_max(RC(EST_MU_MIN),
-                                             r_min(r_div(r_sqrt(r_add(r_sq(ax), r_sq(ay))),
-                                                         r_mul(RC(EST_G), r_max(est->mu0[0], est->mu0[1]))),
-                                                   RC(EST_MU_MAX)))
-                                     : RC(EST_MU_MIN);
 
     if (active) {
         grip_real_t jay[3] = { R_ZERO, R_ZERO, R_ZERO };   /* d(sum Fby)/d(vy, r, mu) [QL] */
@@ -1185,8 +1177,18 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         grip_real_t umax = R_ZERO, umax_x = R_ZERO, kappa_sum = R_ZERO, umax_est = R_ZERO;
         int at_limit = 0, b_ok, kappa_slip = 0, ref_ok, braked_slip;
         grip_real_t f[2][GRIP_EST_NX];   /* rows vy, r of the transition (mu, bias: identity) */
-        grip_real_t ay_m, ax_m, racc, dvy, dr, m = c->mass, mu_lb = RC(EST_MU_MIN), nis_ay;
+        grip_real_t ay_m, ax_m, racc, dvy, dr, m = c->mass, nis_ay;
         grip_real_t mu_us = R_ZERO;      /* > 0: upper friction measurement at the understeer limit */
+        /* the friction in use bounds mu from below (a bound on the state, no
+         * measurement: it adds no confidence); mu's secant spans no lower (a
+         * steering offset's onset took mu 1.0 -> 0.49 in 0.05 s on a dry road
+         * with the secant down to MU_MIN). |a| is formed again in the limit
+         * test below: held across the tire loop it cost 8 B of M0+ stack */
+        est->mu_floor = (ax_ok && ay_ok) ? r_max(RC(EST_MU_MIN),
+                                                 r_min(r_div(r_sqrt(r_add(r_sq(ax), r_sq(ay))),
+                                                             r_mul(RC(EST_G), r_max(est->mu0[0], est->mu0[1]))),
+                                                       RC(EST_MU_MAX)))
+                                         : RC(EST_MU_MIN);
 
         for (i = 0; i < 4; ++i) {
             int axle = i >> 1;
@@ -1362,8 +1364,6 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
             if (at_limit) {
                 excited = 1;
             }
-            /* the friction in use is a lower bound of the friction available */
-            mu_lb = est->mu_floor;
         }
 
         /* ---- predict ---- */
@@ -1520,11 +1520,10 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
          * limit's measurement from above. Bounds on the state, not
          * measurements: they add no confidence (a steering-angle offset
          * fakes an understeer deficit, docs/faults.md) */
-        mu_lb = r_max(RC(EST_MU_MIN), mu_lb);
-        if (mu_us > R_ZERO && !est->us_low && est->x[2] > r_max(mu_us, mu_lb)) {
+        if (mu_us > R_ZERO && !est->us_low && est->x[2] > r_max(mu_us, est->mu_floor)) {
             est->us_low = 1;
             est->mu_pre = est->x[2];
-            if (r_sub(est->x[2], r_max(mu_us, mu_lb)) > RC(EST_CUT_CLEAR)) {
+            if (r_sub(est->x[2], r_max(mu_us, est->mu_floor)) > RC(EST_CUT_CLEAR)) {
                 est->yaw_mb = R_ZERO; /* the model's forces jump with a large
                                        * cut: the balances' memory was the
                                        * old model's */
@@ -1538,11 +1537,11 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
          * friction-in-use bound (docs/estimator.md) */
         {
             static const grip_real_t h_mu[GRIP_EST_NX] = { R_ZERO, R_ZERO, R_ONE, R_ZERO };
-            grip_real_t mu_hi = (mu_us > R_ZERO) ? r_max(mu_us, mu_lb) : RC(EST_MU_MAX); /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
+            grip_real_t mu_hi = (mu_us > R_ZERO) ? r_max(mu_us, est->mu_floor) : RC(EST_MU_MAX); /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
             if (mu_us > R_ZERO && est->x[2] > mu_hi) {
                 (void)kf_update(est, h_mu, r_div(r_sub(mu_hi, est->x[2]), RC(EST_S_MU)), R_ZERO, 1, 0, 1);
             }
-            est->x[2] = r_clamp(est->x[2], mu_lb, mu_hi);
+            est->x[2] = r_clamp(est->x[2], est->mu_floor, mu_hi);
         }
         est->x[0] = sym_clamp(est->x[0], r_add(r_mul(RC(EST_VY_K), r_abs(vx)), R_ONE));
         est->x[1] = sym_clamp(est->x[1], RC(EST_YAW_MAX));

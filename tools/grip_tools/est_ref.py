@@ -702,8 +702,8 @@ class Estimator:
             # the friction in use bounds mu from below; mu's secant spans no
             # lower (a steering offset's onset took mu 1.0 -> 0.49 in 0.05 s
             # on a dry road with the secant down to MU_MIN)
-            mu_lb = max(MU_MIN, min(math.sqrt(ax * ax + ay * ay) / (G * max(self.mu0)), MU_MAX)
-                        if (ax_ok and ay_ok) else MU_MIN)
+            a_tot = math.sqrt(ax * ax + ay * ay)
+            mu_lb = max(MU_MIN, min(a_tot / (G * max(self.mu0)), MU_MAX) if (ax_ok and ay_ok) else MU_MIN)
             cdi = np.array([cd, cd, 1.0, 1.0])
             sdi = np.array([sd, sd, 0.0, 0.0])
             xa, ya = np.array(xw), np.array(yw)
@@ -803,7 +803,6 @@ class Estimator:
             av2 = 0.01 * self.k_us * vx * vx
             den_l = max(l * (1 + av2), 0.1 * l)
             r_lin = vx * delta / den_l
-            a_tot = math.sqrt(ax * ax + ay * ay)
             self.r_lin_f += min(dt / LIM_TAU, 1.0) * (r_lin - self.r_lin_f)
             # both limit tests need speed, the inertial inputs and acceleration
             lim_ok = vx >= V_EXC and yaw_ok and ax_ok and ay_ok and a_tot >= LIM_A
