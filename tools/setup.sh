@@ -34,3 +34,11 @@ if [ ! -f "$STAMP" ] || ! cmp -s "$REQ" "$STAMP"; then
     .venv/bin/pip install -q --disable-pip-version-check -r "$REQ"
     cp "$REQ" "$STAMP"
 fi
+# The tools as a package in editable mode: the `grip` command runs the code
+# of this clone.
+PKG_STAMP=.venv/.grip-pyproject
+if [ ! -x .venv/bin/grip ] || [ ! -f "$PKG_STAMP" ] || ! cmp -s tools/pyproject.toml "$PKG_STAMP"; then
+    echo "setup: installing the grip tools (editable) into .venv"
+    .venv/bin/pip install -q --disable-pip-version-check --no-deps -e tools
+    cp tools/pyproject.toml "$PKG_STAMP"
+fi

@@ -15,7 +15,7 @@
  *
  * Derivations, sign conventions, every modelling choice and the measured
  * accuracy: docs/brush-models.md. Float64 closed forms and the quadrature
- * reference: tools/grip_tools/brush.py.
+ * reference: tools/grip_tools/reference/brush.py.
  *
  * Evaluation cost is bounded: every contact-patch integral is closed-form;
  * the implicit couplings of Neo-FIALA are eliminated exactly for a trial

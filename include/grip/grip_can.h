@@ -12,7 +12,7 @@
  *                                   (zero-order hold, staleness check)
  *
  * The signal table is plain constant data, generated from a DBC file and a
- * map file by `python -m grip_tools can-table` (tools/grip_tools/dbc.py),
+ * map file by `python -m grip_tools can-table` (tools/grip_tools/can/dbc.py),
  * either as C source (compiled in, e.g. grip_can_table_rav4) or as a text
  * table loaded at run time (grip_can_table_text_*).
  *

@@ -1,7 +1,7 @@
 /*
  * grip_mf_coefs.h - the Magic Formula coefficients grip reads from a .tir
  * file: ONE list, used by the C parameter struct (grip_mf.h), the host .tir
- * reader (port/linux) and the Python tools (tools/grip_tools/tir.py reads this
+ * reader (port/linux) and the Python tools (tools/grip_tools/reference/tir.py reads this
  * file), so the three can never disagree.
  *
  * X(field, KEY, SECTION, FORMAT, DEFAULT, REQUIRED)

@@ -39,7 +39,7 @@
  * limit manoeuvres: docs/faults.md).
  *
  * Fixed size, no heap, every loop bounded by GRIP_MON_N or 4; the caller
- * owns the state. Float64 reference: tools/grip_tools/monitor_ref.py (the
+ * owns the state. Float64 reference: tools/grip_tools/reference/monitor.py (the
  * same steps in the same order); golden test tests/unit/test_monitor.c.
  *
  * Formats (fixed build): lengths, ratios, speeds, rates QS.

@@ -4,7 +4,7 @@
  * parabola, exact elimination of the couplings for a trial boundary, and the
  * fixed-iteration root for the adhesion boundary. Equations and their
  * derivation: docs/brush-models.md ("Neo-FIALA: closed form", "Root
- * finding"); float64 twin: nf_state / nf_solve in tools/grip_tools/brush.py.
+ * finding"); float64 twin: nf_state / nf_solve in tools/grip_tools/reference/brush.py.
  *
  * Cost of brush_core_solve: at most GRIP_BRUSH_ROOT_ITERS + 1 evaluations
  * of core_state (one when the tyre slides fully), each with one power chain
@@ -273,7 +273,7 @@ static void core_coef_init(const brush_problem *pb, core_coef *cc)
  * The state at trial boundary rh and the transformed residual
  *   F(rh) = c fac G - |(sx, sy_r)| / (1 - q u)
  * (= [Lmax(rh) - |stress gradient at rh|] / (1 - q u)); see nf_state in
- * tools/grip_tools/brush.py for the same steps in float64 (here the factors
+ * tools/grip_tools/reference/brush.py for the same steps in float64 (here the factors
  * that do not depend on rh come from core_coef).
  */
 static grip_real_t core_state(const brush_problem *pb, const core_coef *cc, grip_real_t rh, brush_state *st)

@@ -3,7 +3,7 @@
  * (parabolic pressure): classic FIALA, normalized (seed 000, 2.54-2.66), and
  * Sakai's combined-slip model (2.93-2.125). Derivations and the re-derived
  * signs: docs/brush-models.md; float64 twins: fiala_cf, sakai_cf in
- * tools/grip_tools/brush.py. No loops.
+ * tools/grip_tools/reference/brush.py. No loops.
  */
 #include <stddef.h>
 

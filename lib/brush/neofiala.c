@@ -3,7 +3,7 @@
  * and the brush model in braking/driving (2.67-2.92), both on the shared
  * core (brush_core.c). Kinematics, normalization and every choice:
  * docs/brush-models.md; float64 twin: kinematics / neofiala_cf / brush_cf in
- * tools/grip_tools/brush.py.
+ * tools/grip_tools/reference/brush.py.
  */
 #include <stddef.h>
 

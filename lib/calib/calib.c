@@ -1,7 +1,7 @@
 /*
  * calib.c - sensor calibration stage (offset, gain, delay alignment) of the
  * estimator's inputs. Definition: include/grip/grip_calib.h; reference
- * tools/grip_tools/calib_ref.py; docs/calibration.md.
+ * tools/grip_tools/reference/calib.py; docs/calibration.md.
  */
 #include <stddef.h>
 

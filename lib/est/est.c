@@ -1,7 +1,7 @@
 /*
  * est.c - onboard vehicle-state and friction estimator (grip_est.h),
  * written once for both arithmetics. Method and every constant:
- * docs/estimator.md; float64 reference: tools/grip_tools/est_ref.py (the
+ * docs/estimator.md; float64 reference: tools/grip_tools/reference/est.py (the
  * same steps in the same order).
  *
  * Per step: inputs (validity, hold, saturation) -> longitudinal speed
@@ -437,7 +437,7 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
     est->rate = r_from_int((int32_t)cfg->rate_hz);
     est->ay_fac = r_div(R_ONE, r_add(R_ONE, r_mul(RC(EST_G), cfg->roll_gradient)));
     {
-        /* road plane (residual/vehicle.py): the normal load factor
+        /* road plane (loop/vehicle.py): the normal load factor
          * 1 / sqrt(1 + sx^2 + sy^2) does not depend on the heading */
         grip_real_t sx = cfg->tan_grade, sy = cfg->tan_bank;
         grip_real_t fzn = r_div(R_ONE, r_sqrt(r_add(R_ONE, r_add(r_sq(sx), r_sq(sy)))));

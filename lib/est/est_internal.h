@@ -1,6 +1,6 @@
 /*
  * est_internal.h - constants of the estimator (lib/est), shared by its
- * files. Every value here is mirrored in tools/grip_tools/est_ref.py (the
+ * files. Every value here is mirrored in tools/grip_tools/reference/est.py (the
  * float64 reference) and documented in docs/estimator.md.
  */
 #ifndef GRIP_EST_INTERNAL_H

@@ -1,6 +1,6 @@
 /*
  * monitor.c - ESC sensor-plausibility monitor (grip_monitor.h), written once
- * for both arithmetics. Float64 reference: tools/grip_tools/monitor_ref.py
+ * for both arithmetics. Float64 reference: tools/grip_tools/reference/monitor.py
  * (the same steps in the same order, the same constants); method and the
  * measurement behind every constant: docs/faults.md.
  *
@@ -23,7 +23,7 @@
 #define IN_AY GRIP_IN_AY
 #define IN_VS GRIP_IN_VEHICLE_SPEED
 
-/* ---- constants (monitor_ref.py; docs/faults.md) ---- */
+/* ---- constants (reference/monitor.py; docs/faults.md) ---- */
 #define MON_WS_MAX 120.0
 #define MON_YAW_MAX 2.5
 #define MON_ACC_MAX 15.0

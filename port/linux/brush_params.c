@@ -21,7 +21,7 @@ typedef struct {
 } field_desc;
 
 /* Field tables: struct order, formats and defaults as C_UNITS and the
- * dataclasses of tools/grip_tools/brush.py (tests/unit/test_brush_params.c
+ * dataclasses of tools/grip_tools/reference/brush.py (tests/unit/test_brush_params.c
  * checks that both agree). */
 static const field_desc k_fiala_fields[] = {
     { "ky", offsetof(grip_fiala_params, ky), FMT_QL, 1.0, 60000.0 },

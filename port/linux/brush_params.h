@@ -4,7 +4,7 @@
  * fiala|brush|sakai|neofiala`.
  *
  * File format (docs/brush-models.md, "Parameter files"), read and written
- * by tools/grip_tools/brush.py (read_params / write_params) too:
+ * by tools/grip_tools/reference/brush.py (read_params / write_params) too:
  *
  *   # comment (also after a value)
  *   model = neofiala          first entry: fiala | brush | sakai | neofiala

@@ -257,7 +257,7 @@ static dimension dimension_of(const char *key)
 
 /* ------------------------------------------------------------------ */
 /* Parsing: the whole file into a list of KEY = value entries first,    */
-/* then validation in the order of tools/grip_tools/tir.py, so both    */
+/* then validation in the order of tools/grip_tools/reference/tir.py, so both    */
 /* readers report the same first error.                                */
 
 typedef struct {

@@ -5,7 +5,7 @@
  * The coefficients read, their sections, fixed-point formats, defaults and
  * required flags come from the one list GRIP_MF_COEFFICIENTS
  * (include/grip/grip_mf_coefs.h). The validation rules are those of the
- * Python reader (tools/grip_tools/tir.py); docs/tools.md lists them.
+ * Python reader (tools/grip_tools/reference/tir.py); docs/tools.md lists them.
  *
  * Host code only (stdio, double): the library in lib/ never reads files.
  * Every error message has the form "FILE:LINE: KEY: what is wrong"

@@ -1,7 +1,7 @@
 /*
  * fuzz_mf89.c - grip_mf89_fy / _check_params / _check_constraints.
  *
- * Base set: the golden-vector set of tools/grip_tools/golden_mf89.py.
+ * Base set: the golden-vector set of tools/grip_tools/golden/mf89.py.
  * Input: [alpha fz gamma as words][fz_lo fz_hi words][mutations...].
  * Properties: no crash or sanitizer report; documented statuses; finite
  * output; zero output on error; with the unmutated set and finite inputs:

@@ -5,7 +5,13 @@ import sys
 import unittest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, "..", "..", "tools"))
+TESTS = os.path.dirname(HERE)
+# The test packages are named after the tool packages (can, loop, ...):
+# import them as python.<name> from tests/, never as top-level names from
+# this folder, where `can` would hide the python-can package cantools needs.
+sys.path[:] = [p for p in sys.path if os.path.abspath(p or ".") != HERE]
+# The tools of this clone, also when the environment has them installed.
+sys.path.insert(0, os.path.join(TESTS, "..", "tools"))
 
 
 class TapResult(unittest.TextTestResult):
@@ -37,9 +43,11 @@ class TapResult(unittest.TextTestResult):
 
 
 def main():
-    # optional argument: a file pattern, e.g. test_grip_tire.py
+    # optional arguments: a file pattern (e.g. 'test_grip_tire*.py') and a
+    # sub-folder (e.g. reference); the test packages mirror tools/grip_tools/
     pattern = sys.argv[1] if len(sys.argv) > 1 else "test_*.py"
-    suite = unittest.defaultTestLoader.discover(HERE, pattern=pattern, top_level_dir=HERE)
+    start = os.path.join(HERE, sys.argv[2]) if len(sys.argv) > 2 else HERE
+    suite = unittest.defaultTestLoader.discover(start, pattern=pattern, top_level_dir=TESTS)
     runner = unittest.TextTestRunner(resultclass=TapResult, stream=open(os.devnull, "w"), verbosity=0)
     result = runner.run(suite)
     print(f"1..{result.testsRun}")

@@ -46,7 +46,7 @@ EST_CFG_KEYS = ['cla', 'aero_front', 'air_density', 'cda', 'crr', 'tan_bank', 't
                 'steer_latency']
 # brush models: (name, parameter field formats in struct order, input formats);
 # S = QS, L = QL, I = int32 (the same word in both builds); as
-# tools/grip_tools/brush.py C_UNITS and tests/unit/test_brush.c
+# tools/grip_tools/reference/brush.py C_UNITS and tests/unit/test_brush.c
 BRUSH_MODELS = [
     ('fiala', 'ky mu l fz_min fz_max alpha_max', 'LSSLLS', 'SL'),
     ('brush', 'kx mu_s mu_d0 a_v n fz_min fz_max kappa_max v_max', 'LSSSILLSS', 'SLS'),

@@ -1,8 +1,8 @@
 /*
  * test_brush.c - the brush-model family (include/grip/grip_brush.h) against
- * the float64 closed forms of tools/grip_tools/brush.py (golden vectors
- * brush_*.txt from tools/grip_tools/golden_brush.py; those closed forms equal
- * the quadrature reference to 1e-9, tests/python/test_brush.py).
+ * the float64 closed forms of tools/grip_tools/reference/brush.py (golden vectors
+ * brush_*.txt from tools/grip_tools/golden/brush.py; those closed forms equal
+ * the quadrature reference to 1e-9, tests/python/reference/test_brush.py).
  *
  * Errors are normalized: forces by mu_s Fz, moments by mu_s Fz l (Fz after
  * clamping). Bounds (docs/brush-models.md, "Accuracy"):

@@ -1,7 +1,7 @@
 /*
  * test_brush_params.c - the parameter-file reader of the brush models
  * (port/linux/brush_params.c) against files written by
- * tools/grip_tools/brush.py (golden folder: brush_params_<model>.txt holds
+ * tools/grip_tools/reference/brush.py (golden folder: brush_params_<model>.txt holds
  * set 0 of brush_<model>.txt; brush_params_<model>_default.txt the Python
  * defaults): values and per-kN unit conversions, defaults, every error
  * message, the dump round trip and the grip-tire evaluation hook.

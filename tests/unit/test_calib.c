@@ -1,7 +1,7 @@
 /*
  * test_calib.c - the sensor calibration stage (lib/calib) against the
- * float64 reference tools/grip_tools/calib_ref.py (build/golden/calib.txt,
- * golden_calib.py), plus configuration checks, NULL / state errors,
+ * float64 reference tools/grip_tools/reference/calib.py (build/golden/calib.txt,
+ * golden/calib.py), plus configuration checks, NULL / state errors,
  * non-finite inputs, in-place use, pass-through and age.
  *
  * Tolerances (docs/calibration.md):

@@ -1,7 +1,7 @@
 /*
  * test_can_asm.c - the sample assembler (lib/can/can_asm.c):
  *   - the whole RAV4 log, read with the candump reader, against the
- *     zero-order-hold reference of tools/grip_tools/golden_can.py (every
+ *     zero-order-hold reference of tools/grip_tools/golden/can.py (every
  *     step, every input: same validity and fault, value within the decode
  *     tolerance of test_can_decode.c);
  *   - each fault on a synthetic table: stale, out of range, sender fault

@@ -1,6 +1,6 @@
 /*
  * test_can_decode.c - the CAN signal decoder against cantools (golden files
- * from tools/grip_tools/golden_can.py):
+ * from tools/grip_tools/golden/can.py):
  *   - raw extraction: every byte order x signedness x length 1..64, several
  *     start bits, 8- and 64-byte payloads: bit-exact;
  *   - scaling and range checks of synthetic signals (QS and QL inputs);

@@ -1,7 +1,7 @@
 /*
  * test_est_golden.c - lib/est against the float64 reference
- * (tools/grip_tools/est_ref.py) over whole input sequences
- * (build/golden/est_<name>.txt, written by grip_tools.golden_est): every row
+ * (tools/grip_tools/reference/est.py) over whole input sequences
+ * (build/golden/est_<name>.txt, written by grip_tools.golden.est): every row
  * is fed to grip_est_step in order and every output is compared with the
  * reference's, with its max error printed.
  *
@@ -68,7 +68,7 @@ static double from_ql(grip_real_t v) { return (double)v; }
 #define TOL(f, x) (f)
 #endif
 
-/* column layout of est_*.txt (golden_est.py) */
+/* column layout of est_*.txt (golden/est.py) */
 #define C_T 0
 #define C_IN 1
 #define C_MASK 18

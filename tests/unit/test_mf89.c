@@ -1,7 +1,7 @@
 /*
  * test_mf89.c - the 1989-style lateral Magic Formula (lib/mf89) against the
- * float64 reference tools/grip_tools/mf89.py (build/golden/mf89.txt, from
- * golden_mf89.py), plus clamping, constraint checker, status codes, NULL and
+ * float64 reference tools/grip_tools/reference/mf89.py (build/golden/mf89.txt, from
+ * golden/mf89.py), plus clamping, constraint checker, status codes, NULL and
  * non-finite inputs, and saturation in the DEBUG_SAT build.
  *
  * Tolerances (docs/mf89-thermal.md):

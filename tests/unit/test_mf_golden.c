@@ -1,5 +1,5 @@
 /*
- * test_mf_golden.c - lib/mf against the float64 reference (grip_tools.mf):
+ * test_mf_golden.c - lib/mf against the float64 reference (grip_tools.reference.mf):
  * every row of build/golden/mf_<tyre>.txt for every shared .tir file
  * (tests/support/mf_params.h), pure (Fx0, Fy0, Mz0) and combined (Fx, Fy, Mz).
  *
@@ -255,11 +255,11 @@ static void test_golden_all_tires(void **state)
     (void)state;
     /* Until the generator exists the table is empty; once it exists an
      * empty table is an error. */
-    if (stat("tools/grip_tools/golden_mf.py", &sb) == 0) {
+    if (stat("tools/grip_tools/golden/mf.py", &sb) == 0) {
         assert_true(grip_test_tire_count > 0);
     }
     if (grip_test_tire_count == 0) {
-        printf("# no Magic Formula golden vectors yet (tools/grip_tools/golden_mf.py missing)\n");
+        printf("# no Magic Formula golden vectors yet (tools/grip_tools/golden/mf.py missing)\n");
         return;
     }
     for (i = 0; i < grip_test_tire_count; i++) {

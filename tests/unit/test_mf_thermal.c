@@ -1,7 +1,7 @@
 /*
  * test_mf_thermal.c - the temperature-dependent Magic Formula with its
  * surface temperature state (lib/mf_thermal) against the float64 reference
- * tools/grip_tools/mf_thermal.py (build/golden/mf_thermal.txt): forces at
+ * tools/grip_tools/reference/mf_thermal.py (build/golden/mf_thermal.txt): forces at
  * fixed temperatures over the valid box, and closed-loop time series
  * (fish hook, brake-and-cool, cold tire in combined slip, extreme corner)
  * in which the C state integrates its own temperature. Plus the analytic
@@ -56,7 +56,7 @@ static double tol_q(double fz, double peak, double vs, double q)
 static double tol_t(double excursion) { return 2e-4 * excursion + 0.002; }
 #endif
 
-/* Field table in the order of grip_tools.mf_thermal.PARAM_ORDER. */
+/* Field table in the order of grip_tools.reference.mf_thermal.PARAM_ORDER. */
 typedef struct {
     const char *name;
     size_t offset;

@@ -1,7 +1,7 @@
 /*
  * test_monitor.c - lib/monitor against the float64 reference
- * (tools/grip_tools/monitor_ref.py) over whole input sequences
- * (build/golden/monitor_<name>.txt, written by grip_tools.golden_monitor),
+ * (tools/grip_tools/reference/monitor.py) over whole input sequences
+ * (build/golden/monitor_<name>.txt, written by grip_tools.golden.monitor),
  * plus the argument checks of the API.
  *
  * Every row is fed to grip_monitor_step in order; compared with the
@@ -67,7 +67,7 @@ static double from_qs(grip_real_t v) { return (double)v; }
 #define RES_REL 1e-4
 #endif
 
-/* column layout of monitor_*.txt (golden_monitor.py) */
+/* column layout of monitor_*.txt (golden/monitor.py) */
 #define C_T 0
 #define C_IN 1
 #define C_MASK 18

@@ -5,7 +5,7 @@
  *   - the fault-free drive (22 m/s, slow weave r = 0.08 sin(2 pi 0.2 t),
  *     |ay| <= 1.8 m/s^2, small deterministic noise on every signal) raises
  *     no code on any signal in 8 s;
- *   - every fault of the fault tool (grip_tools.faults: dropout, stuck,
+ *   - every fault of the fault tool (grip_tools.evaluate.faults: dropout, stuck,
  *     spike, offset, scale, delay, noise burst) on every ESC signal, from
  *     t = 3 s for 1 s: the expected code on the faulted signal within the
  *     stated time, no PLAUS/NOISE/FROZEN code on another signal, the signal
@@ -83,7 +83,7 @@ static void clean(double t, double v[9])
     signals_at(0.08 * sin(2.0 * PI * 0.2 * t), v);
 }
 
-/* fault magnitudes in SI (the fault tool's, grip_tools.faults.MAG) */
+/* fault magnitudes in SI (the fault tool's, grip_tools.evaluate.faults.MAG) */
 static void mag(int s, double *off, double *scl, double *spk, double *nse)
 {
     if (s < 4) {

@@ -1,6 +1,6 @@
 /*
  * test_q16.c - every Q15.16 primitive against numpy float64 over its whole
- * int32 input domain (build/golden/q16.txt, from tools/grip_tools/golden_q16.py).
+ * int32 input domain (build/golden/q16.txt, from tools/grip_tools/golden/q16.py).
  * Prints the measured maximum error and enforces the documented bound
  * (docs/numerics.md). Runs in both builds: the primitives are integer-only.
  */

@@ -1,6 +1,6 @@
 /*
  * test_relax.c - the relaxation-length transient (lib/relax) against the
- * float64 reference tools/grip_tools/relax_ref.py (build/golden/relax.txt):
+ * float64 reference tools/grip_tools/reference/relax.py (build/golden/relax.txt):
  * five scenarios in which the C state integrates its own transient slips.
  * Plus the analytic step response, no overshoot at the longest step,
  * status codes, NULL, non-finite and out-of-range inputs/params.

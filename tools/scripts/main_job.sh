@@ -19,5 +19,5 @@ echo "== RAV4 CAN log -> inputs -> estimator (grip-replay -e, fixed build summar
 build/float-gcc/bin/grip-replay -q -e "$TIRE" -o "$OUT/rav4_estimates_float.csv" "$LOG"
 build/fixed-gcc/bin/grip-replay -e "$TIRE" -o "$OUT/rav4_estimates_fixed.csv" "$LOG"
 echo "== Estimates, and the Magic Formula on a real tire (grip-tire) vs the float64 reference"
-PYTHONPATH=tools .venv/bin/python -m grip_tools main-job --outdir "$OUT" \
+.venv/bin/grip main-job --outdir "$OUT" \
     --rav4 "$OUT/rav4_estimates_float.csv" "$OUT/rav4_estimates_fixed.csv"

@@ -1,0 +1,1 @@
+"""The Python tests; tests/python/run.py discovers them (top level: tests/)."""

@@ -1,0 +1,1 @@
+"""Tests of grip_tools.can."""

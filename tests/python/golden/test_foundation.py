@@ -1,0 +1,62 @@
+"""Foundation checks: the committed kernel header matches its generator, the
+stack tool finds recursion and sums call paths, golden headers carry their
+provenance."""
+import os
+import tempfile
+import unittest
+
+from grip_tools.golden import io as golden_io, q16 as golden_q16, q16_kernels as kernels
+from grip_tools.evaluate import stack
+from grip_tools.paths import REPO_ROOT
+
+ROOT = REPO_ROOT
+
+
+class KernelsTest(unittest.TestCase):
+    def test_committed_header_matches_generator(self):
+        with open(os.path.join(ROOT, "lib", "arith", "q16_kernels.h")) as f:
+            self.assertEqual(f.read(), kernels.render_header(),
+                             "lib/arith/q16_kernels.h is stale: run python -m grip_tools kernels")
+
+
+class StackTest(unittest.TestCase):
+    def _ci(self, text):
+        d = tempfile.mkdtemp()
+        with open(os.path.join(d, "a.ci"), "w") as f:
+            f.write(text)
+        return d
+
+    def test_sums_deepest_path_and_charges_externals(self):
+        d = self._ci('node: { title: "grip_a" label: "grip_a\\nx.c:1:1\\n16 bytes (static)" }\n'
+                     'node: { title: "b" label: "b\\nx.c:2:1\\n32 bytes (static)" }\n'
+                     'node: { title: "c" label: "c\\nx.c:3:1\\n8 bytes (static)" }\n'
+                     'node: { title: "__aeabi_ldivmod" label: "__aeabi_ldivmod" }\n'
+                     'edge: { sourcename: "grip_a" targetname: "b" }\n'
+                     'edge: { sourcename: "grip_a" targetname: "c" }\n'
+                     'edge: { sourcename: "c" targetname: "__aeabi_ldivmod" }\n')
+        frames, _, edges = stack.load([os.path.join(d, "a.ci")])
+        total, ext = stack.worst_case(frames, edges)
+        self.assertEqual(total["grip_a"], 16 + max(32, 8 + 64))
+        self.assertIn("__aeabi_ldivmod", ext)
+
+    def test_recursion_is_an_error(self):
+        d = self._ci('node: { title: "f" label: "f\\nx.c:1:1\\n8 bytes (static)" }\n'
+                     'node: { title: "g" label: "g\\nx.c:1:1\\n8 bytes (static)" }\n'
+                     'edge: { sourcename: "f" targetname: "g" }\n'
+                     'edge: { sourcename: "g" targetname: "f" }\n')
+        frames, _, edges = stack.load([os.path.join(d, "a.ci")])
+        with self.assertRaises(SystemExit):
+            stack.worst_case(frames, edges)
+
+
+class GoldenHeaderTest(unittest.TestCase):
+    def test_header_records_generator_seed_and_reference_hash(self):
+        h = golden_io.header("golden_q16", golden_q16.reference, 7, ["a", "b"], {"p": 1})
+        self.assertIn("# seed: 7", h)
+        self.assertRegex(h, r"# reference: reference sha256:[0-9a-f]{16}")
+        self.assertIn("# param p: 1", h)
+        self.assertTrue(h.endswith("# columns: a b\n"))
+
+
+if __name__ == "__main__":
+    unittest.main()

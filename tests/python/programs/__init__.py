@@ -1,0 +1,1 @@
+"""Tests of the C host programs (port/linux) through their command lines."""

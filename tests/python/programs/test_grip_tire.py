@@ -1,0 +1,290 @@
+"""The `grip-tire` command-line program (port/linux/grip_tire.c) against the
+Python references: its .tir reader against tools/grip_tools/reference/tir.py (values
+and error messages), its forces against tools/grip_tools/reference/mf.py, and its CSV
+handling (passthrough columns, malformed rows, exit codes).
+
+The binary: $GRIP_TIRE_BIN, default build/float-gcc/bin/grip-tire. Tests
+are skipped, with the reason, when it is absent.
+
+Tolerances (docs/tools.md): float build |err| <= 1e-4 * Fz for Fx, Fy and
+1e-4 * Fz * R0 for Mz; fixed build 2e-3 * Fz and 2e-3 * Fz * R0 (the library's
+documented fixed-point error is the bound; these are the end-to-end
+checks of the tool, not of the model).
+"""
+import csv
+import glob
+import io
+import os
+import subprocess
+import unittest
+
+import numpy as np
+
+from grip_tools.golden import mf as golden_mf
+from grip_tools.reference import tir
+from grip_tools.paths import REPO_ROOT
+
+ROOT = REPO_ROOT
+BIN = os.environ.get("GRIP_TIRE_BIN", os.path.join(ROOT, "build", "float-gcc", "bin", "grip-tire"))
+SHARED = golden_mf.shared_data_dir()
+FIXTURES = os.path.join(ROOT, "tests", "data", "tir")
+
+try:
+    from grip_tools.reference import mf
+except ImportError:          # the reference model is not there yet
+    mf = None
+
+TOL_REL = {"float": 1e-4, "fixed": 2e-3}
+
+
+def shared_tirs():
+    return sorted(glob.glob(os.path.join(SHARED, "chrono-tir", "*.tir")) +
+                  glob.glob(os.path.join(SHARED, "mfeval-tir", "*.tir")))
+
+
+def run(args, stdin_text=""):
+    p = subprocess.run([BIN] + args, input=stdin_text.encode(), capture_output=True, timeout=120)
+    return p.returncode, p.stdout.decode(), p.stderr.decode()
+
+
+def build_arith():
+    rc, out, _ = run(["--help"])
+    if "Build: fixed" in out:
+        return "fixed"
+    return "float"
+
+
+def stored(v, fmt, arith):
+    """The value as the build stores it (tir.py's SI double -> grip_real_t -> double)."""
+    if arith == "float":
+        return float(np.float32(v))
+    scale = 256.0 if fmt == "QL" else 65536.0
+    x = v * scale
+    r = np.floor(x + 0.5) if x >= 0 else -np.floor(-x + 0.5)
+    return r / scale
+
+
+def dump(path):
+    rc, out, err = run(["--tir", path, "--dump-params"])
+    if rc != 0:
+        raise AssertionError(f"grip-tire --dump-params {path}: exit {rc}: {err}")
+    vals = {}
+    for line in out.splitlines():
+        k, v = line.split("=")
+        vals[k.strip()] = float(v)
+    return vals
+
+
+def parse_out(text):
+    rows = list(csv.reader(io.StringIO(text)))
+    return rows[0], rows[1:]
+
+
+@unittest.skipUnless(os.path.exists(BIN), f"grip-tire not built ({BIN}); set GRIP_TIRE_BIN or build it")
+class TirReaderAgreesWithPython(unittest.TestCase):
+    """The C reader (through --dump-params) and tools/grip_tools/reference/tir.py read
+    every file to the same values and reject every bad fixture with the
+    same message."""
+
+    def test_values_equal(self):
+        arith = build_arith()
+        files = shared_tirs() + [os.path.join(FIXTURES, f) for f in
+                                 ("minimal.tir", "units.tir", "crlf_bar.tir", "fittyp_from_format.tir")]
+        self.assertGreaterEqual(len(files), 14, "shared .tir files not found")
+        for path in files:
+            t = tir.read_tir(path)
+            got = dump(path)
+            self.assertEqual(int(got["FITTYP"]), t.fittyp, path)
+            self.assertEqual(int(got["TYRESIDE"]), t.tyreside, path)
+            differ = [c.key for c in tir.coefficients()
+                      if got[c.key] != stored(t.values[c.key], c.fmt, arith)]
+            self.assertEqual(differ, [], f"{path}: C and Python disagree on {differ[:5]}")
+        print(f"\n# {len(files)} files: C reader == tir.py on all "
+              f"{len(tir.coefficients())} coefficients ({arith} build)")
+
+    def test_error_messages_equal(self):
+        bad = sorted(f for f in glob.glob(os.path.join(FIXTURES, "*.tir"))
+                     if os.path.basename(f) not in ("minimal.tir", "units.tir", "crlf_bar.tir",
+                                                    "fittyp_from_format.tir"))
+        self.assertGreaterEqual(len(bad), 15)
+        for path in bad + [os.path.join(FIXTURES, "no_such_file.tir")]:
+            with self.assertRaises(tir.TirError, msg=path) as cm:
+                tir.read_tir(path)
+            rc, out, err = run(["--tir", path, "--dump-params"])
+            self.assertEqual(rc, 3, f"{path}: exit {rc}")
+            self.assertEqual(out, "")
+            self.assertEqual(err.strip(), f"grip-tire: {cm.exception}", path)
+
+
+@unittest.skipUnless(os.path.exists(BIN), f"grip-tire not built ({BIN}); set GRIP_TIRE_BIN or build it")
+class CsvHandling(unittest.TestCase):
+    TIR = os.path.join(FIXTURES, "minimal.tir")
+    HEAD = "kappa,alpha,gamma,fz,p,vx"
+
+    def test_passthrough_and_column_order(self):
+        text = ('id,vx,note,alpha,kappa,fz,gamma,p,extra\r\n'
+                '1,20,"left, front",0.05,0.02,4000,0.01,220000,x\n'
+                '2,15,plain,-0.1,-0.05,3000,0,200000,"say ""hi"""\n')
+        rc, out, err = run(["--tir", self.TIR], text)
+        self.assertEqual(rc, 0, err)
+        lines = out.splitlines()
+        self.assertEqual(lines[0], "id,vx,note,alpha,kappa,fz,gamma,p,extra,fx,fy,mz,status")
+        # every input line comes back byte for byte, the results appended
+        self.assertTrue(lines[1].startswith('1,20,"left, front",0.05,0.02,4000,0.01,220000,x,'))
+        self.assertTrue(lines[2].startswith('2,15,plain,-0.1,-0.05,3000,0,200000,"say ""hi""",'))
+        head, rows = parse_out(out)
+        self.assertEqual(rows[1][8], "say \"hi\"")
+        for r in rows:
+            self.assertEqual(r[-1], "0")
+            self.assertTrue(all(np.isfinite(float(v)) for v in r[-4:-1]))
+
+    def test_options_no_status_and_prefix(self):
+        text = self.HEAD + ",fx\n0.1,0,0,4000,220000,20,123\n"
+        rc, out, err = run(["--tir", self.TIR], text)
+        self.assertEqual(rc, 4)
+        self.assertIn("already has a column 'fx'", err)
+        rc, out, err = run(["--tir", self.TIR, "--prefix", "model_", "--no-status"], text)
+        self.assertEqual(rc, 0, err)
+        self.assertEqual(out.splitlines()[0], self.HEAD + ",fx,model_fx,model_fy,model_mz")
+        self.assertEqual(len(out.splitlines()[1].split(",")), 10)
+
+    def test_malformed_rows(self):
+        text = (self.HEAD + "\n"
+                "0.1,0,0,4000,220000,20\n"          # line 2: fine
+                "0.1,abc,0,4000,220000,20\n"        # line 3: not a number
+                "0.1,0,0,4000\n"                    # line 4: too few fields
+                "\n"                                # line 5: blank, skipped
+                "0.1,0,0,4000,220000,20,9\n"        # line 6: too many fields
+                "0.1,nan,0,4000,220000,20\n"        # line 7: not finite
+                '0.1,"0,0,4000,220000,20\n'         # line 8: open quote
+                "-0.1,0.02,0,4000,220000,20\n")     # line 9: fine
+        rc, out, err = run(["--tir", self.TIR], text)
+        self.assertEqual(rc, 1)
+        # the malformed rows are echoed as they came (one has an open
+        # quote), so split off the four appended fields by hand
+        rows = [line.rsplit(",", 4)[1:] for line in out.splitlines()[1:]]
+        self.assertEqual(len(rows), 7, "one output row per non-blank input row")
+        status = [r[-1] for r in rows]
+        self.assertEqual(status, ["0", "-100", "-100", "-100", "-100", "-100", "0"])
+        for frag in ("<stdin>:3: column 'alpha': 'abc' is not a finite number",
+                     "<stdin>:4: malformed row: 4 fields, the header has 6",
+                     "<stdin>:6: malformed row: 7 fields, the header has 6",
+                     "<stdin>:7: column 'alpha': 'nan' is not a finite number",
+                     "<stdin>:8: malformed row: unterminated quoted field",
+                     "7 rows: 5 malformed"):
+            self.assertIn(frag, err)
+        self.assertEqual(rows[1][-4:-1], ["", "", ""], "nothing computed for a malformed row")
+
+    def test_header_errors(self):
+        rc, out, err = run(["--tir", self.TIR], "kappa,alpha,gamma,fz,vx\n0,0,0,1,1\n")
+        self.assertEqual(rc, 4)
+        self.assertIn("missing column 'p'", err)
+        rc, out, err = run(["--tir", self.TIR], "")
+        self.assertEqual(rc, 4)
+        self.assertIn("empty input", err)
+        rc, out, err = run(["--tir", self.TIR], "kappa,alpha,gamma,fz,p,vx,ALPHA\n")
+        self.assertEqual(rc, 4)
+        self.assertIn("'alpha' appears twice", err)
+
+    def test_usage_and_model_errors(self):
+        self.assertEqual(run(["--model", "nosuch", "--tir", self.TIR])[0], 2)
+        self.assertEqual(run(["--bogus"])[0], 2)
+        self.assertEqual(run(["--side", "up", "--tir", self.TIR])[0], 2)
+        rc, out, err = run([], self.HEAD + "\n")
+        self.assertEqual(rc, 3)
+        self.assertIn("--tir", err)
+        rc, out, err = run(["--tir", os.path.join(FIXTURES, "bad_fittyp.tir")], self.HEAD + "\n")
+        self.assertEqual(rc, 3)
+        self.assertIn("bad_fittyp.tir:12: FITTYP:", err)
+
+    def test_rejected_input_keeps_row(self):
+        # a slip ratio beyond the fixed-point range is reported, not wrapped
+        text = self.HEAD + "\n1e9,0,0,4000,220000,20\n0,0,0,4000,220000,20\n"
+        rc, out, err = run(["--tir", self.TIR], text)
+        head, rows = parse_out(out)
+        self.assertEqual(len(rows), 2)
+        self.assertEqual(rows[1][-1], "0")
+        st = int(rows[0][-1])
+        # float: the model clamps (warning) or rejects; fixed: not representable
+        self.assertNotEqual(st, -100)
+        if st < 0:
+            self.assertEqual(rc, 1)
+            self.assertIn("<stdin>:2:", err)
+
+
+def grid(params, n, seed):
+    rng = np.random.default_rng(seed)
+    fz0 = params["fnomin"]
+    p0 = params["nompres"] or params["inflpres"] or 2e5
+    return {
+        "kappa": rng.uniform(-0.3, 0.3, n),
+        "alpha": rng.uniform(-0.3, 0.3, n),
+        "gamma": rng.uniform(-0.08, 0.08, n),
+        "fz": rng.uniform(0.3, 1.8, n) * fz0,
+        "p": rng.uniform(0.85, 1.15, n) * p0,
+        "vx": rng.uniform(5.0, 30.0, n),
+    }
+
+
+def to_csv(cols, sign_fz=1.0):
+    lines = ["kappa,alpha,gamma,fz,p,vx"]
+    for i in range(len(cols["kappa"])):
+        lines.append(",".join(repr(float(cols[k][i]) * (sign_fz if k == "fz" else 1.0))
+                              for k in ("kappa", "alpha", "gamma", "fz", "p", "vx")))
+    return "\n".join(lines) + "\n"
+
+
+@unittest.skipUnless(os.path.exists(BIN), f"grip-tire not built ({BIN}); set GRIP_TIRE_BIN or build it")
+@unittest.skipIf(mf is None, "tools/grip_tools/reference/mf.py (the reference model) is not there yet")
+class ForcesAgreeWithReference(unittest.TestCase):
+    N = 400
+
+    def compare(self, path, args, ref_kw, pure=False, sign_fz=1.0, seed=1):
+        arith = build_arith()
+        t = tir.read_tir(path)
+        params = t.params()
+        cols = grid(params, self.N, seed)
+        rc, out, err = run(["--tir", path] + args, to_csv(cols, sign_fz))
+        self.assertIn(rc, (0,), f"{path} {args}: exit {rc}: {err[-500:]}")
+        head, rows = parse_out(out)
+        got = np.array([[float(v) for v in r[-4:-1]] for r in rows])
+        status = np.array([int(r[-1]) for r in rows])
+        ref = mf.evaluate(params, cols["kappa"], cols["alpha"], cols["gamma"], cols["fz"] * sign_fz,
+                          cols["p"], cols["vx"], **ref_kw)
+        keys = ("fx0", "fy0", "mz0") if pure else ("fx", "fy", "mz")
+        want = np.stack([ref[k] for k in keys], axis=1)
+        fz = np.abs(cols["fz"])
+        r0 = params["unloaded_radius"]
+        scale = np.stack([fz, fz, fz * r0], axis=1)
+        err_rel = np.abs(got - want) / scale
+        worst = err_rel.max(axis=0)
+        print(f"\n# {os.path.basename(path)} {' '.join(args) or '(defaults)'}: max |err|/Fz "
+              f"fx {worst[0]:.2e} fy {worst[1]:.2e}, |err|/(Fz R0) mz {worst[2]:.2e} "
+              f"({arith}, tol {TOL_REL[arith]:.0e}; {np.sum(status != 0)} rows with warnings)")
+        self.assertTrue(np.all(status >= 0), f"status {sorted(set(status))}")
+        self.assertLessEqual(worst.max(), TOL_REL[arith])
+
+    def test_every_shared_file_combined(self):
+        for i, path in enumerate(shared_tirs()):
+            with self.subTest(path=os.path.basename(path)):
+                self.compare(path, [], {}, seed=10 + i)
+
+    def test_pure(self):
+        path = os.path.join(SHARED, "mfeval-tir", "MagicFormula61_Paramerters.tir")
+        self.compare(path, ["--pure"], {}, pure=True)
+
+    def test_sae_and_kappa_braking(self):
+        path = os.path.join(SHARED, "mfeval-tir", "MagicFormula62_Paramerters.tir")
+        self.compare(path, ["--sae"], {"convention": "sae"}, sign_fz=-1.0)
+        self.compare(path, ["--kappa-braking"], {"kappa_braking": True})
+
+    def test_mount_side(self):
+        # the file is a RIGHT tyre: mounted right it is used as fitted,
+        # mounted left it is mirrored
+        path = os.path.join(SHARED, "mfeval-tir", "MagicFormula61_Paramerters.tir")
+        self.compare(path, ["--side", "right"], {"mirror": False})
+        self.compare(path, ["--side", "left"], {"mirror": True})
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,421 @@
+"""Property tests of the float64 Magic Formula reference (grip_tools.reference.mf) and
+of its golden vectors (grip_tools.golden.mf).
+
+Tolerances (stated with the figure measured when they were set):
+  slope at zero slip = B*C*D (Kxk, Kya): central difference, h = 1e-7;
+      rel 1e-6 (measured worst 1.5e-9 over all shared files, 4 loads, 2 cambers)
+  peak = D: dense scan + bounded refinement of max |F0 - SV|; rel 1e-6
+      (measured 0.0: near the optimum sin() rounds to exactly 1.0)
+  symmetry / mirror / conventions: rel 1e-12 + abs 1e-9 N (measured 0: the
+      same float operations on negated inputs)
+"""
+import math
+import os
+import sys
+import tempfile
+import unittest
+
+import numpy as np
+from scipy.optimize import minimize_scalar
+
+from grip_tools.golden import io as golden_io, mf as golden_mf
+from grip_tools.reference import mf, tir
+
+DATA = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "data")
+
+SLOPE_REL = 1e-6
+PEAK_REL = 1e-6
+
+
+def all_params():
+    return [(os.path.basename(p), tir.load_params(p)) for p in golden_mf.tir_files()]
+
+
+def by_name(name):
+    for n, P in all_params():
+        if n == name:
+            return dict(P)
+    raise KeyError(name)
+
+
+def close(tc, a, b, rel=1e-12, abs_=1e-9, msg=None):
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
+    err = np.abs(a - b)
+    tol = abs_ + rel * np.abs(b)
+    tc.assertTrue(np.all(err <= tol), f"{msg}: max err {np.max(err):.3e}")
+
+
+class SlopeAndPeak(unittest.TestCase):
+    def test_slope_at_zero_slip_is_bcd(self):
+        worst = 0.0
+        for name, P in all_params():
+            R = golden_mf.ranges(P)
+            for fz in np.linspace(max(R["fz"][0], 0.2 * P["fnomin"]), R["fz"][1], 4):
+                for g in (0.0, R["gamma"][1]):
+                    d = mf.evaluate(P, 0.0, 0.0, g, fz, mirror=False, details=True)["details"]
+                    h = 1e-7
+                    k0 = -float(d["SHx"])
+                    fp = mf.evaluate(P, k0 + h, 0.0, g, fz, mirror=False)["fx0"]
+                    fm = mf.evaluate(P, k0 - h, 0.0, g, fz, mirror=False)["fx0"]
+                    slope = (fp - fm) / (2 * h)
+                    bcd = d["Bx"] * d["Cx"] * d["Dx"]
+                    rel = abs(slope - d["Kxk"]) / abs(d["Kxk"])
+                    worst = max(worst, rel, abs(bcd - d["Kxk"]) / abs(d["Kxk"]))
+                    self.assertLess(rel, SLOPE_REL, f"{name} Fx fz={fz}")
+                    a0 = -float(d["SHy"])
+                    fp = mf.evaluate(P, 0.0, a0 + h, g, fz, mirror=False)["fy0"]
+                    fm = mf.evaluate(P, 0.0, a0 - h, g, fz, mirror=False)["fy0"]
+                    slope = (fp - fm) / (2 * h)
+                    rel = abs(slope - d["Kya"]) / abs(d["Kya"])
+                    worst = max(worst, rel)
+                    self.assertLess(rel, SLOPE_REL, f"{name} Fy fz={fz} gamma={g}")
+        print(f"\n# slope = BCD: worst relative error {worst:.2e} (tolerance {SLOPE_REL:g})")
+
+    def _peak(self, f, sv, d, lo, hi):
+        """max |f(x) - sv| on [lo, hi] (dense scan, then bounded refinement)."""
+        xs = np.linspace(lo, hi, 4001)
+        ys = np.abs(f(xs) - sv)
+        i = int(np.argmax(ys))
+        a, b = xs[max(i - 1, 0)], xs[min(i + 1, xs.size - 1)]
+        r = minimize_scalar(lambda x: -abs(float(f(x)) - sv), bounds=(a, b), method="bounded",
+                            options={"xatol": 1e-12})
+        return max(-r.fun, ys[i])
+
+    def test_peak_is_d(self):
+        worst = 0.0
+        checked = 0
+        for name, P in all_params():
+            fz = P["fnomin"]
+            d = mf.evaluate(P, 0.0, 0.0, 0.0, fz, mirror=False, details=True)["details"]
+            for sgn in (1.0, -1.0):
+                # Fx: C > 1 and E <= 1 reach the peak at B*kx = ...; search far enough
+                span = 60.0 / abs(float(d["Bx"]))
+                lo, hi = (0.0, span) if sgn > 0 else (-span, 0.0)
+                fx = lambda k: mf.evaluate(P, k - float(d["SHx"]), 0.0, 0.0, fz, mirror=False)["fx0"]
+                peak = self._peak(fx, float(d["SVx"]), d, lo, hi)
+                D = abs(float(d["Dx"]))
+                if d["Cx"] > 1.0:
+                    worst = max(worst, abs(peak - D) / D)
+                    self.assertLess(abs(peak - D) / D, PEAK_REL, f"{name} Fx peak {sgn}")
+                    checked += 1
+                else:
+                    self.assertLessEqual(peak, D * (1 + 1e-12), f"{name} Fx peak {sgn}")
+                span = min(60.0 / abs(float(d["By"])), 1.5)
+                lo, hi = (0.0, span) if sgn > 0 else (-span, 0.0)
+                fy = lambda a: mf.evaluate(P, 0.0, a - float(d["SHy"]), 0.0, fz, mirror=False)["fy0"]
+                peak = self._peak(fy, float(d["SVy"]), d, lo, hi)
+                D = abs(float(d["Dy"]))
+                arg_max = abs(float(d["By"])) * span
+                reaches = d["Cy"] > 1.0 and arg_max > math.tan(math.pi / (2 * d["Cy"])) * 4
+                if reaches:
+                    worst = max(worst, abs(peak - D) / D)
+                    self.assertLess(abs(peak - D) / D, PEAK_REL, f"{name} Fy peak {sgn}")
+                    checked += 1
+                else:   # e.g. G275 95 psi: Cy < 1, Fy has no peak
+                    self.assertLessEqual(peak, D * (1 + 1e-12), f"{name} Fy no peak {sgn}")
+        self.assertGreaterEqual(checked, 30)
+        print(f"\n# peak = D: {checked} curves, worst relative error {worst:.2e} (tolerance {PEAK_REL:g})")
+
+    def test_g275_95psi_has_no_lateral_peak(self):
+        P = by_name("335_65R22_5_G275MSA_95psi.tir")
+        self.assertLess(P["pcy1"] * P["lcy"], 1.0)
+        a = np.linspace(0.0, P["alpmax"], 200)
+        fy = mf.evaluate(P, 0.0, a, 0.0, P["fnomin"])["fy0"]
+        self.assertTrue(np.all(np.diff(np.abs(fy)[a > 0.02]) > 0))   # still rising at ALPMAX
+
+
+SYMMETRIC_ZERO = ("phx1", "phx2", "pvx1", "pvx2", "pex4", "phy1", "phy2", "phy3", "pvy1", "pvy2",
+                  "pey3", "qbz4", "qdz3", "qez4", "qhz1", "qhz2", "qdz6", "qdz7", "ssz1",
+                  "rhx1", "rby3", "rvy1", "rvy2", "rhy1", "rhy2")
+
+
+class Symmetry(unittest.TestCase):
+    def test_odd_symmetry_with_symmetric_parameters(self):
+        rng = np.random.default_rng(1)
+        for name, P in all_params():
+            S = dict(P)
+            for k in SYMMETRIC_ZERO:
+                S[k] = 0.0
+            R = golden_mf.ranges(S)
+            n = 400
+            k = rng.uniform(-0.5, 0.5, n)
+            a = rng.uniform(-0.4, 0.4, n)
+            g = rng.uniform(*R["gamma"], n)
+            fz = rng.uniform(0.3, 1.8, n) * S["fnomin"]
+            for form in ("mftyre", "book"):
+                # pure, gamma = 0: odd in the slip
+                o = mf.evaluate(S, k, a, 0.0, fz, mirror=False, form=form)
+                m = mf.evaluate(S, -k, -a, 0.0, fz, mirror=False, form=form)
+                close(self, m["fx0"], -o["fx0"], msg=f"{name} {form} fx0")
+                close(self, m["fy0"], -o["fy0"], msg=f"{name} {form} fy0")
+                close(self, m["mz0"], -o["mz0"], msg=f"{name} {form} mz0")
+                # combined: Fx even in alpha, Fy and Mz odd in (alpha, gamma)
+                o = mf.evaluate(S, k, a, g, fz, mirror=False, form=form)
+                m = mf.evaluate(S, k, -a, -g, fz, mirror=False, form=form)
+                close(self, m["fx"], o["fx"], msg=f"{name} {form} fx")
+                close(self, m["fy"], -o["fy"], msg=f"{name} {form} fy")
+                close(self, m["mz"], -o["mz"], msg=f"{name} {form} mz")
+                # hence a symmetric tyre is its own mirror image
+                mm = mf.evaluate(S, k, a, g, fz, mirror=True, form=form)
+                for q in ("fx0", "fy0", "mz0", "fx", "fy", "mz"):
+                    close(self, mm[q], o[q], msg=f"{name} {form} mirror {q}")
+
+    def test_asymmetric_file_is_not_its_own_mirror(self):
+        P = by_name("MagicFormula61_Paramerters.tir")
+        o = mf.evaluate(P, 0.0, 0.0, 0.0, P["fnomin"], mirror=False)
+        m = mf.evaluate(P, 0.0, 0.0, 0.0, P["fnomin"], mirror=True)
+        self.assertNotAlmostEqual(float(o["fy"]), float(m["fy"]), delta=1.0)
+        self.assertAlmostEqual(float(m["fy"]), -float(o["fy"]), delta=1e-9)
+
+
+class Combined(unittest.TestCase):
+    def test_combined_within_pure_envelope(self):
+        """With the combined-slip shifts RHX1, RHY1, RHY2 zero the weights
+        Gxa, Gyk are cosines <= 1: |Fx| <= |Fx0|, |Fy - SVyk| <= |Fy0|."""
+        rng = np.random.default_rng(2)
+        for name, P in all_params():
+            S = dict(P)
+            S["rhx1"] = S["rhy1"] = S["rhy2"] = 0.0
+            R = golden_mf.ranges(S)
+            n = 2000
+            k = rng.uniform(*R["kappa"], n)
+            a = rng.uniform(*R["alpha"], n)
+            g = rng.uniform(*R["gamma"], n)
+            fz = rng.uniform(max(R["fz"][0], 1.0), R["fz"][1], n)
+            o = mf.evaluate(S, k, a, g, fz, mirror=False, details=True)
+            d = o["details"]
+            self.assertTrue(np.all(np.abs(o["fx"]) <= np.abs(o["fx0"]) * (1 + 1e-12) + 1e-9), name)
+            self.assertTrue(np.all(np.abs(o["fy"] - d["SVyk"]) <= np.abs(o["fy0"]) * (1 + 1e-12) + 1e-9), name)
+            # no combined slip: the pure values
+            z = mf.evaluate(S, k, 0.0, g, fz, mirror=False)
+            close(self, z["fx"], z["fx0"], msg=f"{name} fx at alpha=0")
+
+    def test_kappa_reduces_fy(self):
+        P = by_name("MagicFormula61_Paramerters.tir")
+        o = mf.evaluate(P, [0.0, 0.2], 0.1, 0.0, P["fnomin"], mirror=False)
+        self.assertLess(abs(o["fy"][1]), 0.8 * abs(o["fy"][0]))
+
+    def test_fe_method_files_kappa_does_not_reduce_fy(self):
+        for psi in (40, 60, 70, 95):
+            P = by_name(f"335_65R22_5_G275MSA_{psi}psi.tir")
+            self.assertEqual((P["rby1"], P["rcy1"], P["rvy1"]), (0.0, 0.0, 0.0))
+            k = np.linspace(P["kpumin"], P["kpumax"], 41)
+            for a in (-0.1, 0.05, 0.15):
+                o = mf.evaluate(P, k, a, 0.02, P["fnomin"])
+                np.testing.assert_array_equal(o["fy"], o["fy0"])
+                self.assertTrue(np.all(np.abs(o["fx"]) <= np.abs(o["fx0"]) + 1e-9))
+
+
+class Robustness(unittest.TestCase):
+    def test_finite_everywhere(self):
+        ks = [-1e3, -1.0, -0.1, 0.0, 0.1, 1.0, 1e3]
+        als = [-math.pi / 2, -0.3, 0.0, 0.3, math.pi / 2]
+        gs = [-0.5, 0.0, 0.5]
+        vxs = [0.0, 0.3, 16.0, -16.0]
+        for name, P in all_params():
+            fzs = [-100.0, 0.0, 1e-6, P["fnomin"], 5 * P["fnomin"]]
+            K, A, G, F, V = np.meshgrid(ks, als, gs, fzs, vxs, indexing="ij")
+            for form in ("mftyre", "book"):
+                o = mf.evaluate(P, K, A, G, F, vx=V, form=form)
+                for q, v in o.items():
+                    self.assertTrue(np.all(np.isfinite(v)), f"{name} {form} {q}")
+                    self.assertTrue(np.all(v[F <= 0] == 0.0), f"{name} {form} {q} at Fz <= 0")
+                    self.assertTrue(np.all(v[V == 0] == 0.0), f"{name} {form} {q} at vx = 0")
+
+    def test_low_speed_is_smooth_and_complete_at_vxlow(self):
+        P = by_name("MagicFormula61_Paramerters.tir")
+        v = np.linspace(0.0, 2.0 * P["vxlow"], 401)
+        o = mf.evaluate(P, 0.1, 0.1, 0.02, P["fnomin"], vx=v, mirror=False)
+        full = mf.evaluate(P, 0.1, 0.1, 0.02, P["fnomin"], mirror=False)
+        for q in ("fx", "fy", "mz"):
+            self.assertEqual(o[q][0], 0.0)
+            np.testing.assert_allclose(o[q][v >= P["vxlow"]], full[q], rtol=1e-12)
+            jump = np.max(np.abs(np.diff(o[q])))
+            self.assertLess(jump, 0.05 * np.max(np.abs(o[q])), q)   # 401 steps: no jump
+
+    def test_vx_sign_does_not_matter(self):
+        P = by_name("PacejkaBook_Defaults.tir")
+        a = mf.evaluate(P, 0.05, 0.05, 0.01, 4000.0, vx=10.0)
+        b = mf.evaluate(P, 0.05, 0.05, 0.01, 4000.0, vx=-10.0)
+        for q in a:
+            self.assertEqual(float(a[q]), float(b[q]))
+
+
+class Conventions(unittest.TestCase):
+    def setUp(self):
+        self.P = by_name("MagicFormula61_Paramerters.tir")
+        rng = np.random.default_rng(3)
+        n = 300
+        self.k = rng.uniform(-0.5, 0.5, n)
+        self.a = rng.uniform(-0.4, 0.4, n)
+        self.g = rng.uniform(-0.1, 0.1, n)
+        self.fz = rng.uniform(0.3, 2.0, n) * self.P["fnomin"]
+
+    def test_sae_sign_table(self):
+        self.assertEqual(mf.SAE_SIGN, {"kappa": 1, "alpha": -1, "gamma": 1, "fz": -1, "fx": 1, "fy": -1,
+                                       "fz_out": -1, "mx": 1, "my": -1, "mz": -1})
+
+    def test_sae_round_trip(self):
+        iso = mf.evaluate(self.P, self.k, self.a, self.g, self.fz)
+        k, a, g, f = -1 * 0 + self.k, -self.a, self.g, -self.fz   # the same state in SAE
+        sae = mf.evaluate(self.P, k, a, g, f, convention="sae")
+        for q in iso:
+            sign = 1 if q.startswith("fx") else -1
+            close(self, sae[q], sign * iso[q], msg=q)
+        back = mf.from_iso(mf.from_iso(iso, "sae"), "sae")   # the sign flips are involutions
+        for q in iso:
+            np.testing.assert_array_equal(back[q], iso[q])
+        ki, ai, gi, fi = mf.to_iso(k, a, g, f, "sae")
+        np.testing.assert_array_equal(ai, self.a)
+        np.testing.assert_array_equal(fi, self.fz)
+        np.testing.assert_array_equal(ki, self.k)
+        np.testing.assert_array_equal(gi, self.g)
+
+    def test_kappa_braking_option(self):
+        a = mf.evaluate(self.P, self.k, self.a, self.g, self.fz)
+        b = mf.evaluate(self.P, -self.k, self.a, self.g, self.fz, kappa_braking=True)
+        for q in a:
+            np.testing.assert_array_equal(a[q], b[q])
+        # braking (kappa < 0 in ISO) gives Fx < 0
+        o = mf.evaluate(self.P, 0.1, 0.0, 0.0, self.P["fnomin"], kappa_braking=True)
+        self.assertLess(float(o["fx"]), 0.0)
+
+    def test_tyreside_mirror(self):
+        P = dict(self.P)
+        self.assertEqual(P["tyreside"], -1)          # TYRESIDE = 'RIGHT' in the file
+        dflt = mf.evaluate(P, self.k, self.a, self.g, self.fz)
+        plain = mf.evaluate(P, self.k, -self.a, -self.g, self.fz, mirror=False)
+        for q in dflt:
+            sign = 1 if q.startswith("fx") else -1
+            np.testing.assert_array_equal(dflt[q], sign * plain[q])
+        P["tyreside"] = 1
+        left = mf.evaluate(P, self.k, self.a, self.g, self.fz)
+        forced = mf.evaluate(P, self.k, self.a, self.g, self.fz, mirror=True)
+        for q in dflt:
+            np.testing.assert_array_equal(forced[q], dflt[q])
+        self.assertGreater(np.max(np.abs(left["fy"] - dflt["fy"])), 1.0)
+
+    def test_iso_force_signs(self):
+        """ISO-W: driving slip -> Fx > 0; the lateral force opposes the slip
+        angle (alpha > 0 -> Fy < 0) for a tyre with Kya < 0."""
+        for name, P in all_params():
+            if P["kpumax"] > 0:
+                self.assertGreater(float(mf.evaluate(P, 0.1, 0.0, 0.0, P["fnomin"])["fx"]), 0.0, name)
+            self.assertLess(float(mf.evaluate(P, -0.1, 0.0, 0.0, P["fnomin"])["fx"]), 0.0, name)
+            d = mf.evaluate(P, 0.0, 0.0, 0.0, P["fnomin"], mirror=False, details=True)["details"]
+            fy = float(mf.evaluate(P, 0.0, 0.1, 0.0, P["fnomin"], mirror=False)["fy0"]
+                       - mf.evaluate(P, 0.0, -0.1, 0.0, P["fnomin"], mirror=False)["fy0"])
+            self.assertEqual(np.sign(fy), np.sign(float(d["Kya"])), name)
+
+
+class Forms(unittest.TestCase):
+    def test_book_and_mftyre_differ_where_documented(self):
+        P = by_name("MagicFormula61_Paramerters.tir")
+        K, A, G, F = np.meshgrid(np.linspace(-0.3, 0.3, 13), np.linspace(-0.3, 0.3, 13),
+                                 np.linspace(P["cammin"], P["cammax"], 5),
+                                 np.linspace(0.5, 1.5, 3) * P["fnomin"], indexing="ij")
+        base = mf.evaluate(P, K, A, G, F, mirror=False)
+        scale = F * P["unloaded_radius"]
+        # only Mz changes with the Bt camber form (TNO QBZ4*g vs book QBZ5|g| + QBZ6 g^2)
+        bt = mf.evaluate(P, K, A, G, F, mirror=False, form={"bt_book": True})
+        np.testing.assert_array_equal(bt["fy"], base["fy"])
+        d = np.max(np.abs(bt["mz"] - base["mz"]) / scale)
+        self.assertGreater(d, 1e-3)       # measured 3.4e-2 on the full range, GUIDE: ~1e-2
+        self.assertLess(d, 1e-1)
+        # at small slip alpha* = tan(alpha) ~ alpha: the forms agree closely
+        o = mf.evaluate(P, 0.0, 0.005, 0.0, P["fnomin"], mirror=False)
+        b = mf.evaluate(P, 0.0, 0.005, 0.0, P["fnomin"], mirror=False, form={"alpha_star": True})
+        self.assertLess(abs(float(b["fy0"] - o["fy0"])) / abs(float(o["fy0"])), 1e-4)
+
+    def test_mf52_uses_fy_minus_svyk(self):
+        P = by_name("MagicFormula52_Paramerters.tir")
+        o = mf.evaluate(P, 0.1, 0.05, 0.02, P["fnomin"], mirror=False, details=True)
+        d = o["details"]
+        np.testing.assert_allclose(d["Fy_prime"], o["fy"] - d["SVyk"], rtol=1e-15)
+        np.testing.assert_allclose(o["mz"], -d["t"] * d["Fy_prime"] + d["Mzr"] + d["s"] * o["fx"],
+                                   rtol=1e-12)
+
+    def test_mf61_fy_prime_at_zero_camber(self):
+        P = by_name("MagicFormula61_Paramerters.tir")
+        o = mf.evaluate(P, 0.1, 0.05, 0.05, P["fnomin"], mirror=False, details=True)
+        d = o["details"]
+        z = mf.evaluate(P, 0.1, 0.05, 0.0, P["fnomin"], mirror=False)
+        np.testing.assert_allclose(d["Fy_prime"], d["Gyk"] * z["fy0"], rtol=1e-15)
+
+    def test_pressure_matters_only_for_mf6(self):
+        P6 = by_name("MagicFormula61_Paramerters.tir")
+        a = mf.evaluate(P6, 0.05, 0.05, 0.0, P6["fnomin"], p=200000.0)
+        b = mf.evaluate(P6, 0.05, 0.05, 0.0, P6["fnomin"], p=300000.0)
+        self.assertGreater(abs(float(a["fy"] - b["fy"])), 10.0)
+        P5 = by_name("MagicFormula52_Paramerters.tir")
+        a = mf.evaluate(P5, 0.05, 0.05, 0.0, P5["fnomin"], p=200000.0)
+        b = mf.evaluate(P5, 0.05, 0.05, 0.0, P5["fnomin"], p=300000.0)
+        self.assertEqual(float(a["fy"]), float(b["fy"]))
+
+
+class Golden(unittest.TestCase):
+    def test_write_golden(self):
+        with tempfile.TemporaryDirectory() as d:
+            golden_mf.write_golden(d)
+            files = golden_mf.tir_files()
+            with open(os.path.join(d, "mf_params.c")) as f:
+                c = f.read()
+            self.assertIn(f"const int grip_test_tire_count = {len(files)};", c)
+            stamps = {}
+            for path in files:
+                name = golden_mf.tire_name(path)
+                self.assertIn(f"static const grip_mf_params grip_tire_{name} = {{", c)
+                g = os.path.join(d, f"mf_{name}.txt")
+                stamps[g] = os.stat(g).st_mtime_ns
+                with open(g) as f:
+                    head = [ln for ln in f if ln.startswith("#")]
+                self.assertIn("# columns: " + " ".join(golden_mf.COLUMNS) + "\n", head)
+                rows = np.loadtxt(g, comments="#")
+                self.assertEqual(rows.shape[1], 12)
+                self.assertGreaterEqual(rows.shape[0], 2500)
+                self.assertLessEqual(rows.shape[0], 4000)
+                self.assertTrue(np.all(np.isfinite(rows)))
+                # rows reproduce: the reference evaluated on the written inputs
+                P = tir.load_params(path)
+                p = rows[:, 4] if P["fittyp"] in mf.MF6 else None
+                o = mf.evaluate(P, rows[:, 0], rows[:, 1], rows[:, 2], rows[:, 3], p=p, vx=rows[:, 5])
+                for j, q in enumerate(golden_mf.COLUMNS[6:]):
+                    np.testing.assert_allclose(rows[:, 6 + j], o[q], rtol=1e-15, atol=1e-12)
+                R = golden_mf.ranges(P)
+                self.assertGreaterEqual(rows[:, 0].min(), R["kappa"][0])
+                self.assertLessEqual(rows[:, 0].max(), R["kappa"][1])
+                self.assertLessEqual(np.abs(rows[:, 1]).max(), max(map(abs, R["alpha"])))
+                self.assertTrue(np.any(rows[:, 5] == 0.0))
+                self.assertTrue(np.any(rows[:, 5] < P["vxlow"]))
+            # a second run keeps unchanged files (their timestamps)
+            golden_mf.write_golden(d)
+            for g, st in stamps.items():
+                self.assertEqual(os.stat(g).st_mtime_ns, st, g)
+
+    def test_bad_tir_fails_generation(self):
+        with tempfile.TemporaryDirectory() as d:
+            os.makedirs(os.path.join(d, "chrono-tir"))
+            with open(os.path.join(DATA, "bad_fittyp.tir")) as f:
+                bad = f.read()
+            with open(os.path.join(d, "chrono-tir", "bad.tir"), "w") as f:
+                f.write(bad)
+            old = os.environ.get("GRIP_SHARED_DATA")
+            os.environ["GRIP_SHARED_DATA"] = d
+            try:
+                with self.assertRaises(tir.TirError):
+                    golden_mf.write_golden(os.path.join(d, "out"))
+            finally:
+                if old is None:
+                    del os.environ["GRIP_SHARED_DATA"]
+                else:
+                    os.environ["GRIP_SHARED_DATA"] = old
+            self.assertFalse(os.path.exists(os.path.join(d, "out", "mf_params.c")))
+
+    def test_header_hash_covers_the_reference(self):
+        h = golden_io.header("x", mf, 1, ["a"])
+        self.assertIn("# reference: grip_tools.reference.mf sha256:", h)
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,261 @@
+"""Tests of the .tir reader, validator and C emitter (grip_tools.reference.tir)."""
+import glob
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import unittest
+
+from grip_tools.golden import mf as golden_mf
+from grip_tools.paths import REPO_ROOT as ROOT
+from grip_tools.reference import tir
+
+DATA = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "data")
+
+
+def shared_files():
+    return golden_mf.tir_files()
+
+
+def run_cli(*args):
+    env = dict(os.environ, PYTHONPATH=os.path.join(ROOT, "tools"))
+    return subprocess.run([sys.executable, "-m", "grip_tools", "tir2c", *args],
+                          capture_output=True, text=True, env=env, cwd=ROOT)
+
+
+class CoefficientList(unittest.TestCase):
+    def test_parsed_from_header(self):
+        coefs = tir.coefficients()
+        with open(tir.COEFS_HEADER) as f:
+            n_x = len(re.findall(r"^\s*X\(", f.read(), re.M))
+        self.assertEqual(len(coefs), n_x)
+        keys = [c.key for c in coefs]
+        self.assertEqual(len(keys), len(set(keys)))
+        by = {c.key: c for c in coefs}
+        self.assertTrue(by["FNOMIN"].required)
+        self.assertEqual(by["FNOMIN"].fmt, "QL")
+        self.assertEqual(by["PKY4"].default, 2.0)
+        self.assertEqual(by["LMUV"].default, 0.0)
+        self.assertEqual(by["LFZO"].default, 1.0)
+
+
+class SharedFiles(unittest.TestCase):
+    def test_every_shared_file_both_line_endings(self):
+        files = shared_files()
+        self.assertGreaterEqual(len(files), 10)
+        with tempfile.TemporaryDirectory() as d:
+            for path in files:
+                t = tir.read_tir(path)
+                with open(path, "rb") as f:
+                    data = f.read()
+                lf = data.replace(b"\r\n", b"\n")
+                crlf = lf.replace(b"\n", b"\r\n")
+                for tag, blob in (("lf", lf), ("crlf", crlf)):
+                    p = os.path.join(d, f"{tag}_{os.path.basename(path)}")
+                    with open(p, "wb") as f:
+                        f.write(blob)
+                    u = tir.read_tir(p)
+                    self.assertEqual(u.values, t.values, p)
+                    self.assertEqual(u.lines, t.lines, p)
+                    self.assertEqual((u.fittyp, u.tyreside), (t.fittyp, t.tyreside), p)
+                self.assertIn(t.fittyp, tir.SUPPORTED_FITTYP)
+                for c in tir.coefficients():
+                    self.assertTrue(math.isfinite(t.values[c.key]))
+
+    def test_known_values(self):
+        root = golden_mf.shared_data_dir()
+        t = tir.read_tir(os.path.join(root, "mfeval-tir", "MagicFormula61_Paramerters.tir"))
+        self.assertEqual(t.fittyp, 61)
+        self.assertEqual(t.tyreside, -1)
+        self.assertEqual(t.values["FNOMIN"], 6752.0)
+        self.assertEqual(t.values["PKY4"], -3.267949)
+        self.assertEqual(t.values["NOMPRES"], 260000.0)
+        self.assertEqual(t.lines["FITTYP"] if "FITTYP" in t.lines else 0, 0)
+        # a section is kept even though grip does not use it
+        self.assertIn("TURNSLIP_COEFFICIENTS", t.sections)
+        self.assertEqual(t.get("TURNSLIP_COEFFICIENTS", "QDTP1"), 10.0)
+
+    def test_tables_kept(self):
+        root = golden_mf.shared_data_dir()
+        t = tir.read_tir(os.path.join(root, "chrono-tir", "335_65R22_5_G275MSA_60psi.tir"))
+        self.assertEqual(len(t.tables["SHAPE"]["rows"]), 10)
+        self.assertEqual(t.tables["SHAPE"]["rows"][0], [1.0, 0.0])
+        # this file repeats [DEFLECTION_LOAD_CURVE]: rows of both are kept
+        self.assertEqual(len(t.tables["DEFLECTION_LOAD_CURVE"]["rows"]), 21 + 3)
+        self.assertEqual(t.fittyp, 5)
+        self.assertEqual(t.get("MODEL", "FE_METHOD"), "YES")
+
+    def test_fittyp_inferred_from_property_file_format(self):
+        root = golden_mf.shared_data_dir()
+        t = tir.read_tir(os.path.join(root, "chrono-tir", "mf_185_80R14.tir"))
+        self.assertEqual(t.fittyp, 6)
+        self.assertTrue(t.fittyp_inferred)
+
+    def test_tables_and_crlf_fixture(self):
+        t = tir.read_tir(os.path.join(DATA, "good_tables_crlf.tir"))
+        u = tir.read_tir(os.path.join(DATA, "good_min.tir"))
+        self.assertEqual(t.values, u.values)
+        self.assertEqual(t.tables["DEFLECTION_LOAD_CURVE"]["rows"][1], [0.005, 2004.057])
+        self.assertEqual(t.tables["SHAPE"]["header"], "{radial width}")
+
+
+class Units(unittest.TestCase):
+    def test_conversion_to_si(self):
+        t = tir.read_tir(os.path.join(DATA, "good_units.tir"))
+        si = tir.read_tir(os.path.join(DATA, "good_min.tir"))
+        close = lambda a, b: self.assertAlmostEqual(a, b, delta=1e-12 * max(1.0, abs(b)))
+        close(t.values["UNLOADED_RADIUS"], 0.3135)            # mm
+        close(t.values["FNOMIN"], 4000.0)                     # kN
+        close(t.values["NOMPRES"], 220000.0)                  # bar
+        close(t.values["VERTICAL_STIFFNESS"], 209651.0)       # kN/mm
+        close(t.values["LONGVL"], 16.7)                       # mm/ms = m/s
+        close(t.values["ALPMAX"], math.radians(30.0))         # deg
+        close(t.values["ALPMIN"], -math.radians(30.0))
+        # dimensionless MF coefficients are never scaled
+        for key in ("PCX1", "PKX1", "PKY1", "QBZ1", "QDZ1", "KPUMIN"):
+            self.assertEqual(t.values[key], si.values[key], key)
+
+    def test_unit_tables(self):
+        self.assertAlmostEqual(tir.LENGTH_UNITS["inch"], 0.0254)
+        self.assertAlmostEqual(tir.LENGTH_UNITS["foot"], 0.3048)
+        self.assertAlmostEqual(tir.LENGTH_UNITS["km"], 1000.0)
+        self.assertAlmostEqual(tir.FORCE_UNITS["lbf"], 4.4482216152605)
+        self.assertAlmostEqual(tir.FORCE_UNITS["kgf"], 9.80665)
+        self.assertAlmostEqual(tir.MASS_UNITS["lb"], 0.45359237)
+        self.assertAlmostEqual(tir.MASS_UNITS["tonne"], 1000.0)
+        self.assertAlmostEqual(tir.TIME_UNITS["hour"], 3600.0)
+        self.assertAlmostEqual(tir.PRESSURE_UNITS["psi"], 6894.757293168361)
+        self.assertAlmostEqual(tir.PRESSURE_UNITS["kpa"], 1000.0)
+
+    def test_pressure_from_force_and_length(self):
+        with open(os.path.join(DATA, "good_min.tir")) as f:
+            text = f.read()
+        text = text.replace("FORCE = 'newton'", "FORCE = 'kN'").replace("NOMPRES = 220000", "NOMPRES = 220")
+        text = text.replace("VERTICAL_STIFFNESS = 209651", "VERTICAL_STIFFNESS = 209.651")
+        t = tir.validate(tir.parse_text(text, "mem.tir"))
+        self.assertAlmostEqual(t.values["NOMPRES"], 220000.0)   # kN/m^2 = kPa
+
+
+# (fixture, key, line, message fragment); a missing key is reported on its
+# section header line (the last line of the file when the section is absent)
+BAD = [
+    ("bad_missing_key.tir", "FNOMIN", 16, "missing required key in [VERTICAL]"),
+    ("bad_fittyp.tir", "FITTYP", 9, "unsupported Magic Formula version 7"),
+    ("bad_number.tir", "PCX1", 23, "is not a number"),
+    ("bad_unit.tir", "LENGTH", 3, "cannot be converted to SI"),
+    ("bad_qs_range.tir", "PKX1", 25, "QS"),
+    ("bad_ql_range.tir", "VERTICAL_STIFFNESS", 18, "QL"),
+    ("bad_ql_after_units.tir", "NOMPRES", 15, "QL"),
+    ("bad_fnomin.tir", "FNOMIN", 17, "must be > 0"),
+    ("bad_radius.tir", "UNLOADED_RADIUS", 13, "must be > 0"),
+    ("bad_nompres.tir", "NOMPRES", 15, "nominal pressure > 0"),
+    ("bad_range.tir", "ALPMAX", 21, "must be greater than ALPMIN"),
+    ("bad_syntax.tir", None, 24, "cannot read line"),
+    ("bad_quote.tir", "TYRESIDE", 10, "unterminated quoted string"),
+    ("bad_duplicate.tir", "PKY1", 30, "duplicate key (first on line 29)"),
+    ("bad_outside.tir", "FILE_TYPE", 1, "outside any [SECTION]"),
+    ("bad_tyreside.tir", "TYRESIDE", 10, "unknown tyre side"),
+]
+
+
+class Errors(unittest.TestCase):
+    def test_every_error_class(self):
+        for name, key, line, fragment in BAD:
+            path = os.path.join(DATA, name)
+            with self.subTest(name=name):
+                with self.assertRaises(tir.TirError) as cm:
+                    tir.read_tir(path)
+                e = cm.exception
+                self.assertEqual(e.file, path)
+                self.assertEqual(e.line, line)
+                self.assertEqual(e.key, key)
+                self.assertIn(fragment, e.message)
+                s = str(e)
+                self.assertTrue(s.startswith(f"{path}:{line}: {key or '-'}: "), s)
+
+    def test_cli_writes_nothing_on_error(self):
+        with tempfile.TemporaryDirectory() as d:
+            out_c = os.path.join(d, "out.c")
+            out_h = os.path.join(d, "out.h")
+            for name, key, line, _ in BAD:
+                r = run_cli(os.path.join(DATA, name), "--name", "tyre", "-o", out_c, "--header", out_h)
+                self.assertEqual(r.returncode, 1, name)
+                self.assertIn(f"{name}:{line}: {key or '-'}:", r.stderr)
+                self.assertEqual(os.listdir(d), [], name)
+            # an existing output is left untouched by a failing run
+            with open(out_c, "w") as f:
+                f.write("old\n")
+            r = run_cli(os.path.join(DATA, "bad_fittyp.tir"), "--name", "tyre", "-o", out_c)
+            self.assertEqual(r.returncode, 1)
+            with open(out_c) as f:
+                self.assertEqual(f.read(), "old\n")
+            self.assertEqual(sorted(os.listdir(d)), ["out.c"])
+
+    def test_missing_file(self):
+        with self.assertRaises(tir.TirError) as cm:
+            tir.read_tir(os.path.join(DATA, "no_such_file.tir"))
+        self.assertEqual(cm.exception.line, 0)
+
+
+class Emitter(unittest.TestCase):
+    def _emit(self, d, path, name="tyre", side=None):
+        out_c = os.path.join(d, name + ".c")
+        out_h = os.path.join(d, name + ".h")
+        args = [path, "--name", name, "-o", out_c, "--header", out_h]
+        if side:
+            args += ["--side", side]
+        r = run_cli(*args)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(out_c) as f:
+            return f.read(), out_c, out_h
+
+    def test_values_round_trip_and_designated_initializers(self):
+        path = os.path.join(golden_mf.shared_data_dir(), "mfeval-tir", "MagicFormula61_Paramerters.tir")
+        t = tir.read_tir(path)
+        with tempfile.TemporaryDirectory() as d:
+            text, _, _ = self._emit(d, path)
+        self.assertIn("const grip_mf_params tyre = {", text)
+        self.assertIn(".fittyp = 61,", text)
+        self.assertIn(".tyreside = -1,", text)
+        self.assertIn(".options = 0u,", text)
+        found = dict(re.findall(r"\.(\w+) = GRIP_Q[SL]\(([^)]*)\)", text))
+        coefs = tir.coefficients()
+        self.assertEqual(len(found), len(coefs))
+        for c in coefs:
+            self.assertEqual(float(found[c.field]), t.values[c.key], c.key)   # repr precision
+            self.assertIn(f".{c.field} = GRIP_{c.fmt}(", text)
+
+    def test_side_override(self):
+        path = os.path.join(golden_mf.shared_data_dir(), "mfeval-tir", "MagicFormula61_Paramerters.tir")
+        with tempfile.TemporaryDirectory() as d:
+            self.assertIn(".tyreside = 1,", self._emit(d, path, side="left")[0])
+            self.assertIn(".tyreside = -1,", self._emit(d, path, side="right")[0])
+            path2 = os.path.join(DATA, "good_min.tir")
+            self.assertIn(".tyreside = 1,", self._emit(d, path2)[0])
+            self.assertIn(".tyreside = -1,", self._emit(d, path2, side="right")[0])
+
+    @unittest.skipIf(shutil.which("gcc") is None, "gcc not installed")
+    def test_output_compiles_in_both_builds(self):
+        with tempfile.TemporaryDirectory() as d:
+            for path in shared_files()[:3] + [os.path.join(DATA, "good_units.tir")]:
+                _, out_c, out_h = self._emit(d, path, name="tyre")
+                for fixed in (0, 1):
+                    r = subprocess.run(["gcc", "-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror",
+                                        "-Wconversion", f"-DGRIP_ARITH_FIXED={fixed}",
+                                        "-DGRIP_DEBUG_SATURATION=0", "-Iinclude", "-Itests/support",
+                                        f"-I{d}", "-fsyntax-only", out_c],
+                                       capture_output=True, text=True, cwd=ROOT)
+                    self.assertEqual(r.returncode, 0, r.stderr)
+
+    def test_bad_name(self):
+        with tempfile.TemporaryDirectory() as d:
+            r = run_cli(os.path.join(DATA, "good_min.tir"), "--name", "1abc", "-o", os.path.join(d, "x.c"))
+            self.assertEqual(r.returncode, 2)
+            self.assertEqual(os.listdir(d), [])
+
+
+if __name__ == "__main__":
+    unittest.main()

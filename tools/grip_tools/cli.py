@@ -1,0 +1,61 @@
+"""The `grip` command: `grip <command> [args]` (also `python -m grip_tools`).
+
+Each command is a module with a main(argv) function; this table is the only
+place that names them. Modules are imported only when their command runs, so
+`grip --help` does not load numpy or scipy.
+"""
+import importlib
+import sys
+
+from grip_tools import __version__
+
+COMMANDS = {
+    # tire engineer: evaluate, fit, convert, close the loop
+    "tir2c": ("grip_tools.reference.tir", "emit a grip_mf_params C definition from a .tir file"),
+    "fit-mf": ("grip_tools.fit.mf", "identify Magic Formula coefficients from measured sweeps"),
+    "fit-brush": ("grip_tools.fit.brush", "fit Neo-FIALA to Magic Formula curves (G275 demo) or to sweeps"),
+    "mf89": ("grip_tools.reference.mf89", "1989-style lateral Magic Formula: constraint report of a coefficient set"),
+    "brush-verify": ("grip_tools.reference.brush", "brush models: closed forms vs quadrature, every n (--write-table: lib/brush/brush_table.h)"),
+    "analyze": ("grip_tools.loop.cli", "measured data: residual analysis, effect attribution, model update"),
+    # vehicle-dynamics engineer: simulate, evaluate the estimator, inject faults
+    "simulate": ("grip_tools.sim.cli", "reference vehicle simulator: truth.csv, sensors.csv, can.log"),
+    "est-eval": ("grip_tools.evaluate.est_eval", "estimator accuracy on simulator manoeuvres and real logs: beta, mu, axle Fy (table + PNG)"),
+    "faults": ("grip_tools.evaluate.faults", "fault injection on the ESC inputs: monitor + estimator, fault table, false alarms"),
+    "main-job": ("grip_tools.evaluate.main_job", "the README's main job (see tools/scripts/main_job.sh)"),
+    # CAN
+    "can-table": ("grip_tools.can.dbc", "DBC + map file -> CAN signal table (C source, text form)"),
+    "comma2k19": ("grip_tools.logs.comma2k19", "comma2k19 raw CAN arrays -> candump log"),
+    # golden vectors, code generation, firmware measurements
+    "golden-all": ("grip_tools.golden.all", "write every golden-vector file and test parameter set"),
+    "golden-brush": ("grip_tools.golden.brush", "write golden vectors of the brush-model family"),
+    "golden-est": ("grip_tools.golden.est", "write golden vectors of the onboard estimator (reference over input sequences)"),
+    "golden-q16": ("grip_tools.golden.q16", "write golden vectors for the Q15.16 math primitives"),
+    "kernels": ("grip_tools.golden.q16_kernels", "regenerate the Q15.16 polynomial kernels header"),
+    "stack": ("grip_tools.evaluate.stack", "worst-case stack per function from -fcallgraph-info files"),
+    "bench": ("grip_tools.evaluate.bench", "benchmarks: host ns/call, callgrind and Cortex-M instruction counts"),
+}
+
+
+def usage(out):
+    print("usage: grip <command> [args]   (grip <command> --help for its options)\n\ncommands:", file=out)
+    for name, (_, what) in sorted(COMMANDS.items()):
+        print(f"  {name:14s} {what}", file=out)
+
+
+def main(argv=None):
+    argv = sys.argv[1:] if argv is None else argv
+    if not argv:
+        usage(sys.stderr)
+        return 2
+    if argv[0] in ("-h", "--help"):
+        usage(sys.stdout)
+        return 0
+    if argv[0] == "--version":
+        print(f"grip {__version__}")
+        return 0
+    name = argv[0]
+    if name not in COMMANDS:
+        print(f"grip: unknown command '{name}' (try grip --help)", file=sys.stderr)
+        return 2
+    module = importlib.import_module(COMMANDS[name][0])
+    return module.main(argv[1:]) or 0

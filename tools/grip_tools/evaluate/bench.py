@@ -1,0 +1,124 @@
+"""`make bench`: ns per call on the host, instruction counts from callgrind,
+and Cortex-M4F / M0+ instruction counts from qemu-system-arm.
+
+Cortex-M counting: qemu runs the benchmark image (tests/bench/bench_target.c)
+with one instruction per translation block and logs every block executed
+(-singlestep -d exec,nochain); the instructions between two bench_mark()
+calls are counted and the mean count of an empty case is subtracted. The
+Fixed build's ARMv6-M code runs on the Cortex-M3 board (mps2-an385): the
+instruction stream is that of a Cortex-M0+. Counts are instructions, not
+cycles (a Cortex-M0+ takes 1-2 cycles for most, 32 for a multi-cycle multiply
+variant; the M4F's FPU divide takes 14).
+
+Writes build/bench/bench.csv and build/bench/bench.md and prints the table.
+"""
+import argparse
+import csv
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+
+from grip_tools.paths import REPO_ROOT
+
+ROOT = REPO_ROOT
+TRACE_PC = re.compile(r"^Trace \d+: 0x[0-9a-f]+ \[[0-9a-f]+/([0-9a-f]+)/")
+
+
+def host_ns(arith):
+    exe = os.path.join(ROOT, f"build/{arith}-gcc/bench/bench_host")
+    out = subprocess.run([exe], check=True, capture_output=True, text=True).stdout
+    return {row["case"]: float(row["ns_per_call"]) for row in csv.DictReader(out.splitlines())}
+
+
+def callgrind_ir(arith, case, n=1600):
+    exe = os.path.join(ROOT, f"build/{arith}-gcc/bench/bench_host")
+    with tempfile.TemporaryDirectory() as d:
+        out = os.path.join(d, "cg.out")
+        subprocess.run(["valgrind", "--tool=callgrind", "--instr-atstart=no",
+                        f"--callgrind-out-file={out}", exe, case, str(n)],
+                       check=True, capture_output=True)
+        with open(out) as f:
+            for line in f:
+                if line.startswith("totals:"):
+                    return int(line.split()[1]) / n
+    raise RuntimeError("callgrind: no totals line in its output")
+
+
+def qemu_counts(target, machine):
+    elf = os.path.join(ROOT, f"build/{target}/grip-bench.elf")
+    nm = subprocess.run(["arm-none-eabi-nm", elf], check=True, capture_output=True, text=True).stdout
+    mark = next(int(l.split()[0], 16) & ~1 for l in nm.splitlines() if l.endswith(" bench_mark"))
+    with tempfile.TemporaryDirectory() as d:
+        log = os.path.join(d, "trace.log")
+        run = subprocess.run(["qemu-system-arm", "-M", machine, "-nographic", "-singlestep",
+                              "-semihosting-config", "enable=on,target=native",
+                              "-d", "exec,nochain", "-D", log, "-kernel", elf],
+                             capture_output=True, text=True, timeout=600)
+        if run.returncode != 0:
+            raise RuntimeError(f"qemu {target}: exit {run.returncode}: {run.stdout[-500:]}")
+        # semihosting SYS_WRITE0 output arrives on stderr
+        names = [l[len("bench: "):] for l in (run.stdout + run.stderr).splitlines() if l.startswith("bench: ")]
+        counts, since = [], None
+        with open(log) as f:
+            for line in f:
+                m = TRACE_PC.match(line)
+                if not m:
+                    continue
+                if int(m.group(1), 16) == mark:
+                    if since is not None:
+                        counts.append(since)
+                    since = 0
+                elif since is not None:
+                    since += 1
+    # marks come in pairs (start, end): keep the start->end intervals
+    spans = counts[0::2]
+    per = len(spans) // len(names)
+    out = {}
+    empty = statistics.mean(spans[0:per])
+    for k, name in enumerate(names[1:], start=1):
+        vals = [v - empty for v in spans[k * per:(k + 1) * per]]
+        out[name] = (statistics.mean(vals), max(vals))
+    return out
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="grip_tools bench", description=__doc__)
+    ap.add_argument("--outdir", default=os.path.join(ROOT, "build/bench"))
+    ap.add_argument("--cases", default="",
+                    help="regular expression: only the matching cases (for quick measurements "
+                         "while optimizing; the image still runs every case once)")
+    ap.add_argument("--targets", default="m4f,m0p",
+                    help="comma-separated Cortex-M images to run (m4f, m0p, or empty for none)")
+    args = ap.parse_args(argv)
+    os.makedirs(args.outdir, exist_ok=True)
+    ns = {a: host_ns(a) for a in ("float", "fixed")}
+    cases = [c for c in ns["float"] if re.search(args.cases, c)]
+    ir = {a: {c: callgrind_ir(a, c) for c in cases} for a in ("float", "fixed")}
+    targets = [t for t in args.targets.split(",") if t]
+    none = {c: (float("nan"), float("nan")) for c in cases}
+    m4f = qemu_counts("m4f-float", "mps2-an386") if "m4f" in targets else none
+    m0p = qemu_counts("m0p-fixed", "mps2-an385") if "m0p" in targets else none
+    header = ["case", "host ns float", "host ns fixed", "x86 instr float", "x86 instr fixed",
+              "M4F instr mean", "M4F instr max", "M0+ instr mean", "M0+ instr max"]
+    rows = []
+    for c in cases:
+        rows.append([c, f"{ns['float'][c]:.1f}", f"{ns['fixed'][c]:.1f}",
+                     f"{ir['float'][c]:.0f}", f"{ir['fixed'][c]:.0f}",
+                     f"{m4f[c][0]:.0f}", f"{m4f[c][1]:.0f}", f"{m0p[c][0]:.0f}", f"{m0p[c][1]:.0f}"])
+    with open(os.path.join(args.outdir, "bench.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(header)
+        w.writerows(rows)
+    md = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    md += ["| " + " | ".join(r) + " |" for r in rows]
+    text = "\n".join(md) + "\n"
+    with open(os.path.join(args.outdir, "bench.md"), "w") as f:
+        f.write(text)
+    print(text)
+    print("x86 instr: valgrind callgrind, mean over the 16 input sets; M4F/M0+ instr: "
+          "qemu-system-arm trace, mean and max over the 16 input sets; host ns: median of 5 runs",
+          file=sys.stderr)
+    return 0

@@ -1,0 +1,305 @@
+"""Golden vectors of the onboard estimator (lib/est): whole input sequences
+run through the float64 reference grip_tools.reference.est, written as
+build/golden/est_<name>.txt for tests/unit/test_est_golden.c.
+
+Input sequences (the C test replays exactly the same rows):
+  bicycle_100hz   internal generator (below; single-track, Magic Formula
+                  axles with the tire's lateral relaxation): steer steps,
+                  slalom, braking in a turn, on mu = 1.0 then 0.5, 100 Hz
+  bicycle_1khz    the same generator at 1 kHz, mu = 0.6, shorter
+  faults_100hz    the generator's signals with faults injected: invalid and
+                  stale flags, NaN/Inf values (valid flag set), saturated
+                  values, a locked wheel, standstill, reversing
+  aero_bank_100hz the internal generator at 26 m/s, run with the vehicle-level
+                  effects on: downforce C_L A = 2.5 m^2 (front share 0.42,
+                  rho 1.2), road bank tan = 0.04 (rise to the left) and grade
+                  tan = 0.02, drag area C_D A = 0.62 m^2 and rolling
+                  resistance 0.01, sensor latency 20 ms (outputs extrapolated),
+                  road wheels 0.1 s (first order) behind the steering signal,
+                  steering angle 10 ms old (AERO_BANK below;
+                  test_est_golden.c sets the same); the
+                  rear-left wheel locked 0.3 s while braking, so the
+                  locked-wheel ax update (the one that uses drag and rolling
+                  resistance) runs
+  steer_offset_100hz the internal generator on mu = 1.0 at 40 % steering and
+                  no braking, a +0.24 rad steering-wheel offset from 4.3 to
+                  5.0 s in the steady turn (STEER_OFFSET below): the offset
+                  fakes an understeer deficit, the understeer bound holds mu
+                  down (~0.35), and after the offset the bound is withdrawn
+                  (mu back to its value before), so that branch runs. The
+                  offset is 0.24, not 0.26: at 0.26 the deficit falls on
+                  0.15000, exactly the threshold, in the step the withdrawal
+                  starts, and Q15.16 takes that decision a step later than
+                  the float64 reference; at 0.24 the nearest step is 0.005
+                  from the threshold
+  sim_sine_dwell  the reference vehicle simulator (grip_tools.sim) when
+                  present: sine with dwell on a wet road, its sensor models
+                  (noise, delay, quantization); skipped if the simulator is
+                  not importable
+
+Each row: time, 17 input values, the valid mask (bit i = input i valid),
+then the reference outputs (columns in the header). Configuration: the
+passenger car of est_ref.config / grip_est_config_default with the
+PacejkaBook_Defaults.tir tire on both axles.
+"""
+import math
+import os
+
+import numpy as np
+
+from grip_tools.reference import est as est_ref, tir
+from grip_tools.golden.io import header
+from grip_tools.paths import TEST_DATA
+
+TIRE = "PacejkaBook_Defaults"
+SEED = 5
+
+
+def tire_path():
+    return os.path.join(TEST_DATA, "mfeval-tir", TIRE + ".tir")
+
+
+def tire_params():
+    return tir.load_params(tire_path())
+
+
+# ---------------------------------------------------------------------------
+# internal generator: single-track model with Magic Formula axle forces
+
+def bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED, v0=22.0, steer_gain=1.0,
+                   brake_demand=3.0):
+    """A nonlinear single-track run (steer steps, slalom, braking in a turn).
+    mu_road: (mu of the first half, mu of the second half), as a scale of the
+    tire's friction (LMUX, LMUY); steer_gain scales the steering-wheel angle,
+    brake_demand [m/s^2] the braking in the turn. Returns time, value (N, 17), valid (N, 17)
+    and the truth dict (vx, vy, r, mu)."""
+    P0 = tire_params()
+    cfg = est_ref.config(P0)
+    m, iz, lf, lr = cfg["mass"], cfg["iz"], cfg["lf"], cfg["lr"]
+    l = lf + lr
+    fzf, fzr = 9.80665 * m * lr / l / 2, 9.80665 * m * lf / l / 2
+    rng = np.random.default_rng(seed)
+    n = int(round(duration / dt))
+    t = np.arange(n) * dt
+    value = np.zeros((n, est_ref.N_IN))
+    valid = np.zeros((n, est_ref.N_IN), dtype=np.uint8)
+    truth = {k: np.zeros(n) for k in ("vx", "vy", "r", "mu")}
+    # the tires' lateral relaxation (first-order lag of the slip angle over
+    # sigma = cornering stiffness / LATERAL_STIFFNESS, as the reference
+    # simulator's MF 6.x tires): a tire answers a slip-angle change over a
+    # rolling distance, not at once
+    sigma = []
+    for fz in (fzf, fzr):
+        o = est_ref.mf.evaluate(P0, np.zeros(2), np.array([0.01, -0.01]), 0.0, np.full(2, fz), None, 20.0)
+        k_alpha = (o["fy"][1] - o["fy"][0]) / 0.02
+        sigma.append(k_alpha / P0["lateral_stiffness"] if P0.get("lateral_stiffness", 0.0) > 0 else 0.0)
+    a_lag = None
+    vx, vy, r = v0, 0.0, 0.0
+    for k in range(n):
+        tk = t[k]
+        mu = mu_road[0] if tk < duration / 2 else mu_road[1]
+        P = dict(P0)
+        P["lmux"] = P0["lmux"] * mu
+        P["lmuy"] = P0["lmuy"] * mu
+        ph = tk % (duration / 2)
+        # steering-wheel angle [rad]: step, slalom, hold in a turn
+        if ph < 1.0:
+            swa = 0.0
+        elif ph < 2.5:
+            swa = 1.2 * min(1.0, (ph - 1.0) / 0.2)
+        elif ph < 4.0:
+            swa = 1.6 * math.sin(2 * math.pi * 0.5 * (ph - 2.5))
+        else:
+            swa = 0.9
+        swa *= steer_gain
+        brake = brake_demand if (ph > 4.5 and ph < 5.5) else 0.0      # m/s^2 deceleration demand
+        delta = swa / cfg["steer_ratio"]
+        af = math.atan2(vy + lf * r, vx) - delta
+        ar = math.atan2(vy - lr * r, vx)
+        if a_lag is None:
+            a_lag = [af, ar]
+        for i, a in enumerate((af, ar)):
+            if sigma[i] > 0.0:
+                a_lag[i] += (1.0 - math.exp(-abs(vx) * dt / sigma[i])) * (a - a_lag[i])
+            else:
+                a_lag[i] = a
+        o = est_ref.mf.evaluate(P, np.zeros(2), np.array(a_lag), 0.0, np.array([fzf, fzr]), None, vx)
+        fyf, fyr = 2 * o["fy"][0], 2 * o["fy"][1]
+        ax = -brake * min(1.0, mu)
+        vyd = (fyf * math.cos(delta) + fyr) / m - r * vx
+        rd = (lf * fyf * math.cos(delta) - lr * fyr) / iz
+        ay = vyd + r * vx
+        truth["vx"][k], truth["vy"][k], truth["r"][k], truth["mu"][k] = vx, vy, r, mu
+        tf, tr = cfg["track_f"], cfg["track_r"]
+        slip = -0.02 * brake / 3.0
+        wsf = [(vx - r * tf / 2) * math.cos(delta) + (vy + lf * r) * math.sin(delta),
+               (vx + r * tf / 2) * math.cos(delta) + (vy + lf * r) * math.sin(delta)]
+        ws = [wsf[0] * (1 + slip), wsf[1] * (1 + slip), (vx - r * tr / 2) * (1 + slip), (vx + r * tr / 2) * (1 + slip)]
+        for i in range(4):
+            value[k, i] = ws[i] + rng.normal(0, 0.01)
+        value[k, est_ref.STEER] = swa + rng.normal(0, 0.001)
+        value[k, est_ref.YAW] = r + rng.normal(0, 0.002)
+        value[k, est_ref.AX] = ax + rng.normal(0, 0.03)
+        value[k, est_ref.AY] = ay + rng.normal(0, 0.03)
+        valid[k, :8] = 1
+        vx = max(vx + (ax + r * vy) * dt, 0.0)
+        vy += vyd * dt
+        r += rd * dt
+    return t, value, valid, truth
+
+
+def steer_offset_inputs():
+    """The steer_offset_100hz inputs (module doc, STEER_OFFSET): time,
+    value, valid."""
+    t, v, ok, _ = bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 1.0), seed=SEED + 2,
+                                 steer_gain=STEER_OFFSET["steer_gain"], brake_demand=0.0)
+    a, b = STEER_OFFSET["span"]
+    v[(t >= a) & (t < b), est_ref.STEER] += STEER_OFFSET["offset"]
+    return t, v, ok
+
+
+def inject_faults(t, value, valid):
+    """Faults on a copy of a 100 Hz sequence (documented in the module doc)."""
+    v, ok = value.copy(), valid.copy()
+    n = len(t)
+
+    def span(a, b):
+        return slice(int(a * n), int(b * n))
+
+    ok[span(0.10, 0.12), est_ref.YAW] = 0                       # yaw invalid 2 % of the run
+    v[span(0.10, 0.12), est_ref.YAW] = 0.0
+    v[span(0.20, 0.21), est_ref.AY] = np.nan                    # NaN with valid flag set
+    v[span(0.25, 0.26), est_ref.AX] = np.inf
+    v[span(0.30, 0.31), est_ref.AY] = 40.0                      # saturated accelerometer
+    ok[span(0.35, 0.45), est_ref.STEER] = 0                     # steering angle lost 10 %
+    v[span(0.35, 0.45), est_ref.STEER] = 0.0
+    v[span(0.50, 0.55), 2] = 0.0                                # RL wheel locked
+    ok[span(0.58, 0.60), 0:4] = 0                               # all wheel speeds lost
+    v[span(0.58, 0.60), 0:4] = 0.0
+    v[span(0.62, 0.63), 1] = np.nan
+    v[span(0.70, 0.80), 0:4] = 0.0                              # standstill
+    v[span(0.70, 0.80), est_ref.AX] = 0.0
+    v[span(0.70, 0.80), est_ref.AY] = 0.0
+    v[span(0.70, 0.80), est_ref.YAW] = 0.0
+    v[span(0.80, 0.90), 0:4] = 2.0                              # reversing at 2 m/s:
+    v[span(0.80, 0.90), est_ref.VSPEED] = -2.0                  # signed vehicle speed
+    ok[span(0.80, 0.90), est_ref.VSPEED] = 1
+    v[span(0.80, 0.90), est_ref.AX] = 0.0
+    v[span(0.92, 0.94), est_ref.STEER] = 30.0                   # steering at lock
+    return v, ok
+
+
+def sim_inputs():
+    """Sine with dwell on a wet road from the reference simulator (short),
+    or None when the simulator is not available."""
+    try:
+        from grip_tools.sim import manoeuvres as M, model as VM, sensors, vehicles
+    except Exception:          # the simulator is another module; optional here
+        return None
+    veh = vehicles.passenger()
+    sc = M.build("sine-dwell", veh, surface="wet", amp_deg=90.0)
+    sc.duration = min(sc.duration, 4.0)
+    res = VM.simulate(veh, sc, h=2e-3)
+    sd = sensors.measure(res.member(0), sensors.SensorConfig(seed=SEED))
+    cols = sd.wide_columns()
+    return est_ref.inputs_from_sensors(cols)
+
+
+# ---------------------------------------------------------------------------
+
+def out_columns():
+    # (yaw_error = yaw rate - reference is not written: the files are limited to
+    # 64 columns (tests/support/golden.h) and the gyro bias took its place)
+    cols = ["vx", "vy", "beta", "yaw_rate", "yaw_rate_ref", "yaw_rate_bias", "delta", "mu", "mu_conf"]
+    for q in ("fz", "kappa", "alpha", "fx", "fy", "mz", "util"):
+        cols += [f"{q}{i}" for i in range(4)]
+    cols += ["fy_axle0", "fy_axle1", "util_axle0", "util_axle1", "fy_margin_front",
+             "steer_char", "valid", "flags"]
+    return cols
+
+
+def out_row(o):
+    row = [o["vx"], o["vy"], o["beta"], o["yaw_rate"], o["yaw_rate_ref"], o["yaw_rate_bias"], o["delta"],
+           o["mu"], o["mu_conf"]]
+    for q in ("fz", "kappa", "alpha", "fx", "fy", "mz", "util"):
+        row += list(o[q])
+    row += list(o["fy_axle"]) + list(o["util_axle"]) + [o["fy_margin_front"], o["steer_char"],
+                                                         o["valid"], o["flags"]]
+    return row
+
+
+AERO_BANK = dict(cla=2.5, aero_front=0.42, air_density=1.2, cda=0.62, crr=0.01, tan_bank=0.04, tan_grade=0.02,
+                 latency=0.02, steer_lag=0.1, steer_latency=0.01)
+STEER_OFFSET = dict(steer_gain=0.4, offset=0.24, span=(4.3, 5.0))  # [-], [rad] steering wheel, [s]
+AERO_BANK_V0 = 26.0           # [m/s]
+AERO_BANK_LOCK = (4.6, 4.9)   # [s] rear-left wheel locked while braking (the locked-wheel ax update)
+
+
+def write_sequence(outdir, name, dt, t, value, valid, note, **cfg_kw):
+    cfg = est_ref.config(tire_params(), rate_hz=int(round(1.0 / dt)), **cfg_kw)
+    outs = est_ref.run(cfg, value, valid)
+    in_cols = ["t"] + [f"in{i}" for i in range(est_ref.N_IN)] + ["valid_mask"]
+    text = header("grip_tools.golden.est", est_ref.Estimator, SEED, in_cols + out_columns(),
+                  {"sequence": name, "dt": dt, "tire": TIRE, "vehicle": "est_ref.config (passenger)",
+                   "note": note, **{k: repr(v) for k, v in cfg_kw.items()}})
+    lines = [text.rstrip("\n")]
+    for k in range(len(t)):
+        mask = int(sum(int(valid[k, i]) << i for i in range(est_ref.N_IN)))
+        vals = [float(t[k])] + [float(x) for x in value[k]] + [mask] + out_row(outs[k])
+        lines.append(" ".join(_fmt(x) for x in vals))
+    with open(os.path.join(outdir, f"est_{name}.txt"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+    return outs
+
+
+def _fmt(x):
+    if isinstance(x, (int, np.integer)):
+        return str(int(x))
+    x = float(x)
+    if math.isnan(x):
+        return "nan"
+    if math.isinf(x):
+        return "inf" if x > 0 else "-inf"
+    return repr(x)
+
+
+def write_golden(outdir):
+    os.makedirs(outdir, exist_ok=True)
+    t, v, ok, _ = bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5))
+    write_sequence(outdir, "bicycle_100hz", 0.01, t, v, ok, "internal generator, mu 1.0 then 0.5")
+    t, v, ok, _ = bicycle_inputs(dt=0.001, duration=4.0, mu_road=(0.6, 0.6))
+    write_sequence(outdir, "bicycle_1khz", 0.001, t, v, ok, "internal generator, mu 0.6")
+    t, v, ok, _ = bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED + 1)
+    fv, fok = inject_faults(t, v, ok)
+    write_sequence(outdir, "faults_100hz", 0.01, t, fv, fok, "internal generator with injected faults")
+    # 26 m/s: at 28 and 30 m/s the
+    # estimator's open-loop stretch (vy unobservable with every tire at the
+    # model's limit) ends in a recovery cascade that amplifies last-bit
+    # differences (docs/estimator.md, "Golden tests")
+    t, v, ok, _ = bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), v0=AERO_BANK_V0)
+    v[(t >= AERO_BANK_LOCK[0]) & (t < AERO_BANK_LOCK[1]), 2] = 0.0
+    write_sequence(outdir, "aero_bank_100hz", 0.01, t, v, ok, "internal generator at 26 m/s, aero, drag, bank, latency, steering lag and latency on, RL locked while braking",
+                   **AERO_BANK)
+    t, v, ok = steer_offset_inputs()
+    write_sequence(outdir, "steer_offset_100hz", 0.01, t, v, ok,
+                   "internal generator, mu 1.0, 40 % steering, steering offset 4.3-5.0 s (understeer bound withdrawn)")
+    sim = sim_inputs()
+    path = os.path.join(outdir, "est_sim_sine_dwell.txt")
+    if sim is not None:
+        t, v, ok = sim
+        write_sequence(outdir, "sim_sine_dwell", 0.01, t, v, ok, "sim sine-dwell, wet, 4 s")
+    elif os.path.exists(path):
+        os.remove(path)
+
+
+def main(argv=None):
+    import argparse
+    ap = argparse.ArgumentParser(prog="grip_tools golden-est", description=__doc__)
+    ap.add_argument("-o", "--outdir", default="build/golden")
+    a = ap.parse_args(argv)
+    write_golden(a.outdir)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,263 @@
+"""Golden vectors of the Magic Formula reference (grip_tools.reference.mf) for every
+shared .tir file, and the compiled-in parameter sets of those files.
+
+Writes into outdir (build/golden):
+  mf_<name>.txt  columns: kappa alpha gamma fz p vx fx0 fy0 mz0 fx fy mz
+                 SI units, ISO-W, MF-Tyre forms, the file's TYRESIDE applied
+                 (a RIGHT file is mirrored, as the emitted struct says)
+  mf_params.c    static const grip_mf_params grip_tire_<name> = {...} per
+                 file (tools/grip_tools/reference/tir.py emitter) and the table
+                 grip_test_tires[] / grip_test_tire_count (tests/support/mf_params.h)
+
+Rows per file (about 3000): pure kappa and alpha sweeps at five loads, an
+alpha sweep at three cambers, a camber sweep, a combined kappa x alpha grid at
+two loads and two cambers, a pressure sweep (MF 6.x), uniform random points
+over the whole valid range (fixed seed per file) and low-speed rows with
+0 <= vx <= 1.5 VXLOW (vx = 0 included). The valid range is the file's
+*_RANGE sections: Fz FZMIN..FZMAX (0.1..2 FNOMIN when absent), kappa
+KPUMIN..KPUMAX, alpha ALPMIN..ALPMAX, gamma CAMMIN..CAMMAX, p PRESMIN..PRESMAX
+(0.8..1.2 NOMPRES when absent), each intersected with the library's input
+domain (GRIP_MF_* in include/grip/grip_mf.h: |kappa| <= 1.5, |alpha| <= pi/2,
+|gamma| <= 30 deg, Fz <= 4 FNOMIN, 0.5..2 NOMPRES), so that no golden row is
+clamped by the C model. vx = LONGVL except in the low-speed rows.
+Any .tir that fails validation makes the generation fail (TirError).
+"""
+import glob
+import os
+import re
+import sys
+import zlib
+
+import numpy as np
+
+from grip_tools.reference import mf, tir
+from grip_tools.golden.all import write_if_changed
+from grip_tools.golden.io import header
+
+SEED = 20261123
+COLUMNS = ["kappa", "alpha", "gamma", "fz", "p", "vx", "fx0", "fy0", "mz0", "fx", "fy", "mz"]
+SUBDIRS = ("chrono-tir", "mfeval-tir")
+
+
+def shared_data_dir():
+    """The test data folder: $GRIP_SHARED_DATA, else the copy bundled in tests/data."""
+    env = os.environ.get("GRIP_SHARED_DATA")
+    if env:
+        return os.path.abspath(env)
+    return os.path.join(tir.REPO_ROOT, "tests", "data")
+
+
+def tir_files(root=None):
+    root = root or shared_data_dir()
+    files = []
+    for sub in SUBDIRS:
+        files += sorted(glob.glob(os.path.join(root, sub, "*.tir")))
+    if not files:
+        raise FileNotFoundError(f"no .tir files under {root}/{{{','.join(SUBDIRS)}}} "
+                                "(set GRIP_SHARED_DATA)")
+    return files
+
+
+def tire_name(path):
+    """C-identifier name: the file stem, leading size tokens dropped
+    (335_65R22_5_G275MSA_60psi -> G275MSA_60psi)."""
+    stem = os.path.splitext(os.path.basename(path))[0]
+    tokens = [t for t in "".join(ch if ch.isalnum() else "_" for ch in stem).split("_") if t]
+    while len(tokens) > 1 and not tokens[0][0].isalpha():
+        tokens.pop(0)
+    name = "_".join(tokens)
+    if not name or not name[0].isalpha():
+        name = "t_" + name
+    return name
+
+
+# The library's input domain (include/grip/grip_mf.h, GRIP_MF_*): golden
+# rows stay inside it, so that the C side never clamps (a file's *_RANGE can
+# be wider, e.g. PacejkaBook_Defaults PRESMIN = 10 kPa, ALPMAX = 1.5708).
+DOMAIN_DEFAULTS = {"KAPPA_MAX": 1.5, "ALPHA_MAX": 1.5707963, "GAMMA_MAX": 0.5235988,
+                   "FZ_MAX_REL": 4.0, "DPI_MIN": -0.5, "DPI_MAX": 1.0}
+
+
+def lib_domain(header=os.path.join(tir.REPO_ROOT, "include", "grip", "grip_mf.h")):
+    dom = dict(DOMAIN_DEFAULTS)
+    try:
+        with open(header) as f:
+            text = f.read()
+    except OSError:
+        return dom
+    for key in dom:
+        m = re.search(r"#define\s+GRIP_MF_" + key + r"\s+\(?\s*([-+0-9.eE]+)\s*\)?", text)
+        if m:
+            dom[key] = float(m.group(1))
+    return dom
+
+
+def _clip(lo, hi, dlo, dhi):
+    lo, hi = max(lo, dlo), min(hi, dhi)
+    if not lo < hi:
+        raise ValueError(f"empty range after intersecting with the library domain [{dlo}, {dhi}]")
+    return lo, hi
+
+
+def ranges(P):
+    """Input ranges of the golden rows (SI): the file's *_RANGE values
+    (defaults when absent) intersected with the library's input domain."""
+    D = lib_domain()
+    fnom = P["fnomin"]
+    if P["fzmax"] > 0:
+        fz = (P["fzmin"], P["fzmax"])
+    else:
+        fz = (0.1 * fnom, 2.0 * fnom)
+    fz = _clip(*fz, 0.0, D["FZ_MAX_REL"] * fnom)
+    pnom = P["inflpres"] if P["inflpres"] > 0 else P["nompres"]
+    pr = None
+    if P["fittyp"] in mf.MF6:
+        nom = P["nompres"]
+        pr = (P["presmin"], P["presmax"]) if P["presmax"] > 0 else (0.8 * nom, 1.2 * nom)
+        pr = _clip(*pr, (1.0 + D["DPI_MIN"]) * nom, (1.0 + D["DPI_MAX"]) * nom)
+    return dict(fz=fz,
+                kappa=_clip(P["kpumin"], P["kpumax"], -D["KAPPA_MAX"], D["KAPPA_MAX"]),
+                alpha=_clip(P["alpmin"], P["alpmax"], -D["ALPHA_MAX"], D["ALPHA_MAX"]),
+                gamma=_clip(P["cammin"], P["cammax"], -D["GAMMA_MAX"], D["GAMMA_MAX"]),
+                p=pr, pnom=pnom)
+
+
+def inputs(P, rng):
+    """The input rows (dict of equal-length arrays)."""
+    R = ranges(P)
+    fz_lo, fz_hi = R["fz"]
+    fz_lo_sweep = fz_lo if fz_lo > 0 else 0.05 * P["fnomin"]
+    loads = np.linspace(fz_lo_sweep, fz_hi, 5)
+    fmid = min(max(P["fnomin"], fz_lo_sweep), fz_hi)
+    klo, khi = R["kappa"]
+    alo, ahi = R["alpha"]
+    glo, ghi = R["gamma"]
+    rows = []
+
+    def add(k, a, g, f, p=None, v=None):
+        k, a, g, f = np.broadcast_arrays(*(np.asarray(x, dtype=float).ravel() for x in (k, a, g, f)))
+        n = k.size
+        rows.append(dict(kappa=k, alpha=a, gamma=g, fz=f,
+                         p=np.full(n, R["pnom"]) if p is None else np.broadcast_to(p, (n,)).astype(float),
+                         vx=np.full(n, P["longvl"]) if v is None else np.broadcast_to(v, (n,)).astype(float)))
+
+    ks = np.linspace(klo, khi, 101)
+    als = np.linspace(alo, ahi, 101)
+    for f in loads:                                   # pure sweeps
+        add(ks, 0.0, 0.0, f)
+        add(0.0, als, 0.0, f)
+    for g in (glo, 0.5 * (glo + ghi), ghi):           # camber
+        add(0.0, np.linspace(alo, ahi, 41), g, fmid)
+    gs = np.linspace(glo, ghi, 41)
+    add(0.0, 0.0, gs, fmid)
+    add(0.25 * khi if khi > 0 else 0.25 * klo, 0.25 * ahi, gs, fmid)
+    K, A = np.meshgrid(np.linspace(klo, khi, 17), np.linspace(alo, ahi, 17), indexing="ij")
+    for f in (loads[1], loads[3]):                    # combined grid
+        for g in (0.0, 0.5 * ghi):
+            add(K, A, g, f)
+    if R["p"] is not None:                            # pressure
+        for p in np.linspace(R["p"][0], R["p"][1], 5):
+            add(np.linspace(klo, khi, 21), 0.0, 0.0, fmid, p)
+            add(0.0, np.linspace(alo, ahi, 21), 0.0, fmid, p)
+    n = 600                                           # random over the range
+    add(rng.uniform(klo, khi, n), rng.uniform(alo, ahi, n), rng.uniform(glo, ghi, n),
+        rng.uniform(fz_lo, fz_hi, n),
+        rng.uniform(*R["p"], n) if R["p"] is not None else None)
+    n = 100                                           # low speed
+    vx = rng.uniform(0.0, 1.5 * P["vxlow"], n)
+    vx[:10] = 0.0
+    vx[10:20] = np.linspace(0.05, 1.0, 10) * P["vxlow"]
+    add(rng.uniform(klo, khi, n), rng.uniform(alo, ahi, n), rng.uniform(glo, ghi, n),
+        rng.uniform(fz_lo_sweep, fz_hi, n), None, vx)
+    return {c: np.concatenate([r[c] for r in rows]) for c in COLUMNS[:6]}
+
+
+def golden_text(path, name, P):
+    seed = SEED + zlib.crc32(name.encode()) % 100000
+    rng = np.random.default_rng(seed)
+    x = inputs(P, rng)
+    p = x["p"] if P["fittyp"] in mf.MF6 else None
+    out = mf.evaluate(P, x["kappa"], x["alpha"], x["gamma"], x["fz"], p=p, vx=x["vx"])
+    for k, v in out.items():
+        if not np.all(np.isfinite(v)):
+            raise RuntimeError(f"{path}: non-finite {k} in the reference output")
+    R = ranges(P)
+    side = "RIGHT -> mirrored (tyreside -1)" if P["tyreside"] == -1 else "LEFT/unknown (tyreside +1)"
+    hdr = header("grip_tools.golden.mf", mf, seed, COLUMNS, params={
+        "tir": path,
+        "name": name,
+        "fittyp": P["fittyp"],
+        "tyreside": side,
+        "form": "mftyre (MF-Tyre forms)",
+        "convention": "ISO-W, SI units (N, N m, rad, Pa, m/s); kappa > 0 driving",
+        "fz range": f"{R['fz'][0]!r} .. {R['fz'][1]!r}",
+        "kappa range": f"{R['kappa'][0]!r} .. {R['kappa'][1]!r}",
+        "alpha range": f"{R['alpha'][0]!r} .. {R['alpha'][1]!r}",
+        "gamma range": f"{R['gamma'][0]!r} .. {R['gamma'][1]!r}",
+        "p": ("ignored (MF 5.2)" if R["p"] is None else f"{R['p'][0]!r} .. {R['p'][1]!r}"),
+        "rows": x["kappa"].size,
+    })
+    cols = [x[c] for c in COLUMNS[:6]] + [out[c] for c in COLUMNS[6:]]
+    body = np.column_stack(cols)
+    lines = [" ".join(f"{v:.17g}" for v in row) for row in body]
+    return hdr + "\n".join(lines) + "\n"
+
+
+def _c_string(s):
+    return '"' + s.replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+def params_c(entries):
+    parts = ["/* Generated by grip_tools.golden.mf (python -m grip_tools golden-all). Do not edit.\n"
+             " * One grip_mf_params per shared .tir file, emitted by grip_tools.reference.tir. */\n",
+             '#include "mf_params.h"\n']
+    for name, path, P in entries:
+        parts.append("\n" + tir.emit_definition(P, f"grip_tire_{name}", storage="static const"))
+    parts.append("\nconst grip_test_tire grip_test_tires[] = {\n")
+    for name, path, P in entries:
+        parts.append(f"    {{ {_c_string(name)}, {_c_string(path)}, &grip_tire_{name}, "
+                     f"{_c_string('mf_' + name + '.txt')} }},\n")
+    parts.append("};\n")
+    parts.append(f"const int grip_test_tire_count = {len(entries)};\n")
+    parts.append("\nconst grip_mf_params *grip_test_tire_params(const char *name)\n{\n"
+                 "    int k;\n"
+                 "    for (k = 0; k < grip_test_tire_count; ++k) {\n"
+                 "        const char *a = grip_test_tires[k].name, *b = name;\n"
+                 "        while (*a != 0 && *a == *b) {\n"
+                 "            ++a;\n"
+                 "            ++b;\n"
+                 "        }\n"
+                 "        if (*a == 0 && *b == 0) {\n"
+                 "            return grip_test_tires[k].params;\n"
+                 "        }\n"
+                 "    }\n"
+                 "    return 0;\n}\n")
+    return "".join(parts)
+
+
+def _write_keep_stamp(path, text):
+    """write_if_changed, ignoring the '# created:' header line."""
+    if os.path.exists(path):
+        with open(path) as f:
+            old = f.read()
+        strip = lambda t: [ln for ln in t.splitlines() if not ln.startswith("# created:")]
+        if strip(old) == strip(text):
+            return False
+    write_if_changed(path, text)
+    return True
+
+
+def write_golden(outdir):
+    os.makedirs(outdir, exist_ok=True)
+    entries = []
+    names = {}
+    for path in tir_files():
+        name = tire_name(path)
+        if name in names:
+            raise RuntimeError(f"{path}: name {name} already used by {names[name]}")
+        names[name] = path
+        P = tir.read_tir(path).params()     # TirError propagates: generation fails
+        entries.append((name, path, P))
+        _write_keep_stamp(os.path.join(outdir, f"mf_{name}.txt"), golden_text(path, name, P))
+    write_if_changed(os.path.join(outdir, "mf_params.c"), params_c(entries))
+    print(f"golden_mf: {len(entries)} tyres -> {outdir}/mf_*.txt, mf_params.c", file=sys.stderr)

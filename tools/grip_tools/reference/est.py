@@ -1,0 +1,1153 @@
+"""Float64 reference of the onboard estimator (lib/est, include/grip/grip_est.h).
+
+The same algorithm as lib/est/est.c, step for step and in the same order,
+in float64: input hold and validity, longitudinal speed filter, load
+transfer, four Magic Formula evaluations (grip_tools.reference.mf) at the prior
+state, analytic Jacobians, EKF predict of x = [vy, r, mu, b], scalar Joseph
+updates of yaw rate, ay and (when excited) ax, the model-consistency
+(misfit) statistics after the ay update (F_MODEL_MISFIT caps mu_conf),
+the lateral outputs at the updated state extrapolated over the configured
+sensor latency. docs/estimator.md describes
+the method and every constant; the constants below are those of
+lib/est/est_internal.h.
+
+Use:
+    est = Estimator(config(tire_params))        # passenger car, 100 Hz
+    out = est.step(value, valid)                 # value[17], valid[17] per grip_signals.h
+"""
+import math
+
+import numpy as np
+
+from grip_tools.reference import mf
+
+# grip_input_id_t
+WS = (0, 1, 2, 3)
+STEER, YAW, AX, AY, VSPEED = 4, 5, 6, 7, 8
+N_IN = 17
+
+G = 9.80665
+V_ON, V_OFF, V_STAND, V_EXC = 3.0, 2.5, 0.3, 5.0
+HOLD_T, NOWHEEL_T = 0.05, 0.5
+DELTA_MAX, WS_MAX, YAW_MAX, ACC_MAX = 0.7, 120.0, 2.5, 15.0
+AX_TH, K_HI, K_LO, K_MID, WHEEL_DEV = 0.3, 5.0, 0.5, 1.5, 0.15
+# neither braking nor driving: wheels spread wider than SPREAD_REL |vx| +
+# SPREAD_ABS (a driven wheel slipping in a corner, below the outlier test)
+# move the mean towards the cluster the odd wheel left, fully at twice that
+SPREAD_REL, SPREAD_ABS = 0.01, 0.1
+# braking: every wheel slips, slower than the car; wheels below the
+# prediction pull vx at K_SLIP only. ax offset (unconfigured grade,
+# accelerometer bias) learned from trusted wheels at K_OFF [1/s^2], within
+# AX_OFF_MAX [m/s^2]. Every wheel locked or spinning while |ax| >= DR_AX:
+# dead reckoning on ax, V_VX kept for DR_T [s]. A wheel at |kappa| >= LOCK_K
+# while braking (locked, or cycled by an ABS past the tire's peak) makes the
+# ax update a friction measurement (noise R_LOCK) that moves the state but
+# leaves the covariance: no confidence added
+K_SLIP, K_OFF, AX_OFF_MAX = 0.2, 1.0, 1.5
+DR_AX, DR_T = 0.5, 2.0
+LOCK_K, R_LOCK = 0.15, 9.0
+MU_MIN, MU_MAX, MU_INIT = 0.1, 1.2, 1.0
+LIM_TAU, LIM_A, LIM_REL, LIM_ABS, LIM_T = 0.15, 2.0, 0.15, 0.03, 0.2
+# understeer limit (low-friction detection): yaw deficit share US_D against
+# the lagged reference (above US_R rad/s), implied front-axle utilization
+# min(US_UMAX, US_U0 + US_U1 deficit), an upper bound of mu below US_ZMAX
+US_D, US_R, US_U0, US_U1, US_UMAX, US_ZMAX = 0.15, 0.02, 0.3, 1.4, 0.85, 0.8
+# withdrawal of that bound: mu held down by it and not confirmed since
+# (P_mu above P_CONF, i.e. mu_conf < 0.5) goes back to its value before the
+# bound once the bound's own test has said "no deficit" (-LIM_REL < d <
+# US_D) in steady cornering (|ax| and |dvy/dt| = |ay - r vx| below B_AX)
+# for LIM_T at a front friction in use between REL_K and 1 / REL_K of the
+# one at which the bound was last set (far more friction in use shows the
+# bound too low, which the friction-in-use bound lifts by itself; the value
+# before would overshoot)
+REL_K = 0.8
+# excitation: a tire at EXC_U of its own friction (mu = 1). 0.5 opened the
+# gate at the snow sine-with-dwell onset only after the truth's front axle
+# had reached 90 % of its limit; by then the model was a second behind
+EXC_U, EXC_A, G_MIN = 0.2, 1.0, 0.05
+S = np.array([0.05, 0.005, 0.02, 0.001])  # scaled units of vy, r, mu, gyro bias
+# states are SI except the gyro bias, which is kept in its scaled unit
+# (0.001 rad/s) so that its small per-step corrections survive Q15.16
+S_X = np.array([0.05, 0.005, 0.02, 1.0])
+B_UNIT = 0.001
+S_AY = 0.5
+R_YAW, R_AY, R_AX = 1.44, 0.64, 1.0
+Q_C = np.array([100.0, 3600.0, 6.25, 0.25])
+P0 = np.array([36.0, 16.0, 225.0, 100.0])
+NX = 4
+B_MAX = 50.0            # gyro bias bound [0.001 rad/s]
+U_R0, R_LIM, R_AXLE = 0.8, 9.0, 290.0  # ay noise at the limit (_ay_noise)
+B_U, B_A, B_AX = 0.5, 4.0, 1.0  # gyro bias adapts below this model utilization, |ay|, |ax| [m/s^2]
+B_RACC = 2.0           # ... and below this model yaw acceleration [rad/s^2] (the tires' lag is least known there)
+VY_K = 1.0              # |vy| <= VY_K |vx| + 1 m/s
+P_MIN, P_MAX = 0.01, 400.0
+H_MAX_VY, H_MAX = 5.0, 2.0
+NU_SIGMA, CONF_S0 = 4.0, 0.15
+P_CONF = ((CONF_S0 - 0.05) / S[2]) ** 2  # P_mu at mu_conf = 0.5 (sigma_mu 0.1)
+# model-consistency (misfit) check (docs/estimator.md), two statistics
+# low-passed over MF_TAU: the ay update's normalized innovation squared
+# (misfit above NIS_HI, the chi-square(1) 95 % point, cleared below NIS_LO)
+# and the share of time the model claims saturated tires (utilization >=
+# SAT_U) while the mu-independent friction-limit test says the car is not
+# at the limit (misfit above SAT_HI, cleared below SAT_LO); mu_conf is
+# capped at CONF_MISFIT while misfit
+MF_TAU, NIS_HI, NIS_LO = 2.0, 3.84, 1.0
+SAT_U, SAT_HI, SAT_LO, CONF_MISFIT = 0.95, 0.7, 0.1, 0.45
+# mu_conf also capped from when the saturation share rises above SAT_MU
+# until it falls below SAT_MU_LO (hysteresis: a share hovering at one
+# threshold would toggle the validity of mu)
+SAT_MU, SAT_MU_LO = 0.1, 0.05
+BIG = 1000000
+# tire relaxation (the slip angle the tire works at lags the kinematic one
+# by the relaxation length sigma: sigma d(alpha_t)/dt + |vx| alpha_t = |vx|
+# alpha, Pacejka ch. 7.2): sigma at the axle's static load from the tire
+# file (LATERAL_STIFFNESS: sigma = C_alpha / c_lat; else the MF 5.2 PTY1 /
+# PTY2 form; neither: no lag; at most SIG_MAX), in proportion to each
+# wheel's load, at least SIG_MIN [m]; the exponent |vx| dt / sigma is capped
+# at RLX_A_MAX (exp(-16) is below one Q15.16 unit)
+SIG_MIN, SIG_MAX, RLX_A_MAX = 0.02, 5.0, 16.0
+# the axle forces' yaw balance: the yaw moment the model lacks (the yaw-rate
+# update's correction of the predicted r, as a yaw acceleration clamped at
+# MB_RACC [rad/s^2], times Iz) moves force from one axle to the other at
+# the outputs, low-passed over MB_TAU [s]; not while |ax| >= MB_AX [m/s^2]
+# (braking or driving: the model's left / right Fx moment errs there too)
+MB_TAU, MB_RACC, MB_AX = 0.05, 20.0, 1.0
+# the axle forces' lateral balance: the lateral force the model lacks after
+# the updates (m times the measured ay less the model's at the updated
+# state), low-passed over SB_TAU [s], split between the axles in their
+# static shares (lr / l front, lf / l rear: no yaw moment, that is the yaw
+# balance's); not while |ax| >= MB_AX, like the yaw balance
+SB_TAU = 0.02
+# mu's column of the Jacobians is the secant over mu's own uncertainty
+# (statistical linearization, MU_SECANT): from mu down to mu - dmu, dmu =
+# SEC_K sigma_mu within [SEC_MIN, mu - mu_lb] (mu_lb: the friction in use,
+# mu's lower bound), on the tire's lateral
+# force shape |Fy| / Fz at static load tabulated at SHAPE_N + 1 slip angles
+# over [0, alpha_pk]; no column below SHAPE_F_MIN of Fz (the origin, where
+# the secant is 0 / 0 and the column 0 anyway). The tangent is 0 while the
+# model tire is linear, however far from it a lower mu would take it: at
+# the snow onset mu stayed at its prior while vy took the ay deficit.
+# SEC_K 3: the prior 1.0 +- 0.3 puts snow 2.3 sigma away, and a 1-sigma
+# secant saw only the top of that span (mu stalled at 0.55 - 0.6)
+SHAPE_N, SEC_K, SEC_MIN, SHAPE_F_MIN = 16, 3.0, 0.02, 0.01
+MU_SECANT = True
+# the updates' correction moves the lagged slip angles along the kinematic
+# slope (RLX_CARRY; off only to measure what it does: TireRelaxationTests)
+RLX_CARRY = True
+# the ay noise's utilization is the model's at mu + AY_U_K sigma_mu while
+# the car is at its limit (the limit test) and mu is not held by the
+# understeer bound (its cut is no evidence to confirm): at a mu still too high the
+# model's tires sit at their own limit, R grew 150 x and the ay update could
+# no longer pull mu down (snow sine with dwell)
+AY_U_K = 0.5
+# the output forces move with the update's change of mu along d Fy / d mu,
+# as they do with its change of slip angle (OUT_MU; off only to measure)
+OUT_MU = True
+# the balances' memory is cleared at the understeer bound's cut only when
+# the cut is larger than CUT_CLEAR: a small cut re-armed the bound every
+# few steps and the balances never built up (step steer snow)
+CUT_CLEAR = 0.05
+# vx extrapolated over the latency like vy and r (VX_AT_OUTPUT) and the
+# understeer bound applied as an estimate projection (PROJECT_US_BOUND):
+# off only to measure what they do (SpinOutputTests)
+VX_AT_OUTPUT = True
+PROJECT_US_BOUND = True
+# the steering latency's alignment (STEER_ALIGN) and the axle forces'
+# lateral balance (LAT_BALANCE): off only to measure what they do
+# (SteeringLatencyTests, LateralBalanceTests)
+STEER_ALIGN = True
+LAT_BALANCE = True
+
+# validity and flag bits (grip_est.h)
+V_VX, V_BETA, V_YAW, V_YAW_REF, V_FZ = 1, 2, 4, 8, 16
+V_AXLE, V_MU, V_STEER, V_MARGIN = 1 << 9, 1 << 10, 1 << 11, 1 << 12
+F_STANDSTILL, F_REVERSING, F_LOW_SPEED, F_NO_WHEELS = 1, 2, 4, 8
+F_NO_STEER, F_NO_YAW, F_NO_AY, F_NO_AX = 16, 32, 64, 128
+F_SATURATED, F_STEER_LIMIT, F_WHEEL_LOCK, F_WHEEL_SPIN = 256, 512, 1024, 2048
+F_EXCITED, F_TIRE_ERROR, F_RESET = 4096, 8192, 16384
+F_MODEL_MISFIT = 1 << 15
+F_INPUT_DEGRADED = 1 << 16   # set by grip_monitor_gate (monitor_ref.gate), not by the estimator
+
+
+def V_WHEEL(i):
+    return 1 << (5 + i)
+
+
+def config(tire_front, tire_rear=None, rate_hz=100, **kw):
+    """The passenger car of grip_est_config_default (the simulator's
+    'passenger' set) with tire parameter dicts (tir.load_params)."""
+    c = dict(mass=1450.0, iz=2450.0, lf=1.10, lr=1.60, track_f=1.55, track_r=1.53, h_cg=0.55,
+             steer_ratio=15.5, wheel_radius=0.30, roll_split_front=0.60, roll_gradient=0.0088,
+             rate_hz=int(rate_hz),
+             dt=1.0 / int(rate_hz),
+             speed_ref_mu=0,
+             cla=0.0, aero_front=0.5, air_density=1.2, cda=0.0, crr=0.0, tan_bank=0.0, tan_grade=0.0,
+             tire=(tire_front, tire_rear if tire_rear is not None else tire_front))
+    c.update(kw)
+    return c
+
+
+def _clamp(x, lo, hi):
+    return min(max(x, lo), hi)
+
+
+def _between(x, f):
+    """x limited to the interval between 0 and f (either sign of f)."""
+    return np.clip(x, np.minimum(f, 0.0), np.maximum(f, 0.0))
+
+
+def _wheel_velocity(vx, vy, r, xa, ya, cdi, sdi):
+    """Velocity of each wheel's contact point in its own (steered) frame
+    (est.c writes these four lines out in the tire loop and in
+    lateral_outputs: a C helper cost stack on the M0+)."""
+    vcx = vx - r * ya
+    vcy = vy + r * xa
+    return cdi * vcx + sdi * vcy, cdi * vcy - sdi * vcx
+
+
+def spread_reference(v_mean, vmin, vmax, vx_pred):
+    """Wheel-speed reference from the mean of the trusted wheels when they
+    spread wider than the threshold: a > 0 when the mean sits below the
+    middle (one wheel high, e.g. a driven wheel slipping) moves it towards
+    vmin, a < 0 towards vmax; continuous in every input (no switching)."""
+    sp = vmax - vmin
+    thr = SPREAD_REL * abs(vx_pred) + SPREAD_ABS
+    if sp <= thr:
+        return v_mean
+    w = min((sp - thr) / thr, 1.0)
+    a = _clamp(4.0 * (vmax + vmin - 2.0 * v_mean) / sp, -1.0, 1.0)
+    if a > 0.0:
+        return v_mean + w * a * (vmin - v_mean)
+    return v_mean - w * a * (vmax - v_mean)
+
+
+def _tire(P, kappa, alpha, fz, vx):
+    """Vectorized grip_mf_eval (left-fitted convention, combined slip)."""
+    o = mf.evaluate(P, kappa, alpha, 0.0, fz, None, vx)
+    return np.asarray(o["fx"], float), np.asarray(o["fy"], float), np.asarray(o["mz"], float)
+
+
+def shape_lookup(row, y):
+    """Linear interpolation in a table of len(row) values over y in [0, 1]
+    (arith.h r_table_lerp: the index from the truncated product)."""
+    m = len(row) - 1
+    t = _clamp(y, 0.0, 1.0) * m
+    j = min(int(t), m - 1)
+    return row[j] + (t - j) * (row[j + 1] - row[j])
+
+
+def _peak_friction(P, fz, longitudinal=False):
+    """Peak |Fy| / Fz at load fz over alpha = 0.02 .. 0.5 rad and its slip
+    angle; longitudinal: peak |Fx| / Fz over the braking slips kappa =
+    -0.02 .. -0.5 and |kappa| there (grip_est_init's peak_friction)."""
+    s = 0.02 * np.arange(1, 26)
+    if longitudinal:
+        f, _, _ = _tire(P, -s, np.zeros(25), np.full(25, fz), np.full(25, 20.0))
+    else:
+        _, f, _ = _tire(P, np.zeros(25), s, np.full(25, fz), np.full(25, 20.0))
+    u = np.abs(f / fz)
+    return float(np.max(u)), float(s[int(np.argmax(u))])
+
+
+def _ay_noise(util, fz):
+    """Noise of the ay measurement. At the friction limit the tire model is
+    least certain: R grows from utilization U_R0 to 1 by up to R_LIM x with
+    the most-used tire, and by up to R_AXLE x more with an axle's
+    load-weighted mean utilization, i.e. with both tires of an axle at the
+    limit: in a spin the model, past its peak, pulls vy the wrong way, while
+    one tire's utilization alone may be a faulty wheel speed's slip
+    (docs/estimator.md). The caller passes the utilizations at mu + AY_U_K
+    sigma_mu (scaled by mu / (mu + AY_U_K sigma_mu))."""
+    u = np.minimum(util, 1.0)
+    u_axle = max((u[2 * a] * fz[2 * a] + u[2 * a + 1] * fz[2 * a + 1]) / max(fz[2 * a] + fz[2 * a + 1], 1.0)
+                 for a in range(2))
+    ramp = lambda x: _clamp((x - U_R0) / (1.0 - U_R0), 0.0, 1.0)
+    return R_AY * (1.0 + R_LIM * ramp(float(np.max(util))) + R_AXLE * ramp(float(u_axle)))
+
+
+def _relax_length(P, c_alpha, fz):
+    """Lateral relaxation length [m] at load fz (0: the file gives none)."""
+    c_lat = float(P.get("lateral_stiffness", 0.0))
+    if c_lat > 0.0:
+        return min(c_alpha / c_lat, SIG_MAX)
+    pty1, pty2 = float(P.get("pty1", 0.0)), float(P.get("pty2", 0.0))
+    lfzo = float(P.get("lfzo", 1.0))
+    fz0 = lfzo * float(P.get("fnomin", 0.0))
+    if pty1 > 0.0 and pty2 > 0.0 and fz0 > 0.0:
+        return min(pty1 * math.sin(2.0 * math.atan(fz / (pty2 * fz0))) * float(P.get("unloaded_radius", 0.0)) * lfzo,
+                   SIG_MAX)
+    return 0.0
+
+
+def _relax_share(dist, sig):
+    """1 - exp(-dist / sig) per wheel: the share of the way the lagged slip
+    angle moves towards the kinematic one over the distance dist; 1 where
+    the tire file gives no relaxation length."""
+    out = np.ones(4)
+    for i in range(4):
+        if sig[i] > 0.0:
+            out[i] = 1.0 if dist[i] >= RLX_A_MAX * sig[i] else 1.0 - math.exp(-dist[i] / sig[i])
+    return out
+
+
+class Estimator:
+    def __init__(self, cfg):
+        self.cfg = cfg
+        c = cfg
+        l = c["lf"] + c["lr"]
+        m_g = G * 0.5 * c["mass"]
+        self.fz_static = [c["lr"] / l * m_g, c["lf"] / l * m_g]
+        self.c_alpha, self.c_kappa, self.mu0 = [0.0, 0.0], [0.0, 0.0], [0.0, 0.0]
+        self.alpha_pk = [0.5, 0.5]
+        self.kappa_pk = [0.5, 0.5]
+        self.mu0_k = [0.0, 0.0]
+        self.sig_a = [0.0, 0.0]
+        self.fy_shape = [None, None]
+        self.inv_apk = [0.0, 0.0]
+        for a in range(2):
+            P = c["tire"][a]
+            fz = self.fz_static[a]
+            _, fy, _ = _tire(P, np.zeros(2), np.array([0.01, -0.01]), np.full(2, fz), np.full(2, 20.0))
+            self.c_alpha[a] = (fy[1] - fy[0]) / 0.02
+            fx, _, _ = _tire(P, np.array([0.01, -0.01]), np.zeros(2), np.full(2, fz), np.full(2, 20.0))
+            self.c_kappa[a] = (fx[0] - fx[1]) / 0.02
+            # peak at static load; its load sensitivity from the peak at 1.5 x
+            # (understeer-limit friction measurement)
+            self.mu0[a], self.alpha_pk[a] = _peak_friction(P, fz)
+            self.mu0_k[a] = 2.0 * (_peak_friction(P, 1.5 * fz)[0] - self.mu0[a])
+            # the braking slip of the longitudinal peak (the sliding branch in step())
+            self.kappa_pk[a] = _peak_friction(P, fz, longitudinal=True)[1]
+            if self.c_alpha[a] <= 0 or self.c_kappa[a] <= 0 or self.mu0[a] < 0.05:
+                raise ValueError("tire model gives no cornering/slip stiffness or friction")
+            self.sig_a[a] = _relax_length(P, self.c_alpha[a], fz)
+            # the lateral force's shape for mu's secant (MU_SECANT)
+            sj = self.alpha_pk[a] * np.arange(SHAPE_N + 1) / SHAPE_N
+            _, fy, _ = _tire(P, np.zeros(SHAPE_N + 1), sj, np.full(SHAPE_N + 1, fz), np.full(SHAPE_N + 1, 20.0))
+            self.fy_shape[a] = list(np.abs(fy) / fz)
+            self.inv_apk[a] = 1.0 / self.alpha_pk[a]
+        cf, cr = 2 * self.c_alpha[0], 2 * self.c_alpha[1]
+        self.k_us = 100.0 * c["mass"] * (c["lr"] * cr - c["lf"] * cf) / (l * l * cf * cr)
+        self.q = Q_C / c["rate_hz"]
+        self.ay_fac = 1.0 / (1.0 + G * c["roll_gradient"])
+        # road plane and downforce (grip_est_init, same order)
+        sx, sy = c.get("tan_grade", 0.0), c.get("tan_bank", 0.0)
+        fzn = 1.0 / math.sqrt(1.0 + sx * sx + sy * sy)
+        kq = 0.25 * c.get("air_density", 1.2) * c.get("cla", 0.0)
+        self.plane = sx != 0.0 or sy != 0.0
+        self.fz_base = [f * fzn for f in self.fz_static] if self.plane else list(self.fz_static)
+        af = c.get("aero_front", 0.5)
+        self.k_aero = [kq * af, kq * (1.0 - af)]
+        self.k_drag = 0.5 * c.get("air_density", 1.2) * c.get("cda", 0.0)
+        self.f_roll = c.get("crr", 0.0) * G * c["mass"]
+        rate = c["rate_hz"]
+        lag = c.get("steer_lag", 0.0)
+        self.steer_k = min(1.0 / (lag * rate), 1.0) if lag > 0.0 else 1.0
+        # the steering angle's age against the inertial data's: per step of
+        # the angle's change, how far to move it to the state's time (the
+        # inertial data's) and to the outputs' time (now)
+        sl = c.get("steer_latency", 0.0)
+        self.st_k_in = (sl - c.get("latency", 0.0)) * rate
+        self.st_k_out = sl * rate
+        self.sb_a = min(1.0 / (SB_TAU * rate), 1.0)
+        self.sb_f_share = c["lr"] / (c["lf"] + c["lr"])
+        self.lim_n = int(math.floor(LIM_T * rate + 0.5))
+        self.hold_steps = max(1, int(math.floor(HOLD_T * rate + 0.5)))
+        self.nowheel_steps = int(math.floor(NOWHEEL_T * rate + 0.5))
+        self.dr_n = int(math.floor(DR_T * rate + 0.5))
+        self.reset()
+
+    def reset(self):
+        self.vx = 0.0
+        self.psi = 0.0
+        self.x = np.array([0.0, 0.0, MU_INIT, 0.0])
+        self.P = np.diag(P0).astype(float)
+        self.hold = [0.0] * 5
+        self.age = [BIG] * 5
+        self.no_wheel_steps = BIG
+        self.dr_steps = 0
+        self.ax_off = 0.0
+        self.r_lin_f = 0.0
+        self.delta_f = 0.0
+        self.delta_prev = 0.0        # road-wheel angle of the previous step (steering latency)
+        self.delta_prev_ok = False
+        self.lat_sb = 0.0            # lateral force the model lacks (lateral balance) [N]
+        self.lim_steps = 0
+        self.us_steps = 0
+        self.us_clamped = False
+        self.us_low = False     # mu held down by the understeer bound, unconfirmed since
+        self.mu_pre = 0.0       # mu before that bound
+        self.use_b = 0.0        # front friction in use at the bound's last step
+        self.rel_steps = 0
+        self.active = False
+        self.vx_init = False
+        self.nis_f = 0.0
+        self.sat_f = 0.0
+        self.sat_cap = False
+        self.misfit = False
+        self.mb_f = 0.0              # front-axle force the model's yaw moment lacks [N]
+        self.alpha_t = np.zeros(4)   # lagged (relaxed) slip angles
+        self.rlx_init = False        # alpha_t set since the observer started
+
+    # -- Kalman pieces (scaled units) --
+    def _condition(self):
+        P = self.P
+        for i in range(NX):
+            P[i, i] = _clamp(P[i, i], P_MIN, P_MAX)
+        sd = np.sqrt(np.diag(P))
+        for i in range(NX):
+            for j in range(i + 1, NX):
+                b = 0.99 * sd[i] * sd[j]
+                P[i, j] = P[j, i] = _clamp(P[i, j], -b, b)
+
+    def _update(self, h, nu, r, mu_ok, b_ok=True, keep_p=False):
+        P = self.P
+        ph = P @ h
+        s = r + float(h @ ph)
+        k = ph / s
+        ks = ph.copy()
+        if not mu_ok:
+            k[2] = 0.0
+            ks[2] = 0.0
+        if not b_ok:
+            k[3] = 0.0
+            ks[3] = 0.0
+        lim = NU_SIGMA * math.sqrt(max(s, 0.0))
+        nu = _clamp(nu, -lim, lim)
+        self.x = self.x + k * nu * S_X
+        if not keep_p:
+            Pn = P - np.outer(k, ph) - np.outer(ph, k) + np.outer(k, ks)
+            self.P = 0.5 * (Pn + Pn.T)
+        w = _clamp(nu / math.sqrt(s), -NU_SIGMA, NU_SIGMA)
+        return w * w
+
+    def _vx_rate(self, ax, r, vy, g_x):
+        """vx's rate in the body frame (est.c vx_rate): ax less its learned
+        offset, plus r vy, plus gravity along the grade."""
+        return ax - self.ax_off + r * vy + g_x
+
+    def _mu_secant(self, alpha, fy, mu, floor):
+        """d Fy / d mu of each wheel as the secant of mu F0(alpha / mu) from
+        mu down to mu - dmu (MU_SECANT), on the tabulated force shape: the
+        ratio F(mu - dmu) / F(mu) of the shape applied to the wheel's own
+        force (its load and combined slip), within [0, F / mu] like the
+        tangent it replaces."""
+        sig = math.sqrt(self.P[2, 2]) * S[2]
+        dmu = max(min(SEC_K * sig, mu - floor), SEC_MIN)
+        mu2 = mu - dmu
+        inv_mu, inv_mu2, inv_dmu = 1.0 / mu, 1.0 / mu2, 1.0 / dmu
+        r2 = mu2 * inv_mu
+        out = np.zeros(4)
+        for i in range(4):
+            a = i // 2
+            f1 = shape_lookup(self.fy_shape[a], abs(alpha[i]) * inv_mu * self.inv_apk[a])
+            if f1 > SHAPE_F_MIN:
+                f2 = shape_lookup(self.fy_shape[a], abs(alpha[i]) * inv_mu2 * self.inv_apk[a])
+                q = _clamp((1.0 - r2 * (f2 / f1)) * inv_dmu, 0.0, inv_mu)
+                out[i] = fy[i] * q
+        return out
+
+    def _take(self, value, valid, idx, slot, lim, st):
+        ok = False
+        if valid[idx]:
+            v = float(value[idx])
+            if math.isfinite(v):
+                if abs(v) < lim:
+                    ok = True
+                    self.hold[slot] = v
+                    self.age[slot] = 0
+                else:
+                    st["flags"] |= F_SATURATED
+        if not ok and self.age[slot] < BIG:
+            self.age[slot] += 1
+        return self.age[slot] <= self.hold_steps
+
+    def step(self, value, valid):
+        c = self.cfg
+        dt = c["dt"]
+        st = {"flags": 0}
+        vbits = 0
+        o = dict(vx=0.0, vy=0.0, beta=0.0, yaw_rate=0.0, yaw_rate_ref=0.0, yaw_error=0.0, delta=0.0,
+                 kappa=np.zeros(4), alpha=np.zeros(4), fz=np.zeros(4), fx=np.zeros(4), fy=np.zeros(4),
+                 mz=np.zeros(4), util=np.zeros(4), fy_axle=np.zeros(2), util_axle=np.zeros(2), mu=0.0,
+                 mu_conf=0.0, yaw_rate_bias=0.0, fy_margin_front=0.0, steer_char=0)
+        steer_ok = self._take(value, valid, STEER, 0, c["steer_ratio"] * DELTA_MAX * 2.0, st)
+        yaw_ok = self._take(value, valid, YAW, 1, YAW_MAX, st)
+        ax_ok = self._take(value, valid, AX, 2, ACC_MAX, st)
+        ay_ok = self._take(value, valid, AY, 3, ACC_MAX, st)
+        vs_ok = self._take(value, valid, VSPEED, 4, WS_MAX, st) and self.age[4] == 0
+        flags = st["flags"]
+        if not steer_ok:
+            flags |= F_NO_STEER
+        if not yaw_ok:
+            flags |= F_NO_YAW
+        if not ax_ok:
+            flags |= F_NO_AX
+        if not ay_ok:
+            flags |= F_NO_AY
+        delta = self.hold[0] / c["steer_ratio"]
+        if abs(delta) > DELTA_MAX:
+            flags |= F_STEER_LIMIT
+            delta = _clamp(delta, -DELTA_MAX, DELTA_MAX)
+        if not steer_ok:
+            delta = 0.0
+        # the road wheels lag the steering signal by the configured first
+        # order (steer-by-wire, a logged steering command): every use of the
+        # angle below, tire slip angles and the yaw reference, takes the lagged one
+        if steer_ok and self.steer_k < 1.0:
+            self.delta_f += self.steer_k * (delta - self.delta_f)
+            delta = self.delta_f
+        else:
+            self.delta_f = delta
+        # Steering latency (config 'steer_latency' against 'latency'): the
+        # state lives at the inertial data's time, the outputs now; the angle
+        # moves along its last step's change to both (sine with dwell: the
+        # front slip angles led the truth's by the steering's 10 ms fresher
+        # data, and at the outputs lagged it)
+        d_step = delta - self.delta_prev if (steer_ok and self.delta_prev_ok and STEER_ALIGN) else 0.0
+        self.delta_prev, self.delta_prev_ok = delta, steer_ok
+        delta_o = _clamp(delta + self.st_k_out * d_step, -DELTA_MAX, DELTA_MAX)
+        delta = _clamp(delta + self.st_k_in * d_step, -DELTA_MAX, DELTA_MAX)
+        cd, sd = math.cos(delta), math.sin(delta)
+        # the outputs' angle to first order about the state's (a few mrad)
+        dd_o = delta_o - delta
+        cd_o, sd_o = cd - sd * dd_o, sd + cd * dd_o
+        # yaw rate corrected by the estimated gyro bias (state x[3])
+        yaw = self.hold[1] - B_UNIT * self.x[3] if yaw_ok else 0.0
+        ax = self.hold[2] if ax_ok else 0.0
+        ay = self.ay_fac * self.hold[3] if ay_ok else 0.0
+        # road plane: gravity along the body axes at the heading since reset
+        g_x = g_y = 0.0
+        if self.plane:
+            cp, sp = math.cos(self.psi), math.sin(self.psi)
+            sx = c["tan_grade"] * cp + c["tan_bank"] * sp
+            sy = c["tan_bank"] * cp - c["tan_grade"] * sp
+            g_x = -G * sx / math.sqrt(1.0 + sx * sx)
+            g_y = -G * sy / math.sqrt(1.0 + sy * sy)
+            self.psi += yaw * dt
+            if self.psi > math.pi:
+                self.psi -= 2.0 * math.pi
+            elif self.psi < -math.pi:
+                self.psi += 2.0 * math.pi
+        xw = [c["lf"], c["lf"], -c["lr"], -c["lr"]]
+        yw = [0.5 * c["track_f"], -0.5 * c["track_f"], 0.5 * c["track_r"], -0.5 * c["track_r"]]
+
+        # longitudinal speed
+        r_now = self.x[1] if self.active else yaw
+        vy_now = self.x[0] if self.active else 0.0
+        vx_pred = self.vx + self._vx_rate(ax, r_now, vy_now, g_x) * dt
+        ws, ws_ok = [0.0] * 4, [False] * 4
+        n_ws, vmin, vmax, vsum = 0, 1000.0, -1000.0, 0.0
+        lock = spin = False
+        wheels_ok = True
+        vcs, outl = [0.0] * 4, [False] * 4
+        n_good = 0
+        for i in range(4):
+            v = float(value[i])
+            ws_ok[i] = bool(valid[i]) and math.isfinite(v) and abs(v) < WS_MAX
+            if valid[i] and not ws_ok[i]:
+                flags |= F_SATURATED
+            ws[i] = v if ws_ok[i] else 0.0
+            if ws_ok[i]:
+                vc = ws[i] / cd if i < 2 else ws[i]
+                vc = vc + r_now * yw[i]
+                vcs[i] = vc
+                n_ws += 1
+                if vx_pred > V_ON:
+                    if vc < (1.0 - WHEEL_DEV) * vx_pred - 0.5:
+                        lock = True
+                        outl[i] = True
+                    if vc > (1.0 + WHEEL_DEV) * vx_pred + 0.5:
+                        spin = True
+                        outl[i] = True
+                if not outl[i]:
+                    n_good += 1
+            else:
+                wheels_ok = False
+        # every valid wheel off the prediction on the side the measured
+        # acceleration rules out (all above it while the car slows, all below
+        # while it speeds up): no wheel spins while the car decelerates and
+        # none locks while it accelerates, so the prediction is what is lost
+        # (after a speed-reference fault): the wheels are taken
+        if (n_good == 0 and n_ws > 0 and ax_ok
+                and ((spin and not lock and ax <= -DR_AX) or (lock and not spin and ax >= DR_AX))):
+            outl = [False] * 4
+            n_good = n_ws
+            lock = spin = False
+        for i in range(4):
+            if ws_ok[i] and (not outl[i] or n_good == 0):
+                vmin, vmax, vsum = min(vmin, vcs[i]), max(vmax, vcs[i]), vsum + vcs[i]
+        if n_good > 0:
+            n_ws = n_good
+        if lock:
+            flags |= F_WHEEL_LOCK
+        if spin:
+            flags |= F_WHEEL_SPIN
+        k = 0.0
+        v_ref = 0.0
+        if vs_ok:
+            v_ref, k = self.hold[4], K_HI
+        elif n_ws > 0:
+            if ax < -AX_TH:
+                v_ref = vmax
+            elif ax > AX_TH:
+                v_ref = vmin
+            else:
+                v_ref = spread_reference(vsum / n_ws, vmin, vmax, vx_pred)
+            agree = (vmax - vmin) <= 0.5 + 0.05 * abs(vx_pred)
+            k = ((K_MID if (lock or spin) else K_HI) if agree else K_LO)
+            trusted = agree and not lock and not spin
+            # braking slips every wheel (the brakes act on all four): the
+            # fastest one is still slower than the car
+            if ax < -AX_TH and v_ref < vx_pred:
+                k = min(k, K_SLIP)
+                trusted = False
+            # the ax offset (unconfigured grade, accelerometer bias) from the
+            # wheels while they are trusted (all agree, none locked or
+            # spinning, not braking below the prediction): a second-order
+            # complementary filter with vx
+            if trusted and vx_pred > V_ON and ax_ok and self.vx_init:
+                self.ax_off = _clamp(self.ax_off - K_OFF * dt * (v_ref - vx_pred), -AX_OFF_MAX, AX_OFF_MAX)
+        # every wheel locked or spinning (every valid wheel is an outlier)
+        # while the car still decelerates or accelerates: no wheel tells the
+        # speed, integrate ax
+        dead_reck = n_good == 0 and n_ws > 0 and abs(ax) >= DR_AX and ax_ok and not vs_ok
+        if dead_reck:
+            k = 0.0
+            self.dr_steps = min(self.dr_steps + 1, BIG)
+        else:
+            self.dr_steps = 0
+        if vs_ok or n_ws > 0:
+            self.no_wheel_steps = 0
+        else:
+            flags |= F_NO_WHEELS
+            if self.no_wheel_steps < BIG:
+                self.no_wheel_steps += 1
+        if not self.vx_init:
+            if vs_ok or n_ws > 0:
+                self.vx = v_ref
+                self.vx_init = True
+        else:
+            self.vx = vx_pred + min(k * dt, 1.0) * (v_ref - vx_pred)
+        stand = n_ws > 0 and vmax < V_STAND and vmin > -V_STAND and not dead_reck
+        # the gyro reads its bias at rest: every wheel at rest and the car
+        # (nearly) stopped already by the prediction (wheels locked at speed
+        # are not a standstill)
+        at_rest = stand and abs(vx_pred) < V_ON
+        if stand and not vs_ok:
+            self.vx = 0.0
+        self.vx = _clamp(self.vx, -WS_MAX, WS_MAX)
+        vx = self.vx
+        if abs(vx) < V_STAND:
+            flags |= F_STANDSTILL
+        if vx < -V_STAND:
+            flags |= F_REVERSING
+        if self.vx_init and self.no_wheel_steps <= self.nowheel_steps and self.dr_steps <= self.dr_n:
+            vbits |= V_VX
+
+        # loads
+        l = c["lf"] + c["lr"]
+        m = c["mass"]
+        dlong = c["h_cg"] / (2 * l) * (ax * m)
+        may_h = c["h_cg"] * (ay * m)
+        dlat_f = c["roll_split_front"] * may_h / c["track_f"]
+        dlat_r = (1 - c["roll_split_front"]) * may_h / c["track_r"]
+        # static load on the road plane plus downforce 0.5 rho C_L A vx^2
+        v2 = vx * vx
+        fz0 = [self.fz_base[0] + self.k_aero[0] * v2, self.fz_base[1] + self.k_aero[1] * v2]
+        fz = np.array([fz0[0] - dlong - dlat_f, fz0[0] - dlong + dlat_f,
+                       fz0[1] + dlong - dlat_r, fz0[1] + dlong + dlat_r])
+        fz = np.maximum(fz, 0.0)
+        o["fz"] = fz
+        if ax_ok and ay_ok:
+            vbits |= V_FZ
+        fz_sum_f = fz[0] + fz[1]
+
+        active = self.active
+        if active and (vx < V_OFF or not steer_ok or not (vbits & V_VX)):
+            active = False
+        if not active and vx >= V_ON and steer_ok and yaw_ok and (vbits & V_VX):
+            active = True
+            self.x[0], self.x[1] = 0.0, yaw
+            for i in range(2):
+                for j in range(NX):
+                    self.P[i, j] = self.P[j, i] = 0.0
+            self.P[0, 0], self.P[1, 1] = P0[0], P0[1]
+            flags |= F_RESET
+        self.active = active
+        if not active:
+            flags |= F_LOW_SPEED
+            self.rlx_init = False
+            self.mb_f = 0.0
+            self.lat_sb = 0.0
+            self.x[0], self.x[1] = 0.0, yaw
+            self.r_lin_f = yaw
+            self.lim_steps = 0
+            self.us_steps = 0
+            self.us_clamped = False
+            self.us_low = False
+            self.rel_steps = 0
+            # gyro bias: random walk; at standstill (every wheel at rest) the
+            # yaw rate is zero, so the gyro reads its bias
+            self.P[3, 3] = self.P[3, 3] + self.q[3]
+            if at_rest and yaw_ok and wheels_ok and ax_ok and abs(ax) < B_AX:
+                self._update(np.array([0.0, 0.0, 0.0, S[3] / S[1]]), (self.hold[1] - B_UNIT * self.x[3]) / S[1], R_YAW,
+                             False)
+                self._condition()
+                self.x[3] = _clamp(self.x[3], -B_MAX, B_MAX)
+        mu = float(self.x[2])
+        excited = False
+
+        if active:
+            vy, r = float(self.x[0]), float(self.x[1])
+            # the friction in use bounds mu from below; mu's secant spans no
+            # lower (a steering offset's onset took mu 1.0 -> 0.49 in 0.05 s
+            # on a dry road with the secant down to MU_MIN)
+            a_tot = math.sqrt(ax * ax + ay * ay)
+            mu_lb = max(MU_MIN, min(a_tot / (G * max(self.mu0)), MU_MAX) if (ax_ok and ay_ok) else MU_MIN)
+            cdi = np.array([cd, cd, 1.0, 1.0])
+            sdi = np.array([sd, sd, 0.0, 0.0])
+            xa, ya = np.array(xw), np.array(yw)
+            vxw, vyw = _wheel_velocity(vx, vy, r, xa, ya, cdi, sdi)
+            den = np.maximum(np.abs(vxw), V_OFF)
+            t = vyw / den
+            alpha_k = np.arctan(t)
+            # the tires work at the lagged slip angle (relaxation, SIG_MIN);
+            # the Jacobians below keep the kinematic slope: the lag settles
+            # within sigma / |vx| (~20 ms at speed), inside the filter's horizon
+            sig = [max(self.sig_a[i // 2] * fz[i] / self.fz_static[i // 2], SIG_MIN) if self.sig_a[i // 2] > 0.0
+                   else 0.0 for i in range(4)]
+            phi = _relax_share(np.abs(vxw) * dt, sig)
+            if not self.rlx_init:
+                self.alpha_t, self.rlx_init = alpha_k.copy(), True
+            alpha = self.alpha_t + phi * (alpha_k - self.alpha_t)
+            # (the updates' correction of vy was carried into alpha_t at the
+            # end of the last step, below; what is lagged here is the rest of
+            # the motion since then)
+            self.alpha_t = alpha.copy()
+            kappa = np.array([_clamp((ws[i] - vxw[i]) / den[i], -1.0, 1.5) if ws_ok[i] else 0.0
+                              for i in range(4)])
+            lever = xa * cdi + ya * sdi
+            side = np.array([1.0, -1.0, 1.0, -1.0])
+            # similarity up to the peak slip ratio; past it the tire's own
+            # sliding branch, shifted to start at the stretched peak (a locked
+            # wheel slides at the tire's sliding ratio of the road's friction)
+            kpk = np.array([self.kappa_pk[0], self.kappa_pk[0], self.kappa_pk[1], self.kappa_pk[1]])
+            ak = np.abs(kappa)
+            tk = np.clip(np.sign(kappa) * np.where(ak <= mu * kpk, ak / mu, kpk + ak - mu * kpk), -1.5, 1.5)
+            apk = np.array([self.alpha_pk[0], self.alpha_pk[0], self.alpha_pk[1], self.alpha_pk[1]])
+            ta = np.clip(alpha / mu, -apk, apk) * side
+            fx = np.zeros(4)
+            fy = np.zeros(4)
+            mz = np.zeros(4)
+            for a in range(2):
+                sl = slice(2 * a, 2 * a + 2)
+                fxa, fya, mza = _tire(c["tire"][a], tk[sl], ta[sl], fz[sl], vxw[sl])
+                fx[sl], fy[sl], mz[sl] = fxa, fya * side[sl], mza * side[sl]
+            fx, fy, mz = mu * fx, mu * fy, mu * mz
+            o.update(kappa=kappa, alpha=alpha, fx=fx, fy=fy, mz=mz)
+            for i in range(4):
+                if ws_ok[i]:
+                    vbits |= V_WHEEL(i)
+            axle = np.array([0, 0, 1, 1])
+            fzst = np.array([self.fz_static[a] for a in axle])
+            mu0w = np.array([self.mu0[a] for a in axle])
+            caw = np.array([self.c_alpha[a] for a in axle])
+            ckw = np.array([self.c_kappa[a] for a in axle])
+            big = fz > 50.0
+            fxn = np.where(big, fx / np.where(big, fz, 1.0), 0.0)
+            fyn = np.where(big, fy / np.where(big, fz, 1.0), 0.0)
+            fzr = np.where(big, fz / fzst, 0.0)
+            u = np.sqrt(fxn ** 2 + fyn ** 2) / (mu * mu0w)
+            o["util"] = np.minimum(u, 1.5)
+            g = np.maximum(G_MIN, np.sqrt(1.0 - np.minimum(u, 1.0)))
+            ca = fzr * caw
+            # Excitation: the utilization the slips would cause on the tire's
+            # own friction (mu = 1), never measured against the estimate
+            # itself, which would let a falling mu excite its own adaptation.
+            cap = np.maximum(mu0w * fz, 50.0)
+            ulin_y = np.abs(alpha) * (fzr * caw) / cap
+            ulin_x = np.abs(kappa) * (fzr * ckw) / cap
+            umax = float(np.max(np.maximum(ulin_y, ulin_x)))
+            umax_x = float(np.max(ulin_x))
+            c2 = 1.0 / (1.0 + np.clip(t, -100.0, 100.0) ** 2)
+            dady = c2 * cdi / den
+            dadr = c2 * lever / den
+            dfda = -(g * ca)
+            # d(mu F0(s/mu))/dmu = (F - s F')/mu lies between 0 (linear) and
+            # F/mu (sliding) for a concave force curve: the slope
+            # approximation may not leave that interval (it flips the sign)
+            if MU_SECANT:
+                dfdmu = self._mu_secant(alpha, fy, mu, mu_lb)
+            else:
+                dfdmu = _between(fy - alpha * dfda, fy) / mu
+            dfy_dvy, dfy_dr = dady * dfda, dadr * dfda
+            jay = [float(np.sum(cdi * dfy_dvy)), float(np.sum(cdi * dfy_dr)), float(np.sum(cdi * dfdmu))]
+            jr = [float(np.sum(lever * dfy_dvy)), float(np.sum(lever * dfy_dr)), float(np.sum(lever * dfdmu))]
+            dfxdk = g * (fzr * ckw)
+            dfxdmu = _between(fx - kappa * dfxdk, fx) / mu
+            jax_mu = float(np.sum(cdi * dfxdmu - sdi * dfdmu))
+            fbx = cdi * fx - sdi * fy
+            fby = sdi * fx + cdi * fy
+            sfx, sfy = float(np.sum(fbx)), float(np.sum(fby))
+            smz = float(np.sum(xa * fby - ya * fbx + mz))
+            for a in range(2):
+                fzx = fz[2 * a] + fz[2 * a + 1]
+                fxa = fx[2 * a] + fx[2 * a + 1]
+                if fzx > 100.0:
+                    o["util_axle"][a] = min(math.hypot(fxa / fzx, (fy[2 * a] + fy[2 * a + 1]) / fzx) / (mu * self.mu0[a]), 1.5)
+            # the measured ax also carries the drag and the rolling resistance
+            # (vx > 0 here: the lateral observer runs above V_OFF)
+            ay_m, racc = sfy / m, smz / c["iz"]
+            ax_m = (sfx - (self.k_drag * vx * vx + self.f_roll)) / m
+            excited = (vx >= V_EXC and umax >= EXC_U and ay_ok and ax_ok and abs(ax) + abs(ay) >= EXC_A)
+            av2 = 0.01 * self.k_us * vx * vx
+            den_l = max(l * (1 + av2), 0.1 * l)
+            r_lin = vx * delta / den_l
+            self.r_lin_f += min(dt / LIM_TAU, 1.0) * (r_lin - self.r_lin_f)
+            # both limit tests need speed, the inertial inputs and acceleration
+            lim_ok = vx >= V_EXC and yaw_ok and ax_ok and ay_ok and a_tot >= LIM_A
+            if lim_ok and abs(yaw - self.r_lin_f) >= LIM_REL * abs(self.r_lin_f) + LIM_ABS:
+                self.lim_steps = min(self.lim_steps + 1, BIG)
+            else:
+                self.lim_steps = 0
+            at_limit = self.lim_steps >= self.lim_n
+            # Low-friction detection at the understeer limit (docs/estimator.md,
+            # "Friction at the understeer limit"): the yaw rate has stayed below
+            # the lagged linear reference by the share US_D for LIM_T, so the
+            # front axle works near its peak; the front axle's friction in use
+            # (steady-state share of m ay and m ax, peak at mu = 1 with the
+            # load sensitivity) divided by the utilization that deficit
+            # implies bounds mu from above (a bound on the state, see the
+            # bounds below). Used only when it says low friction (< US_ZMAX):
+            # on dry the test cannot tell 1.0 from 0.85.
+            dd = (1.0 - yaw / self.r_lin_f) if abs(self.r_lin_f) > US_R else 0.0
+            same_turn = (self.r_lin_f > 0.0 and ay > 0.0) or (self.r_lin_f < 0.0 and ay < 0.0)
+            if lim_ok and same_turn and dd >= US_D:
+                self.us_steps = min(self.us_steps + 1, BIG)
+            else:
+                self.us_steps = 0
+            mu_us = 0.0
+            if self.P[2, 2] <= P_CONF:
+                self.us_low = False
+            if self.us_steps >= self.lim_n or self.us_low:
+                cf = [self.mu0[0] + self.mu0_k[0] * (fz[i] / self.fz_static[0] - 1.0) for i in (0, 1)]
+                a_pk = max((cf[0] * fz[0] + cf[1] * fz[1]) / m, 0.5)
+                fzs = max(fz[0] + fz[1] + fz[2] + fz[3], 1.0)
+                use_f = math.hypot(ay * (c["lr"] / l), ax * ((fz[0] + fz[1]) / fzs)) / a_pk
+                if self.us_steps >= self.lim_n:
+                    z = use_f / min(US_UMAX, US_U0 + US_U1 * dd)
+                    if z < US_ZMAX:
+                        mu_us = z
+                        self.use_b = use_f
+                # Withdrawal (docs/estimator.md): at the same front friction
+                # in use the deficit that set the bound is gone, so it was
+                # not the tires' (a steering-angle offset fakes one, and its
+                # end leaves mu low with nothing to pull it back: in the
+                # linear range the ay update does not see mu). Only in steady
+                # cornering: braking in a turn lowers the deficit while the
+                # front is still at its limit, and a spinning car's yaw rate
+                # can match the reference with the rear axle sliding
+                if (self.us_low and lim_ok and same_turn and -LIM_REL < dd < US_D and abs(ax) < B_AX
+                        and abs(ay + g_y - yaw * vx) < B_AX and REL_K * self.use_b <= use_f <= self.use_b / REL_K):
+                    self.rel_steps = min(self.rel_steps + 1, BIG)
+                elif self.us_low and lim_ok and same_turn:
+                    # a step out of the band counts one back, not to 0: at a
+                    # car's own understeer the deficit hovers at US_D (wet
+                    # step steer after a steering offset: 0.13 - 0.16, the
+                    # count never reached LIM_T and mu stayed at the bound)
+                    self.rel_steps = max(self.rel_steps - 1, 0)
+                else:
+                    self.rel_steps = 0
+                if self.rel_steps >= self.lim_n:
+                    self.x[2] = max(self.x[2], self.mu_pre)
+                    self.us_low = False
+                    # the confidence the updates gained at the bound's mu
+                    # goes with it (back to mu_conf 0)
+                    self.P[2, 2] = max(self.P[2, 2], (CONF_S0 / S[2]) ** 2)
+            else:
+                self.rel_steps = 0
+            if at_limit:
+                excited = True
+
+            # the gyro bias adapts only where the tire model is trusted
+            # (linear range), else it would absorb model errors at the limit
+            # (and not with a locked or spinning wheel, hard braking or driving,
+            # the yaw-rate limit test set, or in a fast yaw transient, where
+            # the modelled tire lag errs most: a bias is a constant, a
+            # transient's residual is not)
+            b_ok = (abs(racc) < B_RACC and float(np.max(o["util"])) < B_U and abs(ay) < B_A and abs(ax) < B_AX and not lock
+                    and not spin and not at_limit)
+            dvy = ((ay if ay_ok else ay_m) + g_y - r * vx) * dt
+            dr = racc * dt
+            a_vv, a_vr, a_vm = jay[0] / m, jay[1] / m, jay[2] / m
+            a_rv, a_rr, a_rm = jr[0] / c["iz"], jr[1] / c["iz"], jr[2] / c["iz"]
+            row0 = ([1.0, -vx * dt * (S[1] / S[0]), 0.0] if ay_ok else
+                    [1 + a_vv * dt, (a_vr - vx) * dt * (S[1] / S[0]), a_vm * dt * (S[2] / S[0])])
+            F = np.array([row0 + [0.0],
+                          [a_rv * dt * (S[0] / S[1]), 1 + a_rr * dt, a_rm * dt * (S[2] / S[1]), 0.0],
+                          [0.0, 0.0, 1.0, 0.0],
+                          [0.0, 0.0, 0.0, 1.0]])
+            self.x[0], self.x[1] = vy + dvy, r + dr
+            Pn = F @ self.P @ F.T
+            self.P = 0.5 * (Pn + Pn.T) + np.diag(self.q)
+            self._condition()
+            if yaw_ok:
+                self._update(np.array([0.0, 1.0, 0.0, S[3] / S[1]]), (self.hold[1] - self.x[1] - B_UNIT * self.x[3]) / S[1],
+                             R_YAW, False, b_ok)
+                self._condition()
+            # the yaw moment the model lacks (the gyro's yaw acceleration
+            # against the model's), as a front-axle force: Iz dr / l
+            dmr = _clamp((float(self.x[1]) - (r + dr)) / dt, -MB_RACC, MB_RACC) if (yaw_ok and abs(ax) < MB_AX) else 0.0
+            self.mb_f += min(dt / MB_TAU, 1.0) * (c["iz"] * dmr / l - self.mb_f)
+            sb_t = 0.0
+            # a road-wheel angle beyond the rack's travel (F_STEER_LIMIT) is
+            # not the car's: the model's slip angles would be fitted to it
+            # (at lock on a straight road vy went to 2.3 m/s, past both
+            # axles' peaks, and stayed there after the steering recovered)
+            steer_in_range = not (flags & F_STEER_LIMIT)
+            if ay_ok and steer_in_range:
+                ay_pred = ay_m + a_vv * (self.x[0] - vy) + a_vr * (self.x[1] - r) + a_vm * (self.x[2] - mu)
+                h = np.array([_clamp(a_vv * S[0] / S_AY, -H_MAX_VY, H_MAX_VY),
+                              _clamp(a_vr * S[1] / S_AY, -H_MAX, H_MAX),
+                              _clamp(a_vm * S[2] / S_AY, -H_MAX, H_MAX), 0.0])
+                # at mu + AY_U_K sigma_mu only while the car's own yaw
+                # response (the mu-independent limit test) says it is at its
+                # limit: elsewhere a model at its own limit is the model's
+                # claim, not evidence (AV-21 log: with a mu cut by the
+                # understeer bound, the updates confirmed it to mu_conf 0.74);
+                # nor while the bound holds mu (a steering offset fakes both
+                # the deficit and the limit test)
+                sig_mu = math.sqrt(self.P[2, 2]) * S[2] if (at_limit and not self.us_low) else 0.0
+                nis = self._update(h, (ay - ay_pred) / S_AY,
+                                   _ay_noise(o["util"] * (mu / (mu + AY_U_K * sig_mu)), o["fz"]), excited, b_ok)
+                self._condition()
+                # the lateral force the model still lacks at the updated state
+                # (the lateral balance, SB_*): the ay update is weak at the
+                # limit, where the model is least trusted
+                if abs(ax) < MB_AX and LAT_BALANCE:
+                    ay_post = ay_m + a_vv * (self.x[0] - vy) + a_vr * (self.x[1] - r) + a_vm * (self.x[2] - mu)
+                    sb_t = m * _clamp(ay - ay_post, -ACC_MAX, ACC_MAX)
+                # model consistency (docs/estimator.md): the low-passed ay
+                # NIS (1 on average for a consistent filter), and the share of
+                # time the model claims saturated tires while the car's yaw
+                # response (the mu-independent limit test) is not at the limit
+                a_mf = min(dt / MF_TAU, 1.0)
+                sat = 1.0 if (vx >= V_EXC and float(np.max(o["util"])) >= SAT_U and not at_limit) else 0.0
+                self.nis_f += a_mf * (nis - self.nis_f)
+                self.sat_f += a_mf * (sat - self.sat_f)
+                if self.nis_f > NIS_HI or self.sat_f > SAT_HI:
+                    self.misfit = True
+                elif self.nis_f < NIS_LO and self.sat_f < SAT_LO:
+                    self.misfit = False
+                # the confidence cap has its own hysteresis: a share that
+                # hovers at SAT_MU would toggle mu's validity
+                if self.sat_f > SAT_MU:
+                    self.sat_cap = True
+                elif self.sat_f < SAT_MU_LO:
+                    self.sat_cap = False
+            self.lat_sb += self.sb_a * (sb_t - self.lat_sb)
+            # ... and only when the slips push the way the car accelerates
+            # (a speed reference a few per cent off the wheel speeds makes
+            # slip of the wrong sign, which would drive mu down: RAV4 log)
+            # A braked wheel at 15 % slip or more (locked, or cycled by an ABS
+            # past the tire's peak) works at the road's friction, and its slip
+            # is far above what a 0.3 % speed-reference error moves: braking
+            # with one is a friction measurement without a speed reference.
+            # The free wheels' slips are in the same sum, so it moves mu but
+            # adds no confidence (P is kept)
+            ref_ok = bool(self.cfg["speed_ref_mu"]) and vs_ok
+            braked_slip = ax < -AX_TH and bool(np.any(np.abs(kappa) >= LOCK_K))
+            if (excited and (ref_ok or braked_slip) and wheels_ok and umax_x >= EXC_U
+                    and abs(ax) >= EXC_A and float(np.sum(kappa)) * ax > 0.0):
+                ax_pred = ax_m + jax_mu / m * (self.x[2] - mu)
+                h = np.array([0.0, 0.0, _clamp(jax_mu / m * S[2] / S_AY, -H_MAX, H_MAX), 0.0])
+                self._update(h, (ax - ax_pred) / S_AY, R_AX if ref_ok else R_LOCK, True, b_ok, keep_p=not ref_ok)
+                self._condition()
+            # the friction in use is a lower bound of the friction available;
+            # at the understeer limit mu_us (above) an upper one. Both are
+            # bounds on the state, not measurements: they add no confidence
+            # (a steering-angle offset fakes an understeer deficit)
+            mu_ub = max(mu_us, mu_lb) if mu_us > 0.0 else MU_MAX
+            self.us_clamped = self.x[2] > mu_ub
+            if mu_us > 0.0 and self.us_clamped and not self.us_low:
+                self.us_low, self.mu_pre = True, float(self.x[2])
+                # the model's forces jump with a large cut: the balances'
+                # memory is the error of the model before it
+                if self.x[2] - mu_ub > CUT_CLEAR:
+                    self.mb_f = 0.0
+                    self.lat_sb = 0.0
+            # The understeer measurement cutting mu is applied as an estimate
+            # projection (the constrained Kalman filter): the whole state
+            # moves along mu's covariance onto the bound, the covariance
+            # kept (a bound adds no confidence). vy and r were fitted with
+            # the mu the bound rejects (snow onset: beta 1.2 deg off with mu
+            # right again; the ay update, weak at the limit, takes seconds).
+            # Not the friction-in-use bound: it nudges mu up on most steps
+            # at the dry limit, and the gain P_vy,mu / P_mu amplified the
+            # fixed-point build's last-bit differences past its golden
+            # tolerance (docs/estimator.md)
+            if PROJECT_US_BOUND and mu_us > 0.0 and self.x[2] > mu_ub:
+                self._update(np.array([0.0, 0.0, 1.0, 0.0]), (mu_ub - self.x[2]) / S[2], 0.0, True, False, keep_p=True)
+            self.x[2] = _clamp(self.x[2], mu_lb, mu_ub)
+            lim = VY_K * abs(vx) + 1.0
+            self.x[0] = _clamp(self.x[0], -lim, lim)
+            self.x[1] = _clamp(self.x[1], -YAW_MAX, YAW_MAX)
+            self.x[3] = _clamp(self.x[3], -B_MAX, B_MAX)
+            # with every wheel locked (spinning) the slips leave the tire
+            # model's range and the lateral force no longer tells the slip
+            # angle: beta is dead reckoning too, flagged (docs/estimator.md);
+            # and a tire model that does not fit the car (misfit) does not
+            # give a sideslip to stand behind either, nor does a steering angle
+            # beyond the rack's travel (no ay update: dead reckoning as well)
+            if ay_ok and yaw_ok and not dead_reck and not self.misfit and steer_in_range:
+                vbits |= V_BETA | V_AXLE
+            if not (vbits & V_BETA):
+                vbits &= ~(V_WHEEL(0) | V_WHEEL(1) | V_WHEEL(2) | V_WHEEL(3))
+            if excited:
+                flags |= F_EXCITED
+            # Outputs at the updated state, extrapolated over the inertial
+            # sensors' latency (config 'latency'): slip angles exactly at that
+            # state, forces to first order along the local slope.
+            lat = c.get("latency", 0.0)
+            vyd = (ay if ay_ok else ay_m) + g_y - float(self.x[1]) * vx
+            vy_o = _clamp(float(self.x[0]) + lat * vyd, -lim, lim)
+            r_o = _clamp(float(self.x[1]) + lat * racc, -YAW_MAX, YAW_MAX)
+            cdi_o = np.array([cd_o, cd_o, 1.0, 1.0])
+            sdi_o = np.array([sd_o, sd_o, 0.0, 0.0])
+            vxw, vyw = _wheel_velocity(vx, vy_o, r_o, xa, ya, cdi_o, sdi_o)
+            den_o = np.maximum(np.abs(vxw), V_OFF)
+            t_o = vyw / den_o
+            alpha_o = np.arctan(t_o)
+            # The updates' correction of vy (posterior - predicted) moves each
+            # lagged slip angle along the kinematic slope: vy is predicted from
+            # the measured ay, so its correction is a re-estimate of where the
+            # car is, not motion the tire lags (the Jacobians assume the whole
+            # slope). r is predicted from the model's yaw moment: its correction
+            # stays in the lag, else a model-vs-gyro fight drifts the lagged
+            # angles (AV-21 log: 11 deg apart within 0.2 s at 3 m/s)
+            duv = float(self.x[0]) - (vy + dvy)
+            if RLX_CARRY:
+                self.alpha_t = self.alpha_t + cdi_o * duv / (1.0 + np.clip(t_o, -100.0, 100.0) ** 2) / den_o
+            # ... and carried over the latency towards alpha_o
+            alpha_to = self.alpha_t + _relax_share(np.abs(vxw) * lat, sig) * (alpha_o - self.alpha_t)
+            fy_o = fy + dfda * (alpha_to - alpha)
+            if OUT_MU:
+                fy_o = fy_o + dfdmu * (float(self.x[2]) - mu)
+            # the yaw balance (MB_*): +df on the front axle, -df on the rear
+            # (the lateral sum unchanged, the moment a df + b df = l df),
+            # and the lateral balance (SB_*) in the axles' static shares (no
+            # moment), shared by load; the axle's force stays within its
+            # friction
+            for a in range(2):
+                fza = max(fz[2 * a] + fz[2 * a + 1], 1.0)
+                cap = float(self.x[2]) * self.mu0[a] * fza
+                fa = fy_o[2 * a] + fy_o[2 * a + 1]
+                dfa = (self.mb_f + self.sb_f_share * self.lat_sb) if a == 0 else (self.lat_sb - self.sb_f_share * self.lat_sb - self.mb_f)
+                dfa = _clamp(dfa, -cap - fa, cap - fa)
+                for i in (2 * a, 2 * a + 1):
+                    fy_o[i] = fy_o[i] + dfa * fz[i] / fza
+            o.update(alpha=alpha_o, fy=fy_o)
+            o["fy_axle"] = np.array([fy_o[0] + fy_o[1], fy_o[2] + fy_o[3]])
+        mu = float(self.x[2])
+
+        # vx at the output's time too, like vy and r (its prediction's rate,
+        # at the updated state): in a spin it falls by ~6 m/s^2 and beta =
+        # atan(vy / vx) took vx 20 ms old (sine with dwell wet 0.54 -> 0.44
+        # deg RMS). The slip angles and ratios keep the state's vx
+        vx_o = vx
+        if active and VX_AT_OUTPUT:
+            vx_o = vx + c.get("latency", 0.0) * self._vx_rate(ax, float(self.x[1]), float(self.x[0]), g_x)
+        o["vx"] = vx_o
+        o["vy"] = vy_o if active else 0.0
+        o["beta"] = math.atan(vy_o / max(vx_o, V_OFF)) if active else 0.0
+        o["yaw_rate"] = r_o if active else yaw
+        if yaw_ok:
+            vbits |= V_YAW
+        o["delta"] = delta
+        o["mu"] = mu
+        o["yaw_rate_bias"] = B_UNIT * float(self.x[3])
+        sig = math.sqrt(self.P[2, 2]) * S[2]
+        o["mu_conf"] = _clamp((CONF_S0 - sig) / 0.1, 0.0, 1.0)
+        if self.misfit:
+            # the tire model does not explain the measurements: whatever mu
+            # the filter found, it is not the road's
+            flags |= F_MODEL_MISFIT
+            o["mu_conf"] = min(o["mu_conf"], CONF_MISFIT)
+        elif self.sat_cap:
+            # the saturation share on its way to the misfit level: no
+            # confidence in mu while the evidence builds up (the check is
+            # low-passed over 2 s and would declare the misfit late)
+            o["mu_conf"] = min(o["mu_conf"], CONF_MISFIT)
+        if o["mu_conf"] >= 0.5:
+            vbits |= V_MU
+        if (vbits & V_VX) and steer_ok and vx >= V_ON:
+            av2 = 0.01 * self.k_us * vx * vx
+            den = max(l * (1 + av2), 0.1 * l)
+            rr = vx * delta / den
+            lim = mu * min(self.mu0) * G / vx
+            o["yaw_rate_ref"] = _clamp(rr, -lim, lim)
+            vbits |= V_YAW_REF
+            if yaw_ok:
+                o["yaw_error"] = yaw - o["yaw_rate_ref"]
+                rref = o["yaw_rate_ref"]
+                sgn = math.copysign(1.0, rref) if abs(rref) > 0.01 else (0.0 if yaw == 0 else math.copysign(1.0, yaw))
+                d = sgn * (rref - yaw)
+                thr = 0.03 + 0.1 * abs(rref)
+                o["steer_char"] = 1 if d > thr else (-1 if -d > thr else 0)
+                vbits |= V_STEER
+        if active:
+            o["fy_margin_front"] = mu * self.mu0[0] * fz_sum_f - abs(o["fy_axle"][0])
+            if vbits & V_BETA:
+                vbits |= V_MARGIN
+        o["valid"] = vbits
+        o["flags"] = flags
+        o["excited"] = excited
+        o["nis_f"] = self.nis_f
+        o["sat_f"] = self.sat_f
+        return o
+
+
+# ---------------------------------------------------------------------------
+# Inputs from simulator files
+
+KMH = 1.0 / 3.6
+DEG = math.pi / 180.0
+
+
+def inputs_from_sensors(cols, bar_to_pa=1e5):
+    """grip input arrays (value (N, 17), valid (N, 17), time (N,)) from a
+    simulator sensors.csv (sim.model.read_csv): a channel's NaN rows
+    (not sampled in that row) hold its previous value, marked valid."""
+    t = np.asarray(cols["time"], float)
+    n = len(t)
+    value = np.zeros((n, N_IN))
+    valid = np.zeros((n, N_IN), dtype=np.uint8)
+    src = [("WheelSpeed_FL", 0, KMH), ("WheelSpeed_FR", 1, KMH), ("WheelSpeed_RL", 2, KMH),
+           ("WheelSpeed_RR", 3, KMH), ("SteeringAngle", STEER, DEG), ("YawRate", YAW, DEG),
+           ("LongAcc", AX, 1.0), ("LatAcc", AY, 1.0)]
+    for name, idx, f in src:
+        if name not in cols:
+            continue
+        x = np.asarray(cols[name], float) * f
+        last, ok = 0.0, False
+        for k in range(n):
+            if np.isfinite(x[k]):
+                last, ok = x[k], True
+            value[k, idx] = last if ok else 0.0
+            valid[k, idx] = 1 if ok else 0
+    if "BrakePressure" in cols:
+        x = np.asarray(cols["BrakePressure"], float) * bar_to_pa
+        last, ok = 0.0, False
+        for k in range(n):
+            if np.isfinite(x[k]):
+                last, ok = x[k], True
+            for idx in (9, 10, 11, 12):
+                value[k, idx] = last if ok else 0.0
+                valid[k, idx] = 1 if ok else 0
+    return t, value, valid
+
+
+def run(cfg, value, valid):
+    """Runs a whole sequence; returns the list of output dicts."""
+    est = Estimator(cfg)
+    return [est.step(value[k], valid[k]) for k in range(len(value))]
