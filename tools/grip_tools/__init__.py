@@ -1,5 +1,5 @@
 """grip_tools - full-precision reference models and tooling for the grip C library.
 
-Run `python -m grip_tools --help` for the command list.
+Run `grip --help` for the command list.
 """
 __version__ = "0.1.0"

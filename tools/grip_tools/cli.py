@@ -8,6 +8,7 @@ import importlib
 import sys
 
 from grip_tools import __version__
+from grip_tools.errors import EXIT_DATA, EXIT_USAGE, DataError, UsageError
 
 COMMANDS = {
     # tire engineer: evaluate, fit, convert, close the loop
@@ -36,10 +37,51 @@ COMMANDS = {
 }
 
 
+EXIT_HELP = """exit status: 0 success, 1 a check the command ran failed (e.g. a fit that
+did not converge), 2 usage (bad option, a file that cannot be opened),
+3 data (a file read but not usable: the message names file, line, field)"""
+
+
+def data_error_types():
+    """Exception classes of the readers that mean 'bad input data'. Imported
+    here so that every reader's error is reported the same way."""
+    from grip_tools.reference.tir import TirError
+    from grip_tools.reference.brush import ParamError
+    from grip_tools.can.dbc import MapError
+    return (DataError, TirError, ParamError, MapError)
+
+
+def run_command(name, argv):
+    """Run one command; user errors end as one line on stderr and an exit
+    code (EXIT_HELP), programming errors keep their traceback."""
+    prog = f"grip {name}"
+    try:
+        module = importlib.import_module(COMMANDS[name][0])
+        return module.main(argv) or 0
+    except UsageError as e:
+        print(f"{prog}: {e}", file=sys.stderr)
+        return EXIT_USAGE
+    except (FileNotFoundError, IsADirectoryError, PermissionError, NotADirectoryError) as e:
+        print(f"{prog}: cannot open {e.filename}: {e.strerror}", file=sys.stderr)
+        return EXIT_USAGE
+    except UnicodeDecodeError as e:
+        print(f"{prog}: input is not UTF-8 text (byte offset {e.start}: {e.reason})", file=sys.stderr)
+        return EXIT_DATA
+    except KeyboardInterrupt:
+        print(f"{prog}: interrupted", file=sys.stderr)
+        return 130
+    except Exception as e:  # noqa: BLE001 - only the readers' data errors are caught below
+        if isinstance(e, data_error_types()):
+            print(f"{prog}: {e}", file=sys.stderr)
+            return EXIT_DATA
+        raise
+
+
 def usage(out):
     print("usage: grip <command> [args]   (grip <command> --help for its options)\n\ncommands:", file=out)
     for name, (_, what) in sorted(COMMANDS.items()):
         print(f"  {name:14s} {what}", file=out)
+    print("\n" + EXIT_HELP, file=out)
 
 
 def main(argv=None):
@@ -57,5 +99,4 @@ def main(argv=None):
     if name not in COMMANDS:
         print(f"grip: unknown command '{name}' (try grip --help)", file=sys.stderr)
         return 2
-    module = importlib.import_module(COMMANDS[name][0])
-    return module.main(argv[1:]) or 0
+    return run_command(name, argv[1:])

@@ -16,7 +16,7 @@ class KernelsTest(unittest.TestCase):
     def test_committed_header_matches_generator(self):
         with open(os.path.join(ROOT, "lib", "arith", "q16_kernels.h")) as f:
             self.assertEqual(f.read(), kernels.render_header(),
-                             "lib/arith/q16_kernels.h is stale: run python -m grip_tools kernels")
+                             "lib/arith/q16_kernels.h is stale: run grip kernels")
 
 
 class StackTest(unittest.TestCase):

@@ -169,7 +169,7 @@ class TableTest(unittest.TestCase):
     def test_committed_table_matches_generator(self):
         with open(os.path.join(ROOT, "lib", "brush", "brush_table.h")) as f:
             self.assertEqual(f.read(), B.render_table_header(),
-                             "lib/brush/brush_table.h is stale: run python -m grip_tools brush-verify --write-table")
+                             "lib/brush/brush_table.h is stale: run grip brush-verify --write-table")
 
 
 class ParamFileTest(unittest.TestCase):

@@ -85,7 +85,7 @@ def qemu_counts(target, machine):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="grip_tools bench", description=__doc__)
+    ap = argparse.ArgumentParser(prog="grip bench", description=__doc__)
     ap.add_argument("--outdir", default=os.path.join(ROOT, "build/bench"))
     ap.add_argument("--cases", default="",
                     help="regular expression: only the matching cases (for quick measurements "

@@ -1,9 +1,9 @@
 """Accuracy of the onboard estimator on the reference simulator's manoeuvres.
 
-    python -m grip_tools est-eval --runs DIR [DIR ...] [--out docs/estimator]
-    python -m grip_tools est-eval --simulate --out docs/estimator
+    grip est-eval --runs DIR [DIR ...] [--out docs/estimator]
+    grip est-eval --simulate --out docs/estimator
 
-Each run directory holds a simulator output (python -m grip_tools simulate
+Each run directory holds a simulator output (grip simulate
 ... --out DIR: truth.csv, sensors.csv, summary.json). The estimator's
 float64 reference (est_ref) is run over sensors.csv at 100 Hz (the sensors'
 message rate) and compared with truth.csv:
@@ -297,7 +297,7 @@ def _mu_after(t, util_t, vx_t, est, mu_t, u_exc, suffix):
 
 
 def simulate_runs(outdir, manoeuvres, surfaces):
-    """Runs the simulator (python -m grip_tools simulate) for each pair into
+    """Runs the simulator (grip simulate) for each pair into
     outdir/runs (kept: a run already there is reused)."""
     from grip_tools.sim import cli
     dirs = []
@@ -605,7 +605,7 @@ def plot(runs, ests, path):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="grip_tools est-eval", description=__doc__,
+    ap = argparse.ArgumentParser(prog="grip est-eval", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--runs", nargs="*", default=[], help="simulator output directories")
     ap.add_argument("--simulate", action="store_true", help="run the standard manoeuvres first")

@@ -1,7 +1,7 @@
 """Fault injection on the ESC inputs of the onboard estimator.
 
-    python -m grip_tools faults --out docs/faults          # table + false alarms
-    python -m grip_tools faults --out DIR --only yaw        # a subset (regex on the case name)
+    grip faults --out docs/faults          # table + false alarms
+    grip faults --out DIR --only yaw        # a subset (regex on the case name)
 
 For each ESC input signal (four wheel speeds, steering-wheel angle, yaw
 rate, ax, ay; the reference simulator has no vehicle-speed signal, so that
@@ -529,7 +529,7 @@ def write_tables(res, out):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="grip_tools faults", description=__doc__,
+    ap = argparse.ArgumentParser(prog="grip faults", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--out", default="build/faults")
     ap.add_argument("--cache", default="build/faults-cache")

@@ -145,7 +145,7 @@ def rav4_report(paths, outdir):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="grip_tools main-job", description=__doc__)
+    ap = argparse.ArgumentParser(prog="grip main-job", description=__doc__)
     ap.add_argument("--outdir", default=os.path.join(ROOT, "build", "main-job"))
     ap.add_argument("--tir", default=TIRE)
     ap.add_argument("--rav4", nargs=2, metavar=("FLOAT_CSV", "FIXED_CSV"),

@@ -65,7 +65,7 @@ def worst_case(frames, edges):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="grip_tools stack", description=__doc__)
+    ap = argparse.ArgumentParser(prog="grip stack", description=__doc__)
     ap.add_argument("builddir", help="folder searched recursively for .ci files")
     ap.add_argument("--public", default=r"^grip_", help="regex of the functions to report")
     ap.add_argument("--budget", type=int, default=0, help="fail if any reported function exceeds this (bytes)")

@@ -1,10 +1,10 @@
 """Identify Neo-FIALA parameters from force and moment sweeps.
 
-  python -m grip_tools fit-brush --csv sweeps.csv [--out DIR]
+  grip fit-brush --csv sweeps.csv [--out DIR]
       sweeps: CSV with columns kappa, alpha, gamma, fz, vx, fx, fy, mz (SI,
       ISO-W, radians; an optional column `weight`); one parameter set is
       identified per distinct fz (the seed's Table 5.4 is per load too).
-  python -m grip_tools fit-brush --g275 [--tir FILE] [--loads 13000,21674,30000] [--out DIR]
+  grip fit-brush --g275 [--tir FILE] [--loads 13000,21674,30000] [--out DIR]
       the demonstration: sweeps generated from the Magic Formula of a
       Goodyear G275 .tir file (tools/grip_tools/reference/mf.py, tir.py) at three
       loads, pure slip (Fx(kappa), Fy(alpha), Mz(alpha)) and combined slip
@@ -233,7 +233,7 @@ def read_sweeps_csv(path):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="grip_tools fit-brush", description=__doc__,
+    ap = argparse.ArgumentParser(prog="grip fit-brush", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--csv", help="sweeps to fit (see above)")
     ap.add_argument("--g275", action="store_true", help="run the G275 Magic Formula demonstration")

@@ -646,7 +646,7 @@ def synthetic_mf(params, group, fz_levels=None, gammas=(0.0,), n_slip=41, noise=
 # Command line.
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="grip_tools fit-mf", description=__doc__,
+    ap = argparse.ArgumentParser(prog="grip fit-mf", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("csv", nargs="?", help="measured sweeps (CSV with a header)")
     ap.add_argument("--model", choices=("mf89", "fx", "fy", "mz"), default="mf89")

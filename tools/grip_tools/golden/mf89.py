@@ -251,7 +251,7 @@ def write_golden(outdir):
 
 def main(argv=None):
     import argparse
-    ap = argparse.ArgumentParser(prog="grip_tools golden-mf89", description=__doc__,
+    ap = argparse.ArgumentParser(prog="grip golden-mf89", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("-o", "--outdir", default="build/golden")
     args = ap.parse_args(argv)

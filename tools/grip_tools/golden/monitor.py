@@ -192,7 +192,7 @@ def write_golden(outdir):
 
 def main(argv=None):
     import argparse
-    ap = argparse.ArgumentParser(prog="grip_tools golden-monitor", description=__doc__)
+    ap = argparse.ArgumentParser(prog="grip golden-monitor", description=__doc__)
     ap.add_argument("-o", "--outdir", default="build/golden")
     a = ap.parse_args(argv)
     write_golden(a.outdir)

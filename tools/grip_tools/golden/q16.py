@@ -95,7 +95,7 @@ def write_golden(outdir):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="grip_tools golden-q16", description=__doc__)
+    ap = argparse.ArgumentParser(prog="grip golden-q16", description=__doc__)
     ap.add_argument("-o", "--output", required=True)
     args = ap.parse_args(argv)
     rng = np.random.default_rng(SEED)

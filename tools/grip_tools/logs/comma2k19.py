@@ -1,6 +1,6 @@
 """comma2k19 raw CAN arrays (numpy .npy) -> a candump log.
 
-    python -m grip_tools comma2k19 [--data DIR] [--bus 0] [--iface vcan0] [-o OUT.log]
+    grip comma2k19 [--data DIR] [--bus 0] [--iface vcan0] [-o OUT.log]
 
 A comma2k19 segment stores every CAN frame in processed_log/CAN/raw_can/ as
 four parallel numpy arrays (files without extension): t (boot time, s,
@@ -99,7 +99,7 @@ def convert(data_dir, out, bus=0, iface="vcan0", dbc_paths=None):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="grip_tools comma2k19", description=__doc__.split("\n\n")[0])
+    ap = argparse.ArgumentParser(prog="grip comma2k19", description=__doc__.split("\n\n")[0])
     ap.add_argument("--data", default=DEFAULT_DATA, help="segment folder holding processed_log/ and dbc/")
     ap.add_argument("--bus", type=int, default=0, help="bus (src) to convert (default 0)")
     ap.add_argument("--iface", default="vcan0", help="interface name written in the log")

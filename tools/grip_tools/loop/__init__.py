@@ -6,5 +6,5 @@
     effects.py     candidate effects: parametric model terms with fit()
     attribution.py held-out (contiguous time blocks) ranking with a penalty
     report.py      Markdown + PNG report, updated parameter set (JSON)
-    cli.py         `python -m grip_tools analyze`
+    cli.py         `grip analyze`
 """

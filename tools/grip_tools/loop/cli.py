@@ -1,4 +1,4 @@
-"""python -m grip_tools analyze: residual analysis, attribution and model
+"""grip analyze: residual analysis, attribution and model
 update for a measured tire-level CSV (schema: loop/io.py), a generated
 undeclared-effect data set, or the AV-21 log (axle forces from the motion).
 
@@ -16,7 +16,7 @@ from grip_tools.loop.effects import TireModel
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="grip_tools analyze", description=__doc__,
+    ap = argparse.ArgumentParser(prog="grip analyze", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("data", nargs="?")
     ap.add_argument("--tir")

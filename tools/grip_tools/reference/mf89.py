@@ -277,7 +277,7 @@ def constraints_report(params, **kw):
 
 def main(argv=None):
     import argparse
-    ap = argparse.ArgumentParser(prog="grip_tools mf89", description=__doc__,
+    ap = argparse.ArgumentParser(prog="grip mf89", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--params", help="18 comma-separated coefficients (default: the documented set)")
     ap.add_argument("--fz-range", default=f"{DEFAULT_FZ_RANGE_KN[0]},{DEFAULT_FZ_RANGE_KN[1]}",

@@ -1,8 +1,8 @@
-"""python -m grip_tools simulate: run a manoeuvre, write truth.csv,
+"""grip simulate: run a manoeuvre, write truth.csv,
 sensors.csv, can.log (candump), summary.json and overview.png.
 
 Example:
-  python -m grip_tools simulate --manoeuvre sine-dwell --surface wet --out /tmp/sd
+  grip simulate --manoeuvre sine-dwell --surface wet --out /tmp/sd
 """
 import argparse
 import json
@@ -20,7 +20,7 @@ DEG = math.pi / 180.0
 
 
 def _parser():
-    p = argparse.ArgumentParser(prog="python -m grip_tools simulate",
+    p = argparse.ArgumentParser(prog="grip simulate",
                                 description="Reference vehicle simulator (docs/simulator.md).")
     p.add_argument("--manoeuvre", "-m", default="sine-dwell", choices=M.MANOEUVRES)
     p.add_argument("--surface", "-s", default="dry",

@@ -1,6 +1,6 @@
 """Accuracy and behaviour figures of docs/simulator.md.
 
-  PYTHONPATH=tools .venv/bin/python -m grip_tools.sim.report --out docs/simulator
+  .venv/bin/python -m grip_tools.sim.report --out docs/simulator
 
 Writes PNG figures and report.json (every number quoted in the document).
 Takes a few minutes (fine steps for the step-halving reference).
