@@ -29,6 +29,7 @@ import sys
 import numpy as np
 from scipy import optimize
 
+from grip_tools.paths import TEST_DATA
 from grip_tools.reference import brush as B
 
 MZ_SCALE = 0.05                   # m: residual of Mz is Mz / (Fz * MZ_SCALE)
@@ -150,7 +151,7 @@ def rms_report(p, data, groups):
 # ---------------------------------------------------------------------------
 # Magic Formula sweeps (G275 demonstration)
 
-G275_DEFAULT = "/work/shared/data/chrono-tir/335_65R22_5_G275MSA_60psi.tir"
+G275_DEFAULT = os.path.join(TEST_DATA, "chrono-tir", "335_65R22_5_G275MSA_60psi.tir")
 
 
 def mf_sweeps(tir_path, fz):

@@ -17,9 +17,9 @@ import os
 
 import numpy as np
 
-from grip_tools.paths import TEST_DATA
+from grip_tools.paths import SHARED_DATA, TEST_DATA
 
-LOG = "/work/shared/data/iac-av21-deepdynamics/Putnam_park2023_run4_2.csv"
+LOG = os.path.join(SHARED_DATA, "iac-av21-deepdynamics", "Putnam_park2023_run4_2.csv")
 SUBSET = os.path.join(TEST_DATA, "iac-av21",
                       "putnam_run4_2_subset.csv")
 # published for the car; Iz and the CG height are not (assumptions, stated

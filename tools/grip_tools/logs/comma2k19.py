@@ -27,7 +27,9 @@ import sys
 
 import numpy as np
 
-DEFAULT_DATA = "/work/shared/data/comma2k19-rav4"
+from grip_tools.paths import SHARED_DATA
+
+DEFAULT_DATA = os.path.join(SHARED_DATA, "comma2k19-rav4")
 
 
 def load_raw_can(data_dir):

@@ -31,12 +31,13 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from grip_tools.logs import av21 as av21_log
+from grip_tools.paths import TEST_DATA
 from grip_tools.reference import tir
 from grip_tools.loop.attribution import block_masks
 from grip_tools.loop.effects import TireModel
 from grip_tools.loop.io import Dataset
 
-TIR = "/work/shared/data/mfeval-tir/MagicFormula61_Paramerters.tir"
+TIR = os.path.join(TEST_DATA, "mfeval-tir", "MagicFormula61_Paramerters.tir")
 M, LF, LR, IZ, H, G = av21_log.MASS, av21_log.LF, av21_log.LR, 1000.0, 0.3, 9.81
 
 

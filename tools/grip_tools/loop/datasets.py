@@ -17,13 +17,16 @@ Noise: white, noise * peak |F| per output (default 0.5 %).
 make(kind, seed) -> (Dataset, truth dict). The base model is the MF 6.1
 parameter set MagicFormula61_Paramerters.tir (mfeval-tir).
 """
+import os
+
 import numpy as np
 
+from grip_tools.paths import TEST_DATA
 from grip_tools.reference import mf, relax as relax_ref, tir
 from grip_tools.loop.effects import TireModel
 from grip_tools.loop.io import Dataset
 
-TIR = "/work/shared/data/mfeval-tir/MagicFormula61_Paramerters.tir"
+TIR = os.path.join(TEST_DATA, "mfeval-tir", "MagicFormula61_Paramerters.tir")
 KINDS = ("thermal", "relaxation", "slip_velocity", "load", "bank", "none")
 
 

@@ -5,7 +5,7 @@ where it comes from):
   passenger  mid-size front-wheel-drive passenger car, 205/60R15 tyres
              (tests/data/mfeval-tir/PacejkaBook_Defaults.tir, MF 6.1)
   av21       Dallara AV-21-like autonomous race car (mass and axle distances
-             from /work/shared/data/iac-av21-deepdynamics/README.txt; the rest
+             from the AV-21 data set's README (tests/data/iac-av21); the rest
              assumed), rear-wheel drive, downforce,
              tests/data/mfeval-tir/MagicFormula61_Paramerters.tir with the friction
              scaled to a racing slick
