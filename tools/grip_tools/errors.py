@@ -19,7 +19,7 @@ class UsageError(Exception):
     exit_code = EXIT_USAGE
 
 
-class DataError(Exception):
+class DataError(ValueError):
     """Input that was read but cannot be used (exit 3). str():
     'FILE:LINE: FIELD: message', with '-' for what is not known."""
 

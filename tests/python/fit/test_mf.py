@@ -213,8 +213,8 @@ class CommandLine(unittest.TestCase):
             with open(csvp, "w") as f:
                 f.write("alpha,fz\n0.1,4000\n")
             p = self.run_cli(csvp, "--model", "mf89")
-            self.assertEqual(p.returncode, 2)
-            self.assertIn("no numeric column 'fy'", p.stderr)
+            self.assertEqual(p.returncode, 3)        # a data error: file, line, column named
+            self.assertIn("x.csv:1: fy: required column missing", p.stderr)
 
 
 if __name__ == "__main__":

@@ -182,14 +182,14 @@ class Errors(unittest.TestCase):
             out_h = os.path.join(d, "out.h")
             for name, key, line, _ in BAD:
                 r = run_cli(os.path.join(DATA, name), "--name", "tyre", "-o", out_c, "--header", out_h)
-                self.assertEqual(r.returncode, 1, name)
+                self.assertEqual(r.returncode, 3, name)       # a data error (file, line, key)
                 self.assertIn(f"{name}:{line}: {key or '-'}:", r.stderr)
                 self.assertEqual(os.listdir(d), [], name)
             # an existing output is left untouched by a failing run
             with open(out_c, "w") as f:
                 f.write("old\n")
             r = run_cli(os.path.join(DATA, "bad_fittyp.tir"), "--name", "tyre", "-o", out_c)
-            self.assertEqual(r.returncode, 1)
+            self.assertEqual(r.returncode, 3)
             with open(out_c) as f:
                 self.assertEqual(f.read(), "old\n")
             self.assertEqual(sorted(os.listdir(d)), ["out.c"])
@@ -252,9 +252,18 @@ class Emitter(unittest.TestCase):
 
     def test_bad_name(self):
         with tempfile.TemporaryDirectory() as d:
-            r = run_cli(os.path.join(DATA, "good_min.tir"), "--name", "1abc", "-o", os.path.join(d, "x.c"))
-            self.assertEqual(r.returncode, 2)
+            for bad in ("1abc", "int", "__x", "_Tire", "grip_mf_params"):
+                r = run_cli(os.path.join(DATA, "good_min.tir"), "--name", bad, "-o", os.path.join(d, "x.c"))
+                self.assertEqual(r.returncode, 2, bad)
+                self.assertIn("not a usable C identifier", r.stderr)
             self.assertEqual(os.listdir(d), [])
+
+    def test_missing_output_folder(self):
+        with tempfile.TemporaryDirectory() as d:
+            r = run_cli(os.path.join(DATA, "good_min.tir"), "--name", "t", "-o", os.path.join(d, "no", "x.c"))
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("does not exist", r.stderr)
+            self.assertNotIn("Traceback", r.stderr)
 
 
 if __name__ == "__main__":

@@ -53,6 +53,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import least_squares
 
+from grip_tools.channels import read_table
+from grip_tools.errors import DataError
 from grip_tools.reference import mf89
 
 DEG = math.pi / 180.0
@@ -61,21 +63,11 @@ DEG = math.pi / 180.0
 # Data.
 
 
-def read_csv(path):
-    """{column (lower case): float array}; non-numeric columns are dropped."""
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
-    if not rows:
-        raise ValueError(f"{path}: empty file")
-    head = [h.strip().lower() for h in rows[0]]
-    body = [r for r in rows[1:] if any(x.strip() for x in r)]
-    cols = {}
-    for j, name in enumerate(head):
-        try:
-            cols[name] = np.array([float(r[j]) for r in body])
-        except (ValueError, IndexError):
-            continue
-    return cols
+def read_csv(path, required=()):
+    """{column: float array} of a measured-sweep CSV, validated by
+    grip_tools.channels (names, SI units, finite numbers, physical ranges:
+    a DataError names file, line and column)."""
+    return read_table(path, required=required).columns
 
 
 def write_csv(path, cols, order=None):
@@ -444,6 +436,43 @@ def _mf_initial(group, P, data, out):
     return P
 
 
+def identifiable(group, data, base):
+    """The coefficients of `group` that data can determine: those of the
+    load, camber and pressure dependencies only where the data vary them."""
+    fz = np.asarray(data["fz"], dtype=float)
+    gamma = _column(data, "gamma", len(fz))
+    p_in = data.get("p")
+    mf6 = int(base["fittyp"]) in (61, 62)
+    nload = len(_levels(fz, 0.02 * base["fnomin"]))
+    varies = {"fz": nload >= 2, "fz3": nload >= 3,
+              "gamma": bool(np.any(np.abs(gamma) > 1e-4)),
+              "p": p_in is not None and mf6 and float(np.ptp(p_in)) > 1e-3 * base["nompres"]}
+    return [nm for nm, tags in GROUPS[group] if _usable(tags, varies, mf6)]
+
+
+# Points per free coefficient below which a fit is refused: with fewer the
+# least-squares problem is (nearly) square and the fit reproduces noise.
+MIN_POINTS_PER_COEF = 3
+
+
+def check_fit_data(path, table, channel, slip, n_free):
+    """Refuse data the fit cannot use, before it starts (DataError names file,
+    line, column): a load that is not positive, or too few points for the
+    coefficients asked."""
+    fz = table.columns["fz"]
+    bad = np.flatnonzero(fz <= 0.0)
+    if bad.size:
+        i = int(bad[0])
+        raise DataError(path, int(table.row_lines[i]), "fz",
+                        f"load {fz[i]:g} N: a fit needs loaded tires (fz > 0; ISO-W: positive when loaded)")
+    n = len(table)
+    if n < MIN_POINTS_PER_COEF * n_free:
+        raise DataError(path, table.header_line, channel,
+                        f"{n} rows for {n_free} free coefficients: at least {MIN_POINTS_PER_COEF * n_free} needed")
+    if float(np.ptp(table.columns[slip])) <= 0.0:
+        raise DataError(path, table.header_line, slip, f"{slip} does not vary: no slip sweep to fit")
+
+
 def fit_mf_group(data, group, base, constraints="seed", method="trf", free=None, fix=(),
                  max_nfev=3000, initial="data"):
     """Fit one pure-slip group of an MF parameter dict `base` to data.
@@ -464,11 +493,7 @@ def fit_mf_group(data, group, base, constraints="seed", method="trf", free=None,
     p_in = data.get("p")
     vx_in = data.get("vx")
     mf6 = int(base["fittyp"]) in (61, 62)
-    nload = len(_levels(inp["fz"], 0.02 * base["fnomin"]))
-    varies = {"fz": nload >= 2, "fz3": nload >= 3,
-              "gamma": bool(np.any(np.abs(inp["gamma"]) > 1e-4)),
-              "p": p_in is not None and mf6 and float(np.ptp(p_in)) > 1e-3 * base["nompres"]}
-    names = [nm for nm, tags in GROUPS[group] if _usable(tags, varies, mf6)] if free is None else list(free)
+    names = identifiable(group, data, base) if free is None else list(free)
     fixed = {}
     if constraints == "seed" and group == "fy":
         for k, v in FY_SEED_FIXED.items():
@@ -645,9 +670,17 @@ def synthetic_mf(params, group, fz_levels=None, gammas=(0.0,), n_slip=41, noise=
 # ---------------------------------------------------------------------------
 # Command line.
 
+# Exit status (also in --help): 0 fitted, 1 fitted but a seed constraint
+# is violated, 2 usage, 3 data refused, 4 not converged (nothing written).
+EXIT_NOT_CONVERGED = 4
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="grip fit-mf", description=__doc__,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+                                 formatter_class=argparse.RawDescriptionHelpFormatter,
+                                 epilog="exit status: 0 fitted; 1 fitted, a seed constraint violated; 2 usage; "
+                                        "3 data refused (the message names file, line, column); "
+                                        "4 the fit did not converge or its error is not finite (nothing written)")
     ap.add_argument("csv", nargs="?", help="measured sweeps (CSV with a header)")
     ap.add_argument("--model", choices=("mf89", "fx", "fy", "mz"), default="mf89")
     ap.add_argument("--tir", help="MF groups: start from (and keep the other coefficients of) this file")
@@ -686,26 +719,27 @@ def main(argv=None):
 
     if not args.csv:
         ap.error("the measured CSV is required (or --synthetic)")
-    data = read_csv(args.csv)
     ch = "fy" if args.model in ("mf89", "fy") else args.model
-    for need in ("fz", ch) + (("kappa",) if args.model == "fx" else ("alpha",)):
-        if need not in data:
-            print(f"fit-mf: {args.csv}: no numeric column '{need}'", file=sys.stderr)
-            return 2
+    slip = "kappa" if args.model == "fx" else "alpha"
+    table = read_table(args.csv, required=("fz", ch, slip))
+    data = table.columns
     fix = [s.strip().lower() for s in args.fix.split(",") if s.strip()]
     if args.model == "mf89":
+        check_fit_data(args.csv, table, ch, slip, len(MF89_NAMES))
         res = fit_mf89(data, constraints=args.constraints, method=args.method)
     else:
         fz_levels = _levels(data["fz"], 0.02 * float(np.max(data["fz"])))
         fnomin = args.fnomin or float(fz_levels[len(fz_levels) // 2])
-        try:
-            base = _base_params(args.tir, args.fittyp, fnomin, args.r0)
-        except Exception as ex:      # a TirError names file, line and key
-            print(f"fit-mf: {ex}", file=sys.stderr)
-            return 2
+        base = _base_params(args.tir, args.fittyp, fnomin, args.r0)
+        n_free = len([nm for nm in identifiable(args.model, data, base) if nm not in fix])
+        check_fit_data(args.csv, table, ch, slip, n_free)
         res = fit_mf_group(data, args.model, base, constraints=args.constraints, method=args.method,
                            fix=fix, initial="data" if args.start == "data" else "base")
     print(res.report())
+    if not (res.success and math.isfinite(res.rms) and all(math.isfinite(float(v)) for v in res.values.values())):
+        print(f"grip fit-mf: {args.csv}: the fit did not converge or its error is not finite: "
+              "no coefficients written", file=sys.stderr)
+        return EXIT_NOT_CONVERGED
     if args.json:
         with open(args.json, "w") as f:
             json.dump(res.to_json(), f, indent=2)
@@ -718,7 +752,7 @@ def main(argv=None):
                 f.write(tir_fragment(res))
     if args.plot:
         plot(res, args.plot)
-    return 0 if res.success and all(c[2] for c in res.constraints) else 1
+    return 0 if all(c[2] for c in res.constraints) else 1
 
 
 if __name__ == "__main__":

@@ -3,18 +3,19 @@
 One header line of comma-separated `name[unit]` fields, then numeric rows
 (lines starting with '#' are comments). Tire level: t[s], kappa[-],
 alpha[rad], gamma[rad], fz[N], p[Pa], vx[m/s] (inputs) and any of fx[N],
-fy[N], mz[Nm] (measured outputs), plus free extra channels (e.g.
+fy[N], mz[Nm] (measured outputs), plus extra channels with their unit (e.g.
 t_road[degC]). Missing inputs get defaults (kappa 0, gamma 0, p = the tire's
-nominal pressure). The units in the header are checked for the known
-channels (a wrong unit is an error, not a silent conversion).
+nominal pressure). Names, units and physical ranges are checked by
+grip_tools.channels (a wrong unit is an error, not a silent conversion).
 """
 from dataclasses import dataclass, field
 
 import numpy as np
 
-UNITS = {"t": "s", "kappa": "-", "alpha": "rad", "gamma": "rad", "fz": "N", "p": "Pa",
-         "vx": "m/s", "vy": "m/s", "fx": "N", "fy": "N", "mz": "Nm", "r": "rad/s", "ay": "m/s2",
-         "delta": "rad", "t_road": "degC"}
+from grip_tools.channels import CHANNELS, read_table
+from grip_tools.errors import DataError
+
+UNITS = {n: c.unit for n, c in CHANNELS.items()}
 TIRE_OUTPUTS = ("fx", "fy", "mz")
 
 
@@ -30,36 +31,15 @@ class Dataset:
         return len(self.t)
 
 
-def parse_header(line):
-    names, units = [], {}
-    for f in line.strip().lstrip("#").split(","):
-        f = f.strip()
-        if "[" in f and f.endswith("]"):
-            n, u = f[:-1].split("[", 1)
-        else:
-            n, u = f, ""
-        n = n.strip()
-        if n in UNITS and u and u != UNITS[n]:
-            raise ValueError(f"channel {n}: unit [{u}], expected [{UNITS[n]}]")
-        names.append(n)
-        units[n] = u or UNITS.get(n, "")
-    return names, units
-
-
 def read_csv(path, outputs=None):
-    with open(path) as f:
-        header = f.readline()
-        names, units = parse_header(header)
-        data = np.loadtxt(f, delimiter=",", comments="#", ndmin=2)
-    if data.shape[1] != len(names):
-        raise ValueError(f"{path}: {data.shape[1]} columns, header names {len(names)}")
-    ch = {n: data[:, i].astype(float) for i, n in enumerate(names)}
-    if "t" not in ch:
-        raise ValueError(f"{path}: no t[s] column")
+    """A tire-level CSV as a Dataset: validated by grip_tools.channels (units,
+    ranges, time order; DataError names file, line and column)."""
+    table = read_table(path, required=("t",))
+    ch = dict(table.columns)
     outs = list(outputs) if outputs else [o for o in TIRE_OUTPUTS if o in ch]
     if not outs:
-        raise ValueError(f"{path}: no measured output column (fx, fy or mz)")
-    return Dataset(ch["t"], ch, units, outs, {"source": str(path)})
+        raise DataError(path, table.header_line, None, "no measured output column (fx, fy or mz)")
+    return Dataset(ch["t"], ch, dict(table.units), outs, {"source": str(path)})
 
 
 def write_csv(path, ds, names=None):

@@ -27,6 +27,7 @@ import re
 import sys
 import tempfile
 
+from grip_tools.errors import DataError
 from grip_tools.paths import REPO_ROOT
 COEFS_HEADER = os.path.join(REPO_ROOT, "include", "grip", "grip_mf_coefs.h")
 
@@ -45,15 +46,13 @@ FITTYP_FROM_FORMAT = {
 }
 
 
-class TirError(Exception):
-    """A .tir file that cannot be used. str(): 'FILE:LINE: KEY: message'."""
+class TirError(DataError):
+    """A .tir file that cannot be used. str(): 'FILE:LINE: KEY: message'
+    (.file, .line, .key, .message)."""
 
-    def __init__(self, file, line, key, message):
-        self.file = file
-        self.line = line
-        self.key = key
-        self.message = message
-        super().__init__(f"{file}:{line}: {key or '-'}: {message}")
+    @property
+    def key(self):
+        return self.field
 
 
 # ---------------------------------------------------------------------------
@@ -534,6 +533,13 @@ def write_atomic(files):
                 os.unlink(tmp)
 
 
+# C99 keywords and the names the emitted file itself uses.
+C_RESERVED = frozenset(("auto break case char const continue default do double else enum extern float for goto if "
+                        "inline int long register restrict return short signed sizeof static struct switch typedef "
+                        "union unsigned void volatile while _Bool _Complex _Imaginary "
+                        "grip_mf_params grip_real_t").split())
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="grip tir2c",
                                  description="Emit a grip_mf_params C definition from a .tir file.")
@@ -544,14 +550,16 @@ def main(argv=None):
     ap.add_argument("--side", choices=("left", "right"),
                     help="override the file's TYRESIDE (right: the model is mirrored)")
     args = ap.parse_args(argv)
-    if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", args.name):
-        print(f"grip_tools tir2c: --name '{args.name}' is not a C identifier", file=sys.stderr)
-        return 2
-    try:
-        params = read_tir(args.tir).params(args.side)
-    except TirError as ex:
-        print(f"error: {ex}", file=sys.stderr)
-        return 1
+    if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", args.name) or args.name in C_RESERVED \
+            or re.match(r"_[A-Z_]", args.name):
+        ap.error(f"--name '{args.name}' is not a usable C identifier (a letter or '_' first, no C keyword, "
+                 "no reserved '_X' or '__' prefix)")
+    for out in (args.output, args.header):
+        folder = os.path.dirname(os.path.abspath(out)) if out else None
+        if folder and not os.path.isdir(folder):
+            ap.error(f"the output folder {folder} does not exist")
+    # a TirError names file, line and key; the grip command prints it (exit 3)
+    params = read_tir(args.tir).params(args.side)
     files = {}
     hname = None
     if args.header:
