@@ -82,6 +82,24 @@ LIB_SRCS := $(sort $(wildcard lib/*/*.c))
 LIB_OBJS := $(LIB_SRCS:%.c=$(BUILD)/%.o)
 LIBGRIP  := $(BUILD)/libgrip.a
 
+# The version, from its one place (include/grip/grip_version.h). The shared
+# library's soname carries MAJOR, or MAJOR.MINOR while MAJOR is 0.
+version_part = $(shell sed -n 's/^\#define GRIP_VERSION_$(1) \([0-9][0-9]*\)$$/\1/p' include/grip/grip_version.h)
+VERSION_MAJOR := $(call version_part,MAJOR)
+VERSION_MINOR := $(call version_part,MINOR)
+VERSION_PATCH := $(call version_part,PATCH)
+VERSION   := $(VERSION_MAJOR).$(VERSION_MINOR).$(VERSION_PATCH)
+SOVERSION := $(if $(filter 0,$(VERSION_MAJOR)),0.$(VERSION_MINOR),$(VERSION_MAJOR))
+ifeq ($(words $(VERSION_MAJOR) $(VERSION_MINOR) $(VERSION_PATCH)),3)
+else
+$(error cannot read GRIP_VERSION_MAJOR/MINOR/PATCH from include/grip/grip_version.h)
+endif
+
+# Shared library (host): the same sources and strict flags, -fPIC objects.
+SHLIB_NAME := libgrip-$(ARITH).so
+SHLIB      := $(BUILD)/$(SHLIB_NAME).$(VERSION)
+PIC_OBJS   := $(LIB_SRCS:%.c=$(BUILD)/pic/%.o)
+
 # Host port: port/linux/grip_*.c are programs (bin/grip-*), the rest is the
 # port library that programs and tests link.
 PROG_SRCS := $(sort $(wildcard port/linux/grip_*.c))
@@ -94,7 +112,7 @@ SUPPORT_SRCS := $(sort $(wildcard tests/support/*.c))
 UNIT_SRCS    := $(sort $(wildcard tests/unit/test_*.c))
 UNIT_BINS    := $(UNIT_SRCS:tests/unit/%.c=$(BUILD)/tests/%)
 
-.PHONY: target-test fuzz static all lib progs tests test run-tests check run setup golden firmware firmware-image bench bench-image bench-host clean help
+.PHONY: target-test fuzz static all lib shlib progs tests test run-tests check run setup golden firmware firmware-image bench bench-image bench-host clean help
 
 all: lib progs tests
 
@@ -135,6 +153,17 @@ $(BUILD)/lib/%.o: lib/%.c $(wildcard include/grip/*.h lib/*/*.h)
 $(LIBGRIP): $(LIB_OBJS)
 	@rm -f $@
 	ar rcs $@ $^
+
+shlib: $(SHLIB)
+
+$(BUILD)/pic/lib/%.o: lib/%.c $(wildcard include/grip/*.h lib/*/*.h)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_LIB) -fPIC -c $< -o $@
+
+# -z defs: every symbol resolved (libm named for the float build).
+$(SHLIB): $(PIC_OBJS)
+	$(CC) $(CPUFLAGS) $(OPT) -shared -Wl,-soname,$(SHLIB_NAME).$(SOVERSION) -Wl,-z,defs \
+	    -o $@ $^ $(if $(filter float,$(ARITH)),-lm)
 
 tests: $(UNIT_BINS)
 
