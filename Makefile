@@ -8,6 +8,8 @@
 #   BUILDROOT=dir       where build folders go (default build)
 #   TARGET=host|m4f|m0p cross-build lib/ for Cortex-M4F (float) or Cortex-M0+
 #                       (fixed, no FPU) with arm-none-eabi-gcc
+#   PREFIX=dir DESTDIR=dir  where `make install` / `make uninstall` put files
+#                       (default /usr/local; docs/porting.md, "Installing")
 
 ARITH     ?= float
 TARGET    ?= host
@@ -112,7 +114,7 @@ SUPPORT_SRCS := $(sort $(wildcard tests/support/*.c))
 UNIT_SRCS    := $(sort $(wildcard tests/unit/test_*.c))
 UNIT_BINS    := $(UNIT_SRCS:tests/unit/%.c=$(BUILD)/tests/%)
 
-.PHONY: target-test fuzz static all lib shlib progs tests test run-tests check run setup golden firmware firmware-image bench bench-image bench-host clean help
+.PHONY: target-test fuzz static all lib shlib progs tests test run-tests check run setup golden firmware firmware-image bench bench-image bench-host clean help install uninstall
 
 all: lib progs tests
 
@@ -142,6 +144,10 @@ help:
 	@echo "make test             run the unit and golden tests for one build"
 	@echo "make firmware         cross-build Cortex-M4F (float) and M0+ (fixed)"
 	@echo "make bench            benchmarks: ns/call, callgrind, Cortex-M counts"
+	@echo "make install PREFIX=/usr/local [DESTDIR=]   headers, libgrip-float/-fixed (.a, .so),"
+	@echo "                      grip-tire, grip-replay, pkg-config, CMake package (docs/porting.md)"
+	@echo "make install TARGET=m4f|m0p PREFIX=...      add the Cortex-M library to that prefix"
+	@echo "make uninstall [TARGET=...] PREFIX=...      remove what that install put there"
 	@echo "variables: ARITH=float|fixed CC=gcc|clang SAN=1 DEBUG_SAT=1"
 
 lib: $(LIBGRIP)
@@ -257,6 +263,33 @@ bench: setup golden
 	@$(MAKE) --no-print-directory TARGET=m4f bench-image
 	@$(MAKE) --no-print-directory TARGET=m0p bench-image
 	@$(PYTOOLS) bench $(BENCH_ARGS)
+
+# Install into $(DESTDIR)$(PREFIX) (docs/porting.md, "Installing"). The host
+# install builds both arithmetics (static and shared) and the float build's
+# programs; TARGET=m4f|m0p adds that cross-built static library to the same
+# prefix under lib/grip/$(TARGET)/. packaging/install.sh records every file in
+# $(PREFIX)/share/grip/manifest-<part>.txt, which `make uninstall` reads.
+PREFIX  ?= /usr/local
+DESTDIR ?=
+INSTALL_ENV = PREFIX='$(PREFIX)' DESTDIR='$(DESTDIR)' GRIP_VERSION='$(VERSION)' \
+              GRIP_SOVERSION='$(SOVERSION)' GRIP_CC='$(CC)'
+
+install:
+ifneq ($(SAN)$(DEBUG_SAT),00)
+	$(error make install: installs the release build; drop SAN=1 / DEBUG_SAT=1)
+endif
+ifeq ($(TARGET),host)
+	@$(MAKE) --no-print-directory ARITH=float lib shlib progs
+	@$(MAKE) --no-print-directory ARITH=fixed lib shlib
+	@$(INSTALL_ENV) sh packaging/install.sh install host \
+	    $(BUILDROOT)/float-$(CCNAME) $(BUILDROOT)/fixed-$(CCNAME)
+else
+	@$(MAKE) --no-print-directory lib
+	@$(INSTALL_ENV) sh packaging/install.sh install $(TARGET) $(BUILD)
+endif
+
+uninstall:
+	@$(INSTALL_ENV) sh packaging/install.sh uninstall $(TARGET)
 
 clean:
 	rm -rf build
