@@ -114,7 +114,7 @@ SUPPORT_SRCS := $(sort $(wildcard tests/support/*.c))
 UNIT_SRCS    := $(sort $(wildcard tests/unit/test_*.c))
 UNIT_BINS    := $(UNIT_SRCS:tests/unit/%.c=$(BUILD)/tests/%)
 
-.PHONY: target-test fuzz static all lib shlib progs tests test run-tests check run setup golden firmware firmware-image bench bench-image bench-host clean help install uninstall
+.PHONY: target-test fuzz static all lib shlib progs tests test run-tests check run setup golden firmware firmware-image bench bench-image bench-host clean help install uninstall install-test
 
 all: lib progs tests
 
@@ -290,6 +290,11 @@ endif
 
 uninstall:
 	@$(INSTALL_ENV) sh packaging/install.sh uninstall $(TARGET)
+
+# Install into a temporary prefix and build, run and compare external
+# consumers (pkg-config, CMake, Cortex-M4F/M0+ with the toolchain files).
+install-test:
+	@BUILDROOT=$(BUILDROOT) sh tests/install/run_install_test.sh
 
 clean:
 	rm -rf build
