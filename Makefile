@@ -8,6 +8,8 @@
 #   BUILDROOT=dir       where build folders go (default build)
 #   TARGET=host|m4f|m0p cross-build lib/ for Cortex-M4F (float) or Cortex-M0+
 #                       (fixed, no FPU) with arm-none-eabi-gcc
+#   PREFIX=dir DESTDIR=dir  where `make install` / `make uninstall` put files
+#                       (default /usr/local; docs/porting.md, "Installing")
 
 ARITH     ?= float
 TARGET    ?= host
@@ -82,6 +84,24 @@ LIB_SRCS := $(sort $(wildcard lib/*/*.c))
 LIB_OBJS := $(LIB_SRCS:%.c=$(BUILD)/%.o)
 LIBGRIP  := $(BUILD)/libgrip.a
 
+# The version, from its one place (include/grip/grip_version.h). The shared
+# library's soname carries MAJOR, or MAJOR.MINOR while MAJOR is 0.
+version_part = $(shell sed -n 's/^\#define GRIP_VERSION_$(1) \([0-9][0-9]*\)$$/\1/p' include/grip/grip_version.h)
+VERSION_MAJOR := $(call version_part,MAJOR)
+VERSION_MINOR := $(call version_part,MINOR)
+VERSION_PATCH := $(call version_part,PATCH)
+VERSION   := $(VERSION_MAJOR).$(VERSION_MINOR).$(VERSION_PATCH)
+SOVERSION := $(if $(filter 0,$(VERSION_MAJOR)),0.$(VERSION_MINOR),$(VERSION_MAJOR))
+ifeq ($(words $(VERSION_MAJOR) $(VERSION_MINOR) $(VERSION_PATCH)),3)
+else
+$(error cannot read GRIP_VERSION_MAJOR/MINOR/PATCH from include/grip/grip_version.h)
+endif
+
+# Shared library (host): the same sources and strict flags, -fPIC objects.
+SHLIB_NAME := libgrip-$(ARITH).so
+SHLIB      := $(BUILD)/$(SHLIB_NAME).$(VERSION)
+PIC_OBJS   := $(LIB_SRCS:%.c=$(BUILD)/pic/%.o)
+
 # Host port: port/linux/grip_*.c are programs (bin/grip-*), the rest is the
 # port library that programs and tests link.
 PROG_SRCS := $(sort $(wildcard port/linux/grip_*.c))
@@ -94,7 +114,7 @@ SUPPORT_SRCS := $(sort $(wildcard tests/support/*.c))
 UNIT_SRCS    := $(sort $(wildcard tests/unit/test_*.c))
 UNIT_BINS    := $(UNIT_SRCS:tests/unit/%.c=$(BUILD)/tests/%)
 
-.PHONY: target-test fuzz static all lib progs tests test run-tests check run setup golden firmware firmware-image bench bench-image bench-host clean help
+.PHONY: target-test fuzz static all lib shlib progs tests test run-tests check run setup golden firmware firmware-image bench bench-image bench-host clean help install uninstall install-test
 
 all: lib progs tests
 
@@ -124,6 +144,10 @@ help:
 	@echo "make test             run the unit and golden tests for one build"
 	@echo "make firmware         cross-build Cortex-M4F (float) and M0+ (fixed)"
 	@echo "make bench            benchmarks: ns/call, callgrind, Cortex-M counts"
+	@echo "make install PREFIX=/usr/local [DESTDIR=]   headers, libgrip-float/-fixed (.a, .so),"
+	@echo "                      grip-tire, grip-replay, pkg-config, CMake package (docs/porting.md)"
+	@echo "make install TARGET=m4f|m0p PREFIX=...      add the Cortex-M library to that prefix"
+	@echo "make uninstall [TARGET=...] PREFIX=...      remove what that install put there"
 	@echo "variables: ARITH=float|fixed CC=gcc|clang SAN=1 DEBUG_SAT=1"
 
 lib: $(LIBGRIP)
@@ -135,6 +159,17 @@ $(BUILD)/lib/%.o: lib/%.c $(wildcard include/grip/*.h lib/*/*.h)
 $(LIBGRIP): $(LIB_OBJS)
 	@rm -f $@
 	ar rcs $@ $^
+
+shlib: $(SHLIB)
+
+$(BUILD)/pic/lib/%.o: lib/%.c $(wildcard include/grip/*.h lib/*/*.h)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_LIB) -fPIC -c $< -o $@
+
+# -z defs: every symbol resolved (libm named for the float build).
+$(SHLIB): $(PIC_OBJS)
+	$(CC) $(CPUFLAGS) $(OPT) -shared -Wl,-soname,$(SHLIB_NAME).$(SOVERSION) -Wl,-z,defs \
+	    -o $@ $^ $(if $(filter float,$(ARITH)),-lm)
 
 tests: $(UNIT_BINS)
 
@@ -228,6 +263,38 @@ bench: setup golden
 	@$(MAKE) --no-print-directory TARGET=m4f bench-image
 	@$(MAKE) --no-print-directory TARGET=m0p bench-image
 	@$(PYTOOLS) bench $(BENCH_ARGS)
+
+# Install into $(DESTDIR)$(PREFIX) (docs/porting.md, "Installing"). The host
+# install builds both arithmetics (static and shared) and the float build's
+# programs; TARGET=m4f|m0p adds that cross-built static library to the same
+# prefix under lib/grip/$(TARGET)/. packaging/install.sh records every file in
+# $(PREFIX)/share/grip/manifest-<part>.txt, which `make uninstall` reads.
+PREFIX  ?= /usr/local
+DESTDIR ?=
+INSTALL_ENV = PREFIX='$(PREFIX)' DESTDIR='$(DESTDIR)' GRIP_VERSION='$(VERSION)' \
+              GRIP_SOVERSION='$(SOVERSION)' GRIP_CC='$(CC)'
+
+install:
+ifneq ($(SAN)$(DEBUG_SAT),00)
+	$(error make install: installs the release build; drop SAN=1 / DEBUG_SAT=1)
+endif
+ifeq ($(TARGET),host)
+	@$(MAKE) --no-print-directory ARITH=float lib shlib progs
+	@$(MAKE) --no-print-directory ARITH=fixed lib shlib
+	@$(INSTALL_ENV) sh packaging/install.sh install host \
+	    $(BUILDROOT)/float-$(CCNAME) $(BUILDROOT)/fixed-$(CCNAME)
+else
+	@$(MAKE) --no-print-directory lib
+	@$(INSTALL_ENV) sh packaging/install.sh install $(TARGET) $(BUILD)
+endif
+
+uninstall:
+	@$(INSTALL_ENV) sh packaging/install.sh uninstall $(TARGET)
+
+# Install into a temporary prefix and build, run and compare external
+# consumers (pkg-config, CMake, Cortex-M4F/M0+ with the toolchain files).
+install-test:
+	@BUILDROOT=$(BUILDROOT) sh tests/install/run_install_test.sh
 
 clean:
 	rm -rf build

@@ -44,6 +44,9 @@ for cfg in "ARITH=float" "ARITH=fixed" "ARITH=fixed DEBUG_SAT=1" \
     step "unit_$name" make --no-print-directory $JOBS $cfg run-tests
 done
 step firmware make --no-print-directory $JOBS firmware
+# make install / uninstall into a staging prefix; external consumers through
+# pkg-config and CMake, on the host and (toolchain files) on emulated Cortex-M.
+step install sh tests/install/run_install_test.sh
 # Golden vectors on emulated Cortex-M4F / M0+ (fixed: bit-identical to the host).
 step target sh tests/target/run_target_tests.sh
 # libFuzzer harnesses, both arithmetics, a bounded time each.

@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 PKGS="gcc make clang libcmocka-dev libsocketcan-dev pkg-config valgrind \
 gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi \
 qemu-system-arm qemu-system-x86 busybox-static cpio can-utils python3-venv \
-cppcheck clang-tidy libclang-rt-14-dev"
+cppcheck clang-tidy libclang-rt-14-dev cmake"
 
 missing=""
 for p in $PKGS; do

@@ -19,6 +19,7 @@
 
 #include <stdint.h>
 #include "grip_config.h"
+#include "grip_version.h"
 
 #if GRIP_ARITH_FIXED
 typedef int32_t grip_real_t;
