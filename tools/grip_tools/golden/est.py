@@ -275,7 +275,7 @@ def write_golden(outdir):
     # 26 m/s: at 28 and 30 m/s the
     # estimator's open-loop stretch (vy unobservable with every tire at the
     # model's limit) ends in a recovery cascade that amplifies last-bit
-    # differences (docs/estimator.md, "Golden tests")
+    # differences (docs/estimator.md, "Robustness and golden tests")
     t, v, ok, _ = bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), v0=AERO_BANK_V0)
     v[(t >= AERO_BANK_LOCK[0]) & (t < AERO_BANK_LOCK[1]), 2] = 0.0
     write_sequence(outdir, "aero_bank_100hz", 0.01, t, v, ok, "internal generator at 26 m/s, aero, drag, bank, latency, steering lag and latency on, RL locked while braking",

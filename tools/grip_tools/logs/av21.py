@@ -5,8 +5,8 @@ AV-21 run in est_eval, the measured-data loop in loop/av21.py).
 Frame: vy, omega (yaw rate) and delta are taken in the log's own sign, one
 frame: in slow corners (4 - 9 m/s) the log's vy is +2.0 omega, above
 lr = 1.73 m, as the kinematics of a car turning about a point near its rear
-axle require for a point ahead of the CG (docs/estimator.md, "On the real
-Dallara AV-21 road course"). Reading vy turned over (positive to the
+axle require for a point ahead of the CG (docs/estimator.md, "Real
+drives"). Reading vy turned over (positive to the
 right) contradicts that kinematics (docs/measured-data-loop.md).
 
 The INS does not measure at the CG: ins_offset finds it about 0.5 m
