@@ -94,14 +94,14 @@ static int mf_setup(const cli_options *o, model_ctx *m, char *err, size_t errlen
     }
     m->pure = o->pure;
     /* TYRESIDE is taken from the file; --side says where the tyre is
-     * mounted (default left), and the library mirrors the characteristics
-     * when the two differ. */
-    if (grip_tir_read(o->tir, &m->u.mf, err, errlen) != 0) {
-        return -1;
-    }
-    m->u.mf.options = 0u;
-    if (o->side == GRIP_TIR_SIDE_RIGHT) {
-        m->u.mf.options |= GRIP_MF_OPT_RIGHT_SIDE;
+     * mounted (default: as fitted, on the side TYRESIDE names), and the
+     * library mirrors the characteristics when the two differ. */
+    {
+        grip_tir_options to;
+        to.side = o->side;
+        if (grip_tir_read_opts(o->tir, &to, &m->u.mf, err, errlen) != 0) {
+            return -1;
+        }
     }
     if (o->sae) {
         m->u.mf.options |= GRIP_MF_OPT_SAE;
@@ -222,8 +222,9 @@ static void usage(FILE *f)
             "  --params FILE     parameter file of the brush-family models (key = value, SI;\n"
             "                    docs/brush-models.md)\n"
             "  --pure            pure-slip forces only (no combined-slip weighting)\n"
-            "  --side left|right where the tyre is mounted (default left); a file\n"
-            "                    fitted for the other side (TYRESIDE) is mirrored\n"
+            "  --side left|right where the tyre is mounted (default: as fitted, on the\n"
+            "                    side TYRESIDE names, never mirrored); a file fitted\n"
+            "                    for the other side is mirrored\n"
             "  --sae             inputs and outputs in SAE J670 tyre axes (x forward,\n"
             "                    y right, z down: alpha, fy, mz and fz change sign);\n"
             "                    default ISO-W (x forward, y left, z up)\n"

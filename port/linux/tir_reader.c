@@ -759,10 +759,14 @@ static int validate(const tir_text *t, const grip_tir_options *opts, grip_tir_va
             return fail(e, x->line, "TYRESIDE", "unknown tyre side '%s' (LEFT, RIGHT, UNKNOWN)", x->raw);
         }
     }
-    if (opts != NULL && opts->side != GRIP_TIR_SIDE_FILE) {
-        out->tyreside = (int32_t)opts->side;
+    /* the mounting side: as fitted unless the caller names one */
+    {
+        grip_tir_side mount = (opts != NULL) ? opts->side : GRIP_TIR_SIDE_FILE;
+        if (mount == GRIP_TIR_SIDE_FILE) {
+            mount = (out->tyreside == -1) ? GRIP_TIR_SIDE_RIGHT : GRIP_TIR_SIDE_LEFT;
+        }
+        out->options = (mount == GRIP_TIR_SIDE_RIGHT) ? GRIP_MF_OPT_RIGHT_SIDE : 0u;
     }
-    out->options = 0u;
 
     /* coefficients */
     for (i = 0; i < GRIP_TIR_NCOEF; i++) {

@@ -17,7 +17,11 @@
 #include <stddef.h>
 #include "grip/grip_mf.h"
 
-/* Tyre side: take TYRESIDE from the file, or force one. */
+/* Where the tyre is mounted. tyreside is always the file's TYRESIDE; the
+ * mounting is GRIP_MF_OPT_RIGHT_SIDE in options, and the library mirrors the
+ * characteristics when the two differ. GRIP_TIR_SIDE_FILE mounts the tyre on
+ * the side it was fitted for (as fitted, never mirrored: the way MFeval and
+ * MF-Tyre evaluate a property file). */
 typedef enum {
     GRIP_TIR_SIDE_FILE = 0,
     GRIP_TIR_SIDE_LEFT = 1,
@@ -25,7 +29,7 @@ typedef enum {
 } grip_tir_side;
 
 typedef struct {
-    grip_tir_side side;     /* default GRIP_TIR_SIDE_FILE */
+    grip_tir_side side;     /* default GRIP_TIR_SIDE_FILE: as fitted */
 } grip_tir_options;
 
 /* GRIP_TIR_I_<field>: index of each coefficient in GRIP_MF_COEFFICIENTS;
@@ -50,7 +54,7 @@ typedef struct {
     unsigned long line[GRIP_TIR_NCOEF];
 } grip_tir_values;
 
-/* Reads `path` into `out` (TYRESIDE from the file). Returns 0, or -1 with a
+/* Reads `path` into `out`, mounted as fitted. Returns 0, or -1 with a
  * message in err (if err != NULL) and `out` left untouched. */
 int grip_tir_read(const char *path, grip_mf_params *out, char *err, size_t errlen);
 

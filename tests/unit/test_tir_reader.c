@@ -188,12 +188,17 @@ static void test_minimal_and_side_option(void **state)
     /* FITTYP from PROPERTY_FILE_FORMAT when absent */
     assert_int_equal(grip_tir_read(FIX "fittyp_from_format.tir", &p, err, sizeof err), 0);
     assert_int_equal(p.fittyp, 62);
+    /* tyreside stays the file's; the mounting side is the option bit, as
+     * fitted by default (minimal.tir says RIGHT) */
+    assert_int_equal(grip_tir_read(FIX "minimal.tir", &p, err, sizeof err), 0);
+    assert_int_equal(p.options, GRIP_MF_OPT_RIGHT_SIDE);
     o.side = GRIP_TIR_SIDE_LEFT;
     assert_int_equal(grip_tir_read_opts(FIX "minimal.tir", &o, &p, err, sizeof err), 0);
-    assert_int_equal(p.tyreside, 1);
+    assert_int_equal(p.tyreside, -1);
+    assert_int_equal(p.options, 0u);
     o.side = GRIP_TIR_SIDE_RIGHT;
     assert_int_equal(grip_tir_read_opts(FIX "units.tir", &o, &p, err, sizeof err), 0);
-    assert_int_equal(p.tyreside, -1);
+    assert_int_equal(p.options, GRIP_MF_OPT_RIGHT_SIDE);
 }
 
 static void test_unit_conversion(void **state)
@@ -340,7 +345,9 @@ static void test_matches_emitted_params(void **state)
         int differ = 0;
         double worst = 0.0;
         const char *worst_key = "-";
-        if (grip_tir_read(tt->tir_path, &p, err, sizeof err) != 0) {
+        grip_tir_options left;
+        left.side = GRIP_TIR_SIDE_LEFT;   /* the golden parameter sets mount every tyre left */
+        if (grip_tir_read_opts(tt->tir_path, &left, &p, err, sizeof err) != 0) {
             fail_msg("%s: %s", tt->name, err);
         }
         assert_int_equal(p.fittyp, tt->params->fittyp);

@@ -282,19 +282,25 @@ class Conventions(unittest.TestCase):
         self.assertLess(float(o["fx"]), 0.0)
 
     def test_tyreside_mirror(self):
-        P = dict(self.P)
-        self.assertEqual(P["tyreside"], -1)          # TYRESIDE = 'RIGHT' in the file
-        dflt = mf.evaluate(P, self.k, self.a, self.g, self.fz)
-        plain = mf.evaluate(P, self.k, -self.a, -self.g, self.fz, mirror=False)
-        for q in dflt:
+        # mirrored exactly when the mounting side (options) differs from the
+        # side the file was fitted for (tyreside), as in the C library
+        path = os.path.join(golden_mf.shared_data_dir(), "mfeval-tir", "MagicFormula61_Paramerters.tir")
+        t = tir.read_tir(path)
+        self.assertEqual(t.tyreside, -1)               # TYRESIDE = 'RIGHT' in the file
+        fitted = t.params()                            # default: as fitted
+        self.assertFalse(tir.mirrored(fitted))
+        self.assertFalse(tir.mirrored(t.params("right")))
+        left = t.params("left")
+        self.assertTrue(tir.mirrored(left))
+        asfit = mf.evaluate(fitted, self.k, self.a, self.g, self.fz)
+        plain = mf.evaluate(fitted, self.k, self.a, self.g, self.fz, mirror=False)
+        mounted_left = mf.evaluate(left, self.k, self.a, self.g, self.fz)
+        mirrored_in = mf.evaluate(fitted, self.k, -self.a, -self.g, self.fz, mirror=False)
+        for q in asfit:
+            np.testing.assert_array_equal(asfit[q], plain[q])
             sign = 1 if q.startswith("fx") else -1
-            np.testing.assert_array_equal(dflt[q], sign * plain[q])
-        P["tyreside"] = 1
-        left = mf.evaluate(P, self.k, self.a, self.g, self.fz)
-        forced = mf.evaluate(P, self.k, self.a, self.g, self.fz, mirror=True)
-        for q in dflt:
-            np.testing.assert_array_equal(forced[q], dflt[q])
-        self.assertGreater(np.max(np.abs(left["fy"] - dflt["fy"])), 1.0)
+            np.testing.assert_array_equal(mounted_left[q], sign * mirrored_in[q])
+        self.assertGreater(np.max(np.abs(mounted_left["fy"] - asfit["fy"])), 1.0)
 
     def test_iso_force_signs(self):
         """ISO-W: driving slip -> Fx > 0; the lateral force opposes the slip
@@ -377,7 +383,7 @@ class Golden(unittest.TestCase):
                 self.assertLessEqual(rows.shape[0], 4000)
                 self.assertTrue(np.all(np.isfinite(rows)))
                 # rows reproduce: the reference evaluated on the written inputs
-                P = tir.load_params(path)
+                P = tir.load_params(path, "left")      # the golden files mount every tyre left
                 p = rows[:, 4] if P["fittyp"] in mf.MF6 else None
                 o = mf.evaluate(P, rows[:, 0], rows[:, 1], rows[:, 2], rows[:, 3], p=p, vx=rows[:, 5])
                 for j, q in enumerate(golden_mf.COLUMNS[6:]):

@@ -220,7 +220,7 @@ class Emitter(unittest.TestCase):
         self.assertIn("const grip_mf_params tyre = {", text)
         self.assertIn(".fittyp = 61,", text)
         self.assertIn(".tyreside = -1,", text)
-        self.assertIn(".options = 0u,", text)
+        self.assertIn(".options = 8u,", text)          # mounted as fitted: GRIP_MF_OPT_RIGHT_SIDE
         found = dict(re.findall(r"\.(\w+) = GRIP_Q[SL]\(([^)]*)\)", text))
         coefs = tir.coefficients()
         self.assertEqual(len(found), len(coefs))
@@ -228,14 +228,23 @@ class Emitter(unittest.TestCase):
             self.assertEqual(float(found[c.field]), t.values[c.key], c.key)   # repr precision
             self.assertIn(f".{c.field} = GRIP_{c.fmt}(", text)
 
-    def test_side_override(self):
+    def test_mounting_side(self):
+        # tyreside is always the file's; the mounting side is the options bit,
+        # as fitted by default (a RIGHT file mounted right, nothing mirrored)
         path = os.path.join(golden_mf.shared_data_dir(), "mfeval-tir", "MagicFormula61_Paramerters.tir")
         with tempfile.TemporaryDirectory() as d:
-            self.assertIn(".tyreside = 1,", self._emit(d, path, side="left")[0])
-            self.assertIn(".tyreside = -1,", self._emit(d, path, side="right")[0])
+            for side, tyreside, options, how in ((None, -1, 8, "as fitted"), ("left", -1, 0, "mirrored"),
+                                                 ("right", -1, 8, "as fitted")):
+                text = self._emit(d, path, side=side)[0]
+                self.assertIn(f".tyreside = {tyreside},", text)
+                self.assertIn(f".options = {options}u,", text)
+                self.assertIn(how, text)
             path2 = os.path.join(DATA, "good_min.tir")
-            self.assertIn(".tyreside = 1,", self._emit(d, path2)[0])
-            self.assertIn(".tyreside = -1,", self._emit(d, path2, side="right")[0])
+            for side, options, how in ((None, 0, "as fitted"), ("left", 0, "as fitted"), ("right", 8, "mirrored")):
+                text = self._emit(d, path2, side=side)[0]
+                self.assertIn(".tyreside = 1,", text)
+                self.assertIn(f".options = {options}u,", text)
+                self.assertIn(how, text)
 
     @unittest.skipIf(shutil.which("gcc") is None, "gcc not installed")
     def test_output_compiles_in_both_builds(self):

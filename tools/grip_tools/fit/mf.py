@@ -357,11 +357,12 @@ GENERAL_BOUNDS = {"pcx1": (0.3, 3.0), "pcy1": (0.3, 3.0), "qcz1": (0.3, 3.0),
                   "pky4": (0.5, 4.0), "qbz1": (0.0, np.inf)}
 
 
-def _base_params(tir_path, fittyp, fnomin, r0):
-    """A parameter dict to start from: a .tir file, or MF defaults."""
+def _base_params(tir_path, fittyp, fnomin, r0, side="fitted"):
+    """A parameter dict to start from: a .tir file (mounted as fitted unless
+    side says otherwise), or MF defaults."""
     from grip_tools.reference import tir
     if tir_path:
-        return tir.read_tir(tir_path).params()
+        return tir.read_tir(tir_path).params(side)
     p = {c.field: c.default for c in tir.coefficients()}
     p.update(fittyp=int(fittyp), tyreside=1, options=0, path="(defaults)")
     p["fnomin"] = float(fnomin)
@@ -685,6 +686,9 @@ def main(argv=None):
     ap.add_argument("--model", choices=("mf89", "fx", "fy", "mz"), default="mf89")
     ap.add_argument("--tir", help="MF groups: start from (and keep the other coefficients of) this file")
     ap.add_argument("--fittyp", type=int, default=61, help="MF groups without --tir: 5/6/21 or 61/62")
+    ap.add_argument("--side", choices=("fitted", "left", "right"), default="fitted",
+                    help="MF groups with --tir: where that tyre is mounted (default as fitted: measured data "
+                         "are taken on the tyre as the file describes it)")
     ap.add_argument("--fnomin", type=float, help="MF groups without --tir: nominal load [N] "
                     "(default: the middle load level of the data)")
     ap.add_argument("--r0", type=float, default=0.3, help="MF groups without --tir: unloaded radius [m]")
@@ -710,7 +714,7 @@ def main(argv=None):
             if not args.tir:
                 ap.error("--synthetic for an MF group needs --tir (the true coefficients)")
             from grip_tools.reference import tir
-            P = tir.read_tir(args.tir).params()
+            P = tir.read_tir(args.tir).params(args.side)
             gam = (-0.05, 0.0, 0.05) if args.model != "fx" else (0.0,)
             d = synthetic_mf(P, args.model, gammas=gam, noise=args.noise, seed=args.seed)
         write_csv(args.synthetic, d)
@@ -730,7 +734,7 @@ def main(argv=None):
     else:
         fz_levels = _levels(data["fz"], 0.02 * float(np.max(data["fz"])))
         fnomin = args.fnomin or float(fz_levels[len(fz_levels) // 2])
-        base = _base_params(args.tir, args.fittyp, fnomin, args.r0)
+        base = _base_params(args.tir, args.fittyp, fnomin, args.r0, args.side)
         n_free = len([nm for nm in identifiable(args.model, data, base) if nm not in fix])
         check_fit_data(args.csv, table, ch, slip, n_free)
         res = fit_mf_group(data, args.model, base, constraints=args.constraints, method=args.method,

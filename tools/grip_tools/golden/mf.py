@@ -3,8 +3,9 @@ shared .tir file, and the compiled-in parameter sets of those files.
 
 Writes into outdir (build/golden):
   mf_<name>.txt  columns: kappa alpha gamma fz p vx fx0 fy0 mz0 fx fy mz
-                 SI units, ISO-W, MF-Tyre forms, the file's TYRESIDE applied
-                 (a RIGHT file is mirrored, as the emitted struct says)
+                 SI units, ISO-W, MF-Tyre forms, every tyre mounted on the
+                 left (a RIGHT file is mirrored, as the emitted struct says),
+                 so the golden vectors run the mirroring path too
   mf_params.c    static const grip_mf_params grip_tire_<name> = {...} per
                  file (tools/grip_tools/reference/tir.py emitter) and the table
                  grip_test_tires[] / grip_test_tire_count (tests/support/mf_params.h)
@@ -182,7 +183,7 @@ def golden_text(path, name, P):
         if not np.all(np.isfinite(v)):
             raise RuntimeError(f"{path}: non-finite {k} in the reference output")
     R = ranges(P)
-    side = "RIGHT -> mirrored (tyreside -1)" if P["tyreside"] == -1 else "LEFT/unknown (tyreside +1)"
+    side = "RIGHT, mounted left -> mirrored" if P["tyreside"] == -1 else "LEFT/unknown, mounted left"
     hdr = header("grip_tools.golden.mf", mf, seed, COLUMNS, params={
         "tir": path,
         "name": name,
@@ -256,7 +257,7 @@ def write_golden(outdir):
         if name in names:
             raise RuntimeError(f"{path}: name {name} already used by {names[name]}")
         names[name] = path
-        P = tir.read_tir(path).params()     # TirError propagates: generation fails
+        P = tir.read_tir(path).params("left")     # TirError propagates: generation fails
         entries.append((name, path, P))
         _write_keep_stamp(os.path.join(outdir, f"mf_{name}.txt"), golden_text(path, name, P))
     write_if_changed(os.path.join(outdir, "mf_params.c"), params_c(entries))

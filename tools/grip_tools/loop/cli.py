@@ -27,6 +27,10 @@ def main(argv=None):
     ap.add_argument("--axle", default="front", choices=("front", "rear"))
     ap.add_argument("--rav4")
     ap.add_argument("--replay", default="build/float-gcc/bin/grip-replay")
+    ap.add_argument("--side", choices=("fitted", "left", "right"), default="fitted",
+                    help="where the tyre of --tir is mounted: as fitted (default, never mirrored, as MFeval "
+                         "and MF-Tyre evaluate a .tir), or left / right (a file fitted for the other side "
+                         "is mirrored); the report states it")
     ap.add_argument("-o", "--outdir", default="build/analyze")
     a = ap.parse_args(argv)
     if a.generate:
@@ -52,7 +56,8 @@ def main(argv=None):
             ap.error("DATA.csv and --tir are required")
         from grip_tools.reference import tir
         ds = io.read_csv(a.data)
-        model = TireModel(tir.load_params(a.tir), a.tir, a.tir)
+        params = tir.load_params(a.tir, a.side)
+        model = TireModel(params, f"{a.tir} ({tir.side_description(params)})", a.tir)
     res = attribution.analyse(model, ds)
     path, upd = report.write(res, ds, model, a.outdir)
     print(attribution.verdict(res))

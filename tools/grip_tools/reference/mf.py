@@ -370,13 +370,14 @@ def evaluate(params, kappa, alpha, gamma, fz, p=None, vx=None, *, form="mftyre",
     kappa [-], alpha [rad], gamma [rad], fz [N], p [Pa] (None: INFLPRES, or
     NOMPRES when INFLPRES is 0; ignored by MF 5.2), vx [m/s] (None: LONGVL).
     convention 'iso' (ISO-W, native) or 'sae'; kappa_braking=True: the given
-    kappa is positive in braking. mirror: None = from params['tyreside']
-    (-1 mirrors), or True/False to force.
+    kappa is positive in braking. mirror: None = when the mounting side
+    (options' RIGHT_SIDE bit) differs from the file's (tyreside), as the C
+    library does, or True/False to force.
     Returns {fx0, fy0, mz0, fx, fy, mz} (and the internals when details).
     """
     k, a, g, f = to_iso(kappa, alpha, gamma, fz, convention, kappa_braking)
     if mirror is None:
-        mirror = int(params.get("tyreside", 1)) == -1
+        mirror = (int(params.get("tyreside", 1)) == -1) != bool(int(params.get("options", 0)) & (1 << 3))
     if mirror:
         a, g = mirror_inputs(a, g)
     out, det = _core(params, k, a, g, f, p, vx, form)

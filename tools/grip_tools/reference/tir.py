@@ -214,24 +214,50 @@ class Tir:
 
     def params(self, side=None):
         """dict for the reference model and the emitter: every coefficient
-        field (lower case, SI) plus fittyp, tyreside, options, name/path."""
+        field (lower case, SI) plus fittyp, tyreside, options, name/path.
+
+        side: where the tyre is mounted. None (or 'fitted'): as the file was
+        fitted, the way MFeval and MF-Tyre evaluate a property file: never
+        mirrored. 'left' or 'right': mounted there; a file fitted for the
+        other side (TYRESIDE) is mirrored. tyreside is always the file's;
+        the mounting is the GRIP_MF_OPT_RIGHT_SIDE bit of options, as in C."""
         p = {c.field: self.values[c.key] for c in coefficients()}
         p["fittyp"] = self.fittyp
-        p["tyreside"] = side_value(side, self.tyreside)
-        p["options"] = 0
+        p["tyreside"] = self.tyreside
+        p["options"] = mount_options(side, self.tyreside)
         p["path"] = self.path
         return p
 
 
-def side_value(side, file_side=1):
-    """tyreside of the struct: --side overrides the file's TYRESIDE."""
-    if side is None or side == "file":
-        return file_side
+# include/grip/grip_mf.h: the tyre is mounted on the right
+OPT_RIGHT_SIDE = 1 << 3
+SIDES = ("fitted", "left", "right")
+
+
+def mount_options(side, file_side=1):
+    """The options bit for a mounting side (None or 'fitted': the side the
+    file was fitted for, so nothing is mirrored)."""
+    if side is None or side == "fitted":
+        return OPT_RIGHT_SIDE if file_side == -1 else 0
     if side == "left":
-        return 1
+        return 0
     if side == "right":
-        return -1
-    raise ValueError(f"side must be left, right or file, not {side!r}")
+        return OPT_RIGHT_SIDE
+    raise ValueError(f"side must be fitted, left or right, not {side!r}")
+
+
+def side_description(params):
+    """'fitted for RIGHT, mounted right: as fitted' and the like, for reports."""
+    fitted = {1: "LEFT", -1: "RIGHT"}[int(params["tyreside"])]
+    mount = "right" if int(params.get("options", 0)) & OPT_RIGHT_SIDE else "left"
+    return f"fitted for {fitted}, mounted {mount}: {'mirrored' if mirrored(params) else 'as fitted'}"
+
+
+def mirrored(params):
+    """True when params are evaluated mirrored: the mounting side (options)
+    differs from the side the file was fitted for (tyreside)."""
+    right_mount = bool(int(params.get("options", 0)) & OPT_RIGHT_SIDE)
+    return (int(params.get("tyreside", 1)) == -1) != right_mount
 
 
 def _strip_comment(s):
@@ -495,8 +521,8 @@ def emit_initializer(params, indent="    "):
 
 def emit_definition(params, name, storage="const"):
     src = params.get("path", "")
-    side = {1: "LEFT (not mirrored)", -1: "RIGHT (mirrored)"}[int(params["tyreside"])]
-    return (f"/* {os.path.basename(src)}: FITTYP {params['fittyp']}, tyre side {side} */\n"
+    side = side_description(params)
+    return (f"/* {os.path.basename(src)}: FITTYP {params['fittyp']}, {side} */\n"
             f"{storage} grip_mf_params {name} = {emit_initializer(params)};\n")
 
 
@@ -547,8 +573,9 @@ def main(argv=None):
     ap.add_argument("--name", required=True, help="C identifier of the parameter set")
     ap.add_argument("-o", "--output", required=True, help="the .c file to write")
     ap.add_argument("--header", help="also write a .h declaring NAME")
-    ap.add_argument("--side", choices=("left", "right"),
-                    help="override the file's TYRESIDE (right: the model is mirrored)")
+    ap.add_argument("--side", choices=SIDES, default="fitted",
+                    help="where the tyre is mounted (default: as fitted, never mirrored); left or right "
+                         "mirrors a file fitted for the other side (GRIP_MF_OPT_RIGHT_SIDE in .options)")
     args = ap.parse_args(argv)
     if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", args.name) or args.name in C_RESERVED \
             or re.match(r"_[A-Z_]", args.name):

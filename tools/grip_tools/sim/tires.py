@@ -50,7 +50,7 @@ class MFTire:
         self.path = path
         self.name = os.path.basename(path)
         self.form = form
-        self.P = t.params(side="file")
+        self.P = t.params()                               # mirroring per wheel: mirror_for
         self.fittyp = int(self.P["fittyp"])
         self.tyreside = int(self.P["tyreside"])          # +1 fitted as LEFT, -1 as RIGHT
         self.r0 = float(self.P["unloaded_radius"])
@@ -67,7 +67,7 @@ class MFTire:
     def mirror_for(self, wheel_left):
         """bool array: mirror the characteristic for wheels on the given
         side (True = mounted left). A file fitted as LEFT is mirrored on the
-        right wheels and vice versa (grip's GRIP_MF_OPT_MOUNT_LEFT/RIGHT)."""
+        right wheels and vice versa (grip's GRIP_MF_OPT_RIGHT_SIDE)."""
         wheel_left = np.asarray(wheel_left, dtype=bool)
         return np.where(wheel_left, self.tyreside == -1, self.tyreside == 1)
 
