@@ -35,7 +35,19 @@ class TyreAsFitted(unittest.TestCase):
                 self.assertIn("fitted for RIGHT, mounted right: as fitted", f.read())
             code, verdict = analyze(path, "--tir", datasets.TIR, "--side", "left", "-o", os.path.join(d, "b"))
             print(f"# the same data with the tyre mounted left (mirrored): {verdict.strip()}")
-            self.assertNotIn("no effect found", verdict)
+            self.assertIn("looks like a tyre-side error", verdict)
+
+    def test_sign_and_unit_errors_are_named_first(self):
+        ds, _ = datasets.make("none", seed=4)
+        with tempfile.TemporaryDirectory() as d:
+            for change, words in ((-1.0, "a sign error"), (1e-3, "a unit error: kN (or kN m) labelled N")):
+                bad = loop_io.Dataset(ds.t, dict(ds.ch, fy=change * ds.ch["fy"]), dict(ds.units), list(ds.outputs))
+                path = os.path.join(d, "x.csv")
+                loop_io.write_csv(path, bad)
+                code, verdict = analyze(path, "--tir", datasets.TIR, "-o", os.path.join(d, "o"))
+                print(f"# fy x {change:g}: {verdict.strip()[:160]}")
+                self.assertTrue(verdict.startswith("the base model does not fit the data"), verdict)
+                self.assertIn(words, verdict)
 
 
 if __name__ == "__main__":

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from grip_tools.loop import candidates
+from grip_tools.loop import candidates, sanity
 from grip_tools.loop.effects import TireModel, all_effects
 
 
@@ -61,12 +61,14 @@ class Result:
     base_pred: dict = field(repr=False, default=None)
     chosen_pred: dict = field(repr=False, default=None)
     skipped: list = field(default_factory=list)
+    sanity: object = None              # sanity.Sanity of the base model
 
 
 def analyse(model, ds, effects=None, n_blocks=8, min_gain=0.05):
     effects = effects or all_effects()
     train, test = block_masks(len(ds), n_blocks)
     base = model.predict(ds.ch)
+    base_check = sanity.check(model, ds, base)
     base_res = {o: ds.ch[o] - base[o] for o in ds.outputs}
     base_ho_rms = {o: rms(base_res[o][test]) for o in ds.outputs}
     base_ho_max = {o: float(np.max(np.abs(base_res[o][test]))) for o in ds.outputs}
@@ -103,11 +105,19 @@ def analyse(model, ds, effects=None, n_blocks=8, min_gain=0.05):
     ranked.sort(key=lambda c: c.penalised)
     chosen = next((c for c in ranked if c.accepted), None)
     return Result(base_ho_rms, base_ho_max, ranked, chosen, structure, dep, train, test, base,
-                  preds.get(chosen.name) if chosen else None, skipped)
+                  preds.get(chosen.name) if chosen else None, skipped, base_check)
 
 
 def verdict(res):
-    """One paragraph: what was found, or that nothing explains the structure."""
+    """One paragraph: first whether the base model fits at all (and the likely
+    cause when it does not), then what was found, or that nothing explains
+    the structure."""
+    pre = res.sanity.summary() if res.sanity is not None else ""
+    txt = _attribution_verdict(res)
+    return f"{pre}. Attribution on top of it: {txt}" if pre else txt
+
+
+def _attribution_verdict(res):
     struct = {o: a for o, a in res.structure.items() if a > 0.3}
     if res.chosen is not None:
         c = res.chosen

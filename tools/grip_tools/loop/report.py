@@ -178,6 +178,12 @@ def write(res, ds, model, outdir, title="Residual analysis", prefix=""):
     L = [f"# {title}", "", f"Data: {ds.meta.get('source', '?')}, {len(ds)} samples, "
          f"{ds.t[-1] - ds.t[0]:.1f} s; outputs {', '.join(ds.outputs)}; model {model.name}.", "",
          f"**Verdict:** {attribution.verdict(res)}", "",
+         "## Base model", "",
+         "| output | residual RMS | explained (R2) | likely cause of a misfit |", "|---|---|---|---|"]
+    for f in (res.sanity.findings if res.sanity is not None else []):
+        L.append(f"| {f.output} | {f.rms:.4g} | {f.r2:.4f} | "
+                 + (f"{f.cause}: {f.detail} (then RMS {f.rms_cause:.4g})" if f.cause else "-") + " |")
+    L += ["",
          "Held-out = odd contiguous time blocks (of 8); fit on the even ones.", "",
          "| output | held-out RMS before | after | max before | after |", "|---|---|---|---|---|"]
     for o in ds.outputs:
