@@ -30,6 +30,30 @@ def block_masks(n, n_blocks=8):
     return train, ~train
 
 
+def forward_masks(n, share=0.3):
+    """Fit on the first (1 - share) of the record, judge on the last share:
+    the test a model faces when it is used after it was fitted."""
+    train = np.arange(n) < int(round(n * (1.0 - share)))
+    return train, ~train
+
+
+def holdout_masks(n, spec):
+    """'blocks:N' (interleaved contiguous blocks, even ones fit) or
+    'forward:F' (the last share F held out)."""
+    kind, _, arg = spec.partition(":")
+    if kind == "blocks":
+        k = int(arg or 8)
+        if k < 2:
+            raise ValueError(f"holdout {spec}: at least 2 blocks")
+        return block_masks(n, k)
+    if kind == "forward":
+        f = float(arg or 0.3)
+        if not 0.05 <= f <= 0.8:
+            raise ValueError(f"holdout {spec}: the held-out share must be in [0.05, 0.8]")
+        return forward_masks(n, f)
+    raise ValueError(f"holdout '{spec}': blocks:N or forward:F")
+
+
 def rms(x):
     return float(np.sqrt(np.mean(np.square(x)))) if len(x) else 0.0
 
@@ -62,11 +86,18 @@ class Result:
     chosen_pred: dict = field(repr=False, default=None)
     skipped: list = field(default_factory=list)
     sanity: object = None              # sanity.Sanity of the base model
+    holdout: str = "blocks:8"          # the split the ranking used
+    cross: dict = field(default_factory=dict)   # hold-out spec -> the chosen effect's score there
 
 
-def analyse(model, ds, effects=None, n_blocks=8, min_gain=0.05):
+def analyse(model, ds, effects=None, n_blocks=8, min_gain=0.05, holdout=None, also=(), progress=None):
+    """Rank the effects on held-out data. holdout: 'blocks:N' (default
+    blocks:n_blocks) or 'forward:F'; also: further hold-out specs on which
+    the chosen effect is re-fitted and scored, for the report (cross).
+    progress(i, n, name): called before each candidate."""
     effects = effects or all_effects()
-    train, test = block_masks(len(ds), n_blocks)
+    holdout = holdout or f"blocks:{n_blocks}"
+    train, test = holdout_masks(len(ds), holdout)
     base = model.predict(ds.ch)
     base_check = sanity.check(model, ds, base)
     base_res = {o: ds.ch[o] - base[o] for o in ds.outputs}
@@ -78,7 +109,10 @@ def analyse(model, ds, effects=None, n_blocks=8, min_gain=0.05):
     dep = {o: candidates.dependence(base_res[o], cands) for o in ds.outputs}
     structure = {o: candidates.autocorr(base_res[o]) for o in ds.outputs}
     ranked, skipped, preds = [], [], {}
-    for e in effects:
+    by_name = {}
+    for i, e in enumerate(effects):
+        if progress is not None:
+            progress(i, len(effects), e.name)
         kind = getattr(model, "kind", "tire" if isinstance(model, TireModel) else "vehicle")
         if e.level == "tire" and kind != "tire":
             continue                   # a tyre term; its vehicle-level form (if any) is listed
@@ -102,10 +136,31 @@ def analyse(model, ds, effects=None, n_blocks=8, min_gain=0.05):
                       (1.0 - score) >= min_gain * k, ho, hm, onboard=e.onboard)
         ranked.append(c)
         preds[e.name] = pr
+        by_name[e.name] = e
     ranked.sort(key=lambda c: c.penalised)
     chosen = next((c for c in ranked if c.accepted), None)
+    if chosen is not None:
+        # a physical effect that explains an output better than a whole-data
+        # hypothesis (sign, side, unit, offset) is the finding, not that error
+        pr = preds[chosen.name]
+        for f in base_check.findings:
+            if f.cause and rms(ds.ch[f.output] - pr[f.output]) <= f.rms_cause:
+                f.cause, f.detail = "", f"{chosen.name} explains it better than any sign/side/unit/offset error"
+    cross = {holdout: chosen.score if chosen else 1.0}
+    for spec in also:
+        if spec == holdout:
+            continue
+        tr2, te2 = holdout_masks(len(ds), spec)
+        if chosen is None:
+            cross[spec] = 1.0
+            continue
+        e = by_name[chosen.name]
+        pr = e.predict(model, ds, e.fit(model, ds, tr2, scale))
+        num = sum((rms((ds.ch[o] - pr[o])[te2]) / scale[o]) ** 2 for o in ds.outputs)
+        den2 = sum((rms(base_res[o][te2]) / scale[o]) ** 2 for o in ds.outputs)
+        cross[spec] = float(np.sqrt(num / max(den2, 1e-30)))
     return Result(base_ho_rms, base_ho_max, ranked, chosen, structure, dep, train, test, base,
-                  preds.get(chosen.name) if chosen else None, skipped, base_check)
+                  preds.get(chosen.name) if chosen else None, skipped, base_check, holdout, cross)
 
 
 def verdict(res):
@@ -123,7 +178,11 @@ def _attribution_verdict(res):
         c = res.chosen
         gain = 1.0 - c.score
         txt = (f"effect: {c.name} ({', '.join(f'{k}={v:.4g}' for k, v in c.params.items())}); "
-               f"held-out error {100 * gain:.1f} % lower (score {c.score:.3f}, {c.k} parameter(s))")
+               f"held-out error {100 * gain:.1f} % lower (score {c.score:.3f}, {c.k} parameter(s), "
+               f"hold-out {res.holdout})")
+        other = {k: v for k, v in res.cross.items() if k != res.holdout}
+        if other:
+            txt += "; " + ", ".join(f"{100 * (1.0 - v):.1f} % lower on hold-out {k}" for k, v in other.items())
         ties = [d.name for d in res.ranked if d is not c and d.accepted and d.penalised - c.penalised < 0.01]
         if ties:
             txt += f"; not distinguishable from {', '.join(ties)} on this data (penalised scores within 0.01)"

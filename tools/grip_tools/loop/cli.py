@@ -7,15 +7,88 @@ undeclared-effect data set, or the AV-21 log (axle forces from the motion).
   analyze --vehicle {relaxation,bank,aero,thermal,yaw_bias,none} [-o OUTDIR]
   analyze --av21 [CSV] [--axle front|rear] [-o OUTDIR]
   analyze --rav4 LOG --replay build/float-gcc/bin/grip-replay [-o OUTDIR]
+  analyze apply UPDATE.json DATA.csv --tir FILE.tir [-o OUT.csv]
+
+--holdout blocks:N (default blocks:8, interleaved) or forward:F (fit on the
+first 1-F of the record, judge on the last F); the chosen effect is also
+re-fitted and scored on the other of blocks:8 / forward:0.3, and both are
+reported. `apply` predicts with a fitted update (update.json of an earlier
+run; state effects run over the whole new record) and writes the corrected
+model's output next to the measured channels, with RMS before / after.
 """
 import argparse
 import sys
+import time
 
 from grip_tools.loop import attribution, io, report
 from grip_tools.loop.effects import TireModel
 
 
+def progress(i, n, name, _t0=[None]):
+    """One line per candidate on a terminal (rewritten in place); silent in a log."""
+    now = time.monotonic()
+    if _t0[0] is None or i == 0:
+        _t0[0] = now
+    if sys.stderr.isatty():
+        print(f"\ranalyze: candidate {i + 1}/{n} {name:<22s} {now - _t0[0]:6.1f} s", end="",
+              file=sys.stderr, flush=True)
+        if i + 1 == n:
+            print(file=sys.stderr)
+
+
+def apply_main(argv):
+    ap = argparse.ArgumentParser(prog="grip analyze apply", description="predict with a fitted update on new data")
+    ap.add_argument("update", help="update.json written by grip analyze")
+    ap.add_argument("data", help="tire-level CSV (the schema of grip analyze)")
+    ap.add_argument("--tir", required=True, help="the base model's .tir (as in the run that wrote the update)")
+    ap.add_argument("--side", choices=("fitted", "left", "right"), default="fitted")
+    ap.add_argument("-o", "--output", help="CSV: the data plus <output>_model and <output>_updated columns")
+    a = ap.parse_args(argv)
+    import json
+    import numpy as np
+    from grip_tools.errors import DataError
+    from grip_tools.loop.effects import all_effects
+    from grip_tools.reference import tir
+    with open(a.update) as f:
+        try:
+            upd = json.load(f)
+        except json.JSONDecodeError as e:
+            raise DataError(a.update, e.lineno, None, f"not JSON: {e.msg}") from None
+    ds = io.read_csv(a.data)
+    params = tir.load_params(a.tir, a.side)
+    model = TireModel(params, f"{a.tir} ({tir.side_description(params)})", a.tir)
+    base = model.predict(ds.ch)
+    name = upd.get("effect")
+    if name is None:
+        pred = base
+    else:
+        # the tyre-level form of the effect (vehicle-level ones share some names)
+        effects = {e.name: e for e in reversed(all_effects()) if e.level in ("tire", "any")}
+        if name not in effects:
+            raise DataError(a.update, None, "effect", f"unknown effect '{name}' (known: {', '.join(effects)})")
+        e = effects[name]
+        ok, why = e.applicable(ds)
+        if not ok:
+            raise DataError(a.data, None, None, f"effect {name} does not apply to these data: {why}")
+        pred = e.predict(model, ds, np.array(list(upd.get("params", {}).values()), dtype=float))
+    for o in ds.outputs:
+        r0 = float(np.sqrt(np.mean((ds.ch[o] - base[o]) ** 2)))
+        r1 = float(np.sqrt(np.mean((ds.ch[o] - pred[o]) ** 2)))
+        print(f"{o}: RMS error {r0:.4g} -> {r1:.4g} ({name or 'no effect'})")
+    if a.output:
+        out = io.Dataset(ds.t, dict(ds.ch), dict(ds.units), list(ds.outputs))
+        for o in ds.outputs:
+            out.ch[f"{o}_model"], out.ch[f"{o}_updated"] = base[o], pred[o]
+            out.units[f"{o}_model"] = out.units[f"{o}_updated"] = io.UNITS[o]
+        io.write_csv(a.output, out)
+        print(f"wrote {a.output}", file=sys.stderr)
+    return 0
+
+
 def main(argv=None):
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv and argv[0] == "apply":
+        return apply_main(argv[1:])
     ap = argparse.ArgumentParser(prog="grip analyze", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("data", nargs="?")
@@ -31,6 +104,7 @@ def main(argv=None):
                     help="where the tyre of --tir is mounted: as fitted (default, never mirrored, as MFeval "
                          "and MF-Tyre evaluate a .tir), or left / right (a file fitted for the other side "
                          "is mirrored); the report states it")
+    ap.add_argument("--holdout", default="blocks:8", help="blocks:N or forward:F (see above)")
     ap.add_argument("-o", "--outdir", default="build/analyze")
     a = ap.parse_args(argv)
     if a.generate:
@@ -58,7 +132,13 @@ def main(argv=None):
         ds = io.read_csv(a.data)
         params = tir.load_params(a.tir, a.side)
         model = TireModel(params, f"{a.tir} ({tir.side_description(params)})", a.tir)
-    res = attribution.analyse(model, ds)
+    try:
+        attribution.holdout_masks(10, a.holdout)
+    except ValueError as e:
+        ap.error(str(e))
+    also = [h for h in ("blocks:8", "forward:0.3") if h != a.holdout]
+    res = attribution.analyse(model, ds, holdout=a.holdout, also=also,
+                              progress=progress)
     path, upd = report.write(res, ds, model, a.outdir)
     print(attribution.verdict(res))
     print(f"report: {path}", file=sys.stderr)

@@ -184,7 +184,11 @@ def write(res, ds, model, outdir, title="Residual analysis", prefix=""):
         L.append(f"| {f.output} | {f.rms:.4g} | {f.r2:.4f} | "
                  + (f"{f.cause}: {f.detail} (then RMS {f.rms_cause:.4g})" if f.cause else "-") + " |")
     L += ["",
-         "Held-out = odd contiguous time blocks (of 8); fit on the even ones.", "",
+         f"Hold-out {res.holdout}: " + ("fit on the first part of the record, judged on the last share."
+                                        if res.holdout.startswith("forward") else
+                                        "contiguous time blocks, fit on the even ones, judged on the odd ones.")
+         + ("" if len(res.cross) < 2 else " The chosen effect re-fitted on the other split(s): "
+            + ", ".join(f"{k} score {v:.3f}" for k, v in res.cross.items() if k != res.holdout) + "."), "",
          "| output | held-out RMS before | after | max before | after |", "|---|---|---|---|---|"]
     for o in ds.outputs:
         a = res.chosen.ho_rms[o] if res.chosen else res.base_ho_rms[o]
