@@ -36,7 +36,8 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 
-from grip_tools import dbc, golden_can  # noqa: E402
+from grip_tools.can import dbc  # noqa: E402
+from grip_tools.golden import can as golden_can  # noqa: E402
 
 MAP = os.path.join(ROOT, "tests", "data", "comma2k19-rav4", "rav4_map.toml")
 STALE_PERIODS = 3

@@ -139,9 +139,10 @@ def analyse(model, ds, effects=None, n_blocks=8, min_gain=0.05, holdout=None, al
         by_name[e.name] = e
     ranked.sort(key=lambda c: c.penalised)
     chosen = next((c for c in ranked if c.accepted), None)
-    if chosen is not None:
+    if chosen is not None and by_name[chosen.name].level != "any":
         # a physical effect that explains an output better than a whole-data
         # hypothesis (sign, side, unit, offset) is the finding, not that error
+        # (a sensor effect - bias, scale, delay - is that error in other words)
         pr = preds[chosen.name]
         for f in base_check.findings:
             if f.cause and rms(ds.ch[f.output] - pr[f.output]) <= f.rms_cause:
