@@ -1266,6 +1266,11 @@ static void csv_header(csv_ctx *c, char **cell, int ncol, unsigned long line, in
             csv_error(c, "%s:%lu: column %d has no name", c->path, line, j + 1);
             continue;
         }
+        if (name[0] == '"' || name[0] == '\'') {
+            csv_error(c, "%s:%lu: column %d is quoted (%s): this reader takes no quoting, write the bare name",
+                      c->path, line, j + 1, name);
+            continue;
+        }
         for (i = 0; i < j; i++) {
             if (strcmp(cell[i], name) == 0) {
                 break;
@@ -1388,9 +1393,13 @@ static int csv_rate_check(csv_ctx *c, const double *dts, int n, unsigned long fi
             csv_error(c, "%s: column %s: input sampled every %g ms (%g Hz; %s), step is %g ms, and the estimator "
                       "runs at 50..2000 Hz: resample the input (e.g. to 100 Hz, --step-ms 10)", c->path, c->tname, m * 1e3,
                       hz, where, c->r->opt->step_ms);
-        } else {
+        } else if (fabs(hz - floor(hz + 0.5)) <= EST_RATE_TOL * hz) {
             csv_error(c, "%s: column %s: input sampled every %g ms (%s), step is %g ms: pass --step-ms %g", c->path,
-                      c->tname, m * 1e3, where, c->r->opt->step_ms, m * 1e3);
+                      c->tname, m * 1e3, where, c->r->opt->step_ms, 1000.0 / floor(hz + 0.5));
+        } else {
+            csv_error(c, "%s: column %s: input sampled every %g ms (%.6g Hz; %s), step is %g ms, and the "
+                      "estimator's rate is a whole number of Hz: resample the input (e.g. to 100 Hz, --step-ms 10)",
+                      c->path, c->tname, m * 1e3, hz, where, c->r->opt->step_ms);
         }
     }
     return -1;
@@ -1627,7 +1636,9 @@ static int run_csv(replay *r)
         return EXIT_INPUT;
     }
     if (!have_header) {
-        fprintf(stderr, "grip-replay: %s: no header row (%lu lines)\n", c.path, rd.lineno);
+        if (c.errors == 0) {
+            fprintf(stderr, "grip-replay: %s: no header row (%lu lines)\n", c.path, rd.lineno);
+        }
         return EXIT_INPUT;
     }
     if (rate == 0 && nheld > 0) {   /* a file of CSV_RATE_ROWS steps or fewer */
