@@ -375,6 +375,44 @@ static int vehicle_file(const char *path, grip_est_config_t *cfg)
     return 0;
 }
 
+/* The .tir reader (tir_reader.c) reads whole lines of any length; a file
+ * that is not a .tir (a device, a sparse file, a log given by mistake)
+ * would be held in memory line by line. This pass bounds it first: lines
+ * of at most TIR_LINE_MAX bytes, at most TIR_SIZE_MAX bytes in all (the
+ * bundled .tir files have lines of 139 bytes and 27 kB). */
+#define TIR_LINE_MAX 4096
+#define TIR_SIZE_MAX (4L << 20)
+
+static int tir_precheck(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    unsigned long line = 1;
+    long total = 0;
+    long len = 0;
+    int c;
+    if (f == NULL) {
+        return 0;   /* the reader says why */
+    }
+    while ((c = getc(f)) != EOF) {
+        if (++total > TIR_SIZE_MAX) {
+            fprintf(stderr, "grip-replay: %s: larger than %ld bytes: not a .tir file\n", path, TIR_SIZE_MAX);
+            fclose(f);
+            return -1;
+        }
+        if (c == '\n') {
+            line++;
+            len = 0;
+        } else if (++len > TIR_LINE_MAX) {
+            fprintf(stderr, "grip-replay: %s:%lu: line longer than %d bytes (at byte offset %ld): not a .tir file\n",
+                    path, line, TIR_LINE_MAX, total - len);
+            fclose(f);
+            return -1;
+        }
+    }
+    fclose(f);
+    return 0;
+}
+
 /* Called once per estimator step with the time-aligned input sample, before
  * the sample is written. */
 static void grip_replay_estimator_step(replay *r, const grip_input_sample_t *sample)
@@ -1846,6 +1884,9 @@ estimator:
             fprintf(stderr, "grip-replay: --step-ms %g is %.6g Hz; the estimator's rate is a whole number of Hz "
                     "(%d would integrate %.3g %% off): use a step of 1000/N ms, e.g. 2, 2.5, 4, 5 or 10\n",
                     o.step_ms, hz, rate_hz, 100.0 * fabs(hz - rate_hz) / hz);
+            return EXIT_USAGE;
+        }
+        if (tir_precheck(o.est_tir) != 0) {
             return EXIT_USAGE;
         }
         if (grip_tir_read(o.est_tir, &r.tire, err, sizeof err) != 0) {

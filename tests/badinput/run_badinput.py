@@ -72,6 +72,7 @@ GENERATED = {
     "many_frames.log": lambda p: _write(p, b"".join(b"(0000046408.500000) vcan0 024#01FE01D541F980BB\n"
                                                     for _ in range(70000))),
     "sparse_1g": lambda p: _sparse(p, 1 << 30),
+    "big.tir": lambda p: _write(p, b"[MODEL]\n" + b"FITTYP = 61\n" * 400000),
 }
 
 
