@@ -479,8 +479,10 @@ static void usage(FILE *f)
             "                         (within 1 %%). Needs -e.\n"
             "      --ignore-columns A,B  --csv: also ignore these columns\n"
             "  -q, --quiet            no summary\n"
-            "limits: candump line 512 bytes, CSV line 8192 bytes and 256 columns, table and\n"
-            "vehicle-file line 511 bytes; docs/guarantees.md\n"
+            "output: t_s, step, per input NAME and NAME_fault, with -e the estimator's columns;\n"
+            "  with -e the measured yaw rate is yaw_rate_in (yaw_rate is the estimate)\n"
+            "limits: candump line 512 bytes, CSV line 8192 bytes and 256 columns, table line\n"
+            "  512 bytes, vehicle-file line 511, .tir line 4096 and file 4 MiB (docs/guarantees.md)\n"
             "exit: 0 ok, 2 usage, 3 table / DBC-map mismatch, 4 input (malformed or refused data),\n"
             "      5 output\n");
 }
