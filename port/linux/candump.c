@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <inttypes.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "candump.h"
@@ -27,9 +28,9 @@ static int is_blank(char c)
     return c == ' ' || c == '\t';
 }
 
-/* Data bytes as hex pairs, optionally separated by '.', up to the first
- * blank or the end. Returns the byte count, or -1 (odd digit count, bad
- * digit, more than max bytes). */
+/* Data bytes as hex pairs, optionally separated by single '.' between
+ * bytes, up to the first blank or the end. Returns the byte count, or -1
+ * (odd digit count, bad digit, misplaced '.', more than max bytes). */
 static int parse_data(const char **pp, uint8_t *data, int max, const char **why)
 {
     const char *p = *pp;
@@ -38,6 +39,10 @@ static int parse_data(const char **pp, uint8_t *data, int max, const char **why)
         int hi;
         int lo;
         if (*p == '.') {
+            if (n == 0 || hexval(p[1]) < 0) {
+                *why = "data: '.' only between bytes";
+                return -1;
+            }
             p++;
             continue;
         }
@@ -218,6 +223,10 @@ int candump_parse_line(const char *line, grip_can_frame_t *frame, char ifname[CA
             }
             p += 2;
         }
+        if ((id & GRIP_CAN_ID_ERR) != 0u && n != 8) {
+            *why = "error frame: expected 8 data bytes";
+            return -1;
+        }
     }
     frame->id = id;
     frame->len = (uint8_t)n;
@@ -295,32 +304,85 @@ int candump_open(candump_reader *r, const char *path, char *err, size_t errlen)
     return 0;
 }
 
+static const char *byte_name(unsigned c, char *buf, size_t len)
+{
+    if (c == 0u) {
+        return "NUL byte";
+    }
+    snprintf(buf, len, "byte 0x%02X", c);
+    return buf;
+}
+
+/* The next line into r->line (without its '\n'), NUL-terminated; *bad is
+ * the index of its first byte that is not printable ASCII, tab or CR, or
+ * -1. 1 = a line, 0 = end of file, -1 = error (read error, line too long,
+ * and unless skip_bad a byte that is not text: reported at once, without
+ * reading the rest of the line). */
+static int read_line(candump_reader *r, long *bad, char *err, size_t errlen)
+{
+    size_t n = 0;
+    int c;
+    *bad = -1;
+    r->line_offset = r->offset;
+    errno = 0;
+    while ((c = getc(r->file)) != EOF) {
+        r->offset++;
+        if (c == '\n') {
+            break;
+        }
+        if (*bad < 0 && !((c >= 0x20 && c <= 0x7E) || c == '\t' || c == '\r')) {
+            *bad = (long)n;
+            if (!r->skip_bad) {
+                char b[16];
+                r->lineno++;
+                snprintf(err, errlen, "%s:%lu: malformed candump line: %s at byte offset %llu (byte %lu of the "
+                         "line): not text (a candump log is ASCII)", r->path, r->lineno,
+                         byte_name((unsigned)c, b, sizeof b), r->offset - 1ull, (unsigned long)n + 1ul);
+                return -1;
+            }
+        }
+        if (n >= CANDUMP_LINE_MAX) {
+            snprintf(err, errlen, "%s:%lu: line longer than %d characters (at byte offset %llu)", r->path,
+                     r->lineno + 1, CANDUMP_LINE_MAX, r->line_offset);
+            r->lineno++;
+            return -1;
+        }
+        r->line[n++] = (char)c;
+    }
+    if (c == EOF) {
+        if (ferror(r->file)) {
+            snprintf(err, errlen, "%s: read error after line %lu: %s", r->path, r->lineno,
+                     strerror(errno ? errno : EIO));
+            return -1;
+        }
+        if (n == 0) {
+            return 0;
+        }
+    }
+    r->line[n] = '\0';
+    r->lineno++;
+    return 1;
+}
+
 int candump_next(candump_reader *r, grip_can_frame_t *frame, char *ifname, char *err, size_t errlen)
 {
     char name[CANDUMP_IFNAME_MAX];
     /* Each iteration consumes one line of the file. */
     for (;;) {
         const char *why = "";
-        size_t n;
         const char *p;
-        errno = 0;
-        if (fgets(r->line, sizeof r->line, r->file) == NULL) {
-            if (ferror(r->file)) {
-                snprintf(err, errlen, "%s: read error after line %lu: %s", r->path, r->lineno,
-                         strerror(errno ? errno : EIO));
-                return -1;
-            }
-            return 0;
+        long bad;
+        int rc = read_line(r, &bad, err, errlen);
+        if (rc <= 0) {
+            return rc;
         }
-        r->lineno++;
-        n = strlen(r->line);
-        if (n > 0 && r->line[n - 1] != '\n' && !feof(r->file)) {
-            snprintf(err, errlen, "%s:%lu: line longer than %d characters", r->path, r->lineno, CANDUMP_LINE_MAX);
-            return -1;
+        if (bad >= 0) {   /* skip_bad: read_line reports it otherwise */
+            r->skipped++;
+            continue;
         }
         for (p = r->line; is_blank(*p); p++) {
         }
-        if (*p == '\n' || *p == '\r' || *p == '\0' || *p == '#') {
+        if (*p == '\r' || *p == '\0' || *p == '#') {
             continue;   /* blank line or comment */
         }
         if (candump_parse_line(r->line, frame, name, &why) == 0) {
@@ -343,4 +405,166 @@ void candump_close(candump_reader *r)
         fclose(r->file);
     }
     r->file = NULL;
+}
+
+/* ---- frame order ------------------------------------------------------------ */
+
+void candump_format_time(int64_t t_us, char *buf, size_t len)
+{
+    int64_t sec = (t_us >= 0) ? t_us / 1000000 : -((-t_us + 999999) / 1000000);
+    snprintf(buf, len, "%" PRId64 ".%06" PRId64, sec, t_us - sec * 1000000);
+}
+
+int candump_order_init(candump_order *o, int64_t tolerance_us, int64_t window_us, size_t max_frames, char *err,
+                       size_t errlen)
+{
+    memset(o, 0, sizeof *o);
+    if (tolerance_us < 0 || window_us < 0 || (window_us > 0 && max_frames == 0)) {
+        snprintf(err, errlen, "frame order: bad tolerance, window or frame count");
+        return -1;
+    }
+    o->tolerance_us = tolerance_us;
+    o->window_us = window_us;
+    o->max_frames = max_frames;
+    if (window_us > 0) {
+        o->heap = malloc(max_frames * sizeof *o->heap);
+        if (o->heap == NULL) {
+            snprintf(err, errlen, "frame order: no memory for %lu frames", (unsigned long)max_frames);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+void candump_order_free(candump_order *o)
+{
+    free(o->heap);
+    o->heap = NULL;
+    o->n = 0;
+}
+
+static int before(const candump_pending *a, const candump_pending *b)
+{
+    return a->frame.t_us < b->frame.t_us || (a->frame.t_us == b->frame.t_us && a->seq < b->seq);
+}
+
+static void heap_push(candump_order *o, const candump_pending *e)
+{
+    size_t i = o->n++;
+    while (i > 0) {
+        size_t up = (i - 1) / 2;
+        if (!before(e, &o->heap[up])) {
+            break;
+        }
+        o->heap[i] = o->heap[up];
+        i = up;
+    }
+    o->heap[i] = *e;
+}
+
+static void heap_pop(candump_order *o, candump_pending *out)
+{
+    candump_pending last;
+    size_t i = 0;
+    *out = o->heap[0];
+    last = o->heap[--o->n];
+    for (;;) {
+        size_t c = 2 * i + 1;
+        if (c >= o->n) {
+            break;
+        }
+        if (c + 1 < o->n && before(&o->heap[c + 1], &o->heap[c])) {
+            c++;
+        }
+        if (!before(&o->heap[c], &last)) {
+            break;
+        }
+        o->heap[i] = o->heap[c];
+        i = c;
+    }
+    if (o->n > 0) {
+        o->heap[i] = last;
+    }
+}
+
+static void ms_text(int64_t us, char *buf, size_t len)
+{
+    snprintf(buf, len, "%" PRId64 ".%03" PRId64, us / 1000, us % 1000);
+}
+
+int candump_next_ordered(candump_reader *r, candump_order *o, grip_can_frame_t *frame, char *ifname, char *err,
+                         size_t errlen)
+{
+    for (;;) {
+        candump_pending e;
+        int rc;
+        if (o->window_us > 0 && o->n > 0 &&
+            (o->eof || o->heap[0].frame.t_us <= o->newest_t - o->window_us)) {
+            heap_pop(o, &e);
+            *frame = e.frame;
+            if (ifname != NULL) {
+                memcpy(ifname, e.ifname, sizeof e.ifname);
+            }
+            return 1;
+        }
+        if (o->eof) {
+            return 0;
+        }
+        rc = candump_next(r, &e.frame, e.ifname, err, errlen);
+        if (rc < 0) {
+            return -1;
+        }
+        if (rc == 0) {
+            o->eof = 1;
+            continue;
+        }
+        e.lineno = r->lineno;
+        e.seq = o->seq++;
+        o->frames++;
+        if (o->have && e.frame.t_us < o->newest_t) {
+            int64_t back = o->newest_t - e.frame.t_us;
+            int64_t limit = (o->window_us > 0) ? o->window_us : o->tolerance_us;
+            if (back > limit) {
+                char t0[32];
+                char t1[32];
+                char b[32];
+                char l[32];
+                candump_format_time(e.frame.t_us, t0, sizeof t0);
+                candump_format_time(o->newest_t, t1, sizeof t1);
+                ms_text(back, b, sizeof b);
+                ms_text(limit, l, sizeof l);
+                if (o->window_us > 0) {
+                    snprintf(err, errlen, "%s:%lu: timestamp %s goes back %s ms behind %s (line %lu): beyond the "
+                             "%s ms reorder window", r->path, e.lineno, t0, b, t1, o->newest_line, l);
+                } else {
+                    snprintf(err, errlen, "%s:%lu: timestamp %s goes back %s ms behind %s (line %lu): more than "
+                             "the %s ms a log may go back (the log is out of order: sort it, or replay it with "
+                             "--reorder)", r->path, e.lineno, t0, b, t1, o->newest_line, l);
+                }
+                return -1;
+            }
+            o->out_of_order++;
+            if (back > o->max_back_us) {
+                o->max_back_us = back;
+            }
+        }
+        if (!o->have || e.frame.t_us > o->newest_t) {
+            o->newest_t = e.frame.t_us;
+            o->newest_line = e.lineno;
+            o->have = 1;
+        }
+        if (o->window_us == 0) {
+            *frame = e.frame;
+            if (ifname != NULL) {
+                memcpy(ifname, e.ifname, sizeof e.ifname);
+            }
+            return 1;
+        }
+        if (o->n >= o->max_frames) {
+            snprintf(err, errlen, "%s:%lu: more than %lu frames within the %" PRId64 " ms reorder window", r->path,
+                     e.lineno, (unsigned long)o->max_frames, o->window_us / 1000);
+            return -1;
+        }
+        heap_push(o, &e);
+    }
 }

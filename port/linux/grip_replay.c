@@ -18,6 +18,7 @@
  * has the same columns as in CAN mode.
  */
 #include <errno.h>
+#include <stdarg.h>
 #include <stddef.h>
 #include <inttypes.h>
 #include <math.h>
@@ -26,12 +27,14 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <sys/stat.h>
 
 #include "grip/grip_can.h"
 #include "grip/grip_est.h"
 #include "grip/grip_signals.h"
 #include "candump.h"
 #include "can_socket.h"
+#include "csv.h"
 #include "tir_reader.h"
 
 #define EXIT_USAGE 2    /* bad command line */
@@ -40,6 +43,13 @@
 #define EXIT_OUTPUT 5   /* CSV or dump could not be written */
 
 #define RECV_TIMEOUT_MS 50
+
+/* the estimator's step rate (grip_est_config_t.rate_hz, checked by
+ * grip_est_init): whole Hz in [50, 2000]; 1000 / --step-ms must be one
+ * within EST_RATE_TOL */
+#define EST_RATE_MIN 50
+#define EST_RATE_MAX 2000
+#define EST_RATE_TOL 5e-4
 
 typedef struct {
     const char *log;
@@ -59,7 +69,10 @@ typedef struct {
     const char *vehicle;       /* --vehicle: configuration preset */
     const char *vehicle_file;  /* --vehicle-file: key = value overrides of the preset */
     const char *csv_in;        /* --csv: estimator inputs from a CSV file instead of CAN */
+    const char *ignore_cols;   /* --ignore-columns: comma-separated CSV columns to ignore */
     int step_given;            /* --step-ms was given */
+    int sort_log;              /* --reorder: sort the log within CANDUMP_REORDER_WINDOW_US */
+    int units;                 /* --units: unit suffixes in the output header */
     int skip_bad;
     int all_inputs;
     int quiet;
@@ -82,6 +95,7 @@ typedef struct {
     unsigned long msg_seen[GRIP_CAN_MAX_MESSAGES];
     unsigned long msg_dlc[GRIP_CAN_MAX_MESSAGES];
     int write_failed;
+    int header_done;              /* --csv: the header is written with the first row */
     /* the estimator, when --estimate is given */
     int est_on;
     grip_mf_params tire;
@@ -96,6 +110,10 @@ typedef struct {
     unsigned long csv_bad_dt;     /* rows whose time step differs from --step-ms by > 1 % */
     unsigned long csv_valid[GRIP_IN_COUNT];
     unsigned long csv_range[GRIP_IN_COUNT];
+    /* log order (file replay) */
+    unsigned long out_of_order;   /* frames older than one before them, within the tolerance or sorted */
+    int64_t max_back_us;
+    int64_t back_tolerance_us;
 } replay;
 
 static volatile sig_atomic_t stop_requested;
@@ -192,6 +210,8 @@ static int vehicle_config(const char *name, const grip_mf_params *tire, int rate
  * cla, aero_front, air_density, cda, crr, tan_bank, tan_grade, latency, steer_lag,
  * steer_latency.
  * The estimator's init checks the ranges. */
+#define VEHICLE_LINE_MAX 511
+
 static int vehicle_file(const char *path, grip_est_config_t *cfg)
 {
     /* one row per key: where it goes and in which format; "track" sets
@@ -227,14 +247,19 @@ static int vehicle_file(const char *path, grip_est_config_t *cfg)
         { "steer_latency", offsetof(grip_est_config_t, steer_latency), VK_QS },
     };
     const size_t nkeys = sizeof keys / sizeof keys[0];
-    char line[512];
+    static char line[VEHICLE_LINE_MAX + 1];
+    char err[700];
     unsigned long lineno = 0;
-    FILE *f = fopen(path, "r");
-    if (f == NULL) {
-        fprintf(stderr, "grip-replay: cannot open vehicle file %s: %s\n", path, strerror(errno));
+    csv_reader rd;
+    csv_reader *f = &rd;
+    unsigned long seen[sizeof keys / sizeof keys[0]];
+    int rc;
+    memset(seen, 0, sizeof seen);
+    if (csv_reader_open(&rd, path, line, VEHICLE_LINE_MAX, 0, err, sizeof err) != 0) {
+        fprintf(stderr, "grip-replay: vehicle file: %s\n", err);
         return -1;
     }
-    while (fgets(line, sizeof line, f) != NULL) {
+    while ((rc = csv_read_line(&rd, err, sizeof err)) == 1) {
         char key[64];
         char *p = line;
         char *eq;
@@ -242,7 +267,7 @@ static int vehicle_file(const char *path, grip_est_config_t *cfg)
         size_t n;
         size_t k;
         double v;
-        lineno++;
+        lineno = rd.lineno;
         if ((eq = strchr(line, '#')) != NULL) {
             *eq = '\0';
         }
@@ -255,7 +280,7 @@ static int vehicle_file(const char *path, grip_est_config_t *cfg)
         eq = strchr(p, '=');
         if (eq == NULL) {
             fprintf(stderr, "grip-replay: %s:%lu: expected key = value\n", path, lineno);
-            fclose(f);
+            csv_reader_close(f);
             return -1;
         }
         n = (size_t)(eq - p);
@@ -264,7 +289,7 @@ static int vehicle_file(const char *path, grip_est_config_t *cfg)
         }
         if (n == 0 || n >= sizeof key) {
             fprintf(stderr, "grip-replay: %s:%lu: bad key\n", path, lineno);
-            fclose(f);
+            csv_reader_close(f);
             return -1;
         }
         memcpy(key, p, n);
@@ -276,7 +301,7 @@ static int vehicle_file(const char *path, grip_est_config_t *cfg)
         }
         if (errno != 0 || end == eq + 1 || *end != '\0' || !isfinite(v) || fabs(v) > 1e6) {
             fprintf(stderr, "grip-replay: %s:%lu: %s: not a number\n", path, lineno, key);
-            fclose(f);
+            csv_reader_close(f);
             return -1;
         }
         for (k = 0; k < nkeys; k++) {
@@ -284,13 +309,22 @@ static int vehicle_file(const char *path, grip_est_config_t *cfg)
                 break;
             }
         }
+        if (k < nkeys && seen[k]) {
+            fprintf(stderr, "grip-replay: %s:%lu: key '%s' given twice (first on line %lu)\n", path, lineno, key,
+                    seen[k]);
+            csv_reader_close(f);
+            return -1;
+        }
+        if (k < nkeys) {
+            seen[k] = lineno;
+        }
         if (k == nkeys) {
             fprintf(stderr, "grip-replay: %s:%lu: unknown key '%s' (", path, lineno, key);
             for (k = 0; k < nkeys; k++) {
                 fprintf(stderr, "%s%s", k ? " " : "", keys[k].key);
             }
             fprintf(stderr, ")\n");
-            fclose(f);
+            csv_reader_close(f);
             return -1;
         }
         switch (keys[k].kind) {
@@ -307,11 +341,72 @@ static int vehicle_file(const char *path, grip_est_config_t *cfg)
         default:
             if (v != 0.0 && v != 1.0) {
                 fprintf(stderr, "grip-replay: %s:%lu: %s must be 0 or 1\n", path, lineno, keys[k].key);
-                fclose(f);
+                csv_reader_close(f);
                 return -1;
             }
             *(uint32_t *)((char *)cfg + keys[k].off) = (uint32_t)v;
             break;
+        }
+    }
+    csv_reader_close(f);
+    if (rc < 0) {
+        fprintf(stderr, "grip-replay: vehicle file: %s\n", err);
+        return -1;
+    }
+    {
+        /* "track" sets both tracks: with track_f or track_r as well, the
+         * result would depend on the line order */
+        unsigned long both = 0;
+        unsigned long one = 0;
+        size_t k;
+        for (k = 0; k < nkeys; k++) {
+            if (keys[k].kind == VK_TRACK) {
+                both = seen[k];
+            } else if (strncmp(keys[k].key, "track_", 6) == 0 && seen[k] && !one) {
+                one = seen[k];
+            }
+        }
+        if (both && one) {
+            fprintf(stderr, "grip-replay: %s:%lu: track (line %lu) and track_f / track_r both given\n", path,
+                    both > one ? both : one, both);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* The .tir reader (tir_reader.c) reads whole lines of any length; a file
+ * that is not a .tir (a device, a sparse file, a log given by mistake)
+ * would be held in memory line by line. This pass bounds it first: lines
+ * of at most TIR_LINE_MAX bytes, at most TIR_SIZE_MAX bytes in all (the
+ * bundled .tir files have lines of 139 bytes and 27 kB). */
+#define TIR_LINE_MAX 4096
+#define TIR_SIZE_MAX (4L << 20)
+
+static int tir_precheck(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    unsigned long line = 1;
+    long total = 0;
+    long len = 0;
+    int c;
+    if (f == NULL) {
+        return 0;   /* the reader says why */
+    }
+    while ((c = getc(f)) != EOF) {
+        if (++total > TIR_SIZE_MAX) {
+            fprintf(stderr, "grip-replay: %s: larger than %ld bytes: not a .tir file\n", path, TIR_SIZE_MAX);
+            fclose(f);
+            return -1;
+        }
+        if (c == '\n') {
+            line++;
+            len = 0;
+        } else if (++len > TIR_LINE_MAX) {
+            fprintf(stderr, "grip-replay: %s:%lu: line longer than %d bytes (at byte offset %ld): not a .tir file\n",
+                    path, line, TIR_LINE_MAX, total - len);
+            fclose(f);
+            return -1;
         }
     }
     fclose(f);
@@ -347,10 +442,15 @@ static void usage(FILE *f)
             "  -s, --step-ms MS       estimator step (default 10)\n"
             "  -k, --stale N          a value older than N periods is stale (default 3)\n"
             "  -w, --reorder-us US    accept frames up to US late (default 0; < every period)\n"
+            "      --reorder          sort a log whose frames are out of time order, within a 1 s\n"
+            "                         window (at most 65536 frames waiting); without it a frame\n"
+            "                         more than 1 ms (or -w, if larger) older than one before it\n"
+            "                         is an error\n"
             "  -j, --jump-ms MS       a time gap beyond MS restarts the step grid (default 1000)\n"
             "      --time-offset-us N add N us to every frame time (file replay)\n"
             "      --skip-bad         skip malformed log lines (counted) instead of stopping\n"
             "      --all-inputs       write every input, also those the table does not feed\n"
+            "      --units            unit suffixes in the output header (beta_rad, vx_m_s, ...)\n"
             "      --dump FILE        write every frame read as a candump -l log\n"
             "  -i, --interface IFACE  live: read this CAN interface\n"
             "      --fd               live: accept CAN FD frames too\n"
@@ -372,9 +472,19 @@ static void usage(FILE *f)
             "                         wheel], yaw_rate [rad/s], ax ay [m/s^2], optional vehicle_speed\n"
             "                         [m/s], brake_pressure_fl.. [Pa], brake_torque_fl.. [N m]; ISO axes\n"
             "                         (left positive). An empty or NaN cell = not valid in that step;\n"
-            "                         other columns are ignored. Needs -e.\n"
+            "                         t_s and the eight inputs before vehicle_speed are required\n"
+            "                         (give an empty column for a signal you do not have). Also\n"
+            "                         known and ignored: step, NAME_fault, comment. Any other\n"
+            "                         column is an error. The rows' time step must be --step-ms\n"
+            "                         (within 1 %%). Needs -e.\n"
+            "      --ignore-columns A,B  --csv: also ignore these columns\n"
             "  -q, --quiet            no summary\n"
-            "exit: 0 ok, 2 usage, 3 table / DBC-map mismatch, 4 input, 5 output\n");
+            "output: t_s, step, per input NAME and NAME_fault, with -e the estimator's columns;\n"
+            "  with -e the measured yaw rate is yaw_rate_in (yaw_rate is the estimate)\n"
+            "limits: candump line 512 bytes, CSV line 8192 bytes and 256 columns, table line\n"
+            "  512 bytes, vehicle-file line 511, .tir line 4096 and file 4 MiB (docs/guarantees.md)\n"
+            "exit: 0 ok, 2 usage, 3 table / DBC-map mismatch, 4 input (malformed or refused data),\n"
+            "      5 output\n");
 }
 
 static int parse_double(const char *s, double lo, double hi, double *v)
@@ -393,10 +503,36 @@ static int parse_long(const char *s, long long lo, long long hi, long long *v)
     return errno == 0 && end != s && *end == '\0' && *v >= lo && *v <= hi;
 }
 
+/* Where each option applies; an option outside its mode is a usage error
+ * (it would otherwise be ignored without a word). */
+enum { SC_ANY, SC_CAN, SC_FILE, SC_LIVE, SC_CSV, SC_EST };
+
+static const struct {
+    const char *s;
+    const char *l;
+    int scope;
+} OPTS[] = {
+    { "-t", "--table", SC_CAN },      { "-o", "--output", SC_ANY },       { "-s", "--step-ms", SC_ANY },
+    { "-k", "--stale", SC_CAN },      { "-w", "--reorder-us", SC_CAN },   { "-j", "--jump-ms", SC_CAN },
+    { "", "--time-offset-us", SC_FILE }, { "", "--skip-bad", SC_FILE },   { "", "--reorder", SC_FILE },
+    { "", "--all-inputs", SC_ANY },   { "", "--units", SC_ANY },          { "", "--dump", SC_CAN },
+    { "-i", "--interface", SC_LIVE }, { "", "--fd", SC_LIVE },            { "-d", "--duration", SC_LIVE },
+    { "-n", "--frames", SC_CAN },     { "", "--idle-exit", SC_LIVE },     { "-e", "--estimate", SC_ANY },
+    { "", "--vehicle", SC_EST },      { "", "--vehicle-file", SC_EST },   { "", "--csv", SC_CSV },
+    { "", "--ignore-columns", SC_CSV }, { "-q", "--quiet", SC_ANY },
+};
+#define N_OPTS (sizeof OPTS / sizeof OPTS[0])
+
 static int parse_args(int argc, char **argv, options *o)
 {
     int i;
+    unsigned char given[N_OPTS];
+    const char *scope_opt[SC_EST + 1];
+    const char *mode;
+    size_t k;
     memset(o, 0, sizeof *o);
+    memset(given, 0, sizeof given);
+    memset((void *)scope_opt, 0, sizeof scope_opt);
     o->step_ms = 10.0;
     o->jump_ms = 1000.0;
     o->stale = 3;
@@ -409,7 +545,22 @@ static int parse_args(int argc, char **argv, options *o)
         if (IS("-h", "--help")) {
             usage(stdout);
             exit(0);
-        } else if (IS("-q", "--quiet")) {
+        }
+        for (k = 0; k < N_OPTS; k++) {
+            if (strcmp(a, OPTS[k].l) == 0 || (OPTS[k].s[0] != '\0' && strcmp(a, OPTS[k].s) == 0)) {
+                break;
+            }
+        }
+        if (k < N_OPTS) {
+            if (given[k]++) {
+                fprintf(stderr, "grip-replay: option %s given twice\n", OPTS[k].l);
+                return -1;
+            }
+            if (scope_opt[OPTS[k].scope] == NULL) {
+                scope_opt[OPTS[k].scope] = OPTS[k].l;
+            }
+        }
+        if (IS("-q", "--quiet")) {
             o->quiet = 1;
             takes = 0;
         } else if (strcmp(a, "--skip-bad") == 0) {
@@ -417,6 +568,12 @@ static int parse_args(int argc, char **argv, options *o)
             takes = 0;
         } else if (strcmp(a, "--all-inputs") == 0) {
             o->all_inputs = 1;
+            takes = 0;
+        } else if (strcmp(a, "--reorder") == 0) {
+            o->sort_log = 1;
+            takes = 0;
+        } else if (strcmp(a, "--units") == 0) {
+            o->units = 1;
             takes = 0;
         } else if (strcmp(a, "--fd") == 0) {
             o->want_fd = 1;
@@ -440,6 +597,8 @@ static int parse_args(int argc, char **argv, options *o)
             o->vehicle_file = v;
         } else if (strcmp(a, "--csv") == 0) {
             o->csv_in = v;
+        } else if (strcmp(a, "--ignore-columns") == 0) {
+            o->ignore_cols = v;
         } else if (IS("-s", "--step-ms")) {
             if (!parse_double(v, 0.001, 1000.0, &o->step_ms)) {
                 fprintf(stderr, "grip-replay: --step-ms must be 0.001..1000, not '%s'\n", v);
@@ -489,7 +648,7 @@ static int parse_args(int argc, char **argv, options *o)
             return -1;
         } else {
             if (o->log != NULL) {
-                fprintf(stderr, "grip-replay: more than one log file given\n");
+                fprintf(stderr, "grip-replay: more than one log file given ('%s' and '%s')\n", o->log, a);
                 return -1;
             }
             o->log = a;
@@ -507,11 +666,38 @@ static int parse_args(int argc, char **argv, options *o)
             fprintf(stderr, "grip-replay: --csv needs the estimator (-e TIR)\n");
             return -1;
         }
-        return 0;
-    }
-    if ((o->log == NULL) == (o->iface == NULL)) {
+        mode = "--csv input";
+    } else if ((o->log == NULL) == (o->iface == NULL)) {
         fprintf(stderr, "grip-replay: give either a log file or -i IFACE (try --help)\n");
         return -1;
+    } else {
+        mode = (o->iface != NULL) ? "a live interface (-i)" : "a log file";
+    }
+    /* options outside their mode */
+    {
+        const char *bad = NULL;
+        const char *where = "";
+        if (o->csv_in != NULL) {
+            bad = scope_opt[SC_CAN] ? scope_opt[SC_CAN] : scope_opt[SC_FILE] ? scope_opt[SC_FILE] : scope_opt[SC_LIVE];
+            where = "CAN input (a log or -i)";
+        } else if (scope_opt[SC_CSV] != NULL) {
+            bad = scope_opt[SC_CSV];
+            where = "--csv input";
+        } else if (o->iface != NULL && scope_opt[SC_FILE] != NULL) {
+            bad = scope_opt[SC_FILE];
+            where = "a log file";
+        } else if (o->iface == NULL && scope_opt[SC_LIVE] != NULL) {
+            bad = scope_opt[SC_LIVE];
+            where = "a live interface (-i)";
+        }
+        if (bad == NULL && o->est_tir == NULL && scope_opt[SC_EST] != NULL) {
+            bad = scope_opt[SC_EST];
+            where = "the estimator (-e TIR)";
+        }
+        if (bad != NULL) {
+            fprintf(stderr, "grip-replay: option %s is for %s, not %s\n", bad, where, mode);
+            return -1;
+        }
     }
     return 0;
 }
@@ -522,40 +708,32 @@ static grip_can_table_text_t text_table;
 
 static int load_table(const char *path, const grip_can_table_t **table)
 {
-    char line[GRIP_CAN_TEXT_LINE_MAX + 2];
-    unsigned long lineno = 0;
+    static char line[GRIP_CAN_TEXT_LINE_MAX + 1];
+    char err[700];
     const char *why = "";
-    FILE *f;
+    csv_reader rd;
+    int rc;
     if (path == NULL) {
         *table = &grip_can_table_rav4;
         return 0;
     }
-    f = fopen(path, "r");
-    if (f == NULL) {
-        fprintf(stderr, "grip-replay: cannot open signal table %s: %s\n", path, strerror(errno));
+    if (csv_reader_open(&rd, path, line, GRIP_CAN_TEXT_LINE_MAX, 0, err, sizeof err) != 0) {
+        fprintf(stderr, "grip-replay: signal table: %s\n", err);
         return -1;
     }
     grip_can_table_text_init(&text_table);
-    while (fgets(line, sizeof line, f) != NULL) {
-        size_t n = strlen(line);
-        lineno++;
-        if (n > 0 && line[n - 1] != '\n' && !feof(f)) {
-            fprintf(stderr, "grip-replay: %s:%lu: line too long\n", path, lineno);
-            fclose(f);
-            return -1;
-        }
-        if (grip_can_table_text_line(&text_table, line, (uint32_t)n, &why) != GRIP_OK) {
-            fprintf(stderr, "grip-replay: %s:%lu: %s\n", path, lineno, why);
-            fclose(f);
+    while ((rc = csv_read_line(&rd, err, sizeof err)) == 1) {
+        if (grip_can_table_text_line(&text_table, line, (uint32_t)rd.len, &why) != GRIP_OK) {
+            fprintf(stderr, "grip-replay: %s:%lu: %s\n", rd.path, rd.lineno, why);
+            csv_reader_close(&rd);
             return -1;
         }
     }
-    if (ferror(f)) {
-        fprintf(stderr, "grip-replay: cannot read signal table %s: %s\n", path, strerror(errno));
-        fclose(f);
+    csv_reader_close(&rd);
+    if (rc < 0) {
+        fprintf(stderr, "grip-replay: signal table: %s\n", err);
         return -1;
     }
-    fclose(f);
     if (grip_can_table_text_finish(&text_table, table, &why) != GRIP_OK) {
         fprintf(stderr, "grip-replay: %s: %s\n", path, why);
         return -1;
@@ -582,20 +760,101 @@ static void format_time(char *buf, size_t n, int64_t t_us)
     snprintf(buf, n, "%" PRId64 ".%06" PRId64, sec, t_us - sec * 1000000);
 }
 
-static void write_header(replay *r)
+/* The estimator's output columns, in order, with their units (--units). */
+static const struct {
+    const char *name;
+    const char *unit;
+} EST_COLS[] = {
+    { "est_status", "" },   { "est_valid", "" },      { "est_flags", "" },       { "vx", "m_s" },
+    { "beta", "rad" },      { "yaw_rate", "rad_s" },  { "yaw_rate_ref", "rad_s" }, { "delta", "rad" },
+    { "mu", "" },           { "mu_conf", "" },        { "fy_front", "N" },       { "fy_rear", "N" },
+    { "util_front", "" },   { "util_rear", "" },      { "fy_margin_front", "N" }, { "yaw_rate_bias", "rad_s" },
+    { "ay_model", "m_s2" },
+};
+#define N_EST_COLS (sizeof EST_COLS / sizeof EST_COLS[0])
+
+/* A unit as a column-name suffix: "/" and "^" dropped, "rad/s" -> "rad_s",
+ * "m/s^2" -> "m_s2", "N m" -> "Nm". */
+static const char *unit_suffix(const char *unit)
 {
-    uint32_t i;
-    fprintf(r->csv, "t_s,step");
-    for (i = 0; i < (uint32_t)GRIP_IN_COUNT; i++) {
-        if (r->write_input[i]) {
-            fprintf(r->csv, ",%s,%s_fault", grip_input_name(i), grip_input_name(i));
+    static const char *const map[][2] = {
+        { "m/s", "m_s" }, { "rad", "rad" }, { "rad/s", "rad_s" }, { "m/s^2", "m_s2" }, { "Pa", "Pa" }, { "N m", "Nm" },
+    };
+    size_t k;
+    for (k = 0; k < sizeof map / sizeof map[0]; k++) {
+        if (strcmp(unit, map[k][0]) == 0) {
+            return map[k][1];
         }
     }
+    return "";
+}
+
+/* Base name of input i's columns: its name, with "_in" where the estimator
+ * writes a column of the same name (yaw_rate: the measured input is
+ * yaw_rate_in, the estimate yaw_rate). */
+static void input_base(const replay *r, uint32_t i, char *buf, size_t n)
+{
+    const char *name = grip_input_name(i);
+    size_t k;
+    snprintf(buf, n, "%s", name);
     if (r->est_on) {
-        fprintf(r->csv, ",est_status,est_valid,est_flags,vx,beta,yaw_rate,yaw_rate_ref,delta,mu,mu_conf,"
-                        "fy_front,fy_rear,util_front,util_rear,fy_margin_front,yaw_rate_bias,ay_model");
+        for (k = 0; k < N_EST_COLS; k++) {
+            if (strcmp(EST_COLS[k].name, name) == 0) {
+                snprintf(buf, n, "%s_in", name);
+            }
+        }
+    }
+}
+
+#define MAX_OUT_COLS (2 + 2 * GRIP_IN_COUNT + 20)
+
+/* Writes the header; -1 if two columns would have the same name (a reader
+ * keyed by name would lose one). */
+static int write_header(replay *r)
+{
+    static char names[MAX_OUT_COLS][48];
+    size_t nc = 0;
+    size_t a;
+    size_t b;
+    uint32_t i;
+    snprintf(names[nc++], sizeof names[0], "t_s");
+    snprintf(names[nc++], sizeof names[0], "step");
+    for (i = 0; i < (uint32_t)GRIP_IN_COUNT; i++) {
+        char base[40];
+        if (!r->write_input[i]) {
+            continue;
+        }
+        input_base(r, i, base, sizeof base);
+        if (r->opt->units) {
+            snprintf(names[nc++], sizeof names[0], "%s_%s", base, unit_suffix(grip_input_unit(i)));
+        } else {
+            snprintf(names[nc++], sizeof names[0], "%s", base);
+        }
+        snprintf(names[nc++], sizeof names[0], "%s_fault", base);
+    }
+    if (r->est_on) {
+        for (a = 0; a < N_EST_COLS; a++) {
+            if (r->opt->units && EST_COLS[a].unit[0] != '\0') {
+                snprintf(names[nc++], sizeof names[0], "%s_%s", EST_COLS[a].name, EST_COLS[a].unit);
+            } else {
+                snprintf(names[nc++], sizeof names[0], "%s", EST_COLS[a].name);
+            }
+        }
+    }
+    for (a = 0; a < nc; a++) {
+        for (b = a + 1; b < nc; b++) {
+            if (strcmp(names[a], names[b]) == 0) {
+                fprintf(stderr, "grip-replay: internal error: output columns %lu and %lu are both named %s\n",
+                        (unsigned long)a + 1ul, (unsigned long)b + 1ul, names[a]);
+                return -1;
+            }
+        }
+    }
+    for (a = 0; a < nc; a++) {
+        fprintf(r->csv, "%s%s", a ? "," : "", names[a]);
     }
     fprintf(r->csv, "\n");
+    return 0;
 }
 
 static void emit(replay *r, const grip_input_sample_t *s)
@@ -735,6 +994,15 @@ static void summary(const replay *r, const can_sock *sock)
                 sock->down, sock->no_timestamp);
     } else {
         fprintf(stderr, "  drops          0 (file replay)\n");
+        if (r->opt->sort_log) {
+            fprintf(stderr, "  log order      %lu frames older than one before them (at most %.3f ms), sorted "
+                    "(--reorder: %d ms window)\n", r->out_of_order, (double)r->max_back_us / 1000.0,
+                    CANDUMP_REORDER_WINDOW_US / 1000);
+        } else {
+            fprintf(stderr, "  log order      %lu frames older than one before them (at most %.3f ms, tolerance "
+                    "%.3f ms), passed on as they came\n", r->out_of_order, (double)r->max_back_us / 1000.0,
+                    (double)r->back_tolerance_us / 1000.0);
+        }
     }
     if (r->est_on) {
         fprintf(stderr, "  estimator      %" PRIu32 " steps, %lu errors; valid: beta %lu, yaw-rate reference %lu, "
@@ -778,49 +1046,111 @@ static int check_match(const replay *r)
 static int run_file(replay *r)
 {
     candump_reader rd;
+    candump_order ord;
     grip_can_frame_t f;
     char ifname[CANDUMP_IFNAME_MAX];
     char err[700];
+    int64_t tol = CANDUMP_BACK_TOLERANCE_US;
     int rc;
+    if (r->opt->reorder_us > tol) {
+        tol = r->opt->reorder_us;   /* the assembler places frames up to -w late */
+    }
     if (candump_open(&rd, r->opt->log, err, sizeof err) != 0) {
         fprintf(stderr, "grip-replay: %s\n", err);
         return EXIT_INPUT;
     }
+    if (candump_order_init(&ord, tol, r->opt->sort_log ? CANDUMP_REORDER_WINDOW_US : 0, CANDUMP_REORDER_MAX_FRAMES,
+                           err, sizeof err) != 0) {
+        fprintf(stderr, "grip-replay: %s\n", err);
+        candump_close(&rd);
+        return EXIT_INPUT;
+    }
     rd.skip_bad = r->opt->skip_bad;
-    while ((rc = candump_next(&rd, &f, ifname, err, sizeof err)) == 1) {
+    while ((rc = candump_next_ordered(&rd, &ord, &f, ifname, err, sizeof err)) == 1) {
         f.t_us += r->opt->time_offset_us;
         feed(r, &f, ifname);
         if (r->opt->max_frames && r->frames_read >= r->opt->max_frames) {
             break;
         }
     }
+    r->out_of_order = ord.out_of_order;
+    r->max_back_us = ord.max_back_us;
+    r->back_tolerance_us = tol;
     if (rd.skipped > 0) {
         fprintf(stderr, "grip-replay: %lu malformed lines skipped (--skip-bad)\n", rd.skipped);
     }
+    candump_order_free(&ord);
     candump_close(&rd);
-    finish(r);
     if (rc < 0) {
         fprintf(stderr, "grip-replay: %s\n", err);
         return EXIT_INPUT;
     }
+    if (r->frames_read == 0) {
+        fprintf(stderr, "grip-replay: %s: no CAN frame in the log (%lu lines%s)\n", rd.path, rd.lineno,
+                rd.skipped ? ", all skipped as malformed or blank" : ", none a frame");
+        return EXIT_INPUT;
+    }
+    finish(r);
     return 0;
 }
 
 /* ---- CSV input (--csv) ----------------------------------------------------------
- * One row per estimator step; docs/estimator.md "CSV input" is the schema. */
+ * One row per estimator step; docs/estimator.md "CSV input" is the schema,
+ * docs/guarantees.md what is refused. */
 
-#define CSV_LINE_MAX 8192
-#define CSV_MAX_COLS 256
+#define CSV_LINE_MAX 8192      /* bytes per line */
+#define CSV_MAX_COLS 256       /* columns per line */
+#define CSV_MAX_ERRORS 10      /* messages before giving up */
+#define CSV_RATE_ROWS 16       /* time steps whose median is the input's sample interval */
+#define CSV_RATE_TOL 0.01      /* that median, and the mean over the file, vs --step-ms */
+#define CSV_GAP_TOL 0.5        /* any one time step vs --step-ms */
 
-/* Splits line (modified in place) at commas; returns the number of cells. */
-static int csv_split(char *line, char **cell, int max)
+/* the inputs every file must have a column for (empty cells allowed) */
+static const uint32_t CSV_REQUIRED[] = {
+    GRIP_IN_WHEEL_SPEED_FL, GRIP_IN_WHEEL_SPEED_FR, GRIP_IN_WHEEL_SPEED_RL, GRIP_IN_WHEEL_SPEED_RR,
+    GRIP_IN_STEER_ANGLE,    GRIP_IN_YAW_RATE,       GRIP_IN_AX,             GRIP_IN_AY,
+};
+
+enum { COL_IGNORED = -1, COL_TIME = -2 };
+
+typedef struct {
+    replay *r;
+    const char *path;
+    unsigned errors;
+    char tname[8];   /* the time column's name */
+} csv_ctx;
+
+/* strcmp ignoring ASCII letter case */
+static int strcasecmp_ascii(const char *a, const char *b)
+{
+    for (;; a++, b++) {
+        int ca = (*a >= 'A' && *a <= 'Z') ? *a - 'A' + 'a' : *a;
+        int cb = (*b >= 'A' && *b <= 'Z') ? *b - 'A' + 'a' : *b;
+        if (ca != cb || ca == 0) {
+            return ca - cb;
+        }
+    }
+}
+
+static void csv_error(csv_ctx *c, const char *fmt, ...)
+{
+    va_list ap;
+    if (c->errors < CSV_MAX_ERRORS) {
+        fprintf(stderr, "grip-replay: ");
+        va_start(ap, fmt);
+        vfprintf(stderr, fmt, ap);
+        va_end(ap);
+        fprintf(stderr, "\n");
+    }
+    c->errors++;
+}
+
+/* Splits line (modified in place) at commas; returns the number of cells
+ * (cells beyond max are counted, not stored). */
+static int csv_cells(char *line, char **cell, int max)
 {
     int n = 0;
     char *p = line;
-    size_t len = strlen(line);
-    while (len > 0 && (line[len - 1] == '\n' || line[len - 1] == '\r')) {
-        line[--len] = '\0';
-    }
     for (;;) {
         char *c = strchr(p, ',');
         if (n < max) {
@@ -849,6 +1179,58 @@ static char *trim(char *s)
     return s;
 }
 
+/* A decimal number ([+-]digits[.digits][e[+-]digits]) or nan / inf /
+ * infinity (any case, optional sign) as a double; 0 if s is anything else
+ * (hex, words, trailing text). */
+static int cell_number(const char *s, double *v)
+{
+    const char *p = s;
+    int digits = 0;
+    char *end;
+    if (*p == '+' || *p == '-') {
+        p++;
+    }
+    if (strcasecmp_ascii(p, "nan") == 0 || strcasecmp_ascii(p, "inf") == 0 ||
+        strcasecmp_ascii(p, "infinity") == 0) {
+        *v = (p[0] == 'n' || p[0] == 'N') ? NAN : (s[0] == '-' ? -INFINITY : INFINITY);
+        return 1;
+    }
+    while (*p >= '0' && *p <= '9') {
+        p++;
+        digits++;
+    }
+    if (*p == '.') {
+        p++;
+        while (*p >= '0' && *p <= '9') {
+            p++;
+            digits++;
+        }
+    }
+    if (digits == 0) {
+        return 0;
+    }
+    if (*p == 'e' || *p == 'E') {
+        int ed = 0;
+        p++;
+        if (*p == '+' || *p == '-') {
+            p++;
+        }
+        while (*p >= '0' && *p <= '9') {
+            p++;
+            ed++;
+        }
+        if (ed == 0) {
+            return 0;
+        }
+    }
+    if (*p != '\0') {
+        return 0;
+    }
+    errno = 0;
+    *v = strtod(s, &end);   /* overflow -> +-inf (a range fault), underflow -> ~0 */
+    return end == p;
+}
+
 /* The SI value v as the build's input format; 0 if not representable. */
 static int to_input(double v, uint32_t input, grip_real_t *out)
 {
@@ -868,164 +1250,455 @@ static int to_input(double v, uint32_t input, grip_real_t *out)
     return 1;
 }
 
+/* 1 if name is in the comma-separated list. */
+static int in_list(const char *list, const char *name)
+{
+    size_t n = strlen(name);
+    const char *p = list;
+    while (p != NULL && *p != '\0') {
+        const char *c = strchr(p, ',');
+        size_t len = (c != NULL) ? (size_t)(c - p) : strlen(p);
+        if (len == n && strncmp(p, name, n) == 0) {
+            return 1;
+        }
+        p = (c != NULL) ? c + 1 : NULL;
+    }
+    return 0;
+}
+
+/* Column names the reader knows, for "did you mean". */
+static int known_names(const char **names, int max)
+{
+    static char fault[GRIP_IN_COUNT][48];
+    int n = 0;
+    uint32_t i;
+    names[n++] = "t_s";
+    for (i = 0; i < (uint32_t)GRIP_IN_COUNT && n + 2 < max; i++) {
+        names[n++] = grip_input_name(i);
+        snprintf(fault[i], sizeof fault[i], "%s_fault", grip_input_name(i));
+        names[n++] = fault[i];
+    }
+    names[n++] = "step";
+    names[n++] = "comment";
+    return n;
+}
+
+/* Classifies the header's cells into col[]; reports every problem. */
+static void csv_header(csv_ctx *c, char **cell, int ncol, unsigned long line, int *col, int *t_col)
+{
+    const char *known[2 * GRIP_IN_COUNT + 4];
+    int nknown = known_names(known, (int)(sizeof known / sizeof known[0]));
+    int have[GRIP_IN_COUNT];
+    char missing[400];
+    size_t k;
+    int j;
+    int i;
+    *t_col = -1;
+    for (i = 0; i < GRIP_IN_COUNT; i++) {
+        have[i] = 0;
+    }
+    for (j = 0; j < ncol; j++) {
+        const char *name = cell[j] = trim(cell[j]);
+        size_t len = strlen(name);
+        int32_t id = (len > 0 && len <= 32) ? grip_input_find(name, (uint32_t)len) : -1;
+        col[j] = COL_IGNORED;
+        if (len == 0) {
+            csv_error(c, "%s:%lu: column %d has no name", c->path, line, j + 1);
+            continue;
+        }
+        if (name[0] == '"' || name[0] == '\'') {
+            csv_error(c, "%s:%lu: column %d is quoted (%s): this reader takes no quoting, write the bare name",
+                      c->path, line, j + 1, name);
+            continue;
+        }
+        for (i = 0; i < j; i++) {
+            if (strcmp(cell[i], name) == 0) {
+                break;
+            }
+        }
+        if (i < j) {
+            csv_error(c, "%s:%lu: column '%s' appears twice (columns %d and %d)", c->path, line, name, i + 1, j + 1);
+            continue;
+        }
+        if (strcmp(name, "t_s") == 0 || strcmp(name, "t") == 0 || strcmp(name, "time") == 0) {
+            if (*t_col >= 0) {
+                csv_error(c, "%s:%lu: two time columns: '%s' (column %d) and '%s' (column %d)", c->path, line,
+                          cell[*t_col], *t_col + 1, name, j + 1);
+                continue;
+            }
+            *t_col = j;
+            col[j] = COL_TIME;
+            snprintf(c->tname, sizeof c->tname, "%s", name);
+        } else if (id >= 0) {
+            col[j] = (int)id;
+            have[id] = 1;
+        } else if (strcmp(name, "step") == 0 || strcmp(name, "comment") == 0 ||
+                   (c->r->opt->ignore_cols != NULL && in_list(c->r->opt->ignore_cols, name))) {
+            col[j] = COL_IGNORED;
+        } else if (len > 6 && strcmp(name + len - 6, "_fault") == 0 &&
+                   grip_input_find(name, (uint32_t)(len - 6)) >= 0) {
+            col[j] = COL_IGNORED;   /* grip-replay's own fault columns: the value cell says it */
+        } else {
+            int d = 0;
+            int near = csv_nearest(name, known, nknown, &d);
+            if (near >= 0 && d <= 1 + (int)strlen(known[near]) / 4) {
+                csv_error(c, "%s:%lu: unknown column '%s' (column %d): did you mean '%s'? (--ignore-columns "
+                          "%s to ignore it)", c->path, line, name, j + 1, known[near], name);
+            } else {
+                char list[600];
+                size_t used = 0;
+                for (i = 0; i < nknown && used < sizeof list; i++) {
+                    used += (size_t)snprintf(list + used, sizeof list - used, "%s%s", i ? " " : "", known[i]);
+                }
+                csv_error(c, "%s:%lu: unknown column '%s' (column %d); known: %s (--ignore-columns %s to ignore "
+                          "it)", c->path, line, name, j + 1, list, name);
+            }
+        }
+    }
+    if (*t_col < 0) {
+        csv_error(c, "%s:%lu: no time column (t_s) in the header", c->path, line);
+    }
+    missing[0] = '\0';
+    for (k = 0; k < sizeof CSV_REQUIRED / sizeof CSV_REQUIRED[0]; k++) {
+        if (!have[CSV_REQUIRED[k]]) {
+            size_t u = strlen(missing);
+            snprintf(missing + u, sizeof missing - u, "%s%s", u ? ", " : "", grip_input_name(CSV_REQUIRED[k]));
+        }
+    }
+    if (missing[0] != '\0') {
+        csv_error(c, "%s:%lu: required column missing: %s (a signal you do not have: give its column with "
+                  "empty cells)", c->path, line, missing);
+    }
+    if (c->r->opt->ignore_cols != NULL) {
+        const char *p = c->r->opt->ignore_cols;
+        while (p != NULL) {
+            const char *e = strchr(p, ',');
+            size_t len = (e != NULL) ? (size_t)(e - p) : strlen(p);
+            for (j = 0; j < ncol; j++) {
+                if (strlen(cell[j]) == len && strncmp(cell[j], p, len) == 0) {
+                    break;
+                }
+            }
+            if (j == ncol || len == 0) {
+                csv_error(c, "%s:%lu: --ignore-columns names '%.*s', which is not a column of the header",
+                          c->path, line, (int)len, p);
+            }
+            p = (e != NULL) ? e + 1 : NULL;
+        }
+    }
+}
+
+static double median(double *v, int n)
+{
+    int i;
+    int j;
+    for (i = 1; i < n; i++) {   /* insertion sort: n <= CSV_RATE_ROWS */
+        double x = v[i];
+        for (j = i; j > 0 && v[j - 1] > x; j--) {
+            v[j] = v[j - 1];
+        }
+        v[j] = x;
+    }
+    return (n % 2) ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* The input's sample interval (median of its first time steps) against
+ * the step; 0, or -1 after reporting. */
+static int csv_rate_check(csv_ctx *c, const double *dts, int n, unsigned long first_line, unsigned long last_line)
+{
+    double tmp[CSV_RATE_ROWS];
+    double m;
+    double step = c->r->opt->step_ms * 1e-3;
+    int i;
+    if (n == 0) {
+        return 0;
+    }
+    for (i = 0; i < n; i++) {
+        tmp[i] = dts[i];
+    }
+    m = median(tmp, n);
+    if (fabs(m - step) <= CSV_RATE_TOL * step) {
+        return 0;
+    }
+    {
+        char where[96];
+        double hz = 1.0 / m;
+        snprintf(where, sizeof where, "median of the %d time step%s of lines %lu..%lu", n, n > 1 ? "s" : "",
+                 first_line, last_line);
+        if (fabs(m * 1e-3 - step) <= CSV_RATE_TOL * step || fabs(m * 1e-6 - step) <= CSV_RATE_TOL * step) {
+            csv_error(c, "%s: column %s: input sampled every %g s (%s), step is %g ms: is the time in %s? t_s is "
+                      "in seconds", c->path, c->tname, m, where, c->r->opt->step_ms,
+                      fabs(m * 1e-3 - step) <= CSV_RATE_TOL * step ? "milliseconds" : "microseconds");
+        } else if (hz < 50.0 * (1.0 - 5e-4) || hz > 2000.0 * (1.0 + 5e-4)) {
+            csv_error(c, "%s: column %s: input sampled every %g ms (%g Hz; %s), step is %g ms, and the estimator "
+                      "runs at 50..2000 Hz: resample the input (e.g. to 100 Hz, --step-ms 10)", c->path, c->tname, m * 1e3,
+                      hz, where, c->r->opt->step_ms);
+        } else if (fabs(hz - floor(hz + 0.5)) <= EST_RATE_TOL * hz) {
+            csv_error(c, "%s: column %s: input sampled every %g ms (%s), step is %g ms: pass --step-ms %g", c->path,
+                      c->tname, m * 1e3, where, c->r->opt->step_ms, 1000.0 / floor(hz + 0.5));
+        } else {
+            csv_error(c, "%s: column %s: input sampled every %g ms (%.6g Hz; %s), step is %g ms, and the "
+                      "estimator's rate is a whole number of Hz: resample the input (e.g. to 100 Hz, --step-ms 10)",
+                      c->path, c->tname, m * 1e3, hz, where, c->r->opt->step_ms);
+        }
+    }
+    return -1;
+}
+
+/* One time step (t0 at line l0 -> t1 at line l1) against the step: 0, or -1
+ * after reporting. Counts steps off by more than 1 %. */
+static int csv_step_check(csv_ctx *c, double t0, unsigned long l0, double t1, unsigned long l1)
+{
+    double step = c->r->opt->step_ms * 1e-3;
+    double dt = t1 - t0;
+    if (!(dt > 0.0)) {
+        csv_error(c, "%s:%lu: column %s: time %.9g is not after %.9g (line %lu): the rows must be in time order, "
+                  "one per step", c->path, l1, c->tname, t1, t0, l0);
+        return -1;
+    }
+    if (fabs(dt - step) > CSV_GAP_TOL * step) {
+        csv_error(c, "%s:%lu: column %s: time step %g ms from line %lu (%.9g -> %.9g), --step-ms is %g: a missing "
+                  "row or a time jump (the rows must be one per step)", c->path, l1, c->tname, dt * 1e3, l0, t0, t1,
+                  c->r->opt->step_ms);
+        return -1;
+    }
+    if (fabs(dt - step) > 0.01 * step) {
+        c->r->csv_bad_dt++;
+    }
+    return 0;
+}
+
+/* Parses one data row into *s; 0, or -1 after reporting. */
+static int csv_row(csv_ctx *c, char **cell, int ncol, const int *col, int t_col, unsigned long line,
+                   grip_input_sample_t *s, double *t)
+{
+    replay *r = c->r;
+    int bad = 0;
+    int k;
+    (void)grip_input_sample_clear(s);
+    *t = 0.0;
+    if (t_col >= 0) {
+        const char *tc = trim(cell[t_col]);
+        if (!cell_number(tc, t) || !isfinite(*t) || fabs(*t) > 9.0e12) {
+            csv_error(c, "%s:%lu: column %s: bad time '%s' (seconds, |t| <= 9e12)", c->path, line, c->tname, tc);
+            bad = 1;
+        }
+    }
+    s->t_us = (int64_t)floor(*t * 1e6 + 0.5);
+    s->step = (uint32_t)r->csv_rows;
+    for (k = 0; k < ncol; k++) {
+        const char *cv;
+        double v;
+        uint32_t id;
+        if (col[k] < 0) {
+            continue;
+        }
+        id = (uint32_t)col[k];
+        cv = trim(cell[k]);
+        s->fault[id] = GRIP_SIG_MISSING;
+        if (*cv == '\0') {
+            continue;
+        }
+        if (!cell_number(cv, &v)) {
+            csv_error(c, "%s:%lu: column %s: not a number '%s'", c->path, line, grip_input_name(id), cv);
+            bad = 1;
+            continue;
+        }
+        if (isnan(v)) {
+            continue;
+        }
+        if (!isfinite(v) || !to_input(v, id, &s->value[id])) {
+            s->value[id] = 0;
+            s->fault[id] = GRIP_SIG_RANGE;
+            continue;
+        }
+        s->valid[id] = 1;
+        s->fault[id] = GRIP_SIG_OK;
+    }
+    return bad ? -1 : 0;
+}
+
+static void csv_count(replay *r, const grip_input_sample_t *s)
+{
+    uint32_t i;
+    for (i = 0; i < (uint32_t)GRIP_IN_COUNT; i++) {
+        r->csv_valid[i] += s->valid[i] != 0u;
+        r->csv_range[i] += s->fault[i] == (uint8_t)GRIP_SIG_RANGE;
+    }
+    r->csv_rows++;
+}
+
+/* Emits a row (the header first, once). */
+static int csv_emit(replay *r, grip_input_sample_t *s)
+{
+    if (!r->header_done) {
+        if (write_header(r) != 0) {
+            return -1;
+        }
+        r->header_done = 1;
+    }
+    s->step = (uint32_t)r->csv_rows;
+    csv_count(r, s);
+    emit(r, s);
+    return 0;
+}
+
+/* The rows held until the sample interval is known: checks it, then each
+ * held time step, then emits them if no error was found. 1 if the rate
+ * matches, 0 if not (reported). */
+static int csv_release(csv_ctx *c, grip_input_sample_t *held, const double *held_t, const unsigned long *held_line,
+                       int nheld)
+{
+    double dts[CSV_RATE_ROWS];
+    int k;
+    for (k = 1; k < nheld; k++) {
+        dts[k - 1] = held_t[k] - held_t[k - 1];
+    }
+    if (nheld >= 2 && csv_rate_check(c, dts, nheld - 1, held_line[0], held_line[nheld - 1]) != 0) {
+        return 0;
+    }
+    for (k = 1; k < nheld; k++) {
+        (void)csv_step_check(c, held_t[k - 1], held_line[k - 1], held_t[k], held_line[k]);
+    }
+    for (k = 0; k < nheld && c->errors == 0; k++) {
+        if (csv_emit(c->r, &held[k]) != 0) {
+            return -1;
+        }
+    }
+    return 1;
+}
+
 static int run_csv(replay *r)
 {
-    static char line[CSV_LINE_MAX + 2];
+    static char line[CSV_LINE_MAX + 1];
+    static grip_input_sample_t held[CSV_RATE_ROWS + 1];   /* rows held until the rate is checked */
+    double held_t[CSV_RATE_ROWS + 1];
+    unsigned long held_line[CSV_RATE_ROWS + 1];
+    int nheld = 0;
+    int rate = 0;   /* 0: rows held, 1: the rate matches, -1: it does not (reported) */
     char *cell[CSV_MAX_COLS];
-    int col_input[CSV_MAX_COLS];   /* input id of each column, -1 ignored, -2 time */
+    int col[CSV_MAX_COLS];
     int ncol = 0;
     int have_header = 0;
     int t_col = -1;
-    unsigned long lineno = 0;
+    unsigned long header_line = 0;
     double t_prev = 0.0;
-    const double step_s = r->opt->step_ms * 1e-3;
-    FILE *f = stdin;
-    int status = 0;
+    double t_first = 0.0;
+    unsigned long l_prev = 0;
+    unsigned long l_first = 0;
+    unsigned long nrows = 0;
+    char err[700];
+    csv_reader rd;
+    csv_ctx c;
+    int rc = 0;
     int k;
-    if (strcmp(r->opt->csv_in, "-") != 0) {
-        f = fopen(r->opt->csv_in, "r");
-        if (f == NULL) {
-            fprintf(stderr, "grip-replay: cannot open %s: %s\n", r->opt->csv_in, strerror(errno));
-            return EXIT_INPUT;
-        }
+    if (csv_reader_open(&rd, r->opt->csv_in, line, CSV_LINE_MAX, 1, err, sizeof err) != 0) {
+        fprintf(stderr, "grip-replay: %s\n", err);
+        return EXIT_INPUT;
     }
-    while (fgets(line, sizeof line, f) != NULL) {
-        size_t n = strlen(line);
+    c.r = r;
+    c.path = rd.path;
+    c.errors = 0;
+    snprintf(c.tname, sizeof c.tname, "t_s");
+    while (c.errors < CSV_MAX_ERRORS && (rc = csv_read_line(&rd, err, sizeof err)) == 1) {
+        grip_input_sample_t s;
+        double t;
         int nc;
-        lineno++;
-        if (n > 0 && line[n - 1] != '\n' && !feof(f)) {
-            fprintf(stderr, "grip-replay: %s:%lu: line longer than %d characters\n", r->opt->csv_in, lineno,
-                    CSV_LINE_MAX);
-            status = EXIT_INPUT;
-            break;
-        }
-        if (line[0] == '#' || line[strspn(line, " \t\r\n")] == '\0') {
+        if (line[0] == '#' || line[strspn(line, " \t")] == '\0') {
             continue;
         }
-        nc = csv_split(line, cell, CSV_MAX_COLS);
+        nc = csv_cells(line, cell, CSV_MAX_COLS);
         if (nc > CSV_MAX_COLS) {
-            fprintf(stderr, "grip-replay: %s:%lu: more than %d columns\n", r->opt->csv_in, lineno, CSV_MAX_COLS);
-            status = EXIT_INPUT;
+            csv_error(&c, "%s:%lu: %d columns, more than %d", c.path, rd.lineno, nc, CSV_MAX_COLS);
             break;
         }
         if (!have_header) {
-            uint32_t seen[GRIP_IN_COUNT];
-            memset(seen, 0, sizeof seen);
             ncol = nc;
-            for (k = 0; k < nc; k++) {
-                const char *name = trim(cell[k]);
-                int32_t id = grip_input_find(name, (uint32_t)(strlen(name) < 32 ? strlen(name) : 32));
-                col_input[k] = -1;
-                if (strcmp(name, "t_s") == 0 || strcmp(name, "t") == 0 || strcmp(name, "time") == 0) {
-                    if (t_col >= 0) {
-                        fprintf(stderr, "grip-replay: %s:%lu: two time columns\n", r->opt->csv_in, lineno);
-                        status = EXIT_INPUT;
-                    }
-                    t_col = k;
-                    col_input[k] = -2;
-                } else if (id >= 0 && strlen(name) <= 32) {
-                    if (seen[id]++) {
-                        fprintf(stderr, "grip-replay: %s:%lu: column %s twice\n", r->opt->csv_in, lineno, name);
-                        status = EXIT_INPUT;
-                    }
-                    col_input[k] = (int)id;
-                    r->write_input[id] = 1;
-                }
-            }
-            if (t_col < 0) {
-                fprintf(stderr, "grip-replay: %s:%lu: no time column (t_s) in the header\n", r->opt->csv_in,
-                        lineno);
-                status = EXIT_INPUT;
-            }
-            if (status != 0) {
-                break;
-            }
-            if (r->opt->all_inputs) {
-                for (k = 0; k < GRIP_IN_COUNT; k++) {
-                    r->write_input[k] = 1;
-                }
-            }
-            write_header(r);
+            header_line = rd.lineno;
+            csv_header(&c, cell, nc, rd.lineno, col, &t_col);
             have_header = 1;
+            for (k = 0; k < GRIP_IN_COUNT; k++) {
+                r->write_input[k] = r->opt->all_inputs;
+            }
+            for (k = 0; k < ncol; k++) {
+                if (col[k] >= 0) {
+                    r->write_input[col[k]] = 1;
+                }
+            }
             continue;
         }
-        {
-            grip_input_sample_t s;
-            double t;
-            char *end;
-            if (nc != ncol) {
-                fprintf(stderr, "grip-replay: %s:%lu: %d cells, the header has %d\n", r->opt->csv_in, lineno,
-                        nc, ncol);
-                status = EXIT_INPUT;
-                break;
+        if (nc != ncol) {
+            csv_error(&c, "%s:%lu: %d cells, the header has %d (line %lu)", c.path, rd.lineno, nc, ncol, header_line);
+            continue;
+        }
+        if (csv_row(&c, cell, ncol, col, t_col, rd.lineno, &s, &t) != 0 || t_col < 0) {
+            continue;
+        }
+        if (nrows > 0) {
+            if (!(t > t_prev)) {
+                (void)csv_step_check(&c, t_prev, l_prev, t, rd.lineno);   /* reports the order */
+                continue;
             }
-            (void)grip_input_sample_clear(&s);
-            errno = 0;
-            t = strtod(trim(cell[t_col]), &end);
-            if (errno != 0 || end == cell[t_col] || *end != '\0' || !isfinite(t) || fabs(t) > 9.0e12) {
-                fprintf(stderr, "grip-replay: %s:%lu: bad time '%s'\n", r->opt->csv_in, lineno, cell[t_col]);
-                status = EXIT_INPUT;
-                break;
+            if (rate == 1) {
+                (void)csv_step_check(&c, t_prev, l_prev, t, rd.lineno);
             }
-            if (r->csv_rows > 0 && fabs((t - t_prev) - step_s) > 0.01 * step_s) {
-                r->csv_bad_dt++;
+        } else {
+            t_first = t;
+            l_first = rd.lineno;
+        }
+        nrows++;
+        t_prev = t;
+        l_prev = rd.lineno;
+        if (rate == 0) {
+            held[nheld] = s;
+            held_t[nheld] = t;
+            held_line[nheld] = rd.lineno;
+            if (++nheld == CSV_RATE_ROWS + 1) {
+                rate = csv_release(&c, held, held_t, held_line, nheld);
+                if (rate < 0) {
+                    csv_reader_close(&rd);
+                    return EXIT_OUTPUT;
+                }
+                rate = rate ? 1 : -1;
             }
-            t_prev = t;
-            s.t_us = (int64_t)floor(t * 1e6 + 0.5);
-            s.step = (uint32_t)r->csv_rows;
-            for (k = 0; k < ncol; k++) {
-                const char *c;
-                double v;
-                uint32_t id;
-                if (col_input[k] < 0) {
-                    continue;
-                }
-                id = (uint32_t)col_input[k];
-                c = trim(cell[k]);
-                s.fault[id] = GRIP_SIG_MISSING;
-                if (*c == '\0') {
-                    continue;
-                }
-                errno = 0;
-                v = strtod(c, &end);
-                if (end == c || *end != '\0') {
-                    fprintf(stderr, "grip-replay: %s:%lu: column %s: not a number '%s'\n", r->opt->csv_in, lineno,
-                            grip_input_name(id), c);
-                    status = EXIT_INPUT;
-                    break;
-                }
-                if (isnan(v)) {
-                    continue;
-                }
-                if (!isfinite(v) || !to_input(v, id, &s.value[id])) {
-                    s.value[id] = 0;
-                    s.fault[id] = GRIP_SIG_RANGE;
-                    r->csv_range[id]++;
-                    continue;
-                }
-                s.valid[id] = 1;
-                s.fault[id] = GRIP_SIG_OK;
-                r->csv_valid[id]++;
-            }
-            if (status != 0) {
-                break;
-            }
-            r->csv_rows++;
-            emit(r, &s);
+        } else if (c.errors == 0 && csv_emit(r, &s) != 0) {
+            csv_reader_close(&rd);
+            return EXIT_OUTPUT;
         }
     }
-    if (status == 0 && ferror(f)) {
-        fprintf(stderr, "grip-replay: cannot read %s: %s\n", r->opt->csv_in, strerror(errno));
-        status = EXIT_INPUT;
+    csv_reader_close(&rd);
+    if (c.errors >= CSV_MAX_ERRORS) {
+        fprintf(stderr, "grip-replay: %s: stopped after %d errors\n", c.path, CSV_MAX_ERRORS);
+        return EXIT_INPUT;
     }
-    if (status == 0 && !have_header) {
-        fprintf(stderr, "grip-replay: %s: no header row\n", r->opt->csv_in);
-        status = EXIT_INPUT;
+    if (rc < 0) {
+        fprintf(stderr, "grip-replay: %s\n", err);
+        return EXIT_INPUT;
     }
-    if (f != stdin) {
-        fclose(f);
+    if (!have_header) {
+        if (c.errors == 0) {
+            fprintf(stderr, "grip-replay: %s: no header row (%lu lines)\n", c.path, rd.lineno);
+        }
+        return EXIT_INPUT;
     }
-    return status;
+    if (rate == 0 && nheld > 0) {   /* a file of CSV_RATE_ROWS steps or fewer */
+        if (csv_release(&c, held, held_t, held_line, nheld) < 0) {
+            return EXIT_OUTPUT;
+        }
+    }
+    if (c.errors == 0 && nrows == 0) {
+        csv_error(&c, "%s:%lu: no data row after the header", c.path, header_line);
+    }
+    if (c.errors == 0 && nrows > CSV_RATE_ROWS + 1) {
+        double step = r->opt->step_ms * 1e-3;
+        double mean = (t_prev - t_first) / (double)(nrows - 1);
+        if (fabs(mean - step) > CSV_RATE_TOL * step) {
+            csv_error(&c, "%s: column %s: the %lu rows of lines %lu..%lu span %.9g s: a mean time step of %g ms, "
+                      "step is %g ms (more than 1 %% off)", c.path, c.tname, nrows, l_first, l_prev, t_prev - t_first,
+                      mean * 1e3, r->opt->step_ms);
+        }
+    }
+    return c.errors ? EXIT_INPUT : 0;
 }
 
 static void summary_csv(const replay *r)
@@ -1198,7 +1871,26 @@ estimator:
     if (o.est_tir != NULL) {
         char err[512];
         grip_est_config_t ecfg;
-        int rate_hz = (int)(1000.0 / o.step_ms + 0.5);
+        double hz = 1000.0 / o.step_ms;
+        int rate_hz = (int)(hz + 0.5);
+        /* grip_est_config_t.rate_hz: a whole number of Hz in [EST_RATE_MIN,
+         * EST_RATE_MAX]; the step must give it within EST_RATE_TOL, or the
+         * estimator would integrate with another time step than the data's */
+        if (hz < EST_RATE_MIN * (1.0 - EST_RATE_TOL) || hz > EST_RATE_MAX * (1.0 + EST_RATE_TOL)) {
+            fprintf(stderr, "grip-replay: --step-ms %g is %g Hz; the estimator runs at %d..%d Hz (step %g..%g ms): "
+                    "resample the input to a rate in that range\n", o.step_ms, hz, EST_RATE_MIN, EST_RATE_MAX,
+                    1000.0 / EST_RATE_MAX, 1000.0 / EST_RATE_MIN);
+            return EXIT_USAGE;
+        }
+        if (fabs(hz - rate_hz) > EST_RATE_TOL * hz) {
+            fprintf(stderr, "grip-replay: --step-ms %g is %.6g Hz; the estimator's rate is a whole number of Hz "
+                    "(%d would integrate %.3g %% off): use a step of 1000/N ms, e.g. 2, 2.5, 4, 5 or 10\n",
+                    o.step_ms, hz, rate_hz, 100.0 * fabs(hz - rate_hz) / hz);
+            return EXIT_USAGE;
+        }
+        if (tir_precheck(o.est_tir) != 0) {
+            return EXIT_USAGE;
+        }
         if (grip_tir_read(o.est_tir, &r.tire, err, sizeof err) != 0) {
             fprintf(stderr, "grip-replay: %s\n", err);
             return EXIT_USAGE;
@@ -1213,8 +1905,10 @@ estimator:
         r.mass_si = real_to_si(ecfg.mass, 1);
         st = grip_est_init(&r.est, &ecfg);
         if (st != GRIP_OK) {
-            fprintf(stderr, "grip-replay: the estimator rejects this configuration (step %g ms = %d Hz, "
-                    "tire %s): %s\n", o.step_ms, rate_hz, o.est_tir, grip_status_str(st));
+            fprintf(stderr, "grip-replay: the estimator rejects the vehicle (%s%s%s) with tire %s at %d Hz: %s "
+                    "(grip_est_init's ranges: include/grip/grip_est.h)\n", o.vehicle ? o.vehicle : "rav4",
+                    o.vehicle_file ? " + " : "", o.vehicle_file ? o.vehicle_file : "", o.est_tir, rate_hz,
+                    grip_status_str(st));
             return EXIT_USAGE;
         }
         r.est_on = 1;
@@ -1237,14 +1931,16 @@ estimator:
     }
     if (o.csv_in != NULL) {
         status = run_csv(&r);   /* writes the header once it knows the columns */
-        if (!o.quiet) {
+        if (!o.quiet && status == 0) {   /* on an error, its message is the last word */
             summary_csv(&r);
         }
         goto done;
     }
-    write_header(&r);
+    if (write_header(&r) != 0) {
+        return EXIT_OUTPUT;
+    }
     status = o.iface ? run_live(&r) : run_file(&r);
-    if (!o.quiet) {
+    if (!o.quiet && (status == 0 || o.iface != NULL)) {
         summary(&r, o.iface ? &sock : NULL);
     }
     if (status == 0 && check_match(&r) != 0) {
@@ -1253,6 +1949,18 @@ estimator:
 done:
     if (r.dump != NULL && fclose(r.dump) != 0) {
         r.write_failed = 1;
+    }
+    if (status == EXIT_INPUT && o.iface == NULL && r.csv != stdout) {
+        /* a data error: the rows written so far are not the file's answer;
+         * an output file (a regular one, never a device or pipe) is removed
+         * so that nobody mistakes it for one */
+        struct stat st_out;
+        int regular = fstat(fileno(r.csv), &st_out) == 0 && S_ISREG(st_out.st_mode);
+        fclose(r.csv);
+        if (regular && remove(o.out) == 0) {
+            fprintf(stderr, "grip-replay: %s removed (incomplete)\n", o.out);
+        }
+        return status;
     }
     if (fflush(r.csv) != 0 || ferror(r.csv) || (r.csv != stdout && fclose(r.csv) != 0)) {
         r.write_failed = 1;
