@@ -55,6 +55,8 @@ step fuzz env FUZZ_TIME=10 sh tests/fuzz/run_fuzz.sh
 step static sh tests/static/run_static.sh
 # The real Linux CAN stack: a QEMU VM with vcan, canplayer and grip-replay -i vcan0.
 step vm sh tests/vm/run_vcan_test.sh
+step badinput sh tests/badinput/run_badinput.sh --only grip-replay
+step badinput_fixed sh tests/badinput/run_badinput.sh --only grip-replay --bin build/fixed-gcc/bin
 step python env GRIP_TIRE_BIN=build/float-gcc/bin/grip-tire .venv/bin/python tests/python/run.py
 # The command-line program again, on the fixed build.
 step python_grip_tire_fixed env GRIP_TIRE_BIN=build/fixed-gcc/bin/grip-tire \

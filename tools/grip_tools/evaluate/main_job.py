@@ -61,13 +61,9 @@ def run_grip_tire(binary, tire, rows):
 def read_replay(path):
     with open(path) as f:
         data = list(csv.reader(f))
-    # the input block and the estimator block both have a yaw_rate column
-    # (measured gyro, and the filtered estimate with the bias removed): the
-    # first occurrence of a repeated name is the input, kept as <name>_in
+    # column names are unique (grip-replay -e names the measured gyro
+    # yaw_rate_in, the estimate with the bias removed yaw_rate)
     names = list(data[0]) if data else []
-    for i, n in enumerate(names):
-        if n in names[i + 1:]:
-            names[i] = n + "_in"
     rows = [dict(zip(names, r)) for r in data[1:]]
     if not rows or "est_status" not in rows[0]:
         raise SystemExit(f"main job: {path} has no estimator columns (grip-replay -e)")
