@@ -194,7 +194,8 @@ static int parse_magic(const token_t *t, uint8_t *magic)
     for (i = 0u; i < GRIP_CAN_MAGIC_LEN; i++) {
         uint32_t hi;
         uint32_t lo;
-        if (!hex_digit(t->p[2u * i], &hi) || !hex_digit(t->p[(2u * i) + 1u], &lo)) {
+        uint32_t k = 2u * i;
+        if (!hex_digit(t->p[k], &hi) || !hex_digit(t->p[k + 1u], &lo)) {
             return 0;
         }
         magic[i] = (uint8_t)((hi << 4) | lo);
@@ -213,8 +214,15 @@ static grip_status_t parse_msg(grip_can_table_text_t *b, const token_t *tok, uin
     /* version 1: ID LEN PERIOD CHECKSUM CHECKSUM_BYTE CNT_START CNT_LENGTH CNT_ORDER */
     static const int64_t hi1[8] = { 0xFFFFFFFF, 64, 0xFFFFFFFF, 0, 63, 511, 8, 0 }; /* grip-deviation: MISRA-7.2 int64_t table: the constants are signed by intent */
     const int64_t *hi = (b->version == 1u) ? hi1 : hi2;
-    nf = (b->version == 1u) ? 8u : 10u;
-    if (n != nf + ((b->version == 1u) ? 2u : 3u)) {
+    uint32_t ntok;
+    if (b->version == 1u) {
+        nf = 8u;
+        ntok = 10u;
+    } else {
+        nf = 10u;
+        ntok = 13u;
+    }
+    if (n != ntok) {
         *why = (b->version == 1u)
                    ? "msg line needs 9 fields: NAME ID LEN PERIOD_US CHECKSUM CHECKSUM_BYTE COUNTER_START "
                      "COUNTER_LENGTH COUNTER_ORDER"

@@ -530,8 +530,10 @@ def build_table(db, mp, name=None, dbc_paths=None):
                 raise _err(where("valid_if"), f"qualifier value {qval} does not fit {full}")
             quals.append(q)
         if msg.name not in messages:
-            messages[msg.name] = _message_of(msg, msg_cfg.get(msg.name, {}), mt, f"messages.{msg.name}",
-                                             family_all, sec)
+            cfg = dict(msg_cfg.get(msg.name, {}))
+            if "period_ms" not in cfg and "period_ms" in mp and not msg.cycle_time:
+                cfg["period_ms"] = mp["period_ms"]     # the map's default period
+            messages[msg.name] = _message_of(msg, cfg, mt, f"messages.{msg.name}", family_all, sec)
         messages[msg.name].terms.extend(terms + quals)
     for mname in msg_cfg:
         if mname not in messages:
@@ -586,7 +588,7 @@ def _message_of(msg, cfg, mt, sec, family_all=None, user=None):
         period_us = int(msg.cycle_time) * 1000
     else:
         raise _err(w(), f"the DBC gives no cycle time for {msg.name}: set period_ms in [{sec}] "
-                        f"(BO_ at {msg.file}:{msg.line})")
+                        f"(or a default period_ms at the top of the map; BO_ at {msg.file}:{msg.line})")
     if period_us <= 0:
         raise _err(w("period_ms"), "period must be > 0")
     m = Message(name=msg.name, id=key, length=msg.length, period_us=period_us, dbc_message=msg)
@@ -687,6 +689,18 @@ def toyota_checksum(frame_id, data, csum_byte):
     s = (frame_id & 0xFF) + (frame_id >> 8 & 0xFF) + (frame_id >> 16 & 0xFF) + (frame_id >> 24 & 0xFF) + len(data)
     s += sum(b for i, b in enumerate(data) if i != csum_byte)
     return s & 0xFF
+
+
+def pack_raw(data, start, length, order, raw):
+    """Writes the raw integer of a DBC field into data (a bytearray): the
+    inverse of extract()."""
+    from grip_tools.can.checksums import field_bits
+    bits = field_bits(start, length, order)
+    seq = bits if order == "intel" else list(reversed(bits))   # least significant bit first
+    raw &= (1 << length) - 1
+    for i, b in enumerate(seq):
+        data[b // 8] = (data[b // 8] & ~(1 << (b % 8))) | (((raw >> i) & 1) << (b % 8))
+    return data
 
 
 def check_frame(msg, data):
