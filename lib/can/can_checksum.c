@@ -161,7 +161,7 @@ int can_checksum_layout_ok(const grip_can_message_t *m)
     uint32_t len = m->len;
     uint32_t byte = 0u;
     uint32_t low;
-    int ok;
+    int ok = 0;
     int is_byte;
 
     if (m->checksum == (uint8_t)GRIP_CAN_CSUM_NONE) {
@@ -176,40 +176,55 @@ int can_checksum_layout_ok(const grip_can_message_t *m)
     switch (m->checksum) {
     case GRIP_CAN_CSUM_TOYOTA:
     case GRIP_CAN_CSUM_XOR:
-        ok = (is_byte != 0 && byte < len) ? 1 : 0;
+        if (is_byte != 0 && byte < len) {
+            ok = 1;
+        }
         break;
     case GRIP_CAN_CSUM_HONDA:
-        ok = (m->checksum_length == 4u && low == 8u * (len - 1u) &&
-             (m->checksum_order == (uint8_t)GRIP_CAN_INTEL || (m->checksum_start & 7u) == 3u)) ? 1 : 0;
+        if (m->checksum_length == 4u && low == 8u * (len - 1u) &&
+            (m->checksum_order == (uint8_t)GRIP_CAN_INTEL || (m->checksum_start & 7u) == 3u)) {
+            ok = 1;
+        }
         break;
     case GRIP_CAN_CSUM_HKG_CAN_FD:
-        ok = (m->checksum_length == 16u && m->checksum_order == (uint8_t)GRIP_CAN_INTEL &&
-             m->checksum_start == 0u && len >= 2u) ? 1 : 0;
+        if (m->checksum_length == 16u && m->checksum_order == (uint8_t)GRIP_CAN_INTEL &&
+            m->checksum_start == 0u && len >= 2u) {
+            ok = 1;
+        }
         break;
     case GRIP_CAN_CSUM_HYUNDAI:
-        ok = (m->checksum_length == 4u && (low & 3u) == 0u && low + 4u <= 8u * len &&
-             (m->checksum_order == (uint8_t)GRIP_CAN_INTEL || (m->checksum_start & 3u) == 3u)) ? 1 : 0;
+        if (m->checksum_length == 4u && (low & 3u) == 0u && low + 4u <= 8u * len &&
+            (m->checksum_order == (uint8_t)GRIP_CAN_INTEL || (m->checksum_start & 3u) == 3u)) {
+            ok = 1;
+        }
         break;
     case GRIP_CAN_CSUM_HYUNDAI_WHL_SPD:
-        ok = (len == 8u && m->checksum_length == 2u && m->checksum_order == (uint8_t)GRIP_CAN_INTEL &&
-             m->checksum_start == 46u) ? 1 : 0;
+        if (len == 8u && m->checksum_length == 2u && m->checksum_order == (uint8_t)GRIP_CAN_INTEL &&
+            m->checksum_start == 46u) {
+            ok = 1;
+        }
         break;
     case GRIP_CAN_CSUM_VOLKSWAGEN_MQB:
     case GRIP_CAN_CSUM_SUBARU:
-        ok = (is_byte != 0 && byte == 0u && len >= 2u) ? 1 : 0;
+        if (is_byte != 0 && byte == 0u && len >= 2u) {
+            ok = 1;
+        }
         break;
     case GRIP_CAN_CSUM_CHRYSLER:
     case GRIP_CAN_CSUM_FCA_GIORGIO:
     case GRIP_CAN_CSUM_NISSAN:
-        ok = (is_byte != 0 && byte == len - 1u) ? 1 : 0;
+        if (is_byte != 0 && byte == len - 1u) {
+            ok = 1;
+        }
         break;
     case GRIP_CAN_CSUM_FORD:
-        ok = (is_byte != 0 && len == 8u &&
-             ((bare_id(m->id) == FORD_BRAKESYSFEATURES && byte == FORD_BRAKESYSFEATURES_BYTE) ||
-              (bare_id(m->id) == FORD_YAW_DATA_FD1 && byte == FORD_YAW_DATA_FD1_BYTE))) ? 1 : 0;
+        if (is_byte != 0 && len == 8u &&
+            ((bare_id(m->id) == FORD_BRAKESYSFEATURES && byte == FORD_BRAKESYSFEATURES_BYTE) ||
+            (bare_id(m->id) == FORD_YAW_DATA_FD1 && byte == FORD_YAW_DATA_FD1_BYTE))) {
+            ok = 1;
+        }
         break;
     default:
-        ok = 0;
         break;
     }
     return ok;
