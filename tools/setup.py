@@ -78,7 +78,9 @@ class build_ext(_build_ext):
             lib_objs = self._compile(arith, gb.lib_sources(), gb.lib_cflags(arith), cc)
             port_objs = self._compile(arith, gb.port_sources(), gb.port_cflags(arith), cc)
             ext.extra_objects = lib_objs + port_objs
-            ext.depends = list(ext.depends or []) + ext.extra_objects
+            # relink when an object, or how they are built, changed
+            ext.depends = list(ext.depends or []) + ext.extra_objects + [
+                os.path.abspath(__file__), os.path.join(gb.HERE, "_build.py")]
             try:
                 version = subprocess.run(cc + ["--version"], capture_output=True, text=True,
                                          timeout=60).stdout.splitlines()[0]
@@ -88,6 +90,7 @@ class build_ext(_build_ext):
                     "lib_cflags": gb.lib_cflags(arith), "port_cflags": gb.port_cflags(arith),
                     "lib_sources": [os.path.relpath(s, gb.REPO) for s in gb.lib_sources()],
                     "port_sources": [os.path.relpath(s, gb.REPO) for s in gb.port_sources()],
+                    "objects": os.path.abspath(os.path.join(self.build_temp, "grip-" + arith)),
                     "repository": gb.REPO}
             ext.define_macros = [m for m in ext.define_macros if m[0] != "GRIP_PY_BUILD"]
             ext.define_macros.append(("GRIP_PY_BUILD", gb.c_string(json.dumps(info))))
