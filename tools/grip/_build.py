@@ -288,7 +288,8 @@ int64_t grip_py_chain_run(grip_calib_t *cal, grip_monitor_t *mon, grip_est_t *es
 
 int grip_py_tir_parse(const char *path, double *v, int n, int32_t *fittyp, int32_t *tyreside, char *err,
                       size_t errlen);
-int grip_py_brush_read(const char *path, int *kind, void *params, size_t size, char *err, size_t errlen);
+int grip_py_brush_parse(const char *text, const char *name, int *kind, void *params, size_t size, char *err,
+                        size_t errlen);
 """
 
 C_SOURCE = r"""
@@ -644,9 +645,11 @@ static int grip_py_tir_parse(const char *path, double *v, int n, int32_t *fittyp
     return 0;
 }
 
-/* The parameter struct of the file's model into params (size bytes; for
- * neofiala the grip_neofiala_params, not the prepared model). */
-static int grip_py_brush_read(const char *path, int *kind, void *params, size_t size, char *err, size_t errlen)
+/* A brush-model parameter file's text (name: for messages) parsed by
+ * grip-tire's reader into the model's parameter struct (size bytes; for
+ * neofiala the grip_neofiala_params, not the prepared model). 0 or -1. */
+static int grip_py_brush_parse(const char *text, const char *name, int *kind, void *params, size_t size, char *err,
+                               size_t errlen)
 {
     grip_brush_tool *t = malloc(sizeof *t);   /* large */
     const void *src = NULL;
@@ -655,7 +658,7 @@ static int grip_py_brush_read(const char *path, int *kind, void *params, size_t 
     if (t == NULL) {
         return -1;
     }
-    if (grip_brush_params_read(path, NULL, t, err, errlen) == 0) {
+    if (grip_brush_params_parse(text, name, NULL, t, err, errlen) == 0) {
         *kind = (int)t->kind;
         switch (t->kind) {
         case GRIP_BRUSH_KIND_FIALA: src = &t->fiala; n = sizeof t->fiala; break;

@@ -58,7 +58,7 @@ class Params:
         self.values = {k: float(v) for k, v in values.items()}
         self.path = path
         self._structs = {}
-        self._c_path = None
+        self._c_text = None
 
     def __repr__(self):
         return f"grip.brush.Params({self.model}, {self.path or '<values>'})"
@@ -73,7 +73,7 @@ class Params:
         return s
 
     def _fill(self, be):
-        if self._c_path is not None:
+        if self._c_text is not None:
             return self._fill_c(be)
         names = [f[0] for f in fields(self.model, be.arith)]
         unknown = sorted(set(self.values) - set(names))
@@ -98,13 +98,8 @@ class Params:
 
     def _fill_c(self, be):
         p = be.ffi.new(_STRUCT[self.model] + " *")
-        kind = be.ffi.new("int *")
-        err = be.ffi.new("char[1024]")
-        if be.lib.grip_py_brush_read(self._c_path.encode(), kind, p, be.ffi.sizeof(_STRUCT[self.model]),
-                                     err, 1024) != 0:
-            raise GripError(None, "grip.brush.load", be.ffi.string(err).decode(errors="replace"),
-                            arith=be.arith)
-        return self._checked(be, p, lambda: "")
+        _c_parse(be, self._c_text, self.path or "<values>", p, be.ffi.sizeof(_STRUCT[self.model]))
+        return self._checked(be, p, lambda: [])
 
     def _checked(self, be, p, culprits):
         check = getattr(be.lib, f"grip_{self.model}_check_params")
@@ -156,9 +151,14 @@ def _culprits(model, values, be):
 def params(model, **values):
     """A parameter set from keyword values (SI); the others take the
     documented defaults (docs/brush-models.md)."""
+    if model not in MODELS:
+        raise ValueError(f"model must be one of {', '.join(MODELS)}, not {model!r}")
     d = _defaults(model)
     if d is None:
-        d = {}
+        # no grip_tools (installed outside a clone): grip-tire's reader
+        # knows the defaults; give it the values as a parameter file
+        lines = [f"model = {model}"] + [f"{k} = {float(v)!r}" for k, v in values.items()]
+        return _from_text("\n".join(lines) + "\n", "<values>")
     return Params(model, {**d, **values})
 
 
@@ -180,18 +180,29 @@ def load(path, reader=None):
             return Params(model, asdict(p), path=path)
     if reader not in (None, "c", "tools"):
         raise ValueError(f"reader must be 'tools', 'c' or None, not {reader!r}")
-    # grip-tire's reader, run by each arithmetic's extension on first use
-    # (the struct exactly as grip-tire fills it); values: as the float
-    # build stores them
-    be = backend("float")
+    with open(path, "rb") as f:
+        text = f.read().decode("utf-8", errors="replace")
+    return _from_text(text, path)
+
+
+def _c_parse(be, text, name, out, size):
     kind = be.ffi.new("int *")
     err = be.ffi.new("char[1024]")
+    if be.lib.grip_py_brush_parse(text.encode(), str(name).encode(), kind, out, size, err, 1024) != 0:
+        raise GripError(None, "grip.brush", be.ffi.string(err).decode(errors="replace"), arith=be.arith)
+    return MODELS[kind[0] - 1]
+
+
+def _from_text(text, name):
+    """A set parsed by grip-tire's reader (port/linux/brush_params.c),
+    compiled into each extension: every arithmetic fills its struct from
+    the text exactly as grip-tire does. values: as the float build stores
+    them."""
+    be = backend("float")
     buf = be.ffi.new("char[]", 4096)
-    if be.lib.grip_py_brush_read(str(path).encode(), kind, buf, 4096, err, 1024) != 0:
-        raise GripError(None, "grip.brush.load", be.ffi.string(err).decode(errors="replace"))
-    model = MODELS[kind[0] - 1]
-    p = Params(model, {}, path=path)
-    p._c_path = str(path)
+    model = _c_parse(be, text, name, buf, 4096)
+    p = Params(model, {}, path=name if name != "<values>" else None)
+    p._c_text = text
     p.values = p.stored("float")
     return p
 
