@@ -5,7 +5,8 @@ cffi generates the wrapper of each arithmetic from grip/_build.py; the
 library objects it links are compiled here, with the Makefile's flags for
 lib/ (grip/_build.py: lib_cflags), not with Python's CFLAGS, by the compiler
 setuptools chose for the extension ($CC, else Python's). Build folders go
-under the clone's build/ (ignored by git), as the Makefile's do.
+under the clone's build/python (ignored by git), as the Makefile's go under
+build/.
 """
 import json
 import os
@@ -43,6 +44,14 @@ class build_ext(_build_ext):
             cmd.append(a)
         return cmd or ["cc"]
 
+    @staticmethod
+    def _objects(arith, cc):
+        """Where the library objects go: a fixed folder of the clone's build/
+        (not setuptools' temporary one, which an editable install deletes),
+        one per arithmetic and compiler, so that a test can compare them
+        with the Makefile's and a reinstall recompiles only what changed."""
+        return os.path.join(gb.REPO, "build", "python", "objects", f"{arith}-{os.path.basename(cc[-1])}")
+
     def _compile(self, arith, sources, flags, cc):
         headers = [os.path.join(d, f) for d in (gb.GRIP_INC, gb.ARITH_INC, gb.PORT)
                    for f in os.listdir(d) if f.endswith(".h")]
@@ -52,7 +61,7 @@ class build_ext(_build_ext):
         objs = []
         for src in sources:
             rel = os.path.relpath(src, gb.REPO)
-            obj = os.path.join(self.build_temp, "grip-" + arith, os.path.splitext(rel)[0] + ".o")
+            obj = os.path.join(self._objects(arith, cc), os.path.splitext(rel)[0] + ".o")
             objs.append(obj)
             if self.force or _newer(obj, [src] + headers):
                 os.makedirs(os.path.dirname(obj), exist_ok=True)
@@ -90,7 +99,7 @@ class build_ext(_build_ext):
                     "lib_cflags": gb.lib_cflags(arith), "port_cflags": gb.port_cflags(arith),
                     "lib_sources": [os.path.relpath(s, gb.REPO) for s in gb.lib_sources()],
                     "port_sources": [os.path.relpath(s, gb.REPO) for s in gb.port_sources()],
-                    "objects": os.path.abspath(os.path.join(self.build_temp, "grip-" + arith)),
+                    "objects": self._objects(arith, cc),
                     "repository": gb.REPO}
             ext.define_macros = [m for m in ext.define_macros if m[0] != "GRIP_PY_BUILD"]
             ext.define_macros.append(("GRIP_PY_BUILD", gb.c_string(json.dumps(info))))
