@@ -106,6 +106,12 @@ class Backend:
         self.structs = json.loads(self.ffi.string(self.lib.grip_py_info(2)).decode())
         self.build = json.loads(self.ffi.string(self.lib.grip_py_info(3)).decode())
         self._dtypes = {}
+        self.path = getattr(mod, "__file__", None)
+        self.stale = _stale(self.build, self.path)
+        if self.stale:
+            import warnings
+            warnings.warn(f"grip.{_MODULES[arith]} is older than {self.stale}: it is not the C code of the clone "
+                          "any more; compile it again (`make setup`, or `pip install ./tools`)", stacklevel=3)
         self.n_inputs = int(self.lib.GRIP_IN_COUNT)
         self.input_names = tuple(self.ffi.string(self.lib.grip_input_name(i)).decode()
                                  for i in range(self.n_inputs))
@@ -192,6 +198,25 @@ class Backend:
             else:
                 out[name] = np.array(arr[name])
         return out
+
+
+def _stale(build, path):
+    """A C source or header of the clone the extension was compiled from
+    that is newer than the extension, or None."""
+    repo = build.get("repository")
+    if not repo or not path or not os.path.isdir(repo):
+        return None
+    try:
+        t = os.path.getmtime(path)
+        files = [os.path.join(repo, f) for f in build.get("lib_sources", []) + build.get("port_sources", [])]
+        for d in ("include/grip", "lib/*", "port/linux"):
+            files += glob.glob(os.path.join(repo, d, "*.h"))
+        for f in files:
+            if os.path.getmtime(f) > t:
+                return os.path.relpath(f, repo)
+    except OSError:
+        return None
+    return None
 
 
 _BACKENDS = {}

@@ -23,7 +23,7 @@ from . import common
 from .common import ARITHS, ROOT
 
 TIR = golden_est.tire_path()
-N = int(os.environ.get("GRIP_BENCH_POINTS", "400000"))
+N = int(os.environ.get("GRIP_BENCH_POINTS", "200000"))
 REPEAT = 3
 
 
