@@ -179,7 +179,7 @@ def struct_table():
 def cdef_structs(table):
     out = []
     for _, name in FULL_STRUCTS:
-        lines = [f"typedef struct {{"]
+        lines = ["typedef struct {"]
         for field, ctype, dims, _fmt, _unit in table[name]:
             lines.append(f"    {ctype} {field}{''.join(f'[{d}]' for d in dims)};")
         lines.append(f"}} {name};")

@@ -15,7 +15,6 @@ from grip import _core
 from grip._core import GripError, backend, check_arith
 
 _INPUTS = ("kappa", "alpha", "gamma", "fz", "p", "vx")
-_OPTIONS = ("book", "kappa_brake", "mirror", "right_side", "sae")
 
 
 class Params:

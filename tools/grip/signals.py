@@ -32,12 +32,6 @@ FAULTS = ("ok", "unmapped", "missing", "stale", "range", "fault")   # grip_sig_f
 OK, UNMAPPED, MISSING, STALE, RANGE, FAULT = range(6)
 
 
-def _check_names():
-    names = backend("float").input_names
-    if names != INPUTS:
-        raise ImportError(f"grip_input_name of the library {names} differs from grip.signals.INPUTS")
-
-
 def index(name):
     """Input id of a name ("yaw_rate" -> 5)."""
     try:

@@ -10,7 +10,6 @@ import numpy as np
 
 from grip_tools.paths import REPO_ROOT
 
-import grip
 from grip import _core
 
 ROOT = REPO_ROOT
