@@ -15,15 +15,23 @@ conventions, as this driver handles them:
            acceleration demand [m/s^2] that the model turns into an engine
            torque m R_w u (u > 0, split T_se front) or a brake torque
            (u < 0, split T_sb front), clipped by its acceleration limits
-  signs    x, y, yaw as ISO 8855 (y left, yaw counter-clockwise); roll and
-           pitch OPPOSITE to ISO (a left turn rolls the body to negative
-           x[6], braking pitches it to negative x[8]); its slip angle is
-           atan((vy + a r) / vx) - delta: the tire convention ISO-W's
-           (a .tir file's), the negative of the vehicle-dynamics slip
-           angle delta - atan(...) of ISO 8855; its longitudinal slip is
-           1 - R_w omega / v, positive in braking (ISO-W kappa = -slip);
-           tire forces come out in ISO signs (left, forward positive) in
-           each wheel's own frame
+  axes     SAE J670's: x forward, y RIGHT, z DOWN (positive steering,
+           yaw rate, vy and lateral force point right; positive roll puts
+           the right side down, positive pitch the nose up; the left
+           wheels' speed is vx + T/2 r). This driver reads the model as its
+           mirror image, y to the LEFT. The model is left / right symmetric
+           (the parameter sets are; the tire's camber terms are odd in
+           camber), so the mirror image is the same model with its labels
+           changed: X, Y, delta, yaw, r, vy and the tire forces read as ISO
+           8855 (y left, yaw counter-clockwise); the model's left wheels
+           are the mirror car's right wheels (OMEGA, MIRROR); ISO roll =
+           -x[6] (right side down in a left turn), ISO pitch = -x[8] (nose
+           down positive), z stays down
+  slip     the model's slip angle atan((vy + a r) / vx) - delta is, read
+           this way, the tire convention ISO-W's (a .tir file's: alpha > 0
+           gives Fy < 0), the negative of the vehicle-dynamics slip angle
+           delta - atan(...) of ISO 8855; its longitudinal slip is
+           1 - R_w omega / v, positive in braking (ISO-W kappa = -slip)
   low      below |vx| = 0.1 m/s it switches to a kinematic single-track
   speed    model (slips and tire forces zero); this driver never goes there
            during a judged run, and adds no road gravity there
@@ -80,8 +88,10 @@ H = 1e-3            # integration step [s]
 N_STATE = 29
 X_, Y_, DELTA, VX, PSI, R, ROLL, ROLL_RATE, PITCH, PITCH_RATE, VY, Z, VZ = range(13)
 VY_F, VZ_F, VY_R, VZ_R = 15, 17, 20, 22
-OMEGA = (23, 24, 25, 26)
-WHEELS = ("fl", "fr", "rl", "rr")
+MB_OMEGA = (23, 24, 25, 26)       # the model's own labels: LF RF LR RR (SAE sides)
+WHEELS = ("fl", "fr", "rl", "rr")  # ISO sides (the mirror image)
+MIRROR = (1, 0, 3, 2)              # ISO wheel i is the model's wheel MIRROR[i]
+OMEGA = tuple(MB_OMEGA[j] for j in MIRROR)
 LOW_SPEED_SUB = 3.0     # |vx| below which a step is split into SUBSTEPS
 SUBSTEPS = 4
 
@@ -224,15 +234,18 @@ def derivative_with_forces(x, u, p, grav):
          "kappa": [-c[0] for c in rec.lon], "alpha": [c[0] for c in rec.lat],
          "fx": list(rec.lon_c), "fy": list(rec.lat_c),
          "muy": [c[4] for c in rec.lat], "mux": [c[5] for c in rec.lat]}
-    return f, w
+    # the model calls its wheels LF RF LR RR (SAE sides): ISO order
+    return f, {k: [v[j] for j in MIRROR] for k, v in w.items()}
 
 
 def wheel_rolling_speeds(x, p):
-    """Each wheel centre's speed along its own heading [m/s] (FL FR RL RR)."""
+    """Each wheel centre's speed along its own heading [m/s], ISO order
+    FL FR RL RR (of the mirror image: its left wheels are inner in a left
+    turn)."""
     d, vx, vy, r = x[DELTA], x[VX], x[VY], x[R]
     cd, sd = math.cos(d), math.sin(d)
-    return [(vx + 0.5 * p.T_f * r) * cd + (vy + p.a * r) * sd, (vx - 0.5 * p.T_f * r) * cd + (vy + p.a * r) * sd,
-            vx + 0.5 * p.T_r * r, vx - 0.5 * p.T_r * r]
+    return [(vx - 0.5 * p.T_f * r) * cd + (vy + p.a * r) * sd, (vx + 0.5 * p.T_f * r) * cd + (vy + p.a * r) * sd,
+            vx - 0.5 * p.T_r * r, vx + 0.5 * p.T_r * r]
 
 
 def _axpy(x, h, k):

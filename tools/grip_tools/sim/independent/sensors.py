@@ -1,7 +1,8 @@
 """ESC sensor cluster from the multi-body model's states, and the truth.
 
 True signals, computed at every integration step (1 ms):
-  wheel speeds    R_w x omega_i (x[23..26]), circumferential [m/s]
+  wheel speeds    R_w x omega_i (x[23..26], mb.OMEGA: the mirror image's
+                  sides), circumferential [m/s]
   steering wheel  STEER_RATIO x road-wheel angle (x[2]) [rad]
   yaw rate        body z angular rate (ZYX Euler, body roll phi and pitch
                   theta relative to the road, ISO signs):
