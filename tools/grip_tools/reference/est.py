@@ -8,8 +8,9 @@ updates of yaw rate, ay and (when excited) ax, the model-consistency
 (misfit) statistics after the ay update (F_MODEL_MISFIT caps mu_conf),
 the lateral outputs at the updated state extrapolated over the configured
 sensor latency. docs/estimator.md describes
-the method and every constant; the constants below are those of
-lib/est/est_internal.h.
+the method and every constant; the constants below are grouped by the
+stage of the step that uses them, as lib/est/est_tuning.h tabulates the
+C ones.
 
 Use:
     est = Estimator(config(tire_params))        # passenger car, 100 Hz
@@ -26,10 +27,38 @@ WS = (0, 1, 2, 3)
 STEER, YAW, AX, AY, VSPEED = 4, 5, 6, 7, 8
 N_IN = 17
 
+# validity and flag bits (grip_est.h)
+V_VX, V_BETA, V_YAW, V_YAW_REF, V_FZ = 1, 2, 4, 8, 16
+V_AXLE, V_MU, V_STEER, V_MARGIN = 1 << 9, 1 << 10, 1 << 11, 1 << 12
+F_STANDSTILL, F_REVERSING, F_LOW_SPEED, F_NO_WHEELS = 1, 2, 4, 8
+F_NO_STEER, F_NO_YAW, F_NO_AY, F_NO_AX = 16, 32, 64, 128
+F_SATURATED, F_STEER_LIMIT, F_WHEEL_LOCK, F_WHEEL_SPIN = 256, 512, 1024, 2048
+F_EXCITED, F_TIRE_ERROR, F_RESET = 4096, 8192, 16384
+F_MODEL_MISFIT = 1 << 15
+F_INPUT_DEGRADED = 1 << 16   # set by grip_monitor_gate (monitor_ref.gate), not by the estimator
+
+
+def V_WHEEL(i):
+    return 1 << (5 + i)
+
+
+# ---------------------------------------------------------------------------
+# Constants by stage, as lib/est/est_tuning.h tabulates the C ones (units,
+# meaning and the measurements behind the values there)
+
+# -- physics
 G = 9.80665
-V_ON, V_OFF, V_STAND, V_EXC = 3.0, 2.5, 0.3, 5.0
-HOLD_T, NOWHEEL_T = 0.05, 0.5
+BIG = 1000000           # step counters saturate here
+
+# -- input conditioning (est_input.c)
+HOLD_T = 0.05
 DELTA_MAX, WS_MAX, YAW_MAX, ACC_MAX = 0.7, 120.0, 2.5, 15.0
+# the steering latency's alignment (STEER_ALIGN): off only to measure what
+# it does (SteeringLatencyTests)
+STEER_ALIGN = True
+
+# -- longitudinal speed (est_speed.c)
+V_STAND = 0.3
 AX_TH, K_HI, K_LO, K_MID, WHEEL_DEV = 0.3, 5.0, 0.5, 1.5, 0.15
 # neither braking nor driving: wheels spread wider than SPREAD_REL |vx| +
 # SPREAD_ABS (a driven wheel slipping in a corner, below the outlier test)
@@ -39,14 +68,58 @@ SPREAD_REL, SPREAD_ABS = 0.01, 0.1
 # prediction pull vx at K_SLIP only. ax offset (unconfigured grade,
 # accelerometer bias) learned from trusted wheels at K_OFF [1/s^2], within
 # AX_OFF_MAX [m/s^2]. Every wheel locked or spinning while |ax| >= DR_AX:
-# dead reckoning on ax, V_VX kept for DR_T [s]. A wheel at |kappa| >= LOCK_K
-# while braking (locked, or cycled by an ABS past the tire's peak) makes the
-# ax update a friction measurement (noise R_LOCK) that moves the state but
-# leaves the covariance: no confidence added
+# dead reckoning on ax, V_VX kept for DR_T [s]; without wheels for NOWHEEL_T
 K_SLIP, K_OFF, AX_OFF_MAX = 0.2, 1.0, 1.5
 DR_AX, DR_T = 0.5, 2.0
-LOCK_K, R_LOCK = 0.15, 9.0
+NOWHEEL_T = 0.5
+
+# -- the lateral filter on / off (est_lateral.c)
+V_ON, V_OFF = 3.0, 2.5  # on above V_ON, off below V_OFF [m/s]
+
+# -- the lateral filter (est_lateral.c)
+S = np.array([0.05, 0.005, 0.02, 0.001])  # scaled units of vy, r, mu, gyro bias
+# states are SI except the gyro bias, which is kept in its scaled unit
+# (0.001 rad/s) so that its small per-step corrections survive Q15.16
+S_X = np.array([0.05, 0.005, 0.02, 1.0])
+B_UNIT = 0.001
+S_AY = 0.5
+R_YAW, R_AY, R_AX = 1.44, 0.64, 1.0
+Q_C = np.array([100.0, 3600.0, 6.25, 0.25])
+P0 = np.array([36.0, 16.0, 225.0, 100.0])
+NX = 4
+P_MIN, P_MAX = 0.01, 400.0
+H_MAX_VY, H_MAX = 5.0, 2.0
+NU_SIGMA = 4.0
+VY_K = 1.0              # |vy| <= VY_K |vx| + 1 m/s
+B_MAX = 50.0            # gyro bias bound [0.001 rad/s]
+B_U, B_A, B_AX = 0.5, 4.0, 1.0  # gyro bias adapts below this model utilization, |ay|, |ax| [m/s^2]
+B_RACC = 2.0           # ... and below this model yaw acceleration [rad/s^2] (the tires' lag is least known there)
+U_R0, R_LIM, R_AXLE = 0.8, 9.0, 290.0  # ay noise at the limit (_ay_noise)
+# the ay noise's utilization is the model's at mu + AY_U_K sigma_mu while
+# the car is at its limit (the limit test) and mu is not held by the
+# understeer bound (its cut is no evidence to confirm): at a mu still too high the
+# model's tires sit at their own limit, R grew 150 x and the ay update could
+# no longer pull mu down (snow sine with dwell)
+AY_U_K = 0.5
+
+# -- the tire model at the prior state (est_tires.c)
+G_MIN = 0.05            # floor of the tire's slope factor sqrt(1 - u)
+# tire relaxation (the slip angle the tire works at lags the kinematic one
+# by the relaxation length sigma: sigma d(alpha_t)/dt + |vx| alpha_t = |vx|
+# alpha, Pacejka ch. 7.2): sigma at the axle's static load from the tire
+# file (LATERAL_STIFFNESS: sigma = C_alpha / c_lat; else the MF 5.2 PTY1 /
+# PTY2 form; neither: no lag; at most SIG_MAX), in proportion to each
+# wheel's load, at least SIG_MIN [m]; the exponent |vx| dt / sigma is capped
+# at RLX_A_MAX (exp(-16) is below one Q15.16 unit)
+SIG_MIN, SIG_MAX, RLX_A_MAX = 0.02, 5.0, 16.0
+
+# -- friction (est_friction.c)
 MU_MIN, MU_MAX, MU_INIT = 0.1, 1.2, 1.0
+V_EXC = 5.0             # mu adapts, and the limit tests run, above this [m/s]
+# excitation: a tire at EXC_U of its own friction (mu = 1). 0.5 opened the
+# gate at the snow sine-with-dwell onset only after the truth's front axle
+# had reached 90 % of its limit; by then the model was a second behind
+EXC_U, EXC_A = 0.2, 1.0
 LIM_TAU, LIM_A, LIM_REL, LIM_ABS, LIM_T = 0.15, 2.0, 0.15, 0.03, 0.2
 # understeer limit (low-friction detection): yaw deficit share US_D against
 # the lagged reference (above US_R rad/s), implied front-axle utilization
@@ -61,63 +134,14 @@ US_D, US_R, US_U0, US_U1, US_UMAX, US_ZMAX = 0.15, 0.02, 0.3, 1.4, 0.85, 0.8
 # bound too low, which the friction-in-use bound lifts by itself; the value
 # before would overshoot)
 REL_K = 0.8
-# excitation: a tire at EXC_U of its own friction (mu = 1). 0.5 opened the
-# gate at the snow sine-with-dwell onset only after the truth's front axle
-# had reached 90 % of its limit; by then the model was a second behind
-EXC_U, EXC_A, G_MIN = 0.2, 1.0, 0.05
-S = np.array([0.05, 0.005, 0.02, 0.001])  # scaled units of vy, r, mu, gyro bias
-# states are SI except the gyro bias, which is kept in its scaled unit
-# (0.001 rad/s) so that its small per-step corrections survive Q15.16
-S_X = np.array([0.05, 0.005, 0.02, 1.0])
-B_UNIT = 0.001
-S_AY = 0.5
-R_YAW, R_AY, R_AX = 1.44, 0.64, 1.0
-Q_C = np.array([100.0, 3600.0, 6.25, 0.25])
-P0 = np.array([36.0, 16.0, 225.0, 100.0])
-NX = 4
-B_MAX = 50.0            # gyro bias bound [0.001 rad/s]
-U_R0, R_LIM, R_AXLE = 0.8, 9.0, 290.0  # ay noise at the limit (_ay_noise)
-B_U, B_A, B_AX = 0.5, 4.0, 1.0  # gyro bias adapts below this model utilization, |ay|, |ax| [m/s^2]
-B_RACC = 2.0           # ... and below this model yaw acceleration [rad/s^2] (the tires' lag is least known there)
-VY_K = 1.0              # |vy| <= VY_K |vx| + 1 m/s
-P_MIN, P_MAX = 0.01, 400.0
-H_MAX_VY, H_MAX = 5.0, 2.0
-NU_SIGMA, CONF_S0 = 4.0, 0.15
+# mu_conf: 1 at sigma_mu <= CONF_S0 - 0.1, 0 at >= CONF_S0 (est_tuning.h
+# lists it with the outputs; P_CONF needs it here)
+CONF_S0 = 0.15
 P_CONF = ((CONF_S0 - 0.05) / S[2]) ** 2  # P_mu at mu_conf = 0.5 (sigma_mu 0.1)
-# model-consistency (misfit) check (docs/estimator.md), two statistics
-# low-passed over MF_TAU: the ay update's normalized innovation squared
-# (misfit above NIS_HI, the chi-square(1) 95 % point, cleared below NIS_LO)
-# and the share of time the model claims saturated tires (utilization >=
-# SAT_U) while the mu-independent friction-limit test says the car is not
-# at the limit (misfit above SAT_HI, cleared below SAT_LO); mu_conf is
-# capped at CONF_MISFIT while misfit
-MF_TAU, NIS_HI, NIS_LO = 2.0, 3.84, 1.0
-SAT_U, SAT_HI, SAT_LO, CONF_MISFIT = 0.95, 0.7, 0.1, 0.45
-# mu_conf also capped from when the saturation share rises above SAT_MU
-# until it falls below SAT_MU_LO (hysteresis: a share hovering at one
-# threshold would toggle the validity of mu)
-SAT_MU, SAT_MU_LO = 0.1, 0.05
-BIG = 1000000
-# tire relaxation (the slip angle the tire works at lags the kinematic one
-# by the relaxation length sigma: sigma d(alpha_t)/dt + |vx| alpha_t = |vx|
-# alpha, Pacejka ch. 7.2): sigma at the axle's static load from the tire
-# file (LATERAL_STIFFNESS: sigma = C_alpha / c_lat; else the MF 5.2 PTY1 /
-# PTY2 form; neither: no lag; at most SIG_MAX), in proportion to each
-# wheel's load, at least SIG_MIN [m]; the exponent |vx| dt / sigma is capped
-# at RLX_A_MAX (exp(-16) is below one Q15.16 unit)
-SIG_MIN, SIG_MAX, RLX_A_MAX = 0.02, 5.0, 16.0
-# the axle forces' yaw balance: the yaw moment the model lacks (the yaw-rate
-# update's correction of the predicted r, as a yaw acceleration clamped at
-# MB_RACC [rad/s^2], times Iz) moves force from one axle to the other at
-# the outputs, low-passed over MB_TAU [s]; not while |ax| >= MB_AX [m/s^2]
-# (braking or driving: the model's left / right Fx moment errs there too)
-MB_TAU, MB_RACC, MB_AX = 0.05, 20.0, 1.0
-# the axle forces' lateral balance: the lateral force the model lacks after
-# the updates (m times the measured ay less the model's at the updated
-# state), low-passed over SB_TAU [s], split between the axles in their
-# static shares (lr / l front, lf / l rear: no yaw moment, that is the yaw
-# balance's); not while |ax| >= MB_AX, like the yaw balance
-SB_TAU = 0.02
+# the balances' memory is cleared at the understeer bound's cut only when
+# the cut is larger than CUT_CLEAR: a small cut re-armed the bound every
+# few steps and the balances never built up (step steer snow)
+CUT_CLEAR = 0.05
 # mu's column of the Jacobians is the secant over mu's own uncertainty
 # (statistical linearization, MU_SECANT): from mu down to mu - dmu, dmu =
 # SEC_K sigma_mu within [SEC_MIN, mu - mu_lb] (mu_lb: the friction in use,
@@ -131,46 +155,53 @@ SB_TAU = 0.02
 # secant saw only the top of that span (mu stalled at 0.55 - 0.6)
 SHAPE_N, SEC_K, SEC_MIN, SHAPE_F_MIN = 16, 3.0, 0.02, 0.01
 MU_SECANT = True
-# the updates' correction moves the lagged slip angles along the kinematic
-# slope (RLX_CARRY; off only to measure what it does: TireRelaxationTests)
-RLX_CARRY = True
-# the ay noise's utilization is the model's at mu + AY_U_K sigma_mu while
-# the car is at its limit (the limit test) and mu is not held by the
-# understeer bound (its cut is no evidence to confirm): at a mu still too high the
-# model's tires sit at their own limit, R grew 150 x and the ay update could
-# no longer pull mu down (snow sine with dwell)
-AY_U_K = 0.5
-# the output forces move with the update's change of mu along d Fy / d mu,
-# as they do with its change of slip angle (OUT_MU; off only to measure)
-OUT_MU = True
-# the balances' memory is cleared at the understeer bound's cut only when
-# the cut is larger than CUT_CLEAR: a small cut re-armed the bound every
-# few steps and the balances never built up (step steer snow)
-CUT_CLEAR = 0.05
-# vx extrapolated over the latency like vy and r (VX_AT_OUTPUT) and the
-# understeer bound applied as an estimate projection (PROJECT_US_BOUND):
-# off only to measure what they do (SpinOutputTests)
-VX_AT_OUTPUT = True
+# A wheel at |kappa| >= LOCK_K while braking (locked, or cycled by an ABS
+# past the tire's peak) makes the ax update a friction measurement (noise
+# R_LOCK) that moves the state but leaves the covariance: no confidence added
+LOCK_K, R_LOCK = 0.15, 9.0
+# the understeer bound applied as an estimate projection (PROJECT_US_BOUND):
+# off only to measure what it does (SpinOutputTests)
 PROJECT_US_BOUND = True
-# the steering latency's alignment (STEER_ALIGN) and the axle forces'
-# lateral balance (LAT_BALANCE): off only to measure what they do
-# (SteeringLatencyTests, LateralBalanceTests)
-STEER_ALIGN = True
+
+# -- forces and outputs (est_outputs.c)
+# the axle forces' yaw balance: the yaw moment the model lacks (the yaw-rate
+# update's correction of the predicted r, as a yaw acceleration clamped at
+# MB_RACC [rad/s^2], times Iz) moves force from one axle to the other at
+# the outputs, low-passed over MB_TAU [s]; not while |ax| >= MB_AX [m/s^2]
+# (braking or driving: the model's left / right Fx moment errs there too)
+MB_TAU, MB_RACC, MB_AX = 0.05, 20.0, 1.0
+# the axle forces' lateral balance: the lateral force the model lacks after
+# the updates (m times the measured ay less the model's at the updated
+# state), low-passed over SB_TAU [s], split between the axles in their
+# static shares (lr / l front, lf / l rear: no yaw moment, that is the yaw
+# balance's); not while |ax| >= MB_AX, like the yaw balance
+SB_TAU = 0.02
+# switches, off only to measure what they do: the lateral balance
+# (LAT_BALANCE, LateralBalanceTests); the updates' correction moving the
+# lagged slip angles along the kinematic slope (RLX_CARRY,
+# TireRelaxationTests); the output forces moving with the update's change
+# of mu along d Fy / d mu as they do with its change of slip angle (OUT_MU);
+# vx extrapolated over the latency like vy and r (VX_AT_OUTPUT,
+# SpinOutputTests)
 LAT_BALANCE = True
+RLX_CARRY = True
+OUT_MU = True
+VX_AT_OUTPUT = True
 
-# validity and flag bits (grip_est.h)
-V_VX, V_BETA, V_YAW, V_YAW_REF, V_FZ = 1, 2, 4, 8, 16
-V_AXLE, V_MU, V_STEER, V_MARGIN = 1 << 9, 1 << 10, 1 << 11, 1 << 12
-F_STANDSTILL, F_REVERSING, F_LOW_SPEED, F_NO_WHEELS = 1, 2, 4, 8
-F_NO_STEER, F_NO_YAW, F_NO_AY, F_NO_AX = 16, 32, 64, 128
-F_SATURATED, F_STEER_LIMIT, F_WHEEL_LOCK, F_WHEEL_SPIN = 256, 512, 1024, 2048
-F_EXCITED, F_TIRE_ERROR, F_RESET = 4096, 8192, 16384
-F_MODEL_MISFIT = 1 << 15
-F_INPUT_DEGRADED = 1 << 16   # set by grip_monitor_gate (monitor_ref.gate), not by the estimator
-
-
-def V_WHEEL(i):
-    return 1 << (5 + i)
+# -- consistency checks (est_checks.c)
+# model-consistency (misfit) check (docs/estimator.md), two statistics
+# low-passed over MF_TAU: the ay update's normalized innovation squared
+# (misfit above NIS_HI, the chi-square(1) 95 % point, cleared below NIS_LO)
+# and the share of time the model claims saturated tires (utilization >=
+# SAT_U) while the mu-independent friction-limit test says the car is not
+# at the limit (misfit above SAT_HI, cleared below SAT_LO); mu_conf is
+# capped at CONF_MISFIT while misfit
+MF_TAU, NIS_HI, NIS_LO = 2.0, 3.84, 1.0
+SAT_U, SAT_HI, SAT_LO, CONF_MISFIT = 0.95, 0.7, 0.1, 0.45
+# mu_conf also capped from when the saturation share rises above SAT_MU
+# until it falls below SAT_MU_LO (hysteresis: a share hovering at one
+# threshold would toggle the validity of mu)
+SAT_MU, SAT_MU_LO = 0.1, 0.05
 
 
 def config(tire_front, tire_rear=None, rate_hz=100, **kw):
