@@ -319,7 +319,7 @@ class TireRelaxationTests(unittest.TestCase):
         # LATERAL_STIFFNESS in the file: sigma = C_alpha / c_lat; only PTY1 /
         # PTY2 (MF 5.2): the PAC2002 form; neither: no lag (share 1)
         from grip_tools.reference import tir
-        here = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "mfeval-tir")
+        here = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "data", "mfeval-tir")
         est = est_ref.Estimator(est_ref.config(_params()))
         for a in range(2):
             self.assertAlmostEqual(est.sig_a[a], est.c_alpha[a] / _params()["lateral_stiffness"], places=12)
