@@ -177,7 +177,7 @@ static int peak_friction(const grip_est_tire_t *t, grip_real_t fz, int longitudi
     return 0;
 }
 
-/* Lateral relaxation length [m] of the tire at load fz (est_internal.h):
+/* Lateral relaxation length [m] of the tire at load fz (est_tuning.h):
  * C_alpha / LATERAL_STIFFNESS, else PTY1 sin(2 atan(Fz / (PTY2 Fz0'))) R0
  * LFZO (MF 5.2), else 0 (no lag); at most EST_SIG_MAX. */
 static grip_real_t relax_length(const grip_est_tire_t *t, grip_real_t c_alpha, grip_real_t fz)
@@ -474,7 +474,7 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
 }
 
 /* ------------------------------------------------------------------ */
-/* Kalman filter pieces (scaled units, see est_internal.h) */
+/* Kalman filter pieces (scaled units, see est_tuning.h) */
 
 /* state unit of each state: SI, except the gyro bias, which is kept in its
  * scaled unit (0.001 rad/s) so that its small per-step corrections survive
