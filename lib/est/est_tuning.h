@@ -16,7 +16,7 @@
 /* ---- physics ----------------------------------------------------------- */
 #define EST_G        9.80665 /* m/s^2  standard gravity                                  */
 
-/* ---- input conditioning ------------------------------------------------ */
+/* ---- input conditioning (est_input.c) ---------------------------------- */
 #define EST_HOLD_T   0.05    /* s      a missing or invalid input is held this long, then
                               *        the outputs that need it lose their validity (tuning:
                               *        5 frames of a 100 Hz signal)                         */
@@ -33,7 +33,7 @@
                               *        lateral balance's residual, so that mass x residual
                               *        fits QL                                              */
 
-/* ---- longitudinal speed ------------------------------------------------ */
+/* ---- longitudinal speed (est_speed.c) ---------------------------------- */
 #define EST_V_STAND  0.3     /* m/s    standstill: every wheel below this; vx is then set
                               *        to 0, so an accelerometer bias cannot move a parked
                               *        car                                                 */
@@ -73,12 +73,12 @@
 #define EST_DR_T     2.0     /* s      vx stays valid this long in dead reckoning (tuning)   */
 #define EST_NOWHEEL_T 0.5    /* s      ... and this long with no wheel speed at all (tuning) */
 
-/* ---- lateral observer on / off ----------------------------------------- */
+/* ---- lateral observer on / off (est_lateral.c) ------------------------- */
 #define EST_V_ON     3.0     /* m/s    the lateral observer starts above ...                 */
 #define EST_V_OFF    2.5     /* m/s    ... and stops below (hysteresis; tuning); also the
                               *        floor of |vx| in the slip-angle and sideslip quotients */
 
-/* ---- lateral filter: scaled units, noises, bounds -------------------------
+/* ---- lateral filter: scaled units, noises, bounds (est_lateral.c) ---------
  * The covariance lives in scaled units (state i in units of S_i) so that it
  * runs in Q15.16: variances O(1 .. 400), and with the measurement rows
  * bounded (H_MAX_VY, H_MAX) the innovation variance h P h' + r stays below
@@ -148,7 +148,7 @@
                               *        own limit, R at 150 x kept mu from falling (sine with
                               *        dwell snow: mu stalled at 0.55 - 0.6 for 0.15 s)        */
 
-/* ---- tire model at the prior state ------------------------------------- */
+/* ---- tire model at the prior state (est_tires.c) ----------------------- */
 #define EST_G_MIN    0.05    /* -      floor (tuning) of the slope factor sqrt(1 - u) of
                               *        dFy/dalpha, a reduction between the linear and the
                               *        FIALA (1 - u)^(2/3)                                      */
@@ -165,7 +165,7 @@
 #define EST_RLX_A_MAX 16.0   /* -      exponent |vx| dt / sigma capped here: exp(-16) is below
                               *        one Q15.16 unit                                         */
 
-/* ---- friction ---------------------------------------------------------- */
+/* ---- friction (est_friction.c) ----------------------------------------- */
 #define EST_MU_MIN   0.1     /* -      bounds of mu (1 = the tire as fitted; tuning); the      */
 #define EST_MU_MAX   1.2     /* -      friction in use also bounds it from below each step     */
 #define EST_MU_INIT  1.0     /* -      prior: the tire as fitted (P0_MU: snow 2.3 sigma away)  */
@@ -249,7 +249,7 @@
                               *        resistance are in the same sum), so it moves the state
                               *        but keeps the covariance                                 */
 
-/* ---- forces and outputs ------------------------------------------------ */
+/* ---- forces and outputs (est_outputs.c) -------------------------------- */
 /* the yaw balance: the yaw moment the model lacks (the yaw-rate update's
  * correction of the predicted r as a yaw acceleration, at most MB_RACC,
  * times Iz / l) moves force from one axle to the other at the outputs,
@@ -269,7 +269,7 @@
                               *        (0.03 m/s^2) is 44 N, so no longer filter is needed:
                               *        0.1 s lagged the reversals                               */
 
-/* ---- consistency checks ------------------------------------------------ */
+/* ---- consistency checks (est_checks.c) --------------------------------- */
 #define EST_CONF_S0  0.15    /* -      mu_conf = (CONF_S0 - sigma_mu) / 0.1: 1 at sigma_mu <=
                               *        0.05, 0 at >= 0.15; V_MU from 0.5                         */
 /* model consistency (misfit): two statistics low-passed over MF_TAU: the ay
