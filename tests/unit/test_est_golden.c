@@ -89,7 +89,7 @@ typedef struct {
     const char *file;
     double dt;
     int optional;
-    int aero_bank;   /* 1: golden_est.AERO_BANK configuration */
+    int aero_bank;   /* 1: the AERO_BANK configuration of tools/grip_tools/golden/est.py */
 } seq_t;
 
 static void run_sequence(const seq_t *sq)

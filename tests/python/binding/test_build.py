@@ -32,7 +32,7 @@ def make_recipe(arith, src):
     raise AssertionError(f"no compile command for {rel} in:\n{p.stdout}")
 
 
-SAMPLE = ("lib/mf/mf_eval.c", "lib/est/est.c", "lib/arith/q16.c", "lib/brush/neofiala.c",
+SAMPLE = ("lib/mf/mf_eval.c", "lib/est/est_step.c", "lib/arith/q16.c", "lib/brush/neofiala.c",
           "lib/monitor/monitor.c", "lib/calib/calib.c")
 SECTIONS = (".text", ".text.unlikely", ".text.startup", ".rodata", ".rodata.cst4", ".rodata.cst8", ".rodata.cst16",
             ".rodata.str1.1", ".rodata.str1.8", ".data", ".data.rel.ro", ".data.rel.ro.local")
