@@ -152,7 +152,7 @@ static inline void est_friction_floor(grip_est_t *est, const est_ctx_t *s)
                                            : RC(EST_MU_MIN);
 }
 
-/* d Fy / d mu of one wheel (docs/estimator.md, "mu's secant"): the secant
+/* d Fy / d mu of one wheel (docs/estimator.md, "5. Friction"): the secant
  * of mu F0(alpha / mu) from mu down to mu - dmu, dmu = SEC_K sigma_mu, on
  * the axle's tabulated force shape: the shape's ratio F(mu - dmu) / F(mu)
  * applied to the wheel's own force fy (its load and combined slip), within

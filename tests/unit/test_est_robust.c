@@ -464,7 +464,7 @@ static void test_reset_keeps_config(void **state)
  * the accelerometer's reading, neither the tangent nor the secant form of
  * mu's column flags it in steady circles, since the filter fits it with a
  * different beta; only an accelerometer 8 % below the kinematics made it
- * show. docs/estimator.md, "Model consistency".) */
+ * show. docs/estimator.md, "7. Checks and validity".) */
 #ifndef MISFIT_LMUY
 #define MISFIT_LMUY 0.6
 #endif
