@@ -51,7 +51,8 @@ def open_client(a, quiet=False):
         client = Client(cluster)
     client.n_workers = len(client.scheduler_info()["workers"])
     if not quiet:
-        link = client.dashboard_link if getattr(client, "dashboard_link", None) else "(no dashboard)"
+        off = not a.scheduler and (a.dashboard or "").lower() in ("none", "off", "")
+        link = "off" if off else (getattr(client, "dashboard_link", None) or "(none)")
         print(f"grip fleet: Dask scheduler {client.scheduler.address}, {client.n_workers} worker(s), "
               f"dashboard {link}", file=sys.stderr)
     return client

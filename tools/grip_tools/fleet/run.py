@@ -242,7 +242,7 @@ def options(a):
             "grip_version": __version__, "backend": B.SubprocessReplay.name, "steps_dir": steps_dir,
             "attribution": not a.no_attribution, "skip_bad": a.skip_bad, "timeout": a.timeout,
             "force": a.force,
-            "hash_options": {"steps": bool(a.steps), "attribution": not a.no_attribution,
+            "hash_options": {"summary_version": summary.SUMMARY_VERSION, "steps": bool(a.steps), "attribution": not a.no_attribution,
                              "skip_bad": bool(a.skip_bad)}}
 
 

@@ -18,6 +18,9 @@ import numpy as np
 from grip_tools.reference import est as est_ref
 
 DEG = 180.0 / math.pi
+# bumped whenever a summary column's meaning or computation changes: part of
+# every log's input hash, so a rerun recomputes rather than keeping old rows
+SUMMARY_VERSION = 1
 MOVING_MS = 5.0                 # "moving": the estimate's vx above 5 m/s (est_eval's threshold)
 
 VALID_BITS = (("vx", est_ref.V_VX), ("beta", est_ref.V_BETA), ("yaw", est_ref.V_YAW),
@@ -96,7 +99,7 @@ def summarize(c):
     valid, flags = c["est_valid"], c["est_flags"]
     vx = c["vx"]
     moving = np.abs(vx) > MOVING_MS
-    r = {"steps": n, "duration_s": float(c["t_s"][-1] - c["t_s"][0]) + 0.0 if n else 0.0,
+    r = {"steps": n, "duration_s": float(c["t_s"][-1] - c["t_s"][0]) if n else 0.0,
          "moving_share": _share(moving, n)}
     for name, bit in VALID_BITS:
         r[f"valid_{name}_share"] = _share((valid & bit) != 0, n)
