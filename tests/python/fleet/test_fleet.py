@@ -98,7 +98,7 @@ def same_bits(a, b):
     return True
 
 
-def table(path, drop=("wall_s",)):
+def table(path, drop=("wall_s", "cpu_s", "rss_peak_mb")):
     import pyarrow.parquet as pq
     t = pq.read_table(path)
     return t.drop_columns([c for c in drop if c in t.column_names])
@@ -129,7 +129,8 @@ class FleetRunTests(unittest.TestCase):
         self.assertEqual(self.info_dask["computed"], N + 1)
 
     def test_b_cluster_equals_one_process(self):
-        """Bit for bit: the logs and bands tables (all columns but wall_s)
+        """Bit for bit: the logs and bands tables (all columns but the task's
+        wall and CPU time and its worker's peak memory)
         and every per-step table."""
         for name in ("logs.parquet", "bands.parquet"):
             s, d = table(os.path.join(self.serial, name)), table(os.path.join(self.dask, name))
@@ -196,6 +197,23 @@ class FleetRunTests(unittest.TestCase):
         while len(cl.scheduler_info()["workers"]) < 2 and time.time() < deadline:
             time.sleep(0.5)
 
+    def test_f2_stopped_run_keeps_its_rows(self):
+        out = os.path.join(_DIR, "stopped")
+        seen = []
+
+        def stop(_):
+            seen.append(1)
+            if len(seen) == 10:
+                raise KeyboardInterrupt
+        with self.assertRaises(KeyboardInterrupt):
+            run(out, "--workers", "0", "--steps", on_result=stop)
+        self.assertFalse(os.path.exists(os.path.join(out, "logs.parquet")))
+        info = run(out, "--workers", "0", "--steps")
+        self.assertEqual((info["computed"], info["skipped"]), (N + 1 - 10, 10))
+        self.assertFalse(os.path.exists(os.path.join(out, "_journal")))
+        self.assertTrue(same_bits(table(os.path.join(self.serial, "logs.parquet")),
+                                  table(os.path.join(out, "logs.parquet"))))
+
     def test_g_analyze_and_report(self):
         import json
         from grip_tools.fleet import analyze, report
@@ -260,7 +278,7 @@ class FleetInputsTests(unittest.TestCase):
         t = pd.read_parquet(os.path.join(d, "out", "logs.parquet")).set_index(["log_id", "arith"])
         self.assertTrue((t["status"] == "ok").all(), t["error"].dropna().tolist())
         # the Parquet log gives what its CSV gives
-        skip = {"path", "format", "input_hash", "wall_s"}
+        skip = {"path", "format", "input_hash", "wall_s", "cpu_s", "rss_peak_mb"}
         for arith in ("float", "fixed"):
             p, c = t.loc[("pq", arith)], t.loc[("csv", arith)]
             for k in t.columns:

@@ -168,7 +168,6 @@ def _read_run(d):
 
 def build(results, out, arith=None, baseline=None):
     """Writes report.md and the PNGs; returns (path, number of regressions)."""
-    import pandas as pd
     md_t = analyze._md_table
     logs_all, bands = analyze.load(results)
     arith = analyze.pick_arith(logs_all, arith)

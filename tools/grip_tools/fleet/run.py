@@ -24,11 +24,11 @@ has its tasks run again elsewhere (Dask).
 """
 import argparse
 import os
+import resource
 import sys
 import time
 import traceback
 
-import numpy as np
 
 from grip_tools import __version__
 from grip_tools.errors import UsageError
@@ -50,7 +50,8 @@ def log_schema():
     s, f64, i64, b = pa.string(), pa.float64(), pa.int64(), pa.bool_()
     fields = [("log_id", s), ("arith", s), ("status", s), ("stage", s), ("error", s), ("path", s), ("format", s),
               ("vehicle", s), ("preset", s), ("surface", s), ("manoeuvre", s), ("has_truth", b),
-              ("input_hash", s), ("grip_version", s), ("replay_id", s), ("backend", s), ("wall_s", f64)]
+              ("input_hash", s), ("grip_version", s), ("replay_id", s), ("backend", s), ("wall_s", f64),
+              ("cpu_s", f64), ("rss_peak_mb", f64)]
     fields += [(n, i64) for n in B.COUNTER_NAMES]
     for n in summary.summary_columns():
         fields.append((n, i64 if n in ("steps", "est_status_errors") else f64))
@@ -66,6 +67,12 @@ def log_schema():
 # The task (runs on a worker; must not raise: every failure is a row)
 
 _BIN_IDS = {}
+
+
+def _cpu():
+    """CPU seconds of this process and its finished children (grip-replay)."""
+    a, b = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return a.ru_utime + a.ru_stime + b.ru_utime + b.ru_stime
 
 
 def _binary_id(path):
@@ -109,6 +116,7 @@ def process_log(spec, opts):
     """One log, every arithmetic asked for. Returns {'log_id', 'skipped',
     'rows': [logs rows], 'bands': [bands rows]}."""
     t0 = time.perf_counter()
+    cpu0 = _cpu()
     ariths = opts["ariths"]
     rows = {a: _base_row(spec, a, opts) for a in ariths}
     out = {"log_id": spec["log_id"], "skipped": False, "rows": [], "bands": []}
@@ -130,9 +138,10 @@ def process_log(spec, opts):
         return out
     if h is not None:
         _run_ariths(spec, opts, rows, out)
-    wall = time.perf_counter() - t0
+    wall, cpu = time.perf_counter() - t0, _cpu() - cpu0
+    rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
     for a in ariths:
-        rows[a]["wall_s"] = wall / len(ariths)
+        rows[a].update(wall_s=wall / len(ariths), cpu_s=cpu / len(ariths), rss_peak_mb=rss)
         out["rows"].append(rows[a])
     return out
 
@@ -141,7 +150,7 @@ def _run_ariths(spec, opts, rows, out):
     job = B.ReplayJob(kind=spec["format"], tir=spec["tir"], path=spec["path"], preset=spec["preset"],
                       vehicle_file=spec["vehicle_file"], table=spec["table"], step_ms=spec["step_ms"],
                       skip_bad=opts["skip_bad"], timeout_s=opts["timeout"])
-    cols, accs = {}, {}
+    cols, accs, tr = {}, {}, None
     for a in opts["ariths"]:
         row = rows[a]
         stage = "decode"
@@ -164,7 +173,8 @@ def _run_ariths(spec, opts, rows, out):
                 acc = summary.accuracy(spec["truth"], c)
                 row.update(acc)
                 accs[a] = acc
-                truth = summary.truth_on_grid(summary.read_truth(spec["truth"]), c["t_s"])
+                tr = tr if tr is not None else summary.read_truth(spec["truth"])
+                truth = summary.truth_on_grid(tr, c["t_s"])
             if opts["attribution"]:
                 stage = "attribution"
                 row.update(summary.attribution(c))
@@ -308,8 +318,9 @@ def run_fleet(a, specs=None, client=None, on_result=None):
                          "rows": task_failed_rows(d, opts, f.exception())}
                 f.release()
                 take(r)
-        res.append_journal(pend_rows, pend_bands, schema)
     finally:
+        # also when interrupted: what finished is kept for the next run
+        res.append_journal(pend_rows, pend_bands, schema)
         if own:
             cluster.close_client(client)
     logs = res.compact([s.log_id for s in specs], schema)

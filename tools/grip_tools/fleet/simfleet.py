@@ -29,7 +29,6 @@ a braked car stands still); default: each manoeuvre's own length (2-20 s).
 """
 import argparse
 import json
-import math
 import os
 import sys
 import time
