@@ -118,7 +118,8 @@ def parse_output(text):
     if not body.strip():
         return {n: np.zeros(0, dtype=np.int64 if n in INT_COLS else (object if n.endswith("_fault") else float))
                 for n in names}
-    tab = pcsv.read_csv(io.BytesIO(body), read_options=pcsv.ReadOptions(column_names=names),
+    # one thread: a Dask worker is one core's worth of work
+    tab = pcsv.read_csv(io.BytesIO(body), read_options=pcsv.ReadOptions(column_names=names, use_threads=False),
                         convert_options=pcsv.ConvertOptions(column_types=types, strings_can_be_null=False))
     out = {}
     for n in names:

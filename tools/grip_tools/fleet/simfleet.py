@@ -167,7 +167,7 @@ def simulate_batch(batch, logs, out, dt, duration, swa03_deg):
     from grip_tools.reference import est as est_ref
     from grip_tools.sim import sensors, vehicles
     from grip_tools.sim.model import Effects, simulate
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     vehicle = vehicles.passenger()
     sc = scenario(batch, vehicle, duration, swa03_deg)
     h = dt
@@ -178,7 +178,7 @@ def simulate_batch(batch, logs, out, dt, duration, swa03_deg):
         h = dt / 2
         sc = scenario(batch, vehicle, duration, swa03_deg)
         res = simulate(vehicle, sc, Effects(), h=h)
-    t_sim = time.perf_counter() - t0
+    t_sim, c_sim = time.perf_counter() - t0, time.process_time() - c0
     rows = []
     for i, run in enumerate(batch):       # (brake-in-turn: the batch's first speed for all)
         rdir = os.path.join(out, "runs", f"r{run['run']:05d}")
@@ -202,7 +202,8 @@ def simulate_batch(batch, logs, out, dt, duration, swa03_deg):
             rows.append(row)
     info = {"manoeuvre": batch[0]["manoeuvre"], "runs": [r["run"] for r in batch], "members": len(batch),
             "logs": len(rows), "h": h, "sim_s": round(float(res.t[-1]), 3), "wall_sim_s": round(t_sim, 2),
-            "wall_s": round(time.perf_counter() - t0, 2)}
+            "wall_s": round(time.perf_counter() - t0, 2), "cpu_sim_s": round(c_sim, 2),
+            "cpu_s": round(time.process_time() - c0, 2)}
     return rows, info
 
 
@@ -284,6 +285,7 @@ def main(argv=None):
     meta = {"n": a.n, "variants": a.variants, "seed": a.seed, "manoeuvres": mans, "surfaces": surfs, "dt": a.dt,
             "duration": a.duration, "batch": a.batch, "swa03_deg": s03, "runs": len(runs), "batches": infos,
             "wall_s": round(wall, 1), "batch_wall_s_total": round(sum(x["wall_s"] for x in infos), 1),
+            "batch_cpu_s_total": round(sum(x["cpu_s"] for x in infos), 1),
             "simulated_vehicle_s": round(sim_seconds, 1), "workers": getattr(client, "n_workers", 0)}
     with open(os.path.join(a.out, "sim.json"), "w") as f:
         json.dump(meta, f, indent=1)

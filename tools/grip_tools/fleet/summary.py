@@ -7,6 +7,7 @@ Accuracy against a truth (a simulator run's truth.csv) is est_eval's own
 residual is the measured-data loop's `attribution.analyse`, both called,
 not repeated.
 """
+import io
 import json
 import math
 import os
@@ -166,10 +167,27 @@ def bands(c, res):
     return rows
 
 
+_TRUTH_CACHE = {}
+
+
 def read_truth(path):
-    """A truth.csv (grip simulate's columns; at least those est_eval.evaluate reads)."""
-    from grip_tools.evaluate import est_eval
-    return est_eval.read_csv(path)
+    """The columns of a truth.csv that the residual bands need (time, vx,
+    beta, mu_road_*), read with pyarrow ('#' lines skipped) and kept per
+    process for the next log of the same run (sim-fleet's sensor variants
+    share one truth); est_eval.evaluate reads the file itself."""
+    import pyarrow.csv as pcsv
+    st = os.stat(path)
+    key = (os.path.abspath(path), st.st_mtime_ns, st.st_size)
+    if key not in _TRUTH_CACHE:
+        with open(path, "rb") as f:
+            lines = [ln for ln in f if not ln.startswith(b"#")]
+        want = ["time", "vx", "beta"] + [f"mu_road_{w}" for w in ("fl", "fr", "rl", "rr")]
+        t = pcsv.read_csv(io.BytesIO(b"".join(lines)), read_options=pcsv.ReadOptions(use_threads=False),
+                          convert_options=pcsv.ConvertOptions(include_columns=want))
+        if len(_TRUTH_CACHE) >= 8:
+            _TRUTH_CACHE.pop(next(iter(_TRUTH_CACHE)))
+        _TRUTH_CACHE[key] = {n: t.column(n).to_numpy().astype(float) for n in want}
+    return _TRUTH_CACHE[key]
 
 
 def truth_on_grid(tr, t):
