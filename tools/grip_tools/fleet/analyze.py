@@ -27,7 +27,8 @@ DIR is a `grip fleet run` results folder. Only rows with status 'ok' count.
    with too few moving samples (attr_note) are not analysed.
    Where the manifest has the simulator's injected offsets (grip sim-fleet:
    yaw_bias_deg_s), the fitted yaw-rate bias is compared with the injected
-   one (a check of the attribution, not of the estimator).
+   one (a check of the attribution), and so is the estimator's own gyro
+   offset at the end of the log (yaw_rate_bias_end).
 
 Writes residuals.parquet, effects.parquet, analysis.json and analysis.md.
 """
@@ -154,7 +155,15 @@ def injected_check(logs):
     acc = ok["attr_accepted"].fillna("")
     has_bias = acc.map(lambda s: "sensor_bias" in s.split(",")).to_numpy()
     b_inj = np.abs(ok["yaw_bias_deg_s"].to_numpy(dtype=float)) >= 0.4
+    # beside it, the estimator's own gyro-offset state at the log's end
+    est = ok["yaw_rate_bias_end"].to_numpy(dtype=float)
+    inj_all = ok["yaw_bias_deg_s"].to_numpy(dtype=float) * math.pi / 180.0
+    sel = np.isfinite(est) & np.isfinite(inj_all)
+    est_corr = float(np.corrcoef(inj_all[sel], est[sel])[0, 1]) if sel.sum() > 2 and np.std(inj_all[sel]) > 0 else None
     return {"logs": int(len(inj)), "corr": float(np.corrcoef(inj, fit)[0, 1]) if np.std(inj) > 0 else None,
+            "estimator_bias_end_corr": est_corr,
+            "estimator_bias_end_rms_diff_rad_s": float(np.sqrt(np.mean((est[sel] - inj_all[sel]) ** 2)))
+            if sel.any() else None,
             "rms_diff_rad_s": float(np.sqrt(np.mean((fit - inj) ** 2))),
             "mean_diff_rad_s": float(np.mean(fit - inj)),
             "accepted_share_injected_ge_0p4": float(np.mean(has_bias[b_inj])) if b_inj.any() else None,

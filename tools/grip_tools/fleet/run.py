@@ -278,16 +278,20 @@ def run_fleet(a, specs=None, client=None, on_result=None):
     own = client is None
     if own:
         client = cluster.open_client(a)
+    t_ready = time.time()
+    t_results = []
     prog = cluster.Progress(len(tasks), enabled=not a.no_progress)
-    counts = {"computed": 0, "skipped": 0, "error_rows": 0}
+    counts = {"computed": 0, "skipped": 0, "error_rows": 0, "cpu_s": 0.0}
     pend_rows, pend_bands = [], []
 
     def take(r):
+        t_results.append(time.time())
         if r["skipped"]:
             counts["skipped"] += 1
         else:
             counts["computed"] += 1
         errs = sum(1 for row in r["rows"] if row.get("status") == "error")
+        counts["cpu_s"] += sum(row.get("cpu_s") or 0.0 for row in r["rows"])
         counts["error_rows"] += errs
         pend_rows.extend(r["rows"])
         pend_bands.extend(r["bands"])
@@ -331,6 +335,14 @@ def run_fleet(a, specs=None, client=None, on_result=None):
             "logs": len(specs), "computed": counts["computed"], "skipped": counts["skipped"],
             "rows": len(status), "error_rows": status.count("error"),
             "wall_s": round(time.time() - t_start, 3),
+            # where the time went: discovery and the cluster's start, first and
+            # last result (the steady rate is between them), the tables' compaction
+            "ready_s": round(t_ready - t_start, 3),
+            "first_result_s": round(t_results[0] - t_start, 3) if t_results else None,
+            "last_result_s": round(t_results[-1] - t_start, 3) if t_results else None,
+            "steady_logs_per_s": (round((len(t_results) - 1) / (t_results[-1] - t_results[0]), 3)
+                                  if len(t_results) > 1 and t_results[-1] > t_results[0] else None),
+            "task_cpu_s": round(counts["cpu_s"], 3),
             "workers": getattr(client, "n_workers", None), "scheduler": a.scheduler or ("local" if a.workers != 0 else "none"),
             "started": time.strftime("%Y-%m-%dT%H:%M:%S", time.localtime(t_start))}
     res.write_run(info)
