@@ -129,7 +129,12 @@ def read_manifest(path, defaults):
         row = {k: (None if _isna(v) else v) for k, v in row.items()}
         if not row.get("path"):
             raise DataError(path, i + 2, "path", "empty")
-        specs.append(_spec(row, root, defaults))
+        try:
+            specs.append(_spec(row, root, defaults))
+        except DataError as e:
+            raise DataError(path, i + 2, e.field, e.message) from None
+        except ValueError as e:              # e.g. step_ms not a number
+            raise DataError(path, i + 2, None, str(e)) from None
     return specs
 
 
@@ -179,6 +184,8 @@ def discover(sources, defaults):
         elif os.path.basename(src).startswith("manifest") or src.endswith((".manifest.csv", ".manifest")):
             specs += read_manifest(src, defaults)
         else:
+            if not glob.has_magic(src) and not os.path.exists(src):
+                raise UsageError(f"{src}: no such file or folder")
             files = sorted(glob.glob(src, recursive=True)) if glob.has_magic(src) else [src]
             if not files:
                 raise UsageError(f"{src}: matches no file")
