@@ -77,13 +77,16 @@ def main():
         result = runner.run(suite)
         print(f"1..{result.testsRun}")
         return 0 if result.wasSuccessful() else 1
+    import concurrent.futures
     import multiprocessing
     modules = {}
     for t in iter_tests(suite):
         modules.setdefault(type(t).__module__, []).append(t)
     items = sorted(modules.items())
-    with multiprocessing.get_context("fork").Pool(jobs) as pool:
-        done = {name: (text, n, ok) for name, text, n, ok in pool.imap_unordered(run_module, items, chunksize=1)}
+    # ProcessPoolExecutor's workers are not daemonic, so a test may start
+    # processes of its own (a Dask LocalCluster, a multiprocessing pool)
+    with concurrent.futures.ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("fork")) as pool:
+        done = {name: (text, n, ok) for name, text, n, ok in pool.map(run_module, items)}
     total, all_ok = 0, True
     for name, _ in items:
         text, n, ok = done[name]

@@ -105,7 +105,16 @@ def parse_output(text):
     k_est = header.index("est_status")
     names = []
     for i, n in enumerate(header):
-        names.append(n if (i >= k_est or n in ("t_s", "step")) else f"in_{n}")
+        if i >= k_est or n in ("t_s", "step"):
+            names.append(n)
+            continue
+        # grip-replay -e names a measured input that the estimator also
+        # outputs <name>_in (yaw_rate_in, yaw_rate_in_fault): in_<name> here
+        if n.endswith("_in_fault"):
+            n = n[:-len("_in_fault")] + "_fault"
+        elif n.endswith("_in"):
+            n = n[:-len("_in")]
+        names.append(f"in_{n}")
     types = {}
     for n in names:
         if n.endswith("_fault"):
