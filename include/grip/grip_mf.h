@@ -35,7 +35,10 @@ typedef struct {
 #define GRIP_MF_OPT_MIRROR       (1u << 2) /* mirror once more (alpha, gamma, Fy, Mz)           */
 #define GRIP_MF_OPT_RIGHT_SIDE   (1u << 3) /* tyre on the right: mirror if tyreside == +1 instead */
 #define GRIP_MF_OPT_SAE          (1u << 4) /* inputs/outputs in the SAE J670 tyre axis system   */
-#define GRIP_MF_OPT_ALL          (0x1Fu)
+#define GRIP_MF_OPT_MZ52_SVYK_CAMBER (1u << 5) /* MF 5.2 combined Mz: Fy' = Fy - SVyk with the    */
+                                               /* cambered mu_y (grip's earlier form) instead of  */
+                                               /* MFeval's mu_y at gamma = 0; no effect on MF 6.x */
+#define GRIP_MF_OPT_ALL          (0x3Fu)
 
 /* Valid input domain (plain constants: wrap them in GRIP_QS()/GRIP_QL() or
  * cast them); inputs beyond it are clamped and GRIP_WARN_CLAMPED is

@@ -581,6 +581,7 @@ grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, gri
     grip_real_t mz;
     grip_real_t gyk;
     grip_real_t svyk;
+    grip_real_t svyk_mz;
     grip_real_t fy_prime;
     grip_real_t t;
     grip_real_t mzr;
@@ -607,13 +608,21 @@ grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, gri
 
     /* Fy = Gyk Fy0 + SVyk (4.E58-E67). */
     {
-        grip_real_t dvyk = r_mul(r_mul(s.lat.muy,
-                                       r_add(r_add(p->rvy1, r_mul(p->rvy2, op->dfz)), r_mul(p->rvy3, op->gy))),
-                                 r_cos_atan(r_mul(p->rvy4, op->alpha)));                        /* 4.E67 */
-        svyk = r_mul(r_mul(r_mul(dvyk, r_sin(r_mul(p->rvy5, r_atan(r_mul(p->rvy6, op->kappa))))), p->lvyka),
-                     op->smooth);                                                                  /* 4.E66 */
+        grip_real_t dvy = r_add(r_add(p->rvy1, r_mul(p->rvy2, op->dfz)), r_mul(p->rvy3, op->gy));
+        grip_real_t dva = r_cos_atan(r_mul(p->rvy4, op->alpha));
+        grip_real_t svk = r_sin(r_mul(p->rvy5, r_atan(r_mul(p->rvy6, op->kappa))));
+        grip_real_t dvyk = r_mul(r_mul(s.lat.muy, dvy), dva);                                      /* 4.E67 */
+        svyk = r_mul(r_mul(r_mul(dvyk, svk), p->lvyka), op->smooth);                               /* 4.E66 */
         gyk = mf_gyk(p, op, op->gy);
         fy = r_add(r_mul(gyk, s.lat.fy0), svyk);
+        /* MF 5.2: the SVyk of Fy' = Fy - SVyk. MFeval (calculateMz) forms it
+         * with mu_y at gamma = 0 (its muy_sub0; RVY3 keeps gamma); with
+         * GRIP_MF_OPT_MZ52_SVYK_CAMBER the SVyk of Fy itself. */
+        svyk_mz = svyk;
+        if (op->mf52 && ((p->options & GRIP_MF_OPT_MZ52_SVYK_CAMBER) == 0u)) {
+            grip_real_t muy0 = r_mul(s.latc.mub, op->lmuy_s);
+            svyk_mz = r_mul(r_mul(r_mul(r_mul(r_mul(muy0, dvy), dva), svk), p->lvyka), op->smooth);
+        }
     }
 
     /* Mz = -t Fy' + Mzr + s Fx (4.E71-E78). */
@@ -636,7 +645,7 @@ grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, gri
         t = r_mul(t, op->smooth);         /* low speed */
         mzr = r_mul(mzr, op->smooth);
         if (op->mf52) {
-            fy_prime = r_sub(fy, svyk);  /* MF 5.2: Fy' = Fy - SVyk */
+            fy_prime = r_sub(fy, svyk_mz);  /* MF 5.2: Fy' = Fy - SVyk (above) */
         } else {
             /* MF 6.x: Fy' = Gyk Fy0(gamma = 0) (4.E74); MF-Tyre keeps the
              * inclination in Gyk, the book evaluates Gyk at gamma = 0 too. */

@@ -2,7 +2,8 @@
  * grip_tire.c - `grip-tire`: evaluate a tire model on CSV rows.
  *
  *   grip-tire [--model mf] [--tir FILE] [--pure] [--side left|right]
- *             [--sae] [--kappa-braking] [--no-status] [--prefix STR] < in.csv > out.csv
+ *             [--sae] [--kappa-braking] [--mz52-svyk-camber] [--no-status]
+ *             [--prefix STR] < in.csv > out.csv
  *
  * Reads CSV on standard input whose header names at least the columns
  * kappa, alpha, gamma, fz, p, vx (SI units, radians; any order; other
@@ -55,6 +56,7 @@ typedef struct {
     grip_tir_side side;
     int sae;
     int kappa_braking;
+    int mz52_svyk_camber;
     int status_column;
     int dump_params;
     const char *prefix;
@@ -108,6 +110,9 @@ static int mf_setup(const cli_options *o, model_ctx *m, char *err, size_t errlen
     }
     if (o->kappa_braking) {
         m->u.mf.options |= GRIP_MF_OPT_KAPPA_BRAKE;
+    }
+    if (o->mz52_svyk_camber) {
+        m->u.mf.options |= GRIP_MF_OPT_MZ52_SVYK_CAMBER;
     }
     st = grip_mf_check_params(&m->u.mf);
     if (st != GRIP_OK) {
@@ -206,8 +211,8 @@ static void usage(FILE *f)
     size_t i;
     fprintf(f,
             "usage: grip-tire [--model NAME] [--tir FILE] [--pure] [--side left|right]\n"
-            "                 [--sae] [--kappa-braking] [--no-status] [--prefix STR]\n"
-            "                 [--dump-params] < in.csv > out.csv\n"
+            "                 [--sae] [--kappa-braking] [--mz52-svyk-camber] [--no-status]\n"
+            "                 [--prefix STR] [--dump-params] < in.csv > out.csv\n"
             "\n"
             "Reads CSV with the columns kappa,alpha,gamma,fz,p,vx (SI, rad; any order;\n"
             "other columns passed through) and appends fx,fy,mz,status. Build: %s.\n"
@@ -228,6 +233,9 @@ static void usage(FILE *f)
             "                    y right, z down: alpha, fy, mz and fz change sign);\n"
             "                    default ISO-W (x forward, y left, z up)\n"
             "  --kappa-braking   kappa column is positive in braking (kappa_ISO = -kappa)\n"
+            "  --mz52-svyk-camber  mf, MF 5.2 files: combined Mz with Fy' = Fy - SVyk of Fy\n"
+            "                    (cambered mu_y) instead of MFeval's SVyk with mu_y at\n"
+            "                    gamma = 0 (GRIP_MF_OPT_MZ52_SVYK_CAMBER)\n"
             "  --no-status       do not append the status column\n"
             "  --prefix STR      prefix of the appended column names (e.g. model_)\n"
             "  --dump-params     print the loaded parameters (SI, as stored in this\n"
@@ -272,6 +280,8 @@ static int parse_args(int argc, char **argv, cli_options *o)
             o->sae = 1;
         } else if (strcmp(a, "--kappa-braking") == 0) {
             o->kappa_braking = 1;
+        } else if (strcmp(a, "--mz52-svyk-camber") == 0) {
+            o->mz52_svyk_camber = 1;
         } else if (strcmp(a, "--no-status") == 0) {
             o->status_column = 0;
         } else if (strcmp(a, "--dump-params") == 0) {

@@ -278,6 +278,10 @@ class ForcesAgreeWithReference(unittest.TestCase):
         self.compare(path, ["--sae"], {"convention": "sae"}, sign_fz=-1.0)
         self.compare(path, ["--kappa-braking"], {"kappa_braking": True})
 
+    def test_mz52_svyk_camber(self):
+        path = os.path.join(SHARED, "mfeval-tir", "MagicFormula52_Paramerters.tir")
+        self.compare(path, ["--mz52-svyk-camber"], {"mz52_svyk_camber": True})
+
     def test_mount_side(self):
         # the file is a RIGHT tyre: mounted right it is used as fitted,
         # mounted left it is mirrored

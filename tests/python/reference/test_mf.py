@@ -332,9 +332,42 @@ class Forms(unittest.TestCase):
         P = by_name("MagicFormula52_Paramerters.tir")
         o = mf.evaluate(P, 0.1, 0.05, 0.02, P["fnomin"], mirror=False, details=True)
         d = o["details"]
-        np.testing.assert_allclose(d["Fy_prime"], o["fy"] - d["SVyk"], rtol=1e-15)
+        # MFeval's calculateMz: SVyk with mu_y at gamma = 0 (muy_sub0), i.e.
+        # the Fy's SVyk scaled by mu_y(0) / mu_y(gamma)
+        svyk0 = d["SVyk"] * d["muy_gamma0"] / d["muy"]
+        np.testing.assert_allclose(d["Fy_prime"], o["fy"] - svyk0, rtol=1e-14)
         np.testing.assert_allclose(o["mz"], -d["t"] * d["Fy_prime"] + d["Mzr"] + d["s"] * o["fx"],
                                    rtol=1e-12)
+        # grip's earlier form (GRIP_MF_OPT_MZ52_SVYK_CAMBER): the SVyk of Fy itself
+        c = mf.evaluate(P, 0.1, 0.05, 0.02, P["fnomin"], mirror=False, details=True, mz52_svyk_camber=True)
+        np.testing.assert_allclose(c["details"]["Fy_prime"], c["fy"] - c["details"]["SVyk"], rtol=1e-15)
+        for q in ("fx", "fy", "fx0", "fy0", "mz0"):
+            self.assertEqual(float(c[q]), float(o[q]), q)
+        self.assertGreater(abs(float(c["mz"] - o["mz"])), 1e-4)      # measured 3.1e-4 N m
+        big = [mf.evaluate(P, 0.4, 0.05, 0.23, P["fnomin"], mz52_svyk_camber=f)["mz"] for f in (False, True)]
+        self.assertGreater(abs(float(big[1] - big[0])), 1.0)        # measured 9.3 N m = 2.5e-3 Fz R0 (13 deg)
+        # equal at gamma = 0, where mu_y(gamma) = mu_y(0)
+        a = mf.evaluate(P, 0.1, 0.05, 0.0, P["fnomin"])
+        b = mf.evaluate(P, 0.1, 0.05, 0.0, P["fnomin"], mz52_svyk_camber=True)
+        self.assertEqual(float(a["mz"]), float(b["mz"]))
+
+    def test_mz52_option_size_and_no_effect_on_mf6(self):
+        # the two MF 5.2 forms: max |dMz| / (Fz R0) over the file's range
+        # (31 x 31 x 9 x 5 grid; measured 9.2e-3 at kappa -0.2, gamma 15 deg;
+        # 3.8e-3 at gamma 13 deg, kappa 0.4, Fz = FNOMIN)
+        P = by_name("MagicFormula52_Paramerters.tir")
+        R = golden_mf.ranges(P)
+        K, A, G, F = np.meshgrid(np.linspace(*R["kappa"], 31), np.linspace(*R["alpha"], 31),
+                                 np.linspace(*R["gamma"], 9), np.linspace(*R["fz"], 5), indexing="ij")
+        a = mf.evaluate(P, K, A, G, F)
+        b = mf.evaluate(P, K, A, G, F, mz52_svyk_camber=True)
+        d = np.max(np.abs(a["mz"] - b["mz"]) / (F * P["unloaded_radius"]))
+        self.assertGreater(d, 5e-3)
+        self.assertLess(d, 2e-2)
+        P6 = by_name("MagicFormula61_Paramerters.tir")
+        a = mf.evaluate(P6, K[..., 0], A[..., 0], G[..., 0], P6["fnomin"])
+        b = mf.evaluate(P6, K[..., 0], A[..., 0], G[..., 0], P6["fnomin"], mz52_svyk_camber=True)
+        np.testing.assert_array_equal(a["mz"], b["mz"])
 
     def test_mf61_fy_prime_at_zero_camber(self):
         P = by_name("MagicFormula61_Paramerters.tir")
@@ -388,6 +421,19 @@ class Golden(unittest.TestCase):
                 self.assertLessEqual(np.abs(rows[:, 1]).max(), max(map(abs, R["alpha"])))
                 self.assertTrue(np.any(rows[:, 5] == 0.0))
                 self.assertTrue(np.any(rows[:, 5] < P["vxlow"]))
+                # the extended file: the same input rows, the other outputs
+                ext = os.path.join(d, f"mf_ext_{name}.txt")
+                stamps[ext] = os.stat(ext).st_mtime_ns
+                with open(ext) as f:
+                    head = [ln for ln in f if ln.startswith("#")]
+                self.assertIn("# columns: " + " ".join(golden_mf.EXT_COLUMNS) + "\n", head)
+                xr = np.loadtxt(ext, comments="#")
+                np.testing.assert_array_equal(xr[:, :6], rows[:, :6])
+                np.testing.assert_array_equal(xr[:, 6:9], rows[:, 9:12])
+                alt = mf.evaluate(P, rows[:, 0], rows[:, 1], rows[:, 2], rows[:, 3], p=p, vx=rows[:, 5],
+                                  mz52_svyk_camber=True)
+                j = golden_mf.EXT_COLUMNS.index("mz_svyk_camber")
+                np.testing.assert_allclose(xr[:, j], alt["mz"], rtol=1e-15, atol=1e-12)
             # a second run keeps unchanged files (their timestamps)
             golden_mf.write_golden(d)
             for g, st in stamps.items():

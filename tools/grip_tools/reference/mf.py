@@ -9,7 +9,8 @@ docs/magic-formula.md; keep the two in step.
 
 Variants (params['fittyp']):
   5, 6, 21  MF 5.2 / PAC2002: no pressure terms, camber scaled by LGAX/LGAY/LGAZ,
-            SHy/SVy with PHY3/PVY3/PVY4, aligning moment with Fy' = Fy - SVyk
+            SHy/SVy with PHY3/PVY3/PVY4, aligning moment with Fy' = Fy - SVyk,
+            SVyk with mu_y at gamma = 0 (MFeval's calculateMz)
   61, 62    MF 6.1 / 6.2: inflation pressure (NOMPRES, PP*), camber stiffness
             PKY6/PKY7, PEY5, RBX3, RBY4, QDZ10/QDZ11, aligning moment with
             Fy' = Gyk * Fy0(gamma = 0)
@@ -234,14 +235,17 @@ def _gyk(c, gy, muy):
     return Gyk, SVyk
 
 
-def _core(P, kappa, alpha, gamma, fz, p, vx, form):
-    """All forces and moments in ISO-W, no mirroring. Returns a dict."""
+def _core(P, kappa, alpha, gamma, fz, p, vx, form, mz52_svyk_camber=False):
+    """All forces and moments in ISO-W, no mirroring. Returns a dict.
+
+    mz52_svyk_camber: MF 5.2 aligning moment with Fy' = Fy - SVyk(mu_y(gamma))
+    (grip's earlier form) instead of MFeval's Fy - SVyk(mu_y(gamma = 0))."""
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         c = _prepare(P, kappa, alpha, gamma, fz, p, vx, form)
         Fz, dfz, dpi, R0 = c.Fz, c.dfz, c.dpi, P["unloaded_radius"]
         x0 = _fx0(c)
         y0 = _fy0(c, c.gy)
-        y00 = _fy0(c, np.zeros_like(c.gy)) if c.mf6 else y0   # Fy0 at gamma = 0
+        y00 = _fy0(c, np.zeros_like(c.gy))                     # Fy0 at gamma = 0
 
         # ---- pure aligning moment
         gz = c.gz
@@ -277,7 +281,7 @@ def _core(P, kappa, alpha, gamma, fz, p, vx, form):
                   * c.lmuy_s * c.cosa)
         Br = P["qbz9"] * P["lky"] / _nz(c.lmuy_s) + P["qbz10"] * y0["By"] * y0["Cy"]
         Mzr0 = Dr * np.cos(np.arctan(Br * ar)) * c.cosa * c.w
-        Mz0 = -t0 * y00["Fy0"] + Mzr0
+        Mz0 = -t0 * (y00["Fy0"] if c.mf6 else y0["Fy0"]) + Mzr0
 
         # ---- combined longitudinal force
         rbx3 = P["rbx3"] if c.mf6 else 0.0
@@ -306,7 +310,11 @@ def _core(P, kappa, alpha, gamma, fz, p, vx, form):
         Mzr = Dr * np.cos(np.arctan(Br * ar_eq)) * c.w * (c.cosa if c.f["mzr_cos"] else 1.0)
         t = Dt * np.cos(Ct * np.arctan(Bt * at_eq - Et * (Bt * at_eq - np.arctan(Bt * at_eq)))) * trail_scale
         if not c.mf6:
-            Fyp = Fy - SVyk
+            # MF 5.2 (MF-Tyre 5.2 manual, as MFeval): Fy' = Fy - SVyk, where
+            # MFeval's calculateMz takes SVyk from the combined-slip evaluation
+            # with mu_y at gamma = 0 (muy_sub0; RVY3 and RBY4 keep gamma)
+            SVyk_mz = SVyk if mz52_svyk_camber else _gyk(c, c.gy, y00["muy"])[1]
+            Fyp = Fy - SVyk_mz
         elif c.f["fyp_gamma0"]:
             Gyk0, _ = _gyk(c, np.zeros_like(c.gy), y00["muy"])
             Fyp = Gyk0 * y00["Fy0"]
@@ -322,7 +330,7 @@ def _core(P, kappa, alpha, gamma, fz, p, vx, form):
         det.update(dict(Gxa=Gxa, Gyk=Gyk, SVyk=SVyk, t0=t0, t=t, Mzr0=Mzr0, Mzr=Mzr, s=s,
                         Bt=Bt, Ct=Ct, Dt=Dt, Et=Et, Br=Br, Dr=Dr, SHt=SHt, SHf=SHf,
                         alpha_t=at, alpha_r=ar, alpha_t_eq=at_eq, alpha_r_eq=ar_eq, Fy_prime=Fyp,
-                        Fy0_gamma0=y00["Fy0"], r=c.r, ra=c.ra, w=c.w, dfz=dfz, dpi=dpi))
+                        Fy0_gamma0=y00["Fy0"], muy_gamma0=y00["muy"], r=c.r, ra=c.ra, w=c.w, dfz=dfz, dpi=dpi))
         return out, det
 
 
@@ -363,7 +371,8 @@ def mirror_outputs(out):
 
 
 def evaluate(params, kappa, alpha, gamma, fz, p=None, vx=None, *, form="mftyre",
-             convention="iso", kappa_braking=False, mirror=None, details=False):
+             convention="iso", kappa_braking=False, mirror=None, details=False,
+             mz52_svyk_camber=False):
     """Forces and moments of one parameter set (array inputs broadcast).
 
     params: dict of grip_mf_params fields in SI (tir.Tir.params()).
@@ -372,6 +381,9 @@ def evaluate(params, kappa, alpha, gamma, fz, p=None, vx=None, *, form="mftyre",
     convention 'iso' (ISO-W, native) or 'sae'; kappa_braking=True: the given
     kappa is positive in braking. mirror: None = from params['tyreside']
     (-1 mirrors), or True/False to force.
+    mz52_svyk_camber=True: MF 5.2 combined Mz with grip's earlier Fy' = Fy -
+    SVyk(mu_y at gamma) (GRIP_MF_OPT_MZ52_SVYK_CAMBER) instead of MFeval's
+    Fy - SVyk(mu_y at gamma = 0); no effect on MF 6.x.
     Returns {fx0, fy0, mz0, fx, fy, mz} (and the internals when details).
     """
     k, a, g, f = to_iso(kappa, alpha, gamma, fz, convention, kappa_braking)
@@ -379,7 +391,7 @@ def evaluate(params, kappa, alpha, gamma, fz, p=None, vx=None, *, form="mftyre",
         mirror = int(params.get("tyreside", 1)) == -1
     if mirror:
         a, g = mirror_inputs(a, g)
-    out, det = _core(params, k, a, g, f, p, vx, form)
+    out, det = _core(params, k, a, g, f, p, vx, form, mz52_svyk_camber)
     if mirror:
         out = mirror_outputs(out)
     out = from_iso(out, convention)
