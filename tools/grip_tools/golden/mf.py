@@ -7,7 +7,9 @@ Writes into outdir (build/golden):
                  (a RIGHT file is mirrored, as the emitted struct says)
   mf_ext_<name>.txt  the same input rows with the combined-slip outputs of
                  the other forms and channels: EXT_COLUMNS (mz_svyk_camber =
-                 Mz with GRIP_MF_OPT_MZ52_SVYK_CAMBER)
+                 Mz with GRIP_MF_OPT_MZ52_SVYK_CAMBER, then MFeval's other
+                 channels mf.EXT_NAMES in SI units; nan where a channel is not
+                 available: its parameters are missing or it has no solution)
   mf_params.c    static const grip_mf_params grip_tire_<name> = {...} per
                  file (tools/grip_tools/reference/tir.py emitter) and the table
                  grip_test_tires[] / grip_test_tire_count (tests/support/mf_params.h)
@@ -39,7 +41,7 @@ from grip_tools.golden.io import header
 
 SEED = 20261123
 COLUMNS = ["kappa", "alpha", "gamma", "fz", "p", "vx", "fx0", "fy0", "mz0", "fx", "fy", "mz"]
-EXT_COLUMNS = COLUMNS[:6] + ["fx", "fy", "mz", "mz_svyk_camber"]
+EXT_COLUMNS = COLUMNS[:6] + ["fx", "fy", "mz", "mz_svyk_camber"] + list(mf.EXT_NAMES)
 SUBDIRS = ("chrono-tir", "mfeval-tir")
 
 
@@ -180,8 +182,12 @@ def _ext_outputs(P, x, p):
     """The EXT_COLUMNS outputs on the input rows x."""
     alt = mf.evaluate(P, x["kappa"], x["alpha"], x["gamma"], x["fz"], p=p, vx=x["vx"],
                       mz52_svyk_camber=True)
-    out = mf.evaluate(P, x["kappa"], x["alpha"], x["gamma"], x["fz"], p=p, vx=x["vx"])
-    return {"fx": out["fx"], "fy": out["fy"], "mz": out["mz"], "mz_svyk_camber": alt["mz"]}
+    out = mf.evaluate_ext(P, x["kappa"], x["alpha"], x["gamma"], x["fz"], p=p, vx=x["vx"])
+    out["mz_svyk_camber"] = alt["mz"]
+    for k in ("fx", "fy", "mz", "mz_svyk_camber"):
+        if not np.all(np.isfinite(out[k])):
+            raise RuntimeError(f"non-finite {k} in the reference output")
+    return out
 
 
 def golden_texts(path, name, P):
@@ -214,7 +220,9 @@ def golden_texts(path, name, P):
     cols = [x[c] for c in COLUMNS[:6]] + [out[c] for c in COLUMNS[6:]]
     body = np.column_stack(cols)
     lines = [" ".join(f"{v:.17g}" for v in row) for row in body]
-    ext_hdr = hdr.replace("# columns: " + " ".join(COLUMNS), "# columns: " + " ".join(EXT_COLUMNS))
+    units = " ".join(f"{n}[{u}]" for n, u, _m, _s in mf.EXT_CHANNELS)
+    ext_hdr = hdr.replace("# columns: " + " ".join(COLUMNS),
+                          f"# param units: {units}\n# columns: " + " ".join(EXT_COLUMNS))
     ext_body = np.column_stack([x[c] for c in EXT_COLUMNS[:6]] + [ext[c] for c in EXT_COLUMNS[6:]])
     ext_lines = [" ".join(f"{v:.17g}" for v in row) for row in ext_body]
     return hdr + "\n".join(lines) + "\n", ext_hdr + "\n".join(ext_lines) + "\n"
