@@ -746,6 +746,15 @@ static const grip_mf_output_ext EXT_ZERO = { R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_Z
                                              R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO,
                                              R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, 0u };
 
+/* *v not finite: 0 and its bit cleared. */
+static inline void ext_finite(grip_real_t *v, uint32_t bit, uint32_t *valid)
+{
+    if (((*valid & bit) != 0u) && !r_is_finite(*v)) {
+        *v = R_ZERO;
+        *valid &= ~bit;
+    }
+}
+
 /* The inputs as the model saw them, before the low-speed scaling: the
  * conventions and clamps of mf_prepare (mf_eval.c) for kappa, gamma, vx. */
 static void ext_inputs(const grip_mf_params *p, const grip_mf_input *in, const mf_io *io, ext_ctx *e)
@@ -917,6 +926,28 @@ grip_status_t grip_mf_eval_ext(const grip_mf_params *p, const grip_mf_input *in,
         out->my = c.io.sae ? r_neg(my) : my;
         valid |= ok ? GRIP_MF_EXT_MY : 0u;
     }
+    /* a non-finite coefficient that only a channel uses (grip_mf_check_params
+     * rejects it; the evaluation does not repeat that check): the channel is
+     * flagged, never NaN (float build; compiles away in the fixed build) */
+    ext_finite(&out->re, GRIP_MF_EXT_RE, &valid);
+    ext_finite(&out->omega, GRIP_MF_EXT_OMEGA, &valid);
+    ext_finite(&out->rl, GRIP_MF_EXT_RL, &valid);
+    ext_finite(&out->rho, GRIP_MF_EXT_RHO, &valid);
+    ext_finite(&out->cz, GRIP_MF_EXT_CZ, &valid);
+    ext_finite(&out->contact_length, GRIP_MF_EXT_LENGTH, &valid);
+    ext_finite(&out->contact_width, GRIP_MF_EXT_WIDTH, &valid);
+    ext_finite(&out->t, GRIP_MF_EXT_T, &valid);
+    ext_finite(&out->mzr, GRIP_MF_EXT_MZR, &valid);
+    ext_finite(&out->mux, GRIP_MF_EXT_MUX, &valid);
+    ext_finite(&out->muy, GRIP_MF_EXT_MUY, &valid);
+    ext_finite(&out->kxk, GRIP_MF_EXT_KXK, &valid);
+    ext_finite(&out->kya, GRIP_MF_EXT_KYA, &valid);
+    ext_finite(&out->cx, GRIP_MF_EXT_CX, &valid);
+    ext_finite(&out->cy, GRIP_MF_EXT_CY, &valid);
+    ext_finite(&out->sigmax, GRIP_MF_EXT_SIGMAX, &valid);
+    ext_finite(&out->sigmay, GRIP_MF_EXT_SIGMAY, &valid);
+    ext_finite(&out->mx, GRIP_MF_EXT_MX, &valid);
+    ext_finite(&out->my, GRIP_MF_EXT_MY, &valid);
     out->valid = valid;
     return st;
 }

@@ -109,7 +109,8 @@ static void assert_no_saturation(void)
 
 /* NULL pointers, unknown output bits, unusable parameters: the status of
  * grip_mf_eval (GRIP_ERR_INPUT for an unknown bit), everything zero, no
- * valid bit. */
+ * valid bit. A non-finite coefficient that only one channel uses flags
+ * that channel (float build). */
 static void test_ext_arguments(void **state)
 {
     const grip_mf_params *p = tire("MagicFormula61_Paramerters");
@@ -139,6 +140,13 @@ static void test_ext_arguments(void **state)
     assert_int_equal(grip_mf_ext_supported(&bad), 0u);
     assert_int_equal(grip_mf_ext_supported(NULL), 0u);
 #if !GRIP_ARITH_FIXED
+    /* a non-finite coefficient only My uses (grip_mf_check_params would
+     * reject the set): My flagged and 0, the rest as usual */
+    bad = *p;
+    bad.qsy1 = NAN;
+    assert_int_equal(grip_mf_eval_ext(&bad, &in, GRIP_MF_EXT_ALL, &o), GRIP_OK);
+    assert_int_equal(o.valid, GRIP_MF_EXT_ALL & ~GRIP_MF_EXT_MY);
+    assert_true(o.my == 0.0f);
     in.alpha = NAN;
     assert_int_equal(grip_mf_eval_ext(p, &in, GRIP_MF_EXT_ALL, &o), GRIP_ERR_INPUT);
     assert_int_equal(o.valid, 0u);
