@@ -480,7 +480,7 @@ class Extended(unittest.TestCase):
                 self.assertEqual(float(o[k]), 0.0, k)
 
     def test_conventions(self):
-        P = dict(by_name("MagicFormula61_Paramerters.tir"), tyreside=1)
+        P = dict(by_name("MagicFormula61_Paramerters.tir"), tyreside=1, options=0)   # a left tyre, mounted left
         k, a, g, f = 0.05, np.linspace(-0.3, 0.3, 7), 0.04, 6000.0
         iso = mf.evaluate_ext(P, k, a, g, f)
         mir = mf.evaluate_ext(P, k, -a, -g, f, mirror=True)
