@@ -37,6 +37,16 @@ class TapResult(unittest.TextTestResult):
         self._line(False, test)
         print("# " + self._exc_info_to_string(err, test).replace("\n", "\n# "))
 
+    def addSubTest(self, test, subtest, err):
+        super().addSubTest(test, subtest, err)
+        if err is not None:          # a failing subtest fails its test: say so in TAP
+            self._line(False, subtest)
+            print("# " + self._exc_info_to_string(err, test).replace("\n", "\n# "))
+
+    def addUnexpectedSuccess(self, test):
+        super().addUnexpectedSuccess(test)
+        self._line(False, test, " # unexpected success")
+
     def addSkip(self, test, reason):
         super().addSkip(test, reason)
         self._line(True, test, f" # SKIP {reason}")

@@ -112,7 +112,7 @@ def options_bits(side=None, sae=False, kappa_braking=False, book=False, mirror=F
     lib = backend("float").lib
     bits = 0
     if side not in (None, "left", "right"):
-        raise ValueError(f"side must be 'left' or 'right', not {side!r}")
+        raise ValueError(f"side must be 'fitted', 'left' or 'right', not {side!r}")
     if side == "right":
         bits |= lib.GRIP_MF_OPT_RIGHT_SIDE
     if sae:
@@ -140,15 +140,20 @@ def _tools_reader():
 def load(tir_path, side=None, sae=False, kappa_braking=False, book=False, mirror=False, reader=None):
     """Reads a .tir file once: a Params for evaluate() and the estimator.
 
-    side: where the tyre is mounted, "left" (default) or "right"; TYRESIDE is
-    taken from the file and the library mirrors when the two differ (as
-    `grip-tire --side`). sae, kappa_braking, book, mirror: the other
+    side: where the tyre is mounted: "fitted" (default: on the side the
+    file's TYRESIDE names, never mirrored, as grip-tire and every grip tool
+    evaluate a .tir), "left" or "right" (the library mirrors a file fitted
+    for the other side, as `grip-tire --side`). sae, kappa_braking, book, mirror: the other
     GRIP_MF_OPT_* options (grip_mf.h).
     reader: "tools" (grip_tools.reference.tir, the default in a clone),
     "c" (port/linux/tir_reader.c, grip-tire's reader, compiled into the
     extension: the fallback when grip_tools cannot read its header), or None
     (the first that works). Errors name file, line and key."""
-    options = options_bits(side, sae, kappa_braking, book, mirror)
+    def mounted(tyreside):
+        s = side if side in ("left", "right") else ("right" if int(tyreside) == -1 else "left")
+        if side not in (None, "fitted", "left", "right"):
+            raise ValueError(f"side must be 'fitted', 'left' or 'right', not {side!r}")
+        return options_bits(s, sae, kappa_braking, book, mirror)
     tir = _tools_reader() if reader in (None, "tools") else None
     if reader == "tools" and tir is None:
         raise ImportError("grip_tools.reference.tir is not usable here (run from a clone with `make setup`)")
@@ -156,13 +161,13 @@ def load(tir_path, side=None, sae=False, kappa_braking=False, book=False, mirror
         t = tir.read_tir(tir_path)
         d = t.params()
         values = {c.field: d[c.field] for c in tir.coefficients()}
-        return Params(values, d["fittyp"], d["tyreside"], options, path=tir_path)
+        return Params(values, d["fittyp"], d["tyreside"], mounted(d["tyreside"]), path=tir_path)
     if reader not in (None, "c"):
         raise ValueError(f"reader must be 'tools', 'c' or None, not {reader!r}")
-    return _load_c(tir_path, options)
+    return _load_c(tir_path, mounted)
 
 
-def _load_c(tir_path, options):
+def _load_c(tir_path, mounted):
     be = backend("float")
     coefs = coefficients("float")
     v = np.zeros(len(coefs), np.float64)
@@ -172,7 +177,7 @@ def _load_c(tir_path, options):
                                 fittyp, tyreside, err, 1024) != 0:
         raise GripError(None, "grip.mf.load", be.ffi.string(err).decode(errors="replace"))
     values = {c[0]: float(x) for c, x in zip(coefs, v)}
-    return Params(values, fittyp[0], tyreside[0], options, path=tir_path)
+    return Params(values, fittyp[0], tyreside[0], mounted(tyreside[0]), path=tir_path)
 
 
 def evaluate(params, kappa, alpha, gamma, fz, p=None, vx=None, arith="float", pure=False, raw=False,
