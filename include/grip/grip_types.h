@@ -53,6 +53,7 @@ typedef float grip_real_t;
 typedef enum {
     GRIP_OK = 0,
     GRIP_WARN_CLAMPED = 1,      /* an input was outside its valid range and was clamped */
+    GRIP_WARN_RATE = 2,         /* the samples' times disagree with the configured step rate */
     GRIP_ERR_NULL = -1,         /* a required pointer was NULL */
     GRIP_ERR_PARAM = -2,        /* the parameter set is invalid or unsupported */
     GRIP_ERR_INPUT = -3,        /* an input is non-finite or physically impossible */

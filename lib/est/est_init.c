@@ -43,6 +43,7 @@ grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_para
     cfg->roll_gradient = RC(0.0088);
     cfg->rate_hz = 100u;
     cfg->speed_ref_mu = 0u;
+    cfg->rear_steer = 0u;
     cfg->cla = R_ZERO;
     cfg->aero_front = RC(0.5);
     cfg->air_density = RC(1.2);
@@ -125,7 +126,7 @@ static grip_status_t check_config(const grip_est_config_t *c)
         !in_range(c->h_cg, R_ZERO, RC(3.0)) || !in_range(c->steer_ratio, R_ONE, RC(100.0)) ||
         !in_range(c->wheel_radius, RC(0.05), RC(2.0)) ||
         !in_range(c->roll_split_front, R_ZERO, R_ONE) || !in_range(c->roll_gradient, R_ZERO, RC(0.05)) || c->rate_hz < 50u || c->rate_hz > 2000u ||
-        c->speed_ref_mu > 1u || !in_range(c->cla, R_ZERO, RC(20.0)) || !in_range(c->aero_front, R_ZERO, R_ONE) ||
+        c->speed_ref_mu > 1u || c->rear_steer > 1u || !in_range(c->cla, R_ZERO, RC(20.0)) || !in_range(c->aero_front, R_ZERO, R_ONE) ||
         !in_range(c->air_density, RC(0.5), RC(1.5)) || !in_range(c->cda, R_ZERO, RC(5.0)) ||
         !in_range(c->crr, R_ZERO, RC(0.05)) || !in_range(c->tan_bank, RC(-0.5), RC(0.5)) ||
         !in_range(c->tan_grade, RC(-0.5), RC(0.5)) || !in_range(c->latency, R_ZERO, RC(0.1)) ||
@@ -166,7 +167,8 @@ grip_status_t grip_est_reset(grip_est_t *est)
     est->p[1][1] = RC(EST_P0_R);
     est->p[2][2] = RC(EST_P0_MU);
     est->p[3][3] = RC(EST_P0_B);
-    for (i = 0; i < 5; ++i) {
+    est->t_prev = 0;
+    for (i = 0; i < 6; ++i) {
         est->hold[i] = R_ZERO;
         est->age[i] = 1000000;
     }

@@ -29,7 +29,7 @@
 #endif
 
 /* slots of the held inputs (grip_est_t.hold, .age) */
-enum { H_STEER = 0, H_YAW = 1, H_AX = 2, H_AY = 3, H_VS = 4 };
+enum { H_STEER = 0, H_YAW = 1, H_AX = 2, H_AY = 3, H_VS = 4, H_REAR = 5 };
 
 /* One step's working values, handed from stage to stage (grip_est_step
  * owns it; each group is written by the stage named and read after it).
@@ -41,6 +41,8 @@ typedef struct {
     uint32_t valid;             /* GRIP_EST_V_* so far */
     grip_real_t delta;          /* QS rad road-wheel angle at the state's time */
     grip_real_t cd, sd;         /* QS its cosine and sine */
+    grip_real_t delta_r;        /* QS rad rear road-wheel angle (0 without rear steering) */
+    grip_real_t cr, sr;         /* QS its cosine and sine */
     grip_real_t yaw;            /* QS rad/s yaw rate less the gyro bias; 0 when missing */
     grip_real_t ax, ay;         /* QS m/s^2; ay less the body roll's gravity; 0 when missing */
     grip_real_t g_x, g_y;       /* QS m/s^2 gravity along the body axes on the road plane */

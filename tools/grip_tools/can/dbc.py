@@ -54,6 +54,7 @@ INPUTS = [
     ("brake_pressure_rl", "Pa", 8), ("brake_pressure_rr", "Pa", 8),
     ("brake_torque_fl", "N m", 8), ("brake_torque_fr", "N m", 8),
     ("brake_torque_rl", "N m", 8), ("brake_torque_rr", "N m", 8),
+    ("rear_steer_angle", "rad", 16),
 ]
 INPUT_INDEX = {name: i for i, (name, _, _) in enumerate(INPUTS)}
 
