@@ -23,7 +23,8 @@ autocorrelation of the best candidate's held-out residual (the number of
 independent held-out samples an AR(1) residual carries). Accepted: IC < 0
 and score <= 1 - MIN_GAIN. Not distinguishable from the best (lowest IC)
 accepted candidate: within TIE_IC of its IC. Chosen: among those, the one
-with the fewest parameters (then the lowest IC); a named form whose family the chosen pair belongs to replaces
+with the fewest parameters (then a constant change before a modulation,
+then the lowest IC); a named form whose family the chosen pair belongs to replaces
 it when it achieves at least 1 - SPECIAL_TOL of the chosen pair's error
 reduction 1 - score (it is the form that runs onboard).
 When nothing is accepted and the residual is structured, a non-parametric
@@ -47,6 +48,7 @@ MIN_GAIN = 0.03      # a named tyre effect lowers the normalised held-out error 
 TIE_IC = 6.0         # candidates closer than this in IC are not distinguishable on the data
 SPECIAL_TOL = 0.02   # a named form with 98 % of the chosen pair's error reduction replaces it
 STRUCTURE = 0.3      # lag-1 autocorrelation above which a residual counts as structured
+PARALLEL_ROWS = 20000  # records at least this long are refined in parallel (analyse(jobs=...))
 
 
 def block_masks(n, n_blocks=8):
@@ -127,7 +129,7 @@ class Result:
 
 
 def analyse(model, ds, effects=None, n_blocks=8, min_gain=0.05, holdout=None, also=(), progress=None,
-            n_refine=grammar.REFINE, use_grammar=True):
+            n_refine=grammar.REFINE, use_grammar=True, jobs=1):
     """Rank the candidate effects on held-out data. holdout: 'blocks:N'
     (default blocks:n_blocks) or 'forward:F'; also: further hold-out specs
     on which the chosen effect is re-fitted and scored, for the report
@@ -136,7 +138,9 @@ def analyse(model, ds, effects=None, n_blocks=8, min_gain=0.05, holdout=None, al
     named forms beside it, default effects.tyre_specials()); any other model
     with `effects` (default effects.all_effects()). use_grammar=False: a tyre
     model with the named effects only (every tyre and sensor effect of
-    effects.all_effects(), none gated), selected by the same criterion."""
+    effects.all_effects(), none gated), selected by the same criterion.
+    jobs > 1: the grammar's refinement runs in that many processes on
+    records of PARALLEL_ROWS rows or more."""
     t_start = time.process_time()
     holdout = holdout or f"blocks:{n_blocks}"
     train, test = holdout_masks(len(ds), holdout)
@@ -165,7 +169,7 @@ def analyse(model, ds, effects=None, n_blocks=8, min_gain=0.05, holdout=None, al
     search = {}
     if kind == "tire":
         ranked, skipped, preds, by_name, search = _tyre_search(model, ds, base, train, test, scale, effects,
-                                                                progress, n_refine, evaluate, use_grammar)
+                                                                progress, n_refine, evaluate, use_grammar, jobs)
         chosen, ties, n_eff = _select(ranked, ds, preds, test, scale, den)
         search["n_eff"] = n_eff
     else:
@@ -227,7 +231,36 @@ def analyse(model, ds, effects=None, n_blocks=8, min_gain=0.05, holdout=None, al
                   search=search, scale=scale)
 
 
-def _tyre_search(model, ds, base, train, test, scale, effects, progress, n_refine, evaluate, use_grammar=True):
+_POOL_ARGS = None
+
+
+def _refine_job(i):
+    ctx, top, train, scale = _POOL_ARGS
+    return grammar.refine(ctx, top[i], train, scale)
+
+
+def _refine_all(ctx, top, train, scale, jobs, prog):
+    """grammar.refine of every screened pair in top; in `jobs` forked
+    processes when the record is long."""
+    global _POOL_ARGS
+    if jobs > 1 and ctx.n >= PARALLEL_ROWS and len(top) > 1:
+        import multiprocessing as mp
+        prog(f"fit {len(top)} pairs in {jobs} processes")
+        _POOL_ARGS = (ctx, top, train, scale)
+        try:
+            with mp.get_context("fork").Pool(jobs) as pool:
+                return pool.map(_refine_job, range(len(top)))
+        finally:
+            _POOL_ARGS = None
+    out = []
+    for sc in top:
+        prog(f"fit {sc.spec.name}")
+        out.append(grammar.refine(ctx, sc, train, scale))
+    return out
+
+
+def _tyre_search(model, ds, base, train, test, scale, effects, progress, n_refine, evaluate, use_grammar=True,
+                 jobs=1):
     """The grammar's candidates (screened, the best refined) and the named
     tyre forms. Returns ranked (unsorted), skipped, preds, by_name, info."""
     t0 = time.process_time()
@@ -262,9 +295,14 @@ def _tyre_search(model, ds, base, train, test, scale, effects, progress, n_refin
             continue
         top.append(sc)
         n_t[t], n_d[d] = n_t.get(t, 0) + 1, n_d.get(d, 0) + 1
-    for sc in top:
-        prog(f"fit {sc.spec.name}")
-        x = grammar.refine(ctx, sc, train, scale)
+    # every refined target's constant change is refined too: a modulation
+    # must beat the constant change of the same target
+    fams = {sc.spec.family for sc in top}
+    for sc in screened:
+        t, d = sc.spec.family
+        if d == "const" and t in n_t and (t, d) not in fams:
+            top.append(sc)
+    for sc, x in zip(top, _refine_all(ctx, top, train, scale, jobs, prog)):
         pr = sc.spec.predict(ctx, x)
         e = grammar.GrammarEffect(sc.spec, ctx.u_ref)
         c = evaluate(sc.spec.name, x, pr, sc.k, e.onboard, e, sc.spec.family, sc.spec.description(),
@@ -326,7 +364,7 @@ def _select(ranked, ds, preds, test, scale, den):
     if not acc:
         return None, [], n_eff
     band = [c for c in acc if c.ic <= acc[0].ic + TIE_IC]
-    chosen = min(band, key=lambda c: (c.k, c.ic))
+    chosen = min(band, key=lambda c: (c.k, c.family[1:] != ("const",), c.ic))
     if chosen.kind == "grammar":
         named = [c for c in acc if c.kind == "named" and chosen.family in c.families
                  and 1.0 - c.score >= (1.0 - chosen.score) * (1.0 - SPECIAL_TOL)]

@@ -469,6 +469,8 @@ class Outcome:
     params: dict
     truth: dict
     correction: str = ""
+    ranked: list = field(default_factory=list)   # every ranked candidate (name, family, k, score, IC, ...)
+    n_eff: float = 0.0
 
     @property
     def ok(self):
@@ -500,7 +502,10 @@ def assess(ds, truth, res):
                    bool(halved), bool(big), float(worse), len(ds),
                    float(res.search.get("cpu_s", 0.0)), per, float(c.score if c else 1.0),
                    dict(c.params) if c else {}, dict(truth.params),
-                   res.correction.summary() if res.correction is not None else "")
+                   res.correction.summary() if res.correction is not None else "",
+                   [{"name": d.name, "family": list(d.family), "families": [list(f) for f in d.families],
+                     "k": d.k, "score": d.score, "ic": d.ic, "kind": d.kind, "accepted": d.accepted,
+                     "ho_rms": dict(d.ho_rms)} for d in res.ranked], float(res.search.get("n_eff", 0.0)))
 
 
 def run_one(args):

@@ -144,7 +144,7 @@ def main(argv=None):
     ap.add_argument("--benchmark", type=int, metavar="N", help="run the generality benchmark on N generated sets")
     ap.add_argument("--duration", type=float, default=150.0, help="benchmark: record length [s]")
     ap.add_argument("--rate", type=float, default=40.0, help="benchmark: sample rate [Hz]")
-    ap.add_argument("--jobs", type=int, default=2, help="benchmark: processes")
+    ap.add_argument("--jobs", type=int, default=2, help="processes (the benchmark's sets; the refinement of long records)")
     ap.add_argument("-o", "--outdir", "--out", default="build/analyze")
     a = ap.parse_args(argv)
     if a.benchmark:
@@ -196,7 +196,7 @@ def main(argv=None):
         ap.error(str(e))
     also = [h for h in ("blocks:8", "forward:0.3") if h != a.holdout]
     res = attribution.analyse(model, ds, holdout=a.holdout, also=also,
-                              progress=progress, use_grammar=not a.named_only)
+                              progress=progress, use_grammar=not a.named_only, jobs=max(a.jobs, 1))
     progress_end()
     path, upd = report.write(res, ds, model, a.outdir)
     print(attribution.verdict(res))

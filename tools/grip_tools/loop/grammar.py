@@ -56,8 +56,10 @@ A_MAX = 16.0                  # |vx| dt / sigma beyond this is a full step (lib/
 TAU_GRID = (0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0, 128.0, 256.0, 512.0)  # s: state time constants screened
 TAU_GRID2 = (0.5, 2.0, 8.0, 32.0, 128.0, 512.0)  # s: the pairs (tau1 < tau2) screened for two-node states
 FIT_ROWS = 4000               # training rows the nonlinear fit uses at most (evenly strided)
+SCREEN_ROWS = 20000           # rows the linear screening uses at most (every k-th row)
 REFINE = 10                   # pairs refined with the full model
-REFINE_PER = 3                # ... at most this many with one target, and with one driver
+REFINE_PER = 3                # ... at most this many with one target, and with one driver (plus the
+                              # constant change of every target among them)
 LAMBDA_MIN = 0.05             # a modulated scaling factor is kept above this
 
 
@@ -93,6 +95,14 @@ def state_series(u, t, tau_heat, tau_rec):
     x_i = x_{i-1} + (1 - exp(-dt_i / tau)) (u_i - x_{i-1}), tau = tau_heat
     while u_i > x_{i-1}, tau_rec otherwise."""
     dt = np.diff(np.asarray(t, dtype=float), prepend=t[0])
+    u = np.asarray(u, dtype=float)
+    if tau_heat == tau_rec and len(dt) > 2 and np.ptp(dt[1:]) <= 1e-9 * dt[1]:
+        # one time constant, a constant step: the same recurrence as a filter
+        from scipy.signal import lfilter
+        g = -math.expm1(-dt[1] / max(tau_heat, 1e-6))
+        v = u.copy()
+        v[0] = 0.0                  # dt_0 = 0: x_0 = 0
+        return lfilter([g], [1.0, g - 1.0], v)
     gh = (-np.expm1(-dt / max(tau_heat, 1e-6))).tolist()
     gr = (-np.expm1(-dt / max(tau_rec, 1e-6))).tolist()
     ul = np.asarray(u, dtype=float).tolist()
@@ -143,6 +153,7 @@ class Context:
         self._cols = {}
         self._states = {}
         self._sym = {}
+        self.ones = np.ones(self.n)
         self._rows = {}
         self.sources = self._sources()
         if u_ref is None:
@@ -565,13 +576,13 @@ class StateDriver(Driver):
     def columns(self, ctx, p):
         th, tr = float(p[0]), float(p[1])
         if th == tr:
-            return [np.ones(ctx.n), ctx.lag(self.source, th)]
+            return [ctx.ones, ctx.lag(self.source, th)]
         key = (self.name, th, tr)
         if key not in ctx._states:
             if len(ctx._states) >= 32:               # a small FIFO: the fit asks for new taus each step
                 del ctx._states[next(iter(ctx._states))]
             u = ctx.sources[self.source] / ctx.u_ref[self.source]
-            ctx._states[key] = [np.ones(ctx.n), state_series(u, ctx.t, th, tr)]
+            ctx._states[key] = [ctx.ones, state_series(u, ctx.t, th, tr)]
         return ctx._states[key]
 
     def tau_max(self, ctx):
@@ -608,7 +619,7 @@ class TwoNodeDriver(StateDriver):
         self.name = f"state2:{source}"
 
     def columns(self, ctx, p):
-        return [np.ones(ctx.n), ctx.lag(self.source, float(p[0])), ctx.lag(self.source, float(p[1]))]
+        return [ctx.ones, ctx.lag(self.source, float(p[0])), ctx.lag(self.source, float(p[1]))]
 
     def grid(self, ctx):
         g = [a for a, _ in StateDriver.grid(self, ctx) if a in TAU_GRID2]
@@ -638,28 +649,28 @@ def _dv(ctx):
 def drivers():
     var = lambda name, tol: (lambda ctx: (bool(np.std(getattr(ctx, name)) > tol), f"{name} constant"))  # noqa: E731
     return [
-        SimpleDriver("const", ("1",), lambda c: [np.ones(c.n)], "a constant change"),
+        SimpleDriver("const", ("1",), lambda c: [c.ones], "a constant change"),
         SimpleDriver("dfz", ("dfz",), lambda c: [_dfz(c)], "load dfz = (Fz - FNOMIN) / FNOMIN",
                      var("fz", 1.0)),
-        SimpleDriver("dfz2", ("1", "dfz", "dfz^2"), lambda c: [np.ones(c.n), _dfz(c), _dfz(c) ** 2],
+        SimpleDriver("dfz2", ("1", "dfz", "dfz^2"), lambda c: [c.ones, _dfz(c), _dfz(c) ** 2],
                      "load, a quadratic in dfz", var("fz", 1.0)),
         SimpleDriver("gamma", ("gamma",), lambda c: [c.gamma], "camber [rad]", var("gamma", 1e-4)),
-        SimpleDriver("gamma2", ("1", "gamma", "gamma^2"), lambda c: [np.ones(c.n), c.gamma, c.gamma ** 2],
+        SimpleDriver("gamma2", ("1", "gamma", "gamma^2"), lambda c: [c.ones, c.gamma, c.gamma ** 2],
                      "camber, a quadratic", var("gamma", 1e-4)),
         SimpleDriver("dpi", ("dpi",), lambda c: [_dpi(c)], "inflation pressure dpi = (p - NOMPRES) / NOMPRES",
                      var("p", 100.0)),
-        SimpleDriver("dpi2", ("1", "dpi", "dpi^2"), lambda c: [np.ones(c.n), _dpi(c), _dpi(c) ** 2],
+        SimpleDriver("dpi2", ("1", "dpi", "dpi^2"), lambda c: [c.ones, _dpi(c), _dpi(c) ** 2],
                      "pressure, a quadratic", var("p", 100.0)),
         SimpleDriver("vs", ("vs",), lambda c: [c.sources["slip"] * np.abs(c.vx) / c.longvl],
                      "slip speed Vs / LONGVL"),
         SimpleDriver("v", ("dv",), lambda c: [_dv(c)], "speed (|vx| - LONGVL) / LONGVL", var("vx", 0.3)),
-        SimpleDriver("v2", ("1", "dv", "dv^2"), lambda c: [np.ones(c.n), _dv(c), _dv(c) ** 2], "speed, a quadratic",
+        SimpleDriver("v2", ("1", "dv", "dv^2"), lambda c: [c.ones, _dv(c), _dv(c) ** 2], "speed, a quadratic",
                      var("vx", 0.3)),
         SimpleDriver("fx", ("fx",), lambda c: [c.base["fx"] / c.fz0],
                      "the base model's Fx / FNOMIN (compliance, cross-talk)", _has_fx),
         SimpleDriver("fy", ("fy",), lambda c: [c.base["fy"] / c.fz0],
                      "the base model's Fy / FNOMIN (compliance, cross-talk)", _has_fy),
-        SimpleDriver("time", ("1", "t_ks"), lambda c: [np.ones(c.n), (c.t - c.t[0]) / 1000.0],
+        SimpleDriver("time", ("1", "t_ks"), lambda c: [c.ones, (c.t - c.t[0]) / 1000.0],
                      "time since the record's start [ks], with an offset"),
         StateDriver("energy", "first-order state of the friction power |F| Vs (heating / recovery)"),
         StateDriver("slip", "first-order state of the combined slip sqrt(kappa^2 + tan^2 alpha)"),
@@ -797,10 +808,50 @@ def _norm_resid(ctx, scale):
     return {o: (ctx.ds.ch[o] - ctx.base[o]) / scale[o] for o in ctx.ds.outputs}
 
 
+class _ColumnLibrary:
+    """Every distinct driver column of the screening grid once, as rows of
+    Gtr (training rows) and Gte (held-out rows); columns(driver, p) gives
+    a pair's row indices (the offset column and a state of one time
+    constant are shared by all drivers and grid points that use them)."""
+
+    def __init__(self, ctx, specs, train, test):
+        self.keys = {}
+        self.map = {}
+        arrays = []
+        seen = set()
+        for s in specs:
+            d = s.driver
+            if s.target.grid(ctx) is not None or d.name in seen:
+                continue
+            seen.add(d.name)
+            for p in d.grid(ctx):
+                idx = []
+                for col in d.columns(ctx, p):
+                    k = id(col)
+                    if k not in self.keys:
+                        self.keys[k] = len(arrays)
+                        arrays.append(col)
+                    idx.append(self.keys[k])
+                self.map[(d.name, tuple(p))] = idx
+        self.arrays = arrays                     # keeps the columns alive (their ids are the keys)
+        A = np.array(arrays) if arrays else np.zeros((0, ctx.n))
+        self.Gtr = A[:, train]
+        self.Gte = A[:, test]
+
+    def columns(self, driver, p):
+        return self.map[(driver.name, tuple(p))]
+
+
 def screen(ctx, specs, train, test, scale, progress=None):
     """The linear fit of every pair: returns Screened rows (best time
-    constant of the grid for states), unsorted."""
+    constant of the grid for states), unsorted. Records longer than
+    SCREEN_ROWS are screened on every k-th row (states, lags and model
+    sensitivities still come from the whole record)."""
     outs = ctx.ds.outputs
+    if ctx.n > SCREEN_ROWS:
+        keep = np.zeros(ctx.n, bool)
+        keep[::int(math.ceil(ctx.n / SCREEN_ROWS))] = True
+        train, test = train & keep, test & keep
     r = _norm_resid(ctx, scale)
     rr_tr = sum(float(np.dot(r[o][train], r[o][train])) for o in outs)
     rr_te = sum(float(np.dot(r[o][test], r[o][test])) for o in outs)
@@ -808,7 +859,7 @@ def screen(ctx, specs, train, test, scale, progress=None):
     for s in specs:
         by_target.setdefault(s.target.name, []).append(s)
     rows = []
-    gcache = {}
+    lib = _ColumnLibrary(ctx, specs, train, test)
     for ti, (tname, specs_t) in enumerate(by_target.items()):
         if progress is not None:
             progress(tname)
@@ -833,33 +884,46 @@ def screen(ctx, specs, train, test, scale, progress=None):
         Jn = [{o: J[j][o] / scale[o] for o in outs} for j in range(nj)]
         W = [[sum(Jn[a][o] * Jn[b][o] for o in outs) for b in range(nj)] for a in range(nj)]
         R = [sum(Jn[a][o] * r[o] for o in outs) for a in range(nj)]
-        Wtr = [[w[train] for w in row] for row in W]
-        Wte = [[w[test] for w in row] for row in W]
-        Rtr = [x[train] for x in R]
-        Rte = [x[test] for x in R]
+        # Gram matrices of every driver column of this target's pairs, for all
+        # (a, a2) at once: M[a][a2][c, c2] = sum_rows W_aa2 g_c g_c2
+        need = {}
+        for s in specs_t:
+            for p in s.driver.grid(ctx):
+                for col in lib.columns(s.driver, p):
+                    need[col] = True
+        cols = sorted(need)
+        pos = {c: k for k, c in enumerate(cols)}
+        Gtr, Gte = lib.Gtr[cols], lib.Gte[cols]
+        M, Mt, bv, bvt = {}, {}, [], []
+        for a in range(nj):
+            bv.append(Gtr @ R[a][train])
+            bvt.append(Gte @ R[a][test])
+            for a2 in range(a, nj):
+                w = W[a][a2]
+                if not np.any(w):
+                    M[a, a2] = M[a2, a] = np.zeros((len(cols), len(cols)))
+                    Mt[a, a2] = Mt[a2, a] = M[a, a2]
+                    continue
+                M[a, a2] = (Gtr * w[train]) @ Gtr.T
+                Mt[a, a2] = (Gte * w[test]) @ Gte.T
+                M[a2, a], Mt[a2, a] = M[a, a2].T, Mt[a, a2].T
         for s in specs_t:
             best = None
             for p in s.driver.grid(ctx):
-                key = (s.driver.name, p)
-                if key not in gcache:
-                    g = s.driver.columns(ctx, p)
-                    gcache[key] = ([gi[train] for gi in g], [gi[test] for gi in g])
-                gtr, gte = gcache[key]
-                nd = len(gtr)
-                idx = [(a, c) for a in range(nj) for c in range(nd)]
-                q = len(idx)
+                ci = [pos[c] for c in lib.columns(s.driver, p)]
+                nd = len(ci)
+                q = nj * nd
                 A = np.empty((q, q))
                 B = np.empty((q, q))
                 b = np.empty(q)
                 bt = np.empty(q)
-                for u, (a, c) in enumerate(idx):
-                    b[u] = float(np.dot(Rtr[a], gtr[c]))
-                    bt[u] = float(np.dot(Rte[a], gte[c]))
-                    for v in range(u, q):
-                        a2, c2 = idx[v]
-                        A[u, v] = A[v, u] = float(np.dot(Wtr[a][a2], gtr[c] * gtr[c2]))
-                        B[u, v] = B[v, u] = float(np.dot(Wte[a][a2], gte[c] * gte[c2]))
-                reg = 1e-9 * (np.trace(A) / q + 1e-30)
+                for a in range(nj):
+                    b[a * nd:(a + 1) * nd] = bv[a][ci]
+                    bt[a * nd:(a + 1) * nd] = bvt[a][ci]
+                    for a2 in range(nj):
+                        A[a * nd:(a + 1) * nd, a2 * nd:(a2 + 1) * nd] = M[a, a2][np.ix_(ci, ci)]
+                        B[a * nd:(a + 1) * nd, a2 * nd:(a2 + 1) * nd] = Mt[a, a2][np.ix_(ci, ci)]
+                reg = 1e-9 * (abs(np.trace(A)) / q + 1e-30)
                 try:
                     th = np.linalg.solve(A + reg * np.eye(q), b)
                 except np.linalg.LinAlgError:
