@@ -46,7 +46,7 @@ pairs by the held-out criterion are then fitted with the full model
 run over the whole record), starting from the linear estimate.
 """
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -451,13 +451,6 @@ class DelayTarget(Target):
         return [{o: -np.gradient(ctx.base[o], ctx.t) for o in ctx.ds.outputs}]
 
 
-def _varies(name, tol):
-    def req(ctx):
-        x = getattr(ctx, name)
-        return (bool(np.std(x) > tol), f"{name} constant")
-    return req
-
-
 def _mf6(ctx):
     return (ctx.mf6, "no pressure terms in MF 5.2")
 
@@ -794,14 +787,6 @@ class Screened:
     s_test: float         # normalised held-out residual sum of squares (linear model)
     s_train: float
     k: int
-
-
-@dataclass
-class Fitted:
-    spec: Spec
-    x: np.ndarray         # theta then driver parameters (physical)
-    pred: dict = field(repr=False, default=None)
-    screened: object = None
 
 
 def _norm_resid(ctx, scale):

@@ -234,9 +234,9 @@ def write(res, ds, model, outdir, title="Residual analysis", prefix=""):
         sr = res.search
         L += ["", "## Search", "",
               f"Grammar: {sr.get('pairs', 0)} (target x driver) pairs screened with a linear fit "
-              f"({sr.get('cpu_screen_s', 0.0):.1f} s CPU), the best {sr.get('refined', 0)} refined with the full "
-              f"model ({sr.get('cpu_refine_s', 0.0):.1f} s), named forms {sr.get('cpu_named_s', 0.0):.1f} s; "
-              f"total {sr.get('cpu_s', 0.0):.1f} s CPU. Criterion: held-out BIC, IC = N_eff ln(S/S_0) + k ln N_eff, "
+              f"({sr.get('wall_screen_s', 0.0):.1f} s), the best {sr.get('refined', 0)} refined with the full "
+              f"model ({sr.get('wall_refine_s', 0.0):.1f} s), named forms {sr.get('wall_named_s', 0.0):.1f} s; "
+              f"analysis {sr.get('wall_s', 0.0):.1f} s wall. Criterion: held-out BIC, IC = N_eff ln(S/S_0) + k ln N_eff, "
               f"N_eff = {sr.get('n_eff', 0.0):.0f}; accepted when IC < 0 and the score is at most "
               f"{1 - attribution.MIN_GAIN:.2f}.", "",
               "Best screened pairs (linear held-out score): "
