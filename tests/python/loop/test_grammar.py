@@ -4,7 +4,8 @@ a fixed list missed (a load dependence quadratic in dfz; inflation pressure
 that heats in blocks and recovers in rests, on rig data with measured Fz),
 the .tir update of a constant scaling change, `grip analyze apply` with a
 state-driven update on another record of the same tyre, and the
-non-parametric correction when no candidate explains the residual."""
+non-parametric correction when no candidate explains the residual (a
+hysteresis over the sweep direction)."""
 import contextlib
 import io
 import json
@@ -181,6 +182,42 @@ class Updates(unittest.TestCase):
             before = np.sqrt(np.mean((back.ch["mz"] - back.ch["mz_model"]) ** 2))
             after = np.sqrt(np.mean((back.ch["mz"] - back.ch["mz_updated"]) ** 2))
             self.assertLess(after, 0.5 * before)
+
+
+class Correction(unittest.TestCase):
+    def test_no_physical_effect_gets_a_correction(self):
+        """Friction higher while the slip angle grows than while it falls (a
+        hysteresis: no grammar driver is the sweep direction): nothing is
+        named, the verdict says so, and the non-parametric correction
+        explains the held-out residual, is written to update.json and
+        applied to the data again."""
+        ds, truth = benchmark.generate("null", seed=3)
+        m = model()
+        a = ds.ch["alpha"]
+        f = 1.0 + 0.08 * np.tanh(np.gradient(a, ds.t) * np.sign(a) / 0.02)
+        out = m.predict(ds.ch, {"lmuy": f, "lmux": f})
+        rng = np.random.default_rng(3)
+        for o in ds.outputs:
+            ds.ch[o] = out[o] + truth.floor[o] * rng.standard_normal(len(ds))
+        res = attribution.analyse(m, ds, holdout="forward:0.3")
+        verdict = attribution.verdict(res)
+        print(f"\n  sweep-direction hysteresis: {verdict[-330:]}")
+        self.assertIsNone(res.chosen)
+        self.assertIn("no physical effect identified", verdict)
+        k = res.correction
+        self.assertTrue(k is not None and k.useful)
+        self.assertLess(k.ho_rms["fy"], 0.6 * k.base_ho_rms["fy"])
+        with tempfile.TemporaryDirectory() as d:
+            _, upd = report.write(res, ds, m, d)
+            self.assertIsNone(upd["effect"])
+            self.assertEqual(upd["correction"]["drivers"], k.drivers)
+            csv = os.path.join(d, "x.csv")
+            loop_io.write_csv(csv, ds)
+            code, text, _ = grip("analyze", "apply", os.path.join(d, "update.json"), csv, "--tir", datasets.TIR,
+                                 "-o", os.path.join(d, "p.csv"))
+            self.assertEqual(code, 0)
+            back = loop_io.read_csv(os.path.join(d, "p.csv"))
+            np.testing.assert_allclose(back.ch["fy_updated"], k.pred["fy"], rtol=1e-6, atol=1e-3)
 
 
 if __name__ == "__main__":
