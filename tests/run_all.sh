@@ -57,7 +57,8 @@ step static sh tests/static/run_static.sh
 step vm sh tests/vm/run_vcan_test.sh
 step badinput sh tests/badinput/run_badinput.sh --only grip-replay
 step badinput_fixed sh tests/badinput/run_badinput.sh --only grip-replay --bin build/fixed-gcc/bin
-step python env GRIP_TIRE_BIN=build/float-gcc/bin/grip-tire .venv/bin/python tests/python/run.py
+# the Python modules in two processes (CI has two cores; the step runs alone)
+step python env GRIP_TEST_JOBS=2 GRIP_TIRE_BIN=build/float-gcc/bin/grip-tire .venv/bin/python tests/python/run.py
 # The command-line program again, on the fixed build.
 step python_grip_tire_fixed env GRIP_TIRE_BIN=build/fixed-gcc/bin/grip-tire \
     .venv/bin/python tests/python/run.py 'test_grip_tire*.py'

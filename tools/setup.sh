@@ -42,3 +42,13 @@ if [ ! -x .venv/bin/grip ] || [ ! -f "$PKG_STAMP" ] || ! cmp -s tools/pyproject.
     .venv/bin/pip install -q --disable-pip-version-check --no-deps -e tools
     cp tools/pyproject.toml "$PKG_STAMP"
 fi
+# The Python binding (tools/grip) holds lib/ compiled into two C extensions
+# by that install: compile them again when a C source or header of lib/,
+# include/ or port/linux/, or their build script, changed since (only the
+# changed objects are recompiled), so that `import grip` runs this clone's C.
+SO=$(ls tools/grip/_grip_f32*.so 2>/dev/null | head -n 1)
+if [ -z "$SO" ] || [ -n "$(find lib include port/linux tools/setup.py tools/grip/_build.py \
+        -newer "$SO" \( -name '*.c' -o -name '*.h' -o -name '*.py' \) 2>/dev/null | head -n 1)" ]; then
+    echo "setup: compiling lib/ into the Python binding (tools/grip)"
+    .venv/bin/pip install -q --disable-pip-version-check --no-deps -e tools
+fi

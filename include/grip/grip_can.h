@@ -67,12 +67,45 @@ typedef struct {
 
 typedef enum { GRIP_CAN_INTEL = 0, GRIP_CAN_MOTOROLA = 1 } grip_can_byte_order_t;
 
+/* Checksum families, named as opendbc names each car family's scheme
+ * (docs/can-families.md; Python reference: tools/grip_tools/can/checksums.py).
+ * The checksum lies in a field of the message (checksum_start/_length/
+ * _order); grip_can_table_check refuses a field the family does not use. */
 typedef enum {
     GRIP_CAN_CSUM_NONE = 0,
     /* Toyota: (id & 0xFF) + (id >> 8 & 0xFF) + (id >> 16 & 0xFF) + (id >> 24)
      * + length + every payload byte except the checksum byte, modulo 256 */
-    GRIP_CAN_CSUM_TOYOTA = 1
+    GRIP_CAN_CSUM_TOYOTA = 1,
+    /* Honda: 8 - (nibbles of the id + every payload nibble except the
+     * checksum, the low nibble of the last byte), + 3 for 29-bit ids, mod 16 */
+    GRIP_CAN_CSUM_HONDA = 2,
+    /* Hyundai/Kia CAN FD: CRC-16 poly 0x1021 init 0 over bytes 2.., then the
+     * id's low and high byte, XOR a constant of the length; bytes 0-1 */
+    GRIP_CAN_CSUM_HKG_CAN_FD = 3,
+    /* classic Hyundai/Kia: (16 - every payload nibble but the checksum's) mod 16 */
+    GRIP_CAN_CSUM_HYUNDAI = 4,
+    /* classic Hyundai/Kia WHL_SPD11: 1 bits outside bits 6-7 of bytes 1, 3,
+     * 5, 7, XOR 9, mod 16; checksum in bits 6-7 of bytes 5 (low) and 7 (high) */
+    GRIP_CAN_CSUM_HYUNDAI_WHL_SPD = 5,
+    /* Volkswagen MQB (AUTOSAR E2E profile 2): CRC-8 poly 0x2F init 0xFF over
+     * bytes 1.., then magic[counter] (counter: low nibble of byte 1), XOR 0xFF; byte 0 */
+    GRIP_CAN_CSUM_VOLKSWAGEN_MQB = 6,
+    /* Subaru: bytes of the id + bytes 1.., mod 256; byte 0 */
+    GRIP_CAN_CSUM_SUBARU = 7,
+    /* Chrysler: CRC-8 poly 0x1D init 0xFF XOR 0xFF over all bytes but the last; last byte */
+    GRIP_CAN_CSUM_CHRYSLER = 8,
+    /* FCA Giorgio: CRC-8 poly 0x1D init 0 over all bytes but the last, XOR magic[0]; last byte */
+    GRIP_CAN_CSUM_FCA_GIORGIO = 9,
+    /* Nissan: CRC-8 poly 0x1D init 0 XOR 0xFF over all bytes but the last; last byte */
+    GRIP_CAN_CSUM_NISSAN = 10,
+    /* Ford: 0xFF - sum of the protected fields (ids 0x415 and 0x91 only) */
+    GRIP_CAN_CSUM_FORD = 11,
+    /* XOR of every payload byte but the checksum byte (Volkswagen PQ) */
+    GRIP_CAN_CSUM_XOR = 12,
+    GRIP_CAN_CSUM_COUNT = 13
 } grip_can_checksum_t;
+
+#define GRIP_CAN_MAGIC_LEN 16u         /* per-message checksum constants */
 
 typedef enum {
     GRIP_CAN_ROLE_VALUE = 0,       /* scaled and summed into its input */
@@ -87,10 +120,14 @@ typedef struct {
     uint8_t n_signals;
     uint8_t len;              /* the payload length a frame must have */
     uint8_t checksum;         /* grip_can_checksum_t */
-    uint8_t checksum_byte;    /* byte holding the checksum */
+    uint8_t checksum_length;  /* bits of the checksum field (0 without checksum) */
+    uint8_t checksum_order;   /* grip_can_byte_order_t of the checksum field */
+    uint16_t checksum_start;  /* DBC start bit of the checksum field */
     uint8_t counter_length;   /* 0: no rolling counter; else its bits (<= 8) */
     uint8_t counter_order;    /* grip_can_byte_order_t of the counter */
     uint16_t counter_start;   /* DBC start bit of the counter */
+    uint8_t magic[GRIP_CAN_MAGIC_LEN]; /* Volkswagen MQB: the byte of each counter value;
+                                        * FCA Giorgio: [0] = final XOR; else unused (0) */
 } grip_can_message_t;
 
 typedef struct {
@@ -143,6 +180,21 @@ grip_status_t grip_can_extract(const uint8_t *data, uint32_t len, uint32_t start
 #define grip_can_toyota_checksum GRIP_TYPED(grip_can_toyota_checksum)
 /* The Toyota checksum of a frame whose checksum sits in byte csum_byte. */
 uint8_t grip_can_toyota_checksum(uint32_t id, const uint8_t *data, uint32_t len, uint32_t csum_byte);
+
+#define grip_can_checksum_compute GRIP_TYPED(grip_can_checksum_compute)
+/* The checksum a frame of message m with this payload must carry (the
+ * family, field and magic bytes of m; the id is m's). 0 for
+ * GRIP_CAN_CSUM_NONE, a NULL argument or a field the family does not use. */
+uint32_t grip_can_checksum_compute(const grip_can_message_t *m, const uint8_t *data, uint32_t len);
+
+#define grip_can_checksum_received GRIP_TYPED(grip_can_checksum_received)
+/* The checksum the payload carries in m's checksum field (0 on error). */
+uint32_t grip_can_checksum_received(const grip_can_message_t *m, const uint8_t *data, uint32_t len);
+
+#define grip_can_checksum_name GRIP_TYPED(grip_can_checksum_name)
+/* The family's name as the text form writes it ("none", "toyota", ...), or
+ * NULL for an unknown value. */
+const char *grip_can_checksum_name(uint32_t checksum);
 
 #define grip_can_find_message GRIP_TYPED(grip_can_find_message)
 /* Index of the message with this id (flags other than EFF ignored), or -1. */
@@ -275,7 +327,8 @@ typedef struct {
     uint32_t names_used;
     uint32_t lines;
     uint8_t have_header;
-    uint8_t pad[3];
+    uint8_t version;                 /* of the header: 1 or 2 */
+    uint8_t pad[2];
     grip_can_table_t table;
 } grip_can_table_text_t;
 

@@ -114,7 +114,7 @@ typedef struct {
     grip_est_tire_t tire[2];   /* front, rear axle; the tires' lateral relaxation
                                 * length comes from the parameter set (C_alpha /
                                 * LATERAL_STIFFNESS, else PTY1 / PTY2, else none:
-                                * docs/estimator.md, "Tire relaxation")       */
+                                * docs/estimator.md, "4. Lateral filter")       */
 } grip_est_config_t;
 
 /* ---- outputs ---- */

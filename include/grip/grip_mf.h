@@ -35,7 +35,10 @@ typedef struct {
 #define GRIP_MF_OPT_MIRROR       (1u << 2) /* mirror once more (alpha, gamma, Fy, Mz)           */
 #define GRIP_MF_OPT_RIGHT_SIDE   (1u << 3) /* tyre on the right: mirror if tyreside == +1 instead */
 #define GRIP_MF_OPT_SAE          (1u << 4) /* inputs/outputs in the SAE J670 tyre axis system   */
-#define GRIP_MF_OPT_ALL          (0x1Fu)
+#define GRIP_MF_OPT_MZ52_SVYK_CAMBER (1u << 5) /* MF 5.2 combined Mz: Fy' = Fy - SVyk with the    */
+                                               /* cambered mu_y (grip's earlier form) instead of  */
+                                               /* MFeval's mu_y at gamma = 0; no effect on MF 6.x */
+#define GRIP_MF_OPT_ALL          (0x3Fu)
 
 /* Valid input domain (plain constants: wrap them in GRIP_QS()/GRIP_QL() or
  * cast them); inputs beyond it are clamped and GRIP_WARN_CLAMPED is
@@ -68,9 +71,69 @@ typedef struct {
     grip_real_t mz;      /* QL  aligning moment [N m]     */
 } grip_mf_output;
 
+/* ------------------------------------------------------------------------
+ * Extended outputs: MFeval's other output channels (grip_mf_eval_ext).
+ * Bits (bit n = channel n, in the order of grip_mf_output_ext) of the
+ * `outputs` request and of grip_mf_output_ext.valid; each channel in SI
+ * units, in the format stated (QS = Q15.16, QL = Q23.8 in the
+ * fixed build). docs/magic-formula-c.md section 8 gives each channel's
+ * equations, validity and accuracy.
+ */
+#define GRIP_MF_EXT_RE      0x00001u /* QS  effective rolling radius Re [m]                 */
+#define GRIP_MF_EXT_OMEGA   0x00002u /* QS  wheel spin (1 + kappa) vx / Re [rad/s]          */
+#define GRIP_MF_EXT_RL      0x00004u /* QS  loaded radius [m] (MF 6.2: its vertical model)   */
+#define GRIP_MF_EXT_RHO     0x00008u /* QS  vertical deflection [m]                         */
+#define GRIP_MF_EXT_CZ      0x00010u /* QL  vertical stiffness Fz / rho [N/m]               */
+#define GRIP_MF_EXT_LENGTH  0x00020u /* QS  contact patch length 2a [m]                     */
+#define GRIP_MF_EXT_WIDTH   0x00040u /* QS  contact patch width 2b [m]                      */
+#define GRIP_MF_EXT_T       0x00080u /* QS  pneumatic trail t (combined slip) [m]           */
+#define GRIP_MF_EXT_MZR     0x00100u /* QL  residual aligning moment Mzr [N m]              */
+#define GRIP_MF_EXT_MUX     0x00200u /* QS  longitudinal friction coefficient [-]           */
+#define GRIP_MF_EXT_MUY     0x00400u /* QS  lateral friction coefficient |mu_y| [-]         */
+#define GRIP_MF_EXT_KXK     0x00800u /* QL  longitudinal slip stiffness Kxk [N]             */
+#define GRIP_MF_EXT_KYA     0x01000u /* QL  cornering stiffness Kya [N/rad]                 */
+#define GRIP_MF_EXT_CX      0x02000u /* QL  overall longitudinal stiffness [N/m]            */
+#define GRIP_MF_EXT_CY      0x04000u /* QL  overall lateral stiffness [N/m]                 */
+#define GRIP_MF_EXT_SIGMAX  0x08000u /* QS  longitudinal relaxation length [m]              */
+#define GRIP_MF_EXT_SIGMAY  0x10000u /* QS  lateral relaxation length [m]                   */
+#define GRIP_MF_EXT_MX      0x20000u /* QL  overturning moment Mx [N m]                     */
+#define GRIP_MF_EXT_MY      0x40000u /* QL  rolling resistance moment My [N m]              */
+#define GRIP_MF_EXT_ALL     0x7FFFFu
+
+/* Combined-slip forces and the extended channels. A channel not requested,
+ * or requested but not available (its bit clear in `valid`), is zero. */
+typedef struct {
+    grip_real_t fx;             /* QL  as grip_mf_eval                      */
+    grip_real_t fy;             /* QL                                       */
+    grip_real_t mz;             /* QL                                       */
+    grip_real_t re;             /* QS  [m]      GRIP_MF_EXT_RE              */
+    grip_real_t omega;          /* QS  [rad/s]  GRIP_MF_EXT_OMEGA           */
+    grip_real_t rl;             /* QS  [m]      GRIP_MF_EXT_RL              */
+    grip_real_t rho;            /* QS  [m]      GRIP_MF_EXT_RHO             */
+    grip_real_t cz;             /* QL  [N/m]    GRIP_MF_EXT_CZ              */
+    grip_real_t contact_length; /* QS  [m] 2a   GRIP_MF_EXT_LENGTH          */
+    grip_real_t contact_width;  /* QS  [m] 2b   GRIP_MF_EXT_WIDTH           */
+    grip_real_t t;              /* QS  [m]      GRIP_MF_EXT_T               */
+    grip_real_t mzr;            /* QL  [N m]    GRIP_MF_EXT_MZR             */
+    grip_real_t mux;            /* QS  [-]      GRIP_MF_EXT_MUX             */
+    grip_real_t muy;            /* QS  [-]      GRIP_MF_EXT_MUY             */
+    grip_real_t kxk;            /* QL  [N]      GRIP_MF_EXT_KXK             */
+    grip_real_t kya;            /* QL  [N/rad]  GRIP_MF_EXT_KYA             */
+    grip_real_t cx;             /* QL  [N/m]    GRIP_MF_EXT_CX              */
+    grip_real_t cy;             /* QL  [N/m]    GRIP_MF_EXT_CY              */
+    grip_real_t sigmax;         /* QS  [m]      GRIP_MF_EXT_SIGMAX          */
+    grip_real_t sigmay;         /* QS  [m]      GRIP_MF_EXT_SIGMAY          */
+    grip_real_t mx;             /* QL  [N m]    GRIP_MF_EXT_MX              */
+    grip_real_t my;             /* QL  [N m]    GRIP_MF_EXT_MY              */
+    uint32_t valid;             /* GRIP_MF_EXT_* bits of the channels that  */
+                                /* hold a value                             */
+} grip_mf_output_ext;
+
 #define grip_mf_check_params GRIP_TYPED(grip_mf_check_params)
 #define grip_mf_eval_pure GRIP_TYPED(grip_mf_eval_pure)
 #define grip_mf_eval GRIP_TYPED(grip_mf_eval)
+#define grip_mf_eval_ext GRIP_TYPED(grip_mf_eval_ext)
+#define grip_mf_ext_supported GRIP_TYPED(grip_mf_ext_supported)
 
 /* Validates a parameter set: GRIP_OK, GRIP_ERR_NULL or GRIP_ERR_PARAM:
  * FITTYP not 5, 6, 21, 61, 62; TYRESIDE not +-1; unknown option bits;
@@ -95,5 +158,26 @@ grip_status_t grip_mf_eval_pure(const grip_mf_params *p, const grip_mf_input *in
 
 /* Combined-slip forces and moment Fx, Fy, Mz. Same status rules. */
 grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out);
+
+/* grip_mf_eval's Fx, Fy, Mz and the channels requested in `outputs`
+ * (GRIP_MF_EXT_* bits), from the same evaluation. The status is that of
+ * grip_mf_eval (an unknown bit in `outputs` is GRIP_ERR_INPUT; on every
+ * error all outputs are zero and valid is 0). out->valid holds the bits of
+ * the requested channels that were computed; a requested channel whose bit
+ * is clear is zero and must not be used: its parameters are missing from
+ * the set (see grip_mf_ext_supported), its equation has no solution at this
+ * operating point (MF 6.2 loaded radius) or, in the fixed build, its value
+ * does not fit its format. Fz <= 0: forces, moments, mu, Kxk, Kya, t, rho,
+ * Cz and the contact length are zero; Re, Omega, Rl are those of the
+ * unloaded wheel. Pure function, no loops with a data-dependent count. */
+grip_status_t grip_mf_eval_ext(const grip_mf_params *p, const grip_mf_input *in, uint32_t outputs,
+                               grip_mf_output_ext *out);
+
+/* The GRIP_MF_EXT_* channels the parameter set can give (0 for NULL or an
+ * unusable set): Re, Omega, Rl, rho, Cz and the contact patch need
+ * VERTICAL_STIFFNESS > 0 (and Q_FZ1^2 = (Cz0 R0 / Fz0)^2 - 4 Q_FZ2 >= 0
+ * for Rl, rho, Cz), the contact width WIDTH > 0, Cx and Cy (and, for
+ * MF 6.x, sigma_x and sigma_y) LONGITUDINAL_ / LATERAL_STIFFNESS > 0. */
+uint32_t grip_mf_ext_supported(const grip_mf_params *p);
 
 #endif /* GRIP_MF_H */

@@ -9,7 +9,11 @@
  *   KEY       .tir key; SECTION its [SECTION]
  *   FORMAT    QS or QL fixed-point format (grip_types.h); values in SI units
  *   DEFAULT   value when the key is absent (scaling factors default to 1,
- *             LMUV to 0 as in MF-Tyre, PKY4 to 2 = the MF 5.2 value)
+ *             LMUV to 0 as in MF-Tyre, PKY4 to 2 = the MF 5.2 value). The
+ *             keys of the extended outputs (grip_mf_eval_ext, from
+ *             ASPECT_RATIO on) take MFeval's readTIR defaults, except
+ *             RIM_RADIUS (0: no bottoming check, docs/magic-formula.md);
+ *             WIDTH and the three STIFFNESS keys keep 0 = not given
  *   REQUIRED  1: a file without this key is rejected
  */
 #ifndef GRIP_MF_COEFS_H
@@ -174,6 +178,60 @@
     X(ssz1, SSZ1, ALIGNING_COEFFICIENTS, QS, 0, 0) \
     X(ssz2, SSZ2, ALIGNING_COEFFICIENTS, QS, 0, 0) \
     X(ssz3, SSZ3, ALIGNING_COEFFICIENTS, QS, 0, 0) \
-    X(ssz4, SSZ4, ALIGNING_COEFFICIENTS, QS, 0, 0)
+    X(ssz4, SSZ4, ALIGNING_COEFFICIENTS, QS, 0, 0) \
+    X(aspect_ratio, ASPECT_RATIO, DIMENSION, QS, 0.6, 0) \
+    X(rim_radius, RIM_RADIUS, DIMENSION, QS, 0, 0) \
+    X(q_re0, Q_RE0, VERTICAL, QS, 1, 0) \
+    X(q_v1, Q_V1, VERTICAL, QS, 0, 0) \
+    X(q_v2, Q_V2, VERTICAL, QS, 0, 0) \
+    X(q_fz2, Q_FZ2, VERTICAL, QS, 1.0e-4, 0) \
+    X(q_fcx, Q_FCX, VERTICAL, QS, 0, 0) \
+    X(q_fcy, Q_FCY, VERTICAL, QS, 0, 0) \
+    X(q_fcy2, Q_FCY2, VERTICAL, QS, 0, 0) \
+    X(q_cam1, Q_CAM1, VERTICAL, QS, 0, 0) \
+    X(q_cam2, Q_CAM2, VERTICAL, QS, 0, 0) \
+    X(q_cam3, Q_CAM3, VERTICAL, QS, 0, 0) \
+    X(q_fys1, Q_FYS1, VERTICAL, QL, 0, 0) \
+    X(q_fys2, Q_FYS2, VERTICAL, QL, 0, 0) \
+    X(q_fys3, Q_FYS3, VERTICAL, QL, 0, 0) \
+    X(pfz1, PFZ1, VERTICAL, QS, 0, 0) \
+    X(breff, BREFF, VERTICAL, QS, 8.4, 0) \
+    X(dreff, DREFF, VERTICAL, QS, 0.27, 0) \
+    X(freff, FREFF, VERTICAL, QS, 0.07, 0) \
+    X(bottom_offst, BOTTOM_OFFST, VERTICAL, QS, 0.01, 0) \
+    X(q_a1, Q_A1, VERTICAL, QS, 0, 0) \
+    X(q_a2, Q_A2, VERTICAL, QS, 0, 0) \
+    X(q_ra1, Q_RA1, CONTACT_PATCH, QS, 0.5, 0) \
+    X(q_ra2, Q_RA2, CONTACT_PATCH, QS, 1, 0) \
+    X(q_rb1, Q_RB1, CONTACT_PATCH, QS, 1, 0) \
+    X(q_rb2, Q_RB2, CONTACT_PATCH, QS, -1, 0) \
+    X(lsgkp, LSGKP, SCALING_COEFFICIENTS, QS, 1, 0) \
+    X(lsgal, LSGAL, SCALING_COEFFICIENTS, QS, 1, 0) \
+    X(lmx, LMX, SCALING_COEFFICIENTS, QS, 1, 0) \
+    X(lvmx, LVMX, SCALING_COEFFICIENTS, QS, 1, 0) \
+    X(lmy, LMY, SCALING_COEFFICIENTS, QS, 1, 0) \
+    X(qsx1, QSX1, OVERTURNING_COEFFICIENTS, QS, 0, 0) \
+    X(qsx2, QSX2, OVERTURNING_COEFFICIENTS, QS, 0, 0) \
+    X(qsx3, QSX3, OVERTURNING_COEFFICIENTS, QS, 0, 0) \
+    X(qsx4, QSX4, OVERTURNING_COEFFICIENTS, QS, 5, 0) \
+    X(qsx5, QSX5, OVERTURNING_COEFFICIENTS, QS, 1, 0) \
+    X(qsx6, QSX6, OVERTURNING_COEFFICIENTS, QS, 10, 0) \
+    X(qsx7, QSX7, OVERTURNING_COEFFICIENTS, QS, 0, 0) \
+    X(qsx8, QSX8, OVERTURNING_COEFFICIENTS, QS, 0, 0) \
+    X(qsx9, QSX9, OVERTURNING_COEFFICIENTS, QS, 0.4, 0) \
+    X(qsx10, QSX10, OVERTURNING_COEFFICIENTS, QS, 0, 0) \
+    X(qsx11, QSX11, OVERTURNING_COEFFICIENTS, QS, 5, 0) \
+    X(qsx12, QSX12, OVERTURNING_COEFFICIENTS, QS, 0, 0) \
+    X(qsx13, QSX13, OVERTURNING_COEFFICIENTS, QS, 0, 0) \
+    X(qsx14, QSX14, OVERTURNING_COEFFICIENTS, QS, 0, 0) \
+    X(ppmx1, PPMX1, OVERTURNING_COEFFICIENTS, QS, 0, 0) \
+    X(qsy1, QSY1, ROLLING_COEFFICIENTS, QS, 0.01, 0) \
+    X(qsy2, QSY2, ROLLING_COEFFICIENTS, QS, 0, 0) \
+    X(qsy3, QSY3, ROLLING_COEFFICIENTS, QS, 4.0e-4, 0) \
+    X(qsy4, QSY4, ROLLING_COEFFICIENTS, QS, 4.0e-5, 0) \
+    X(qsy5, QSY5, ROLLING_COEFFICIENTS, QS, 0, 0) \
+    X(qsy6, QSY6, ROLLING_COEFFICIENTS, QS, 0, 0) \
+    X(qsy7, QSY7, ROLLING_COEFFICIENTS, QS, 0.85, 0) \
+    X(qsy8, QSY8, ROLLING_COEFFICIENTS, QS, -0.4, 0)
 
 #endif /* GRIP_MF_COEFS_H */

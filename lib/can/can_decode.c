@@ -140,8 +140,8 @@ uint32_t grip_can_check_frame(const grip_can_table_t *table, uint32_t msg, const
     if (frame->len != m->len) {
         return (uint32_t)GRIP_CAN_FRAME_DLC;
     }
-    if (m->checksum == (uint8_t)GRIP_CAN_CSUM_TOYOTA &&
-        grip_can_toyota_checksum(frame->id, frame->data, frame->len, m->checksum_byte) != frame->data[m->checksum_byte]) {
+    if (m->checksum != (uint8_t)GRIP_CAN_CSUM_NONE &&
+        grip_can_checksum_compute(m, frame->data, frame->len) != grip_can_checksum_received(m, frame->data, frame->len)) {
         return (uint32_t)GRIP_CAN_FRAME_CHECKSUM;
     }
     return (uint32_t)GRIP_CAN_FRAME_OK;
@@ -321,8 +321,9 @@ grip_status_t grip_can_table_check(const grip_can_table_t *table, uint32_t *wher
             (uint32_t)m->first_signal + m->n_signals > table->n_signals ||
             (i > 0u && m->first_signal != table->messages[i - 1u].first_signal + table->messages[i - 1u].n_signals) ||
             (i == 0u && m->first_signal != 0u) ||
-            m->checksum > (uint8_t)GRIP_CAN_CSUM_TOYOTA ||
-            (m->checksum != (uint8_t)GRIP_CAN_CSUM_NONE && m->checksum_byte >= m->len) ||
+            !can_checksum_layout_ok(m) ||
+            (m->checksum != (uint8_t)GRIP_CAN_CSUM_NONE &&
+             !bits_fit(m->checksum_start, m->checksum_length, m->checksum_order, m->len)) ||
             m->counter_length > 8u ||
             (m->counter_length > 0u && !bits_fit(m->counter_start, m->counter_length, m->counter_order, m->len))) {
             return GRIP_ERR_PARAM;

@@ -15,4 +15,8 @@ uint32_t can_id_key(uint32_t id);
  * GRIP_SIG_RANGE (not representable in the fixed build; *out = 0). */
 uint8_t can_scale(int64_t acc, uint32_t shift, uint32_t input, grip_real_t *out);
 
+/* Does m's checksum field suit its family (position, length, message
+ * length; GRIP_CAN_CSUM_NONE always does)? */
+int can_checksum_layout_ok(const grip_can_message_t *m);
+
 #endif /* GRIP_CAN_INTERNAL_H */

@@ -3,14 +3,21 @@
  * time, into caller-owned storage (grip_can.h). The form, written by
  * `python -m grip_tools can-table` (docs/can.md):
  *
- *   grip-can-table 1 NAME
- *   msg NAME ID LEN PERIOD_US CHECKSUM CHECKSUM_BYTE COUNTER_START COUNTER_LENGTH COUNTER_ORDER
+ *   grip-can-table 2 NAME
+ *   msg NAME ID LEN PERIOD_US CHECKSUM CHECKSUM_START CHECKSUM_LENGTH CHECKSUM_ORDER
+ *       COUNTER_START COUNTER_LENGTH COUNTER_ORDER MAGIC                 (one line)
  *   sig NAME INPUT ROLE START LENGTH ORDER SIGNED SHIFT K C RAW_MIN RAW_MAX
  *
  * ID is the table key (29-bit ids carry 0x80000000); numbers are decimal
- * or 0x-hex; CHECKSUM is none|toyota, ORDER intel|motorola, ROLE
- * value|qualifier, INPUT an input name of grip_signals.h. Each sig line
- * belongs to the msg line before it.
+ * or 0x-hex; CHECKSUM a family name (grip_can_checksum_name: none, toyota,
+ * honda, ...), ORDER intel|motorola, MAGIC the 16 magic bytes as 32 hex
+ * digits or '-' (none), ROLE value|qualifier, INPUT an input name of
+ * grip_signals.h. Each sig line belongs to the msg line before it.
+ *
+ * Version 1 (`grip-can-table 1`), still read and written for tables that
+ * need no more, has msg lines
+ *   msg NAME ID LEN PERIOD_US CHECKSUM CHECKSUM_BYTE COUNTER_START COUNTER_LENGTH COUNTER_ORDER
+ * with CHECKSUM none|toyota and the checksum in byte CHECKSUM_BYTE.
  */
 #include <stddef.h>
 
@@ -135,6 +142,7 @@ grip_status_t grip_can_table_text_init(grip_can_table_text_t *b)
     b->names_used = 0u;
     b->lines = 0u;
     b->have_header = 0u;
+    b->version = 0u;
     b->names[0] = '\0';
     b->table.name = b->names;
     b->table.messages = b->messages;
@@ -144,35 +152,110 @@ grip_status_t grip_can_table_text_init(grip_can_table_text_t *b)
     return GRIP_OK;
 }
 
+/* The checksum family named by a token, or -1. */
+static int64_t checksum_of(const token_t *t)
+{
+    uint32_t i;
+    for (i = 0u; i < (uint32_t)GRIP_CAN_CSUM_COUNT; i++) {
+        if (tok_is(t, grip_can_checksum_name(i))) {
+            return (int64_t)i;
+        }
+    }
+    return -1;
+}
+
+static int hex_digit(char c, uint32_t *d)
+{
+    if (c >= '0' && c <= '9') {
+        *d = (uint32_t)(c - '0');
+    } else if (c >= 'a' && c <= 'f') {
+        *d = (uint32_t)(c - 'a') + 10u;
+    } else if (c >= 'A' && c <= 'F') {
+        *d = (uint32_t)(c - 'A') + 10u;
+    } else {
+        return 0;
+    }
+    return 1;
+}
+
+/* MAGIC: '-' (all zero) or exactly 2 * GRIP_CAN_MAGIC_LEN hex digits. */
+static int parse_magic(const token_t *t, uint8_t *magic)
+{
+    uint32_t i;
+    for (i = 0u; i < GRIP_CAN_MAGIC_LEN; i++) {
+        magic[i] = 0u;
+    }
+    if (t->n == 1u && t->p[0] == '-') {
+        return 1;
+    }
+    if (t->n != 2u * GRIP_CAN_MAGIC_LEN) {
+        return 0;
+    }
+    for (i = 0u; i < GRIP_CAN_MAGIC_LEN; i++) {
+        uint32_t hi;
+        uint32_t lo;
+        uint32_t k = 2u * i;
+        if (!hex_digit(t->p[k], &hi) || !hex_digit(t->p[k + 1u], &lo)) {
+            return 0;
+        }
+        magic[i] = (uint8_t)((hi << 4) | lo);
+    }
+    return 1;
+}
+
 static grip_status_t parse_msg(grip_can_table_text_t *b, const token_t *tok, uint32_t n, const char **why)
 {
     grip_can_message_t *m;
-    int64_t v[8];
+    int64_t v[10];
     uint32_t i;
-    static const int64_t hi[8] = { 0xFFFFFFFF, 64, 0xFFFFFFFF, 1, 63, 511, 8, 1 }; /* grip-deviation: MISRA-7.2 int64_t table: the constants are signed by intent */
-    if (n != 10u) {
-        *why = "msg line needs 9 fields: NAME ID LEN PERIOD_US CHECKSUM CHECKSUM_BYTE COUNTER_START COUNTER_LENGTH COUNTER_ORDER";
+    uint32_t nf;
+    /* version 2: ID LEN PERIOD CHECKSUM CS_START CS_LENGTH CS_ORDER CNT_START CNT_LENGTH CNT_ORDER */
+    static const int64_t hi2[10] = { 0xFFFFFFFF, 64, 0xFFFFFFFF, 0, 511, 16, 0, 511, 8, 0 }; /* grip-deviation: MISRA-7.2 int64_t table: the constants are signed by intent */
+    /* version 1: ID LEN PERIOD CHECKSUM CHECKSUM_BYTE CNT_START CNT_LENGTH CNT_ORDER */
+    static const int64_t hi1[8] = { 0xFFFFFFFF, 64, 0xFFFFFFFF, 0, 63, 511, 8, 0 }; /* grip-deviation: MISRA-7.2 int64_t table: the constants are signed by intent */
+    const int64_t *hi = (b->version == 1u) ? hi1 : hi2;
+    uint32_t ntok;
+    if (b->version == 1u) {
+        nf = 8u;
+        ntok = 10u;
+    } else {
+        nf = 10u;
+        ntok = 13u;
+    }
+    if (n != ntok) {
+        *why = (b->version == 1u)
+                   ? "msg line needs 9 fields: NAME ID LEN PERIOD_US CHECKSUM CHECKSUM_BYTE COUNTER_START "
+                     "COUNTER_LENGTH COUNTER_ORDER"
+                   : "msg line needs 12 fields: NAME ID LEN PERIOD_US CHECKSUM CHECKSUM_START CHECKSUM_LENGTH "
+                     "CHECKSUM_ORDER COUNTER_START COUNTER_LENGTH COUNTER_ORDER MAGIC";
         return GRIP_ERR_INPUT;
     }
     if (b->table.n_messages >= GRIP_CAN_MAX_MESSAGES) {
         *why = "too many messages (GRIP_CAN_MAX_MESSAGES)";
         return GRIP_ERR_INPUT;
     }
-    for (i = 0u; i < 8u; i++) {
+    for (i = 0u; i < nf && i < 10u; i++) {
         const token_t *t = &tok[i + 2u];
-        if (i == 3u) {   /* checksum kind */
-            v[i] = tok_is(t, "none") ? 0 : (tok_is(t, "toyota") ? 1 : -1);
-        } else if (i == 7u) {   /* counter byte order */
+        if (i == 3u) {   /* checksum family */
+            v[i] = checksum_of(t);
+            if (b->version == 1u && v[i] > (int64_t)GRIP_CAN_CSUM_TOYOTA) {
+                v[i] = -1;
+            } /* grip-deviation: MISRA-15.7 a version-2 name is refused in version 1 only */
+        } else if (hi[i] == 0) {   /* a byte order */
             v[i] = tok_is(t, "intel") ? 0 : (tok_is(t, "motorola") ? 1 : -1);
         } else if (!tok_int(t, 0, hi[i], &v[i])) {
             v[i] = -1;
         } /* grip-deviation: MISRA-15.7 a valid token needs no action */
         if (v[i] < 0) {
-            *why = "msg line: a field is not a number in range (or not none|toyota, intel|motorola)";
+            *why = "msg line: a field is not a number in range (or not a checksum family name, intel|motorola)";
             return GRIP_ERR_INPUT;
         }
     }
     m = &b->messages[b->table.n_messages];
+    if (b->version != 1u && !parse_magic(&tok[12], m->magic)) {
+        *why = "msg line: MAGIC must be '-' or 32 hex digits";
+        return GRIP_ERR_INPUT;
+    }
     m->name = keep_name(b, &tok[1]);
     if (m->name == NULL) {
         *why = "names too long or too many (GRIP_CAN_TEXT_NAMES)";
@@ -182,10 +265,24 @@ static grip_status_t parse_msg(grip_can_table_text_t *b, const token_t *tok, uin
     m->len = (uint8_t)v[1];
     m->period_us = (uint32_t)v[2];
     m->checksum = (uint8_t)v[3];
-    m->checksum_byte = (uint8_t)v[4];
-    m->counter_start = (uint16_t)v[5];
-    m->counter_length = (uint8_t)v[6];
-    m->counter_order = (uint8_t)v[7];
+    if (b->version == 1u) {
+        for (i = 0u; i < GRIP_CAN_MAGIC_LEN; i++) {
+            m->magic[i] = 0u;
+        }
+        m->checksum_start = (m->checksum != (uint8_t)GRIP_CAN_CSUM_NONE) ? (uint16_t)(8 * v[4]) : 0u;
+        m->checksum_length = (m->checksum != (uint8_t)GRIP_CAN_CSUM_NONE) ? 8u : 0u;
+        m->checksum_order = (uint8_t)GRIP_CAN_INTEL;
+        m->counter_start = (uint16_t)v[5];
+        m->counter_length = (uint8_t)v[6];
+        m->counter_order = (uint8_t)v[7];
+    } else {
+        m->checksum_start = (uint16_t)v[4];
+        m->checksum_length = (uint8_t)v[5];
+        m->checksum_order = (uint8_t)v[6];
+        m->counter_start = (uint16_t)v[7];
+        m->counter_length = (uint8_t)v[8];
+        m->counter_order = (uint8_t)v[9];
+    }
     m->first_signal = b->table.n_signals;
     m->n_signals = 0u;
     b->table.n_messages++;
@@ -297,10 +394,11 @@ grip_status_t grip_can_table_text_line(grip_can_table_text_t *b, const char *lin
     }
     if (tok_is(&tok[0], "grip-can-table")) {
         int64_t version;
-        if (b->have_header != 0u || n != 3u || !tok_int(&tok[1], 1, 1, &version)) {
-            *why = "header must be the first line: grip-can-table 1 NAME";
+        if (b->have_header != 0u || n != 3u || !tok_int(&tok[1], 1, 2, &version)) {
+            *why = "header must be the first line: grip-can-table VERSION NAME (VERSION 1 or 2)";
             return GRIP_ERR_INPUT;
         }
+        b->version = (uint8_t)version;
         b->table.name = keep_name(b, &tok[2]);
         if (b->table.name == NULL) {
             *why = "table name too long";
@@ -310,7 +408,7 @@ grip_status_t grip_can_table_text_line(grip_can_table_text_t *b, const char *lin
         return GRIP_OK;
     }
     if (b->have_header == 0u) {
-        *why = "not a grip signal table (first line must be: grip-can-table 1 NAME)";
+        *why = "not a grip signal table (first line must be: grip-can-table VERSION NAME)";
         return GRIP_ERR_INPUT;
     }
     if (tok_is(&tok[0], "msg")) {

@@ -1,185 +1,224 @@
 /*
- * est_internal.h - constants of the estimator (lib/est), shared by its
- * files. Every value here is mirrored in tools/grip_tools/reference/est.py (the
- * float64 reference) and documented in docs/estimator.md.
+ * est_internal.h - what the estimator's files (lib/est) share: one step's
+ * working values (est_ctx_t), the stages grip_est_step (est_step.c) runs in
+ * that order, the Kalman filter's scalar update, and the small helpers of
+ * several stages. The helpers are static inline so that each stage inlines
+ * them: a call per use would cost instructions the M4F budget does not
+ * have. Tuning constants: est_tuning.h. Method: docs/estimator.md; float64
+ * reference with the same steps in the same order:
+ * tools/grip_tools/reference/est.py.
  */
 #ifndef GRIP_EST_INTERNAL_H
 #define GRIP_EST_INTERNAL_H
 
 #include "grip/grip_est.h"
 #include "arith.h"
+#include "est_tuning.h"
 
 #define EST_MAGIC 0x45535431u  /* "EST1" */
 
-/* Keeps a helper of the step out of the step's stack frame: its locals then
- * take stack only while it runs, not under the Magic Formula evaluations
- * (M0+ worst-case stack 1024 -> 992 B with kf_predict and lateral_outputs,
- * docs/estimator.md "Cost"). GCC and clang; other compilers inline as they
- * see fit (the stack budget is measured with arm-none-eabi-gcc). */
+/* Keeps a function out of its caller's stack frame: its locals then take
+ * stack only while it runs, not under the Magic Formula evaluations (the
+ * M0+ worst-case stack is within a few words of its 1024 B budget). GCC and
+ * clang; other compilers inline as they see fit (the stack budget is
+ * measured with arm-none-eabi-gcc). */
 #if defined(__GNUC__)
 #define EST_NOINLINE __attribute__((noinline))
 #else
 #define EST_NOINLINE
 #endif
 
-#define EST_G        9.80665
-#define EST_V_ON     3.0     /* m/s: lateral observer starts above          */
-#define EST_V_OFF    2.5     /* m/s: and stops below                         */
-#define EST_V_STAND  0.3     /* m/s: standstill                               */
-#define EST_V_EXC    5.0     /* m/s: mu adapts only above                     */
-#define EST_HOLD_T   0.05    /* s: a missing input is held this long          */
-#define EST_NOWHEEL_T 0.5    /* s: vx stays valid this long without wheels    */
-#define EST_DELTA_MAX 0.7    /* rad: road-wheel angle limit (steering at lock) */
-#define EST_WS_MAX   120.0   /* m/s: wheel-speed range                        */
-#define EST_YAW_MAX  2.5     /* rad/s: gyro range used                        */
-#define EST_ACC_MAX  15.0    /* m/s^2: accelerometer range used               */
-#define EST_AX_TH    0.3     /* m/s^2: braking / driving wheel selection       */
-#define EST_K_HI     5.0     /* 1/s: wheel-speed gain of the vx filter         */
-#define EST_WHEEL_DEV 0.15   /* a wheel 15 % (+0.5 m/s) off the vehicle is locked / spinning */
-/* neither braking nor driving: trusted wheels spread wider than
- * SPREAD_REL |vx| + SPREAD_ABS move the reference from their mean towards
- * the cluster the odd wheel left (fully at twice that spread) */
-#define EST_SPREAD_REL 0.01
-#define EST_SPREAD_ABS 0.1   /* m/s */
-#define EST_K_LO     0.5     /* 1/s: gain when the wheels disagree             */
-#define EST_K_MID    1.5     /* 1/s: all wheels agree, but not with the prediction */
-/* braking slips every wheel: wheels below the prediction pull vx at K_SLIP */
-#define EST_K_SLIP   0.2     /* 1/s */
-/* ax offset (unconfigured grade, accelerometer bias), learned from trusted
- * wheels: second-order complementary filter with vx */
-#define EST_K_OFF    1.0     /* 1/s^2 */
-#define EST_AX_OFF_MAX 1.5   /* m/s^2 */
-/* every wheel locked or spinning while |ax| >= DR_AX: dead reckoning on ax,
- * vx valid for DR_T, beta not valid */
-#define EST_DR_AX    0.5     /* m/s^2 */
-#define EST_DR_T     2.0     /* s */
-/* braking with a wheel at |kappa| >= LOCK_K (locked, or cycled by an ABS
- * past the tire's peak): the ax update measures mu without a speed
- * reference, noise R_LOCK (scaled: 1.5 m/s^2) */
-#define EST_LOCK_K   0.15
-#define EST_R_LOCK   9.0
-#define EST_MU_MIN   0.1
-#define EST_MU_MAX   1.2
-#define EST_MU_INIT  1.0
-/* excitation: a tire at EXC_U of its own friction (mu = 1); at 0.5 the gate
- * opened at the snow sine-with-dwell onset only once the truth's front axle
- * was at 90 % of its limit */
-#define EST_EXC_U    0.2     /* utilization that counts as excitation          */
-#define EST_EXC_A    1.0     /* m/s^2: and at least this much acceleration     */
-#define EST_LIM_TAU  0.15    /* s: lag of the linear yaw reference in the limit test */
-#define EST_LIM_A    2.0     /* m/s^2: limit test needs this much acceleration  */
-#define EST_LIM_REL  0.15    /* limit: |r - r_lin| > 0.15 |r_lin| + 0.03 rad/s  */
-#define EST_LIM_ABS  0.03
-#define EST_LIM_T    0.2     /* s: ... for this long                              */
-/* low-friction detection at the understeer limit: yaw rate below the lagged
- * reference by the share US_D (reference above US_R rad/s) for LIM_T; the
- * front axle's friction in use over the utilization the deficit implies,
- * min(US_UMAX, US_U0 + US_U1 deficit), bounds mu from above when it is below
- * US_ZMAX */
-#define EST_US_D     0.15
-#define EST_US_R     0.02
-#define EST_US_U0    0.3
-#define EST_US_U1    1.4
-#define EST_US_UMAX  0.85
-#define EST_US_ZMAX  0.8
-/* withdrawal of that bound: mu held down by it and unconfirmed since
- * (P_mu > EST_P_CONF, i.e. mu_conf < 0.5) goes back to its value before the
- * bound once the bound's own test has said "no deficit" (-LIM_REL < deficit
- * < US_D) in steady cornering (|ax| and |dvy/dt| = |ay - r vx| below B_AX)
- * for LIM_T at a front friction in use between REL_K and 1 / REL_K of the
- * one at which the bound was last set */
-#define EST_REL_K    0.8
-#define EST_P_CONF   (((EST_CONF_S0 - 0.05) / EST_S_MU) * ((EST_CONF_S0 - 0.05) / EST_S_MU))
-#define EST_G_MIN    0.05    /* floor of the slope factor sqrt(1 - u)          */
-/* tire relaxation: the tires work at the slip angle lagged by the relaxation
- * length, sigma d(alpha_t)/dt + |vx| alpha_t = |vx| alpha; sigma at the
- * axle's static load from the tire file (C_alpha / LATERAL_STIFFNESS, else
- * the MF 5.2 PTY1 / PTY2 form, else no lag), in proportion to the wheel's
- * load, at least SIG_MIN (the axle's at most SIG_MAX); exponent |vx| dt / sigma capped at RLX_A_MAX
- * (exp(-16) is below one QS unit) */
-#define EST_SIG_MIN  0.02    /* m */
-#define EST_SIG_MAX  5.0     /* m: a file's stiffnesses far off give at most this */
-#define EST_RLX_A_MAX 16.0
-/* scaled units of the covariance (state i in units of S_i) */
-#define EST_S_VY     0.05    /* m/s   */
-#define EST_S_R      0.005   /* rad/s */
-#define EST_S_MU     0.02    /* -     */
-#define EST_S_B      0.001   /* rad/s (gyro bias) */
-#define EST_S_AY     0.5     /* m/s^2 (lateral and longitudinal acceleration) */
-/* measurement noise (scaled units^2): yaw 0.006 rad/s, ay 0.4, ax 0.5 m/s^2 */
-#define EST_R_YAW    1.44
-#define EST_R_AY     0.64
-#define EST_R_AX     1.0
-/* continuous process noise per second (scaled units^2 / s):
- * vy' 0.5 m/s^2 (kinematic: ay error, roll and bank), r' 0.3 rad/s^2, mu 0.05 /sqrt(s) */
-#define EST_Q_VY     100.0
-#define EST_Q_R      3600.0
-#define EST_Q_MU     6.25
-#define EST_Q_B      0.25    /* gyro bias random walk 0.0005 rad/s /sqrt(s) */
-/* initial variances and bounds (scaled units^2) */
-#define EST_P0_VY    36.0
-#define EST_P0_R     16.0
-#define EST_P0_MU    225.0
-#define EST_P0_B     100.0   /* gyro bias sigma 0.01 rad/s at start */
-#define EST_B_MAX    0.05    /* rad/s: bound of the gyro bias state */
-#define EST_U_R0     0.8     /* ay noise grows from R_AY at this utilization ... */
-#define EST_R_LIM    9.0     /* ... by R_LIM R_AY at the most-used tire's 1 ... */
-#define EST_R_AXLE   290.0   /* ... and by R_AXLE R_AY at an axle's mean 1 */
-#define EST_B_U      0.5     /* gyro bias adapts below this model utilization ... */
-#define EST_B_A      4.0     /* ... below this |ay| [m/s^2] ... */
-#define EST_B_AX     1.0     /* ... below this |ax| [m/s^2] ... */
-#define EST_B_RACC   2.0     /* ... and below this model yaw acceleration [rad/s^2] */
-#define EST_VY_K     1.0     /* |vy| <= VY_K |vx| + 1 m/s (sideslip up to ~45 deg: spins) */
-#define EST_P_MIN    0.01
-#define EST_P_MAX    400.0
-#define EST_H_MAX_VY 5.0     /* bounds of the measurement row (keeps h P h' < 32768) */
-#define EST_H_MAX    2.0
-#define EST_NU_SIGMA 4.0     /* innovations clamped to 4 sigma */
-#define EST_CONF_S0  0.15    /* mu confidence 1 at sigma <= 0.05, 0 at >= 0.15 */
-/* model-consistency (misfit) check, docs/estimator.md: two statistics
- * low-passed over MF_TAU: the ay update's normalized innovation squared
- * (clamped to 16 by the 4-sigma innovation clamp, so it stays in Q15.16) and
- * the share of time [0, 1] the model claims saturated tires (utilization
- * >= SAT_U) while the mu-independent friction-limit test does not fire */
-#define EST_MF_TAU   2.0     /* s: low-pass time constant (window) of both     */
-#define EST_NIS_HI   3.84    /* misfit above: chi-square(1) 95 % point         */
-#define EST_NIS_LO   1.0     /* ... cleared below: a consistent filter's mean  */
-#define EST_SAT_U    0.95    /* model utilization counted as saturated         */
-#define EST_SAT_HI   0.7     /* misfit above: saturated 70 % of the window     */
-#define EST_SAT_LO   0.1     /* ... cleared below (with NIS below NIS_LO)      */
-#define EST_CONF_MISFIT 0.45 /* mu_conf cap while misfit (below V_MU's 0.5)    */
-#define EST_SAT_MU   0.1     /* ... and from when the saturation share rises    */
-#define EST_SAT_MU_LO 0.05   /* above this until it falls below this            */
-/* the axle forces' yaw balance (docs/estimator.md): the yaw moment the
- * model lacks (the yaw-rate update's correction of the predicted r as a yaw
- * acceleration, at most MB_RACC rad/s^2, times Iz / l) moves force from one
- * axle to the other at the outputs, low-passed over MB_TAU s; not while
- * |ax| >= MB_AX m/s^2 (the model's left / right Fx moment errs there too) */
-#define EST_MB_TAU   0.05
-#define EST_MB_RACC  20.0
-#define EST_MB_AX    1.0
-/* ... and the lateral balance: the lateral force the model lacks after the
- * updates (mass times the measured ay less the model's at the updated
- * state), low-passed over SB_TAU s, in the axles' static shares (no yaw
- * moment); not while |ax| >= MB_AX */
-#define EST_SB_TAU   0.02
-/* mu's column of the Jacobians (docs/estimator.md, "mu's secant"): the
- * secant of mu F0(alpha / mu) from mu down to mu - dmu, dmu = SEC_K
- * sigma_mu within [SEC_MIN, mu - mu_floor] (the friction in use), on the
- * force shape tabulated at init (grip_est_t.fy_shape); no column where the shape is below
- * SHAPE_F_MIN (the origin: 0 / 0, and the column is 0 there anyway) */
-#define EST_SEC_K    3.0     /* the prior 1.0 +- 0.3 puts snow 2.3 sigma away */
-#define EST_SEC_MIN  0.02
-#define EST_SHAPE_F_MIN 0.01
-/* while the car is at its limit (the limit test) and mu is not held by the
- * understeer bound, the ay noise's utilization is the model's at mu +
- * AY_U_K sigma_mu: with mu still too high the model sits at its own limit,
- * R is up to 150 x and the ay update cannot pull mu down (snow sine with
- * dwell) */
-#define EST_AY_U_K   0.5
-/* the balances' memory is cleared at the understeer bound's cut only when
- * the cut exceeds CUT_CLEAR: small cuts re-armed the bound every few steps
- * and the balances never built up (step steer snow) */
-#define EST_CUT_CLEAR 0.05
+/* slots of the held inputs (grip_est_t.hold, .age) */
+enum { H_STEER = 0, H_YAW = 1, H_AX = 2, H_AY = 3, H_VS = 4 };
+
+/* One step's working values, handed from stage to stage (grip_est_step
+ * owns it; each group is written by the stage named and read after it).
+ * It is on the stack under the Magic Formula evaluations, so it holds only
+ * what crosses stages, and its flags are bytes. */
+typedef struct {
+    /* input conditioning (est_input.c) */
+    uint32_t flags;             /* GRIP_EST_F_* so far */
+    uint32_t valid;             /* GRIP_EST_V_* so far */
+    grip_real_t delta;          /* QS rad road-wheel angle at the state's time */
+    grip_real_t cd, sd;         /* QS its cosine and sine */
+    grip_real_t yaw;            /* QS rad/s yaw rate less the gyro bias; 0 when missing */
+    grip_real_t ax, ay;         /* QS m/s^2; ay less the body roll's gravity; 0 when missing */
+    grip_real_t g_x, g_y;       /* QS m/s^2 gravity along the body axes on the road plane */
+    /* longitudinal speed (est_speed.c) */
+    grip_real_t vx;             /* QS m/s the state's longitudinal speed */
+    /* lateral observer on / off (est_lateral.c): the prior state */
+    grip_real_t vy, r, mu;      /* QS the state the tires are evaluated at */
+    /* tire model at the prior state (est_tires.c) */
+    grip_real_t ay_m, ax_m;     /* QS m/s^2 the model's accelerations */
+    grip_real_t racc;           /* QS rad/s^2 the model's yaw acceleration */
+    grip_real_t a_vv, a_vr, a_vm; /* QS d ay_m / d(vy, r, mu) */
+    grip_real_t a_rv, a_rr, a_rm; /* QS d racc / d(vy, r, mu) */
+    grip_real_t jax_mu;         /* QL d(sum Fbx) / d mu */
+    grip_real_t umax;           /* QS largest utilization the slips would cause at mu = 1 (excitation) */
+    grip_real_t umax_x;         /* QS ... from the slip ratios alone */
+    grip_real_t kappa_sum;      /* QS sum of the slip ratios */
+    grip_real_t umax_est;       /* QS largest utilization of the model at the estimated mu */
+    /* friction (est_friction.c) */
+    grip_real_t mu_us;          /* QS upper bound of mu from the understeer limit; 0: none */
+    /* lateral filter (est_lateral.c) */
+    grip_real_t dvy, dr;        /* QS the predict's change of vy and r */
+    grip_real_t r_upd;          /* QS rad/s r after the yaw-rate update (the yaw balance's) */
+    grip_real_t nis_ay;         /* QS normalized innovation squared of the ay update */
+    /* flags (1: true), by the same stages */
+    uint8_t steer_ok, yaw_ok, ax_ok, ay_ok; /* fresh, or held within the hold time */
+    uint8_t vs_ok;              /* vehicle speed fresh in this step */
+    uint8_t ws_ok[4];           /* wheel speed valid and within range */
+    uint8_t wheels_ok;          /* every wheel speed valid */
+    uint8_t lock, spin;         /* a wheel far below / above the vehicle */
+    uint8_t at_rest;            /* at rest by the wheels and the prediction: the gyro reads its bias */
+    uint8_t dead_reck;          /* vx integrates ax: every wheel locked or spinning */
+    uint8_t kappa_slip;         /* a wheel at |kappa| >= LOCK_K */
+    uint8_t excited;            /* mu may adapt in this step */
+    uint8_t at_limit;           /* the mu-independent friction-limit test holds */
+    uint8_t b_ok;               /* the gyro bias may adapt in this step */
+    uint8_t ay_upd;             /* the ay update ran (nis_ay set) */
+} est_ctx_t;
+
+/* ---- helpers of several stages ---- */
+
+static inline grip_real_t sym_clamp(grip_real_t x, grip_real_t m)
+{
+    return r_clamp(x, r_neg(m), m);
+}
+
+/* A step counter, saturating so that it never wraps */
+static inline int32_t count_up(int32_t n)
+{
+    return (n < 1000000) ? n + 1 : n;
+}
+
+/* One tire evaluation through the axle's model (the tagged union). */
+static inline grip_status_t tire_eval(const grip_est_tire_t *t, const grip_mf_input *in, grip_mf_output *out)
+{
+    switch (t->kind) {
+    case GRIP_EST_TIRE_MF:
+        return grip_mf_eval(t->model.mf, in, out);
+    default:
+        out->fx = R_ZERO;
+        out->fy = R_ZERO;
+        out->mz = R_ZERO;
+        return GRIP_ERR_PARAM;
+    }
+}
+
+/* vx's rate of change in the body frame: the measured ax less its learned
+ * offset, plus r vy, plus gravity's component along the road's grade
+ * (vx's prediction over a step, and vx at the outputs' time) */
+static inline grip_real_t vx_rate(const grip_est_t *est, grip_real_t ax, grip_real_t r, grip_real_t vy, grip_real_t g_x)
+{
+    return r_add(r_add(r_sub(ax, est->ax_off), r_mul(r, vy)), g_x);
+}
+
+/* A wheel's relaxation length: the axle's at static load in proportion to
+ * the wheel's load, at least EST_SIG_MIN; 0 where the tire file gives none. */
+static inline grip_real_t wheel_sigma(const grip_est_t *est, int axle, grip_real_t fz)
+{
+    if (est->sig_a[axle] <= R_ZERO) {
+        return R_ZERO;
+    }
+    return r_max(r_mul(est->sig_a[axle], r_div(fz, est->fz_static[axle])), RC(EST_SIG_MIN));
+}
+
+/* 1 - exp(-dist / sig): the share of the way the lagged slip angle moves
+ * towards the kinematic one over the distance dist; 1 without a relaxation
+ * length. The comparison first keeps the exponent within EST_RLX_A_MAX. */
+static inline grip_real_t relax_share(grip_real_t dist, grip_real_t sig)
+{
+    if (sig <= R_ZERO || dist >= r_mul(RC(EST_RLX_A_MAX), sig)) {
+        return R_ONE;
+    }
+    return r_sub(R_ONE, r_exp(r_neg(r_div(dist, sig))));
+}
+
+/* ---- friction that the tire evaluation needs (est_tires.c inlines it:
+ * the secant runs four times per step) ---- */
+
+/* The friction in use bounds mu from below (a bound on the state, no
+ * measurement: it adds no confidence); mu's secant spans no lower (a
+ * steering offset's onset took mu 1.0 -> 0.49 in 0.05 s on a dry road with
+ * the secant down to MU_MIN). Formed before the tire evaluations. */
+static inline void est_friction_floor(grip_est_t *est, const est_ctx_t *s)
+{
+    grip_real_t ax = s->ax, ay = s->ay;
+    est->mu_floor = (s->ax_ok && s->ay_ok) ? r_max(RC(EST_MU_MIN),
+                                                   r_min(r_div(r_sqrt(r_add(r_sq(ax), r_sq(ay))),
+                                                               r_mul(RC(EST_G), r_max(est->mu0[0], est->mu0[1]))),
+                                                         RC(EST_MU_MAX)))
+                                           : RC(EST_MU_MIN);
+}
+
+/* d Fy / d mu of one wheel (docs/estimator.md, "5. Friction"): the secant
+ * of mu F0(alpha / mu) from mu down to mu - dmu, dmu = SEC_K sigma_mu, on
+ * the axle's tabulated force shape: the shape's ratio F(mu - dmu) / F(mu)
+ * applied to the wheel's own force fy (its load and combined slip), within
+ * [0, fy / mu] like the tangent (F - alpha F') / mu. The tangent is 0 while
+ * the model tire is linear, however far a lower mu would take it (the snow
+ * onset: mu stayed at its prior while vy took the ay deficit). */
+static inline grip_real_t est_mu_secant(const grip_est_t *est, int axle, grip_real_t alpha, grip_real_t fy, grip_real_t mu)
+{
+    grip_real_t sig = r_mul(r_sqrt(est->p[2][2]), RC(EST_S_MU));
+    grip_real_t dmu = r_max(r_min(r_mul(RC(EST_SEC_K), sig), r_sub(mu, est->mu_floor)), RC(EST_SEC_MIN));
+    grip_real_t mu2 = r_sub(mu, dmu);
+    grip_real_t inv_mu = r_div(R_ONE, mu);
+    grip_real_t f1 = r_table_lerp(est->fy_shape[axle], GRIP_EST_SHAPE_N,
+                                  r_mul(r_mul(r_abs(alpha), inv_mu), est->inv_apk[axle]));
+    grip_real_t q = R_ZERO;
+    if (f1 > RC(EST_SHAPE_F_MIN)) {
+        grip_real_t f2 = r_table_lerp(est->fy_shape[axle], GRIP_EST_SHAPE_N,
+                                      r_mul(r_mul(r_abs(alpha), r_div(R_ONE, mu2)), est->inv_apk[axle]));
+        q = r_mul(r_sub(R_ONE, r_mul(r_mul(mu2, inv_mu), r_div(f2, f1))), r_div(R_ONE, dmu));
+        q = r_clamp(q, R_ZERO, inv_mu);
+    }
+    return r_mul(q, fy);
+}
+
+/* ---- the step's stages, in the order grip_est_step runs them ---- */
+
+/* est_input.c: the ESC inputs taken, range-checked and held; sets
+ * s->flags and s->valid first */
+void est_take_inputs(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s);
+
+/* est_speed.c: vx from ax and the wheel speeds (or the vehicle speed) */
+void est_speed(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s);
+
+/* est_lateral.c: the lateral observer started or stopped (and while
+ * stopped, the gyro bias at rest); the prior state into s */
+void est_observer_switch(grip_est_t *est, est_ctx_t *s);
+
+/* est_tires.c: the wheels' vertical loads; with the observer running the
+ * four tire evaluations at the prior state, the model's accelerations and
+ * the Jacobians */
+void est_tires(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s, grip_est_output_t *out);
+
+/* With the observer running: */
+/* est_friction.c: excitation, the friction-limit test, the understeer bound */
+void est_friction_tests(grip_est_t *est, est_ctx_t *s, const grip_est_output_t *out);
+/* est_lateral.c: predict, then the yaw-rate and ay updates */
+void est_lateral_update(grip_est_t *est, est_ctx_t *s, const grip_est_output_t *out);
+/* est_outputs.c: the yaw and lateral balances */
+void est_balances(grip_est_t *est, const est_ctx_t *s);
+/* est_friction.c: the ax update, then mu's bounds */
+void est_friction_update(grip_est_t *est, const est_ctx_t *s);
+/* est_lateral.c: the bounds of vy, r and the gyro bias */
+void est_bound_state(grip_est_t *est, const est_ctx_t *s);
+
+/* Every step: */
+/* est_checks.c: the model-consistency statistics of the ay update, the
+ * lateral outputs' validity, mu's confidence */
+void est_checks(grip_est_t *est, est_ctx_t *s, grip_est_output_t *out);
+/* est_outputs.c: the outputs (the lateral ones at the updated state) */
+void est_outputs(grip_est_t *est, est_ctx_t *s, grip_est_output_t *out);
+
+/* ---- shared by the stages ---- */
+
+/* est_lateral.c: a scalar measurement update, and P kept well conditioned */
+grip_real_t est_kf_update(grip_est_t *e, const grip_real_t h[GRIP_EST_NX], grip_real_t nu, grip_real_t r,
+                          int mu_ok, int b_ok, int keep_p);
+void est_kf_condition(grip_est_t *e);
 
 #endif

@@ -16,33 +16,6 @@
  */
 #include "mf_internal.h"
 
-/* Operating point shared by all parts of one evaluation. */
-typedef struct {
-    grip_real_t fz_ql;   /* Fz [N] (QL), after clamping                        */
-    grip_real_t fz;      /* Fz / FNOMIN                                        */
-    grip_real_t fzp;     /* Fz / Fz0' with Fz0' = LFZO * FNOMIN                 */
-    grip_real_t dfz;     /* (Fz - Fz0') / Fz0'                       (4.E2a)   */
-    grip_real_t dpi;     /* (p - NOMPRES) / NOMPRES                  (4.E2b)   */
-    grip_real_t kappa;   /* longitudinal slip (ISO)                            */
-    grip_real_t alpha;   /* alpha* : alpha (MF-Tyre) or tan(alpha) (book)      */
-    grip_real_t gamma;   /* gamma* : gamma (MF-Tyre) or sin(gamma)             */
-    grip_real_t cosa;    /* cos'(alpha) = |Vcx| / Vc = |cos(alpha)|     (4.E6) */
-    grip_real_t smooth;  /* low-speed factor of the shifts, t and Mzr:         */
-                         /* 1 - 0.5 (1 + cos(pi Vx / VXLOW)) for |Vx| <= VXLOW */
-    grip_real_t lmux_s;  /* LMUX*, LMUY* (4.E7)                                */
-    grip_real_t lmuy_s;
-    grip_real_t lmux_p;  /* LMUX', LMUY' (4.E8)                                */
-    grip_real_t lmuy_p;
-    grip_real_t gmux;    /* camber in mu_x (4.E13): gamma (times LGAX in 5.2); */
-                         /* the book writes gamma, not gamma*, there too       */
-    grip_real_t gx;      /* camber as it enters Fx, Fy, Mz: gamma* (MF 6.x),   */
-    grip_real_t gy;      /* gamma* * LGAX / LGAY / LGAZ (MF 5.2)               */
-    grip_real_t gz;
-    grip_real_t kyc;     /* LKYC, LKZC (MF 6.x); 1 (MF 5.2)                    */
-    grip_real_t kzc;
-    int mf52;            /* FITTYP 5, 6, 21                                    */
-    int book;            /* GRIP_MF_OPT_BOOK                                   */
-} mf_op;
 
 /* Coefficients that MF 5.2 does not have (PKY5, PEY5, RBX3, RBY4, QDZ10,
  * QDZ11): zero for FITTYP 5, 6, 21 whatever the set holds. */
@@ -85,10 +58,7 @@ static void mf_long_pure(const grip_mf_params *p, const mf_op *op, mf_long *out)
     grip_real_t shx = r_mul(r_mul(r_add(p->phx1, r_mul(p->phx2, dfz)), p->lhx), op->smooth); /* 4.E17 */
     grip_real_t kx = r_add(op->kappa, shx);                                          /* 4.E10 */
     grip_real_t cx = r_mul(p->pcx1, p->lcx);                                         /* 4.E11 */
-    grip_real_t mux = r_mul(r_mul(r_mul(r_add(p->pdx1, r_mul(p->pdx2, dfz)),         /* 4.E13 */
-                                        r_add(R_ONE, r_add(r_mul(p->ppx3, dpi), r_mul(p->ppx4, r_sq(dpi))))),
-                                  r_sub(R_ONE, r_mul(p->pdx3, r_sq(op->gmux)))),
-                            op->lmux_s);
+    grip_real_t mux = mf_mux(p, dfz, dpi, op->gmux, op->lmux_s);                     /* 4.E13 */
     grip_real_t dx = mux;                                                            /* 4.E12 */
     grip_real_t ex = r_mul(r_mul(r_add(p->pex1, r_add(r_mul(p->pex2, dfz), r_mul(p->pex3, r_sq(dfz)))),
                                  r_sub(R_ONE, r_mul(p->pex4, r_sign(kx)))),
@@ -264,24 +234,6 @@ static grip_real_t mf_gyk(const grip_mf_params *p, const mf_op *op, grip_real_t 
 
 /* ------------------------------------------------------ preparation */
 
-typedef struct {
-    int zero;            /* Fz <= 0: all outputs are zero                      */
-    int mirror;          /* mirror alpha, gamma, Fy, Mz                        */
-    int sae;             /* SAE J670 output signs                              */
-} mf_io;
-
-static grip_real_t clamp_sym(grip_real_t x, grip_real_t lim, int *clamped)
-{
-    if (x > lim) {
-        *clamped = 1;
-        return lim;
-    }
-    if (x < r_neg(lim)) {
-        *clamped = 1;
-        return r_neg(lim);
-    }
-    return x;
-}
 
 static grip_status_t mf_prepare(const grip_mf_params *p, const grip_mf_input *in, mf_op *op, mf_io *io)
 {
@@ -323,21 +275,23 @@ static grip_status_t mf_prepare(const grip_mf_params *p, const grip_mf_input *in
         gamma = r_neg(gamma);
     }
 
+    /* Valid domain. Fz <= 0 (tyre off the ground) gives zero forces; the
+     * operating point is still formed, at Fz = 0, for the extended outputs
+     * of the unloaded wheel. */
     io->zero = !(fz > R_ZERO);
-    if (io->zero) {
-        return GRIP_OK;
-    }
-
-    /* Valid domain. */
     op->book = (opt & GRIP_MF_OPT_BOOK) != 0u;
     op->mf52 = (p->fittyp == 5) || (p->fittyp == 6) || (p->fittyp == 21);
-    kappa = clamp_sym(kappa, RC(GRIP_MF_KAPPA_MAX), &clamped);
-    alpha = clamp_sym(alpha, op->book ? RC(GRIP_MF_ALPHA_MAX_BOOK) : RC(GRIP_MF_ALPHA_MAX), &clamped);
-    gamma = clamp_sym(gamma, RC(GRIP_MF_GAMMA_MAX), &clamped);
-    vx = clamp_sym(vx, RC(GRIP_MF_VX_MAX), &clamped);
-    if (fz > r_mul(RC(GRIP_MF_FZ_MAX_REL), p->fnomin)) {
+    kappa = mf_clamp_sym(kappa, RC(GRIP_MF_KAPPA_MAX), &clamped);
+    alpha = mf_clamp_sym(alpha, op->book ? RC(GRIP_MF_ALPHA_MAX_BOOK) : RC(GRIP_MF_ALPHA_MAX), &clamped);
+    gamma = mf_clamp_sym(gamma, RC(GRIP_MF_GAMMA_MAX), &clamped);
+    vx = mf_clamp_sym(vx, RC(GRIP_MF_VX_MAX), &clamped);
+    if (io->zero) {
+        fz = R_ZERO;
+    } else if (fz > r_mul(RC(GRIP_MF_FZ_MAX_REL), p->fnomin)) {
         fz = r_mul(RC(GRIP_MF_FZ_MAX_REL), p->fnomin);
         clamped = 1;
+    } else {
+        /* in the domain */
     }
 
     op->fz_ql = fz;
@@ -358,6 +312,9 @@ static grip_status_t mf_prepare(const grip_mf_params *p, const grip_mf_input *in
         } else {
             op->dpi = r_div(r_sub(pr, p->nompres), p->nompres);                    /* 4.E2b */
         }
+    }
+    if (io->zero) {
+        return GRIP_OK;
     }
 
     /* Low-speed model (VXLOW), as MF-Tyre: for |Vx| <= VXLOW kappa fades
@@ -517,8 +474,10 @@ static grip_status_t mf_pure_begin(const grip_mf_params *p, const grip_mf_input 
 
 /* The pure lateral force at gamma = 0 that the aligning moment of MF 6.x
  * needs: s->lat itself when gamma already is 0 (same function, same
- * inputs), else evaluated into s->lat0 (sharing s->latc). */
-static const mf_lat *mf_lat_gamma0(const grip_mf_params *p, mf_pure *s)
+ * inputs), else evaluated into s->lat0 (sharing s->latc). Forced inline:
+ * called from three evaluations, it would otherwise get a frame of its own
+ * on the deepest stack path (+16 B on the Cortex-M0+). */
+static MF_ALWAYS_INLINE const mf_lat *mf_lat_gamma0(const grip_mf_params *p, mf_pure *s)
 {
     if (s->op.gy == R_ZERO) {
         return &s->lat;
@@ -573,7 +532,10 @@ static grip_real_t mf_alpha_eq(const mf_op *op, grip_real_t a, grip_real_t kxk, 
     }
 }
 
-grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out)
+/* The combined evaluation; x != NULL also captures the intermediates of the
+ * extended outputs (mf_core). Inlined into its two callers. */
+static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const grip_mf_input *in,
+                                                  grip_mf_output *out, mf_core *x)
 {
     mf_pure s;
     grip_real_t fx;
@@ -581,12 +543,24 @@ grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, gri
     grip_real_t mz;
     grip_real_t gyk;
     grip_real_t svyk;
+    grip_real_t svyk_mz;
     grip_real_t fy_prime;
     grip_real_t t;
     grip_real_t mzr;
     grip_real_t sarm;
     grip_status_t st = mf_pure_begin(p, in, out, &s);
     const mf_op *op = &s.op;
+    if ((x != NULL) && (st >= 0)) {
+        x->op.fz_ql = s.op.fz_ql;
+        x->op.fz = s.op.fz;
+        x->op.fzp = s.op.fzp;
+        x->op.dfz = s.op.dfz;
+        x->op.dpi = s.op.dpi;
+        x->op.gmux = s.io.zero ? R_ZERO : s.op.gmux;      /* not formed when unloaded */
+        x->op.lmux_s = s.io.zero ? R_ZERO : s.op.lmux_s;
+        x->op.mf52 = s.op.mf52;
+        x->io = s.io;
+    }
     if ((st < 0) || s.io.zero) {
         return st;
     }
@@ -607,13 +581,21 @@ grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, gri
 
     /* Fy = Gyk Fy0 + SVyk (4.E58-E67). */
     {
-        grip_real_t dvyk = r_mul(r_mul(s.lat.muy,
-                                       r_add(r_add(p->rvy1, r_mul(p->rvy2, op->dfz)), r_mul(p->rvy3, op->gy))),
-                                 r_cos_atan(r_mul(p->rvy4, op->alpha)));                        /* 4.E67 */
-        svyk = r_mul(r_mul(r_mul(dvyk, r_sin(r_mul(p->rvy5, r_atan(r_mul(p->rvy6, op->kappa))))), p->lvyka),
-                     op->smooth);                                                                  /* 4.E66 */
+        grip_real_t dvy = r_add(r_add(p->rvy1, r_mul(p->rvy2, op->dfz)), r_mul(p->rvy3, op->gy));
+        grip_real_t dva = r_cos_atan(r_mul(p->rvy4, op->alpha));
+        grip_real_t svk = r_sin(r_mul(p->rvy5, r_atan(r_mul(p->rvy6, op->kappa))));
+        grip_real_t dvyk = r_mul(r_mul(s.lat.muy, dvy), dva);                                      /* 4.E67 */
+        svyk = r_mul(r_mul(r_mul(dvyk, svk), p->lvyka), op->smooth);                               /* 4.E66 */
         gyk = mf_gyk(p, op, op->gy);
         fy = r_add(r_mul(gyk, s.lat.fy0), svyk);
+        /* MF 5.2: the SVyk of Fy' = Fy - SVyk. MFeval (calculateMz) forms it
+         * with mu_y at gamma = 0 (its muy_sub0; RVY3 keeps gamma); with
+         * GRIP_MF_OPT_MZ52_SVYK_CAMBER the SVyk of Fy itself. */
+        svyk_mz = svyk;
+        if (op->mf52 && ((p->options & GRIP_MF_OPT_MZ52_SVYK_CAMBER) == 0u)) {
+            grip_real_t muy0 = r_mul(s.latc.mub, op->lmuy_s);
+            svyk_mz = r_mul(r_mul(r_mul(r_mul(r_mul(muy0, dvy), dva), svk), p->lvyka), op->smooth);
+        }
     }
 
     /* Mz = -t Fy' + Mzr + s Fx (4.E71-E78). */
@@ -636,7 +618,7 @@ grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, gri
         t = r_mul(t, op->smooth);         /* low speed */
         mzr = r_mul(mzr, op->smooth);
         if (op->mf52) {
-            fy_prime = r_sub(fy, svyk);  /* MF 5.2: Fy' = Fy - SVyk */
+            fy_prime = r_sub(fy, svyk_mz);  /* MF 5.2: Fy' = Fy - SVyk (above) */
         } else {
             /* MF 6.x: Fy' = Gyk Fy0(gamma = 0) (4.E74); MF-Tyre keeps the
              * inclination in Gyk, the book evaluates Gyk at gamma = 0 too. */
@@ -644,5 +626,24 @@ grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, gri
         }
         mz = r_add(r_sub(mzr, r_mul(t, fy_prime)), r_mul(sarm, fx));                                 /* 4.E71 */
     }
+    if (x != NULL) {
+        x->kxk = s.lon.kxk;
+        x->kya = s.lat.kya;
+        x->muy = s.lat.muy;
+        x->t = t;
+        x->mzr = mzr;
+        x->fx = fx;
+        x->fy = fy;
+    }
     return mf_finish(p, op, &s.io, st, fx, fy, mz, out);
+}
+
+grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out)
+{
+    return mf_combined(p, in, out, NULL);
+}
+
+grip_status_t mf_eval_core(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out, mf_core *x)
+{
+    return mf_combined(p, in, out, x);
 }

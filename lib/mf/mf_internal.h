@@ -19,6 +19,41 @@
 #include "arith.h"
 #include "grip/grip_mf.h"
 
+/* Operating point shared by all parts of one evaluation. */
+typedef struct {
+    grip_real_t fz_ql;   /* Fz [N] (QL), after clamping                        */
+    grip_real_t fz;      /* Fz / FNOMIN                                        */
+    grip_real_t fzp;     /* Fz / Fz0' with Fz0' = LFZO * FNOMIN                 */
+    grip_real_t dfz;     /* (Fz - Fz0') / Fz0'                       (4.E2a)   */
+    grip_real_t dpi;     /* (p - NOMPRES) / NOMPRES                  (4.E2b)   */
+    grip_real_t kappa;   /* longitudinal slip (ISO)                            */
+    grip_real_t alpha;   /* alpha* : alpha (MF-Tyre) or tan(alpha) (book)      */
+    grip_real_t gamma;   /* gamma* : gamma (MF-Tyre) or sin(gamma)             */
+    grip_real_t cosa;    /* cos'(alpha) = |Vcx| / Vc = |cos(alpha)|     (4.E6) */
+    grip_real_t smooth;  /* low-speed factor of the shifts, t and Mzr:         */
+                         /* 1 - 0.5 (1 + cos(pi Vx / VXLOW)) for |Vx| <= VXLOW */
+    grip_real_t lmux_s;  /* LMUX*, LMUY* (4.E7)                                */
+    grip_real_t lmuy_s;
+    grip_real_t lmux_p;  /* LMUX', LMUY' (4.E8)                                */
+    grip_real_t lmuy_p;
+    grip_real_t gmux;    /* camber in mu_x (4.E13): gamma (times LGAX in 5.2); */
+                         /* the book writes gamma, not gamma*, there too       */
+    grip_real_t gx;      /* camber as it enters Fx, Fy, Mz: gamma* (MF 6.x),   */
+    grip_real_t gy;      /* gamma* * LGAX / LGAY / LGAZ (MF 5.2)               */
+    grip_real_t gz;
+    grip_real_t kyc;     /* LKYC, LKZC (MF 6.x); 1 (MF 5.2)                    */
+    grip_real_t kzc;
+    int mf52;            /* FITTYP 5, 6, 21                                    */
+    int book;            /* GRIP_MF_OPT_BOOK                                   */
+} mf_op;
+
+/* Conventions of one evaluation. */
+typedef struct {
+    int zero;            /* Fz <= 0: all outputs are zero                      */
+    int mirror;          /* mirror alpha, gamma, Fy, Mz                        */
+    int sae;             /* SAE J670 output signs                              */
+} mf_io;
+
 /* Bounds of the guarded quotients (only reached by degenerate parameter
  * sets, e.g. a cornering stiffness of zero; never inside the valid range of
  * the shipped .tir files, which DEBUG_SAT tests check). */
@@ -103,5 +138,73 @@ static inline grip_real_t mf_sign1(grip_real_t a)
 
 /* Structural validity of a parameter set (cheap; done on every call). */
 int mf_params_usable(const grip_mf_params *p);
+
+/* mu_x (4.E13) at dfz, dpi, the camber of mu_x and LMUX*. */
+static inline grip_real_t mf_mux(const grip_mf_params *p, grip_real_t dfz, grip_real_t dpi, grip_real_t gmux,
+                                 grip_real_t lmux_s)
+{
+    return r_mul(r_mul(r_mul(r_add(p->pdx1, r_mul(p->pdx2, dfz)),
+                             r_add(R_ONE, r_add(r_mul(p->ppx3, dpi), r_mul(p->ppx4, r_sq(dpi))))),
+                       r_sub(R_ONE, r_mul(p->pdx3, r_sq(gmux)))),
+                 lmux_s);
+}
+
+/* The part of the operating point (mf_op) the extended outputs use. */
+typedef struct {
+    grip_real_t fz_ql;   /* Fz [N] (QL); 0 when unloaded                       */
+    grip_real_t fz;      /* Fz / FNOMIN                                        */
+    grip_real_t fzp;     /* Fz / Fz0'                                          */
+    grip_real_t dfz;
+    grip_real_t dpi;
+    grip_real_t gmux;    /* camber of mu_x, LMUX* (mu_x by mf_mux)             */
+    grip_real_t lmux_s;
+    int mf52;
+} mf_ext_op;
+
+/* What the extended outputs (mf_ext.c) take from one combined evaluation:
+ * the operating point and the model's intermediate results, per unit load
+ * (see the top of this file), in the model's frame (ISO-W, mirrored). */
+typedef struct {
+    mf_ext_op op;
+    mf_io io;
+    grip_real_t kxk;     /* Kxk / Fz                                           */
+    grip_real_t kya;     /* Kya / Fz (at gamma*)                               */
+    grip_real_t muy;     /* mu_y (at gamma*)                                   */
+    grip_real_t t;       /* combined trail t / R0 (with LFZO, low speed)       */
+    grip_real_t mzr;     /* combined residual moment Mzr / (Fz R0)             */
+    grip_real_t fx;      /* combined Fx / Fz, Fy / Fz                          */
+    grip_real_t fy;
+} mf_core;
+
+/* grip_mf_eval, and also the intermediates the extended outputs need into
+ * *x (x->op and x->io whenever the status is not an error, also for
+ * Fz <= 0, when the op holds Fz = 0; the rest only for Fz > 0). */
+grip_status_t mf_eval_core(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out, mf_core *x);
+
+/* x clamped to [-lim, lim]; *clamped set when it was outside. */
+static inline grip_real_t mf_clamp_sym(grip_real_t x, grip_real_t lim, int *clamped)
+{
+    if (x > lim) {
+        *clamped = 1;
+        return lim;
+    }
+    if (x < r_neg(lim)) {
+        *clamped = 1;
+        return r_neg(lim);
+    }
+    return x;
+}
+
+/* Forces the inlining of the combined evaluation into grip_mf_eval and
+ * into mf_eval_core: each keeps one frame (no wrapper frame under
+ * grip_mf_eval, whose worst-case stack the estimator's step adds to, and
+ * the capture of the intermediates compiles away from grip_mf_eval). GCC
+ * and clang; other compilers inline as they see fit (the stack budget is
+ * measured with arm-none-eabi-gcc). */
+#if defined(__GNUC__)
+#define MF_ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define MF_ALWAYS_INLINE inline
+#endif
 
 #endif /* GRIP_MF_INTERNAL_H */

@@ -529,7 +529,7 @@ grip_status_t grip_monitor_step(grip_monitor_t *m, grip_input_sample_t *sample,
         grip_real_t r_x = rw_ok ? r_w : r_c; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
         /* the widening counts only the yaw acceleration beyond AY_DR_DEAD
          * (the settling tail of a steering step kept it 0.7 - 1 m/s^2 wide
-         * for 0.5 s: docs/faults.md, session 16) */
+         * for 0.5 s: docs/faults.md) */
         grip_real_t wide = r_mul(RC(AY_DR),
                                  r_mul(vx, r_min(r_max(r_sub(r_abs(m->dr_f), RC(AY_DR_DEAD)), R_ZERO), RC(AY_DR_CAP))));
         res[IN_AY] = r_sub(ay_c, r_mul(r_x, vx));

@@ -14,7 +14,7 @@
  * row; a summary with frame, decode-error, stale-signal and drop counts
  * goes to stderr. docs/can.md is the manual (options, CSV columns, exit
  * codes). In --csv mode each row of the file is one estimator step
- * (docs/estimator.md, "CSV input"), the CAN path is not used, and the output
+ * (docs/estimator.md, "Using it"), the CAN path is not used, and the output
  * has the same columns as in CAN mode.
  */
 #include <errno.h>
@@ -1095,7 +1095,7 @@ static int run_file(replay *r)
 }
 
 /* ---- CSV input (--csv) ----------------------------------------------------------
- * One row per estimator step; docs/estimator.md "CSV input" is the schema,
+ * One row per estimator step; docs/estimator.md "Using it" is the schema,
  * docs/guarantees.md what is refused. */
 
 #define CSV_LINE_MAX 8192      /* bytes per line */

@@ -2,13 +2,17 @@
  * grip_tire.c - `grip-tire`: evaluate a tire model on CSV rows.
  *
  *   grip-tire [--model mf] [--tir FILE] [--pure] [--side left|right]
- *             [--sae] [--kappa-braking] [--no-status] [--prefix STR] < in.csv > out.csv
+ *             [--sae] [--kappa-braking] [--mz52-svyk-camber] [--outputs LIST]
+ *             [--no-status] [--prefix STR] < in.csv > out.csv
  *
  * Reads CSV on standard input whose header names at least the columns
  * kappa, alpha, gamma, fz, p, vx (SI units, radians; any order; other
  * columns are passed through unchanged) and writes every row again with
  * the columns fx, fy, mz and status appended. docs/tools.md is the manual:
- * CSV schema, sign conventions, status values and exit codes.
+ * CSV schema, sign conventions, status values and exit codes. --outputs
+ * adds the Magic Formula's extended channels (grip_mf_eval_ext, MFeval's
+ * channel names, unit in the column name); a channel that is not available
+ * at a row (docs/magic-formula-c.md section 8) is an empty field.
  *
  * Models are entries of MODELS[] below; a model needs a name, a set-up
  * function (read its parameter file) and an evaluation function on SI
@@ -17,6 +21,7 @@
  * evaluation function sees exactly what an ECU application would pass.
  */
 #include <errno.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -47,6 +52,40 @@ static const char *const OUT_NAMES[N_OUT] = { "fx", "fy", "mz" };
 static const int IN_QL[N_IN] = { 0, 0, 0, 1, 1, 0 };
 static const int OUT_QL[N_OUT] = { 1, 1, 1 };
 
+/* The Magic Formula's extended channels (--outputs), in the column order
+ * of grip_mf_output_ext; names as MFeval's, units in the column name. */
+typedef struct {
+    const char *name;
+    const char *unit;
+    uint32_t bit;
+    size_t off;
+    int ql;
+} ext_channel;
+
+#define EXT(n, u, b, f, q) { n, u, b, offsetof(grip_mf_output_ext, f), q }
+static const ext_channel EXT_CHANNELS[] = {
+    EXT("re", "m", GRIP_MF_EXT_RE, re, 0),
+    EXT("omega", "rad/s", GRIP_MF_EXT_OMEGA, omega, 0),
+    EXT("rl", "m", GRIP_MF_EXT_RL, rl, 0),
+    EXT("rho", "m", GRIP_MF_EXT_RHO, rho, 0),
+    EXT("cz", "N/m", GRIP_MF_EXT_CZ, cz, 1),
+    EXT("2a", "m", GRIP_MF_EXT_LENGTH, contact_length, 0),
+    EXT("2b", "m", GRIP_MF_EXT_WIDTH, contact_width, 0),
+    EXT("t", "m", GRIP_MF_EXT_T, t, 0),
+    EXT("mzr", "Nm", GRIP_MF_EXT_MZR, mzr, 1),
+    EXT("mux", "-", GRIP_MF_EXT_MUX, mux, 0),
+    EXT("muy", "-", GRIP_MF_EXT_MUY, muy, 0),
+    EXT("kxk", "N", GRIP_MF_EXT_KXK, kxk, 1),
+    EXT("kya", "N/rad", GRIP_MF_EXT_KYA, kya, 1),
+    EXT("cx", "N/m", GRIP_MF_EXT_CX, cx, 1),
+    EXT("cy", "N/m", GRIP_MF_EXT_CY, cy, 1),
+    EXT("sigmax", "m", GRIP_MF_EXT_SIGMAX, sigmax, 0),
+    EXT("sigmay", "m", GRIP_MF_EXT_SIGMAY, sigmay, 0),
+    EXT("mx", "Nm", GRIP_MF_EXT_MX, mx, 1),
+    EXT("my", "Nm", GRIP_MF_EXT_MY, my, 1),
+};
+#define N_EXT ((int)(sizeof EXT_CHANNELS / sizeof EXT_CHANNELS[0]))
+
 typedef struct {
     const char *model;
     const char *tir;
@@ -55,6 +94,10 @@ typedef struct {
     grip_tir_side side;
     int sae;
     int kappa_braking;
+    int mz52_svyk_camber;
+    const char *outputs;   /* --outputs LIST, or NULL */
+    int n_ext;             /* the extended channels asked for, in order */
+    int ext[32];
     int status_column;
     int dump_params;
     const char *prefix;
@@ -109,6 +152,9 @@ static int mf_setup(const cli_options *o, model_ctx *m, char *err, size_t errlen
     if (o->kappa_braking) {
         m->u.mf.options |= GRIP_MF_OPT_KAPPA_BRAKE;
     }
+    if (o->mz52_svyk_camber) {
+        m->u.mf.options |= GRIP_MF_OPT_MZ52_SVYK_CAMBER;
+    }
     st = grip_mf_check_params(&m->u.mf);
     if (st != GRIP_OK) {
         snprintf(err, errlen, "%s: the library rejects the parameter set: status %d (%s)", o->tir,
@@ -134,6 +180,39 @@ static grip_status_t mf_eval(const model_ctx *m, const grip_real_t in[N_IN], gri
     out[OUT_FX] = y.fx;
     out[OUT_FY] = y.fy;
     out[OUT_MZ] = y.mz;
+    return st;
+}
+
+/* mf with --outputs: grip_mf_eval_ext, the forces into out[], the asked
+ * channels into ext[] (as doubles, SI) and their validity into ok[]. */
+static grip_status_t mf_eval_ext_row(const model_ctx *m, const cli_options *o, const grip_real_t in[N_IN],
+                                     grip_real_t out[N_OUT], double ext[], int ok[])
+{
+    grip_mf_input x;
+    grip_mf_output_ext y;
+    grip_status_t st;
+    uint32_t mask = 0u;
+    int i;
+    x.kappa = in[IN_KAPPA];
+    x.alpha = in[IN_ALPHA];
+    x.gamma = in[IN_GAMMA];
+    x.fz = in[IN_FZ];
+    x.p = in[IN_P];
+    x.vx = in[IN_VX];
+    for (i = 0; i < o->n_ext; i++) {
+        mask |= EXT_CHANNELS[o->ext[i]].bit;
+    }
+    st = grip_mf_eval_ext(&m->u.mf, &x, mask, &y);
+    out[OUT_FX] = y.fx;
+    out[OUT_FY] = y.fy;
+    out[OUT_MZ] = y.mz;
+    for (i = 0; i < o->n_ext; i++) {
+        const ext_channel *c = &EXT_CHANNELS[o->ext[i]];
+        grip_real_t v;
+        memcpy(&v, (const char *)&y + c->off, sizeof v);
+        ext[i] = grip_tir_from_real(v, c->ql);
+        ok[i] = (y.valid & c->bit) != 0u;
+    }
     return st;
 }
 
@@ -206,8 +285,8 @@ static void usage(FILE *f)
     size_t i;
     fprintf(f,
             "usage: grip-tire [--model NAME] [--tir FILE] [--pure] [--side left|right]\n"
-            "                 [--sae] [--kappa-braking] [--no-status] [--prefix STR]\n"
-            "                 [--dump-params] < in.csv > out.csv\n"
+            "                 [--sae] [--kappa-braking] [--mz52-svyk-camber] [--outputs LIST]\n"
+            "                 [--no-status] [--prefix STR] [--dump-params] < in.csv > out.csv\n"
             "\n"
             "Reads CSV with the columns kappa,alpha,gamma,fz,p,vx (SI, rad; any order;\n"
             "other columns passed through) and appends fx,fy,mz,status. Build: %s.\n"
@@ -229,6 +308,13 @@ static void usage(FILE *f)
             "                    y right, z down: alpha, fy, mz and fz change sign);\n"
             "                    default ISO-W (x forward, y left, z up)\n"
             "  --kappa-braking   kappa column is positive in braking (kappa_ISO = -kappa)\n"
+            "  --outputs LIST    mf: also the extended channels of LIST (comma-separated,\n"
+            "                    or 'all'): re omega rl rho cz 2a 2b t mzr mux muy kxk kya\n"
+            "                    cx cy sigmax sigmay mx my (MFeval's names), appended as\n"
+            "                    name[unit] columns; empty where not available\n"
+            "  --mz52-svyk-camber  mf, MF 5.2 files: combined Mz with Fy' = Fy - SVyk of Fy\n"
+            "                    (cambered mu_y) instead of MFeval's SVyk with mu_y at\n"
+            "                    gamma = 0 (GRIP_MF_OPT_MZ52_SVYK_CAMBER)\n"
             "  --no-status       do not append the status column\n"
             "  --prefix STR      prefix of the appended column names (e.g. model_)\n"
             "  --dump-params     print the loaded parameters (SI, as stored in this\n"
@@ -236,6 +322,54 @@ static void usage(FILE *f)
             "\n"
             "exit status: 0 all rows evaluated; 1 some rows malformed or rejected\n"
             "(status < 0); 2 usage; 3 parameters not loaded; 4 header; 5 I/O error\n");
+}
+
+/* --outputs LIST: comma-separated channel names, or "all". */
+static int parse_outputs(cli_options *o)
+{
+    const char *s = o->outputs;
+    o->n_ext = 0;
+    if (strcmp(s, "all") == 0) {
+        int k;
+        for (k = 0; k < N_EXT; k++) {
+            o->ext[o->n_ext++] = k;
+        }
+        return 0;
+    }
+    while (*s != '\0') {
+        size_t len = strcspn(s, ",");
+        int k;
+        int found = -1;
+        for (k = 0; k < N_EXT; k++) {
+            if (strlen(EXT_CHANNELS[k].name) == len && strncmp(EXT_CHANNELS[k].name, s, len) == 0) {
+                found = k;
+            }
+        }
+        if (found < 0) {
+            fprintf(stderr, "grip-tire: --outputs: unknown channel '%.*s' (", (int)len, s);
+            for (k = 0; k < N_EXT; k++) {
+                fprintf(stderr, "%s%s", k ? " " : "", EXT_CHANNELS[k].name);
+            }
+            fprintf(stderr, ", or all)\n");
+            return -1;
+        }
+        for (k = 0; k < o->n_ext; k++) {
+            if (o->ext[k] == found) {
+                fprintf(stderr, "grip-tire: --outputs: channel '%s' given twice\n", EXT_CHANNELS[found].name);
+                return -1;
+            }
+        }
+        o->ext[o->n_ext++] = found;
+        s += len;
+        if (*s == ',') {
+            s++;
+        }
+    }
+    if (o->n_ext == 0) {
+        fprintf(stderr, "grip-tire: --outputs: no channel given\n");
+        return -1;
+    }
+    return 0;
 }
 
 static int parse_args(int argc, char **argv, cli_options *o)
@@ -273,6 +407,10 @@ static int parse_args(int argc, char **argv, cli_options *o)
             o->sae = 1;
         } else if (strcmp(a, "--kappa-braking") == 0) {
             o->kappa_braking = 1;
+        } else if (strcmp(a, "--mz52-svyk-camber") == 0) {
+            o->mz52_svyk_camber = 1;
+        } else if (strcmp(a, "--outputs") == 0 && i + 1 < argc) {
+            o->outputs = argv[++i];
         } else if (strcmp(a, "--no-status") == 0) {
             o->status_column = 0;
         } else if (strcmp(a, "--dump-params") == 0) {
@@ -284,7 +422,7 @@ static int parse_args(int argc, char **argv, cli_options *o)
             return -1;
         }
     }
-    return 0;
+    return (o->outputs != NULL) ? parse_outputs(o) : 0;
 }
 
 /* ---- CSV processing ------------------------------------------------ */
@@ -307,6 +445,13 @@ typedef struct {
     int col[N_IN];        /* column of each input */
     int ncols;
 } header_map;
+
+/* The column of the i-th asked extended channel: prefix, name, [unit]. */
+static void ext_column_name(const cli_options *o, int i, char *name, size_t len)
+{
+    const ext_channel *c = &EXT_CHANNELS[o->ext[i]];
+    snprintf(name, len, "%s%s[%s]", o->prefix, c->name, c->unit);
+}
 
 static int read_header(const char *line, const cli_options *o, header_map *h)
 {
@@ -351,12 +496,18 @@ static int read_header(const char *line, const cli_options *o, header_map *h)
         }
     }
     /* the appended names must not collide with input columns */
-    for (k = 0; k < N_OUT + 1; k++) {
+    for (k = 0; k < N_OUT + o->n_ext + 1; k++) {
         char name[128];
-        if (k == N_OUT && !o->status_column) {
+        if (k == N_OUT + o->n_ext && !o->status_column) {
             break;
         }
-        snprintf(name, sizeof name, "%s%s", o->prefix, (k < N_OUT) ? OUT_NAMES[k] : "status");
+        if (k < N_OUT) {
+            snprintf(name, sizeof name, "%s%s", o->prefix, OUT_NAMES[k]);
+        } else if (k < N_OUT + o->n_ext) {
+            ext_column_name(o, k - N_OUT, name, sizeof name);
+        } else {
+            snprintf(name, sizeof name, "%sstatus", o->prefix);
+        }
         for (j = 0; j < rec.n; j++) {
             if (name_eq(rec.field[j], name)) {
                 fprintf(stderr,
@@ -390,8 +541,15 @@ static int process_row(const tire_model *model, const model_ctx *m, const cli_op
     double res[N_OUT] = { 0.0, 0.0, 0.0 };
     grip_real_t rin[N_IN];
     grip_real_t rout[N_OUT];
+    double ext[N_EXT];
+    int ext_ok[N_EXT];
     int status;
     int i;
+
+    for (i = 0; i < N_EXT; i++) {
+        ext[i] = 0.0;
+        ext_ok[i] = 0;
+    }
 
     if (csv_split(line, work, worklen, &rec, &why) != 0) {
         fprintf(stderr, "grip-tire: <stdin>:%lu: malformed row: %s\n", lineno, why);
@@ -421,7 +579,11 @@ static int process_row(const tire_model *model, const model_ctx *m, const cli_op
             goto write;
         }
     }
-    status = (int)model->eval(m, rin, rout);
+    if (o->n_ext > 0) {
+        status = (int)mf_eval_ext_row(m, o, rin, rout, ext, ext_ok);
+    } else {
+        status = (int)model->eval(m, rin, rout);
+    }
     for (i = 0; i < N_OUT; i++) {
         res[i] = grip_tir_from_real(rout[i], OUT_QL[i]);
     }
@@ -438,6 +600,13 @@ write:
     } else {
         for (i = 0; i < N_OUT; i++) {
             fprintf(out, ",%.9g", res[i] + 0.0);
+        }
+    }
+    for (i = 0; i < o->n_ext; i++) {
+        if (status != ROW_MALFORMED && ext_ok[i]) {
+            fprintf(out, ",%.9g", ext[i] + 0.0);
+        } else {
+            fputs(",", out);   /* empty: not available at this row */
         }
     }
     if (o->status_column) {
@@ -480,6 +649,11 @@ int main(int argc, char **argv)
         fprintf(stderr, "\n");
         return EXIT_USAGE;
     }
+    if (o.n_ext > 0 && (strcmp(model->name, "mf") != 0 || o.pure)) {
+        fprintf(stderr, "grip-tire: --outputs needs the combined-slip mf model (not --model %s%s)\n", model->name,
+                o.pure ? ", --pure" : "");
+        return EXIT_USAGE;
+    }
     memset(&m, 0, sizeof m);
     err[0] = '\0';
     if (model->setup(&o, &m, err, sizeof err) != 0) {
@@ -511,6 +685,11 @@ int main(int argc, char **argv)
     fputs(line, stdout);
     for (k = 0; k < N_OUT; k++) {
         fprintf(stdout, ",%s%s", o.prefix, OUT_NAMES[k]);
+    }
+    for (k = 0; k < o.n_ext; k++) {
+        char name[128];
+        ext_column_name(&o, k, name, sizeof name);
+        fprintf(stdout, ",%s", name);
     }
     if (o.status_column) {
         fprintf(stdout, ",%sstatus", o.prefix);

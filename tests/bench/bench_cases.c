@@ -46,6 +46,7 @@ static void b_r_exp(int i) { rsink = r_exp(r_mul(r_in[i], RC(0.125))); }
  * linear range, the peak and full sliding. */
 static const grip_mf_params *mf61;
 static const grip_mf_params *mf52;
+static const grip_mf_params *mf62;
 static grip_mf_input mf_in[BENCH_INPUTS];
 static volatile grip_real_t mf_sink;
 
@@ -115,6 +116,7 @@ static void mf_setup(void)
     int i;
     mf61 = tire_named("MagicFormula61_Paramerters");
     mf52 = tire_named("335_65R22_5_G275MSA_60psi");
+    mf62 = tire_named("MagicFormula62_Paramerters");
     for (i = 0; i < BENCH_INPUTS; ++i) {
         mf_in[i].kappa = kappa[i % 4];
         mf_in[i].alpha = alpha[(i / 4) % 4];
@@ -148,9 +150,46 @@ static void b_mf52_combined(int i)
     mf_sink = out.mz;
 }
 
+/* The extended outputs (grip_mf_eval_ext): the issue's set (Re, the
+ * relaxation lengths and the slip stiffnesses: at most 15 % above the plain
+ * combined evaluation), every channel, and MF 6.2's iterated loaded
+ * radius alone. */
+#define MF_EXT_RE_SIGMA_K (GRIP_MF_EXT_RE | GRIP_MF_EXT_SIGMAX | GRIP_MF_EXT_SIGMAY | GRIP_MF_EXT_KXK | GRIP_MF_EXT_KYA)
+static void b_mf61_ext_re_sigma_k(int i)
+{
+    grip_mf_output_ext out;
+    (void)grip_mf_eval_ext(mf61, &mf_in[i], MF_EXT_RE_SIGMA_K, &out);
+    mf_sink = out.sigmay;
+}
+
+static void b_mf61_ext_all(int i)
+{
+    grip_mf_output_ext out;
+    (void)grip_mf_eval_ext(mf61, &mf_in[i], GRIP_MF_EXT_ALL, &out);
+    mf_sink = out.my;
+}
+
+static void b_mf62_ext_rl(int i)
+{
+    grip_mf_output_ext out;
+    (void)grip_mf_eval_ext(mf62, &mf_in[i], GRIP_MF_EXT_RL, &out);
+    mf_sink = out.rl;
+}
+
+static void b_mf52_ext_re_sigma_k(int i)
+{
+    grip_mf_output_ext out;
+    grip_mf_input in = mf_in[i];
+    in.fz = r_mul(RC(4.0), in.fz);   /* truck loads */
+    (void)grip_mf_eval_ext(mf52, &in, MF_EXT_RE_SIGMA_K, &out);
+    mf_sink = out.sigmay;
+}
+
 const bench_case bench_cases[] = {
     { "mf61_pure_fx_fy_mz", b_mf61_pure }, { "mf61_combined_fx_fy_mz", b_mf61_combined },
     { "mf52_combined_fx_fy_mz", b_mf52_combined },
+    { "mf61_ext_re_sigma_k", b_mf61_ext_re_sigma_k }, { "mf61_ext_all", b_mf61_ext_all },
+    { "mf62_ext_rl", b_mf62_ext_rl }, { "mf52_ext_re_sigma_k", b_mf52_ext_re_sigma_k },
     { "r_mul", b_r_mul }, { "r_div", b_r_div }, { "r_sqrt", b_r_sqrt },
     { "r_atan2", b_r_atan2 }, { "r_sin", b_r_sin }, { "r_exp", b_r_exp },
     { "r_atan", b_r_atan }, { "r_cos", b_r_cos },

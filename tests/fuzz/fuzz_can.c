@@ -92,9 +92,9 @@ static void run_frames(const grip_can_table_t *table, fz_reader *r)
             f.data[i] = fz_u8(r);
         }
         if (msg >= 0 && (sel & 1u) && table->messages[msg].checksum == GRIP_CAN_CSUM_TOYOTA &&
-            table->messages[msg].checksum_byte < f.len) {
-            f.data[table->messages[msg].checksum_byte] = grip_can_toyota_checksum(
-                f.id, f.data, f.len, table->messages[msg].checksum_byte);
+            table->messages[msg].checksum_start / 8u < f.len) {
+            uint32_t cb = table->messages[msg].checksum_start / 8u;
+            f.data[cb] = grip_can_toyota_checksum(f.id, f.data, f.len, cb);
         }
         /* stateless decoders */
         {

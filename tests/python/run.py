@@ -37,21 +37,80 @@ class TapResult(unittest.TextTestResult):
         self._line(False, test)
         print("# " + self._exc_info_to_string(err, test).replace("\n", "\n# "))
 
+    def addSubTest(self, test, subtest, err):
+        super().addSubTest(test, subtest, err)
+        if err is not None:          # a failing subtest fails its test: say so in TAP
+            self._line(False, subtest)
+            print("# " + self._exc_info_to_string(err, test).replace("\n", "\n# "))
+
+    def addUnexpectedSuccess(self, test):
+        super().addUnexpectedSuccess(test)
+        self._line(False, test, " # unexpected success")
+
     def addSkip(self, test, reason):
         super().addSkip(test, reason)
         self._line(True, test, f" # SKIP {reason}")
 
 
+def iter_tests(suite):
+    for t in suite:
+        if isinstance(t, unittest.TestSuite):
+            yield from iter_tests(t)
+        else:
+            yield t
+
+
+def run_module(item):
+    """Worker: run one test module's tests; return its TAP lines and outcome
+    (everything it printed, in order)."""
+    import contextlib
+    import io
+    name, tests = item
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        runner = unittest.TextTestRunner(resultclass=TapResult, stream=open(os.devnull, "w"), verbosity=0)
+        result = runner.run(unittest.TestSuite(tests))
+    return name, buf.getvalue(), result.testsRun, result.wasSuccessful()
+
+
 def main():
     # optional arguments: a file pattern (e.g. 'test_grip_tire*.py') and a
-    # sub-folder (e.g. reference); the test packages mirror tools/grip_tools/
+    # sub-folder (e.g. reference); the test packages mirror tools/grip_tools/.
+    # GRIP_TEST_JOBS=N runs whole modules in N processes (output per module,
+    # in module order, numbered as one TAP stream).
     pattern = sys.argv[1] if len(sys.argv) > 1 else "test_*.py"
     start = os.path.join(HERE, sys.argv[2]) if len(sys.argv) > 2 else HERE
     suite = unittest.defaultTestLoader.discover(start, pattern=pattern, top_level_dir=TESTS)
-    runner = unittest.TextTestRunner(resultclass=TapResult, stream=open(os.devnull, "w"), verbosity=0)
-    result = runner.run(suite)
-    print(f"1..{result.testsRun}")
-    return 0 if result.wasSuccessful() else 1
+    jobs = int(os.environ.get("GRIP_TEST_JOBS", "1"))
+    if jobs <= 1:
+        runner = unittest.TextTestRunner(resultclass=TapResult, stream=open(os.devnull, "w"), verbosity=0)
+        result = runner.run(suite)
+        print(f"1..{result.testsRun}")
+        return 0 if result.wasSuccessful() else 1
+    import concurrent.futures
+    import multiprocessing
+    modules = {}
+    for t in iter_tests(suite):
+        modules.setdefault(type(t).__module__, []).append(t)
+    items = sorted(modules.items())
+    # ProcessPoolExecutor's workers are not daemonic, so a test may start
+    # processes of its own (a Dask LocalCluster, a multiprocessing pool)
+    with concurrent.futures.ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("fork")) as pool:
+        done = {name: (text, n, ok) for name, text, n, ok in pool.map(run_module, items)}
+    total, all_ok = 0, True
+    for name, _ in items:
+        text, n, ok = done[name]
+        all_ok = all_ok and ok
+        for line in text.splitlines():
+            # renumber the module's TAP lines into one stream
+            for head in ("ok ", "not ok "):
+                if line.startswith(head) and line[len(head):].split(" ", 1)[0].isdigit():
+                    total += 1
+                    line = f"{head}{total} " + line[len(head):].split(" ", 1)[1]
+                    break
+            print(line)
+    print(f"1..{total}")
+    return 0 if all_ok else 1
 
 
 if __name__ == "__main__":

@@ -149,9 +149,9 @@ static void test_rav4_steps_vs_reference(void **state)
  * Message 0x18FF0001 (29-bit, CAN FD, 12 bytes, 50 ms): brake_torque_fl =
  * signed 16 bits Intel from bit 80 x 1 N m. */
 static const grip_can_message_t SM[3] = {
-    { "A", 0x100u, 10000u, 0u, 2u, 8u, GRIP_CAN_CSUM_TOYOTA, 7u, 4u, GRIP_CAN_INTEL, 48u },
-    { "B", 0x200u, 20000u, 2u, 2u, 4u, GRIP_CAN_CSUM_NONE, 0u, 0u, GRIP_CAN_INTEL, 0u },
-    { "C", 0x98FF0001u, 50000u, 4u, 1u, 12u, GRIP_CAN_CSUM_NONE, 0u, 0u, GRIP_CAN_INTEL, 0u },
+    { "A", 0x100u, 10000u, 0u, 2u, 8u, GRIP_CAN_CSUM_TOYOTA, 8u, GRIP_CAN_INTEL, 56u, 4u, GRIP_CAN_INTEL, 48u, { 0u } },
+    { "B", 0x200u, 20000u, 2u, 2u, 4u, GRIP_CAN_CSUM_NONE, 0u, GRIP_CAN_INTEL, 0u, 0u, GRIP_CAN_INTEL, 0u, { 0u } },
+    { "C", 0x98FF0001u, 50000u, 4u, 1u, 12u, GRIP_CAN_CSUM_NONE, 0u, GRIP_CAN_INTEL, 0u, 0u, GRIP_CAN_INTEL, 0u, { 0u } },
 };
 /* K and C for shift s: 0.01 m/s = 2^s x 0.01; here s = 30 -> K = 10737418 (0.01 x 2^30 rounded). */
 static const grip_can_signal_t SS[5] = {

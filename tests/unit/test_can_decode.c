@@ -428,8 +428,20 @@ static void test_table_check_rejects_broken_tables(void **state)
     ts[2].input = GRIP_IN_STEER_ANGLE;   /* one input fed by two messages */
     assert_int_equal(grip_can_table_check(&tt, NULL), GRIP_ERR_PARAM);
     make_valid_table();
-    tm[1].checksum_byte = 8;
+    tm[1].checksum_start = 64;   /* checksum byte beyond the payload */
     assert_int_equal(grip_can_table_check(&tt, NULL), GRIP_ERR_PARAM);
+    make_valid_table();
+    tm[1].checksum_start = 60;   /* a Toyota checksum is one whole byte */
+    assert_int_equal(grip_can_table_check(&tt, NULL), GRIP_ERR_PARAM);
+    make_valid_table();
+    tm[1].checksum = GRIP_CAN_CSUM_COUNT;   /* no such family */
+    assert_int_equal(grip_can_table_check(&tt, NULL), GRIP_ERR_PARAM);
+    make_valid_table();
+    tm[1].checksum = GRIP_CAN_CSUM_VOLKSWAGEN_MQB;   /* its checksum is byte 0, not 7 */
+    assert_int_equal(grip_can_table_check(&tt, NULL), GRIP_ERR_PARAM);
+    make_valid_table();
+    tm[1].checksum = GRIP_CAN_CSUM_CHRYSLER;   /* last byte: fits */
+    assert_int_equal(grip_can_table_check(&tt, NULL), GRIP_OK);
     make_valid_table();
     tm[0].period_us = 0;
     assert_int_equal(grip_can_table_check(&tt, NULL), GRIP_ERR_PARAM);
@@ -485,7 +497,9 @@ static void test_text_table_equals_compiled_table(void **state)
         assert_string_equal(x->name, y->name);
         assert_true(x->id == y->id && x->period_us == y->period_us && x->first_signal == y->first_signal &&
                     x->n_signals == y->n_signals && x->len == y->len && x->checksum == y->checksum &&
-                    x->checksum_byte == y->checksum_byte && x->counter_length == y->counter_length &&
+                    x->checksum_start == y->checksum_start && x->checksum_length == y->checksum_length &&
+                    x->checksum_order == y->checksum_order && memcmp(x->magic, y->magic, sizeof x->magic) == 0 &&
+                    x->counter_length == y->counter_length &&
                     x->counter_order == y->counter_order && x->counter_start == y->counter_start);
     }
     for (i = 0; i < a->n_signals; i++) {
@@ -504,16 +518,26 @@ static grip_status_t tline(const char *line, const char **why)
     return grip_can_table_text_line(&tb, line, (uint32_t)strlen(line), why);
 }
 
-static void expect_line_error(const char *line, const char *reason_part)
+static void expect_line_error_v(int version, const char *line, const char *reason_part)
 {
     const char *why = "";
     grip_can_table_text_init(&tb);
-    assert_int_equal(tline("grip-can-table 1 t\n", &why), GRIP_OK);
-    assert_int_equal(tline("msg M 0x24 8 12000 none 0 0 0 intel", &why), GRIP_OK);
+    if (version == 1) {
+        assert_int_equal(tline("grip-can-table 1 t\n", &why), GRIP_OK);
+        assert_int_equal(tline("msg M 0x24 8 12000 none 0 0 0 intel", &why), GRIP_OK);
+    } else {
+        assert_int_equal(tline("grip-can-table 2 t\n", &why), GRIP_OK);
+        assert_int_equal(tline("msg M 0x24 8 12000 none 0 0 intel 0 0 intel -", &why), GRIP_OK);
+    }
     assert_int_not_equal(tline(line, &why), GRIP_OK);
     if (strstr(why, reason_part) == NULL) {
         fail_msg("line '%s': reason '%s' lacks '%s'", line, why, reason_part);
     }
+}
+
+static void expect_line_error(const char *line, const char *reason_part)
+{
+    expect_line_error_v(1, line, reason_part);
 }
 
 static void test_text_table_malformed_lines(void **state)
@@ -530,8 +554,24 @@ static void test_text_table_malformed_lines(void **state)
     expect_line_error("sig S yaw_rate value 1 10 motorola 0 37 1073741824 0 43 981", "not a number in range");
     expect_line_error("sig S yaw_rate val 1 10 motorola 0 37 1 0 43 981", "role");
     expect_line_error("frob", "unknown line kind");
-    expect_line_error("msg M 0x24 8 12000 crc 0 0 0 intel", "none|toyota");
+    expect_line_error("msg M 0x24 8 12000 crc 0 0 0 intel", "checksum family name");
+    expect_line_error("msg M 0x24 8 12000 honda 7 0 0 intel", "checksum family name");   /* not in version 1 */
     expect_line_error("msg M 0x24 8 12000 none 0 0 0", "9 fields");
+    /* version 2: the checksum field and the magic bytes */
+    expect_line_error_v(2, "msg M 0x24 8 12000 none 0 0 0 intel", "12 fields");
+    expect_line_error_v(2, "msg M 0x24 8 12000 volkswagen_mqb 0 8 intel 8 4 intel 40404040", "MAGIC");
+    expect_line_error_v(2, "msg M 0x24 8 12000 volkswagen_mqb 0 8 intel 8 4 intel 4040404040404040404040404040404g",
+                        "MAGIC");
+    expect_line_error_v(2, "msg M 0x24 8 12000 volkswagen_mqb 0 17 intel 8 4 intel -", "not a number in range");
+    expect_line_error_v(2, "msg M 0x24 8 12000 crc16 0 16 intel 8 4 intel -", "checksum family name");
+    grip_can_table_text_init(&tb);
+    assert_int_equal(tline("grip-can-table 2 t", &why), GRIP_OK);
+    assert_int_equal(tline("msg M 0x40 8 12000 volkswagen_mqb 0 8 intel 8 4 intel "
+                           "404142434445464748494a4b4c4d4e4f", &why), GRIP_OK);
+    assert_int_equal(tb.messages[0].magic[0], 0x40);
+    assert_int_equal(tb.messages[0].magic[15], 0x4F);
+    assert_int_equal(tb.messages[0].checksum, GRIP_CAN_CSUM_VOLKSWAGEN_MQB);
+    assert_int_equal(tb.messages[0].counter_length, 4);
     /* well-formed lines, inconsistent table: the check in finish catches it */
     grip_can_table_text_init(&tb);
     assert_int_equal(tline("grip-can-table 1 t", &why), GRIP_OK);

@@ -21,7 +21,7 @@
  *   Fy [N]           0.1 % of the sequence peak  0.3 % of the peak
  *                    (measured 0.0016 %)         (measured 0.14 %)
  *   valid mask       no row may differ           rows differing <= 1 % (measured 1 of 4000)
- * (measured: the worst of the six sequences, session 16, docs/estimator.md).
+ * (measured: the worst of the six sequences, docs/estimator.md).
  * A GRIP_DEBUG_SATURATION build prints the saturation count (the estimator
  * is allowed to clamp on purpose; the count is reported, not asserted).
  */
@@ -89,7 +89,7 @@ typedef struct {
     const char *file;
     double dt;
     int optional;
-    int aero_bank;   /* 1: golden_est.AERO_BANK configuration */
+    int aero_bank;   /* 1: the AERO_BANK configuration of tools/grip_tools/golden/est.py */
 } seq_t;
 
 static void run_sequence(const seq_t *sq)

@@ -51,8 +51,9 @@ static void make_est(grip_est_t *e)
  * ay: steering from the linear bicycle, yaw rate ay / v, and the
  * accelerometer's reading of a body rolled by the default roll gradient
  * (0.0088 rad per m/s^2: ay (1 + g 0.0088)), which the estimator removes.
- * (Until session 16 the reading left the roll out, 8 % below the
- * kinematics: docs/estimator.md, "mu's secant".) */
+ * (A reading without the roll is 8 % below the kinematics, a persistent
+ * deficit that mu's secant takes for low friction: docs/estimator.md,
+ * "mu's secant".) */
 static void circle(grip_input_sample_t *s, double v, double ay)
 {
     double r = (v > 0.1) ? ay / v : 0.0;
@@ -281,8 +282,8 @@ static void test_standstill_and_reversing(void **state)
 /* A vehicle-speed input that read 3 m/s while the car ran at 15 m/s, then
  * lost, with the car slowing at 1.5 m/s^2: every wheel is 15 m/s above the
  * speed prediction, but no wheel spins while the car decelerates, so the
- * prediction is what is lost and the wheels are taken (before session 13:
- * all four counted as spinning, vx integrated ax from 3 m/s). */
+ * prediction is what is lost and the wheels are taken (counted as four
+ * spinning wheels instead, they would leave vx integrating ax from 3 m/s). */
 static void test_speed_recovers_after_reference_fault(void **state)
 {
     grip_est_t e;
@@ -459,12 +460,11 @@ static void test_reset_keeps_config(void **state)
  * the car does not, the case the saturation-share statistic is for). The
  * right tire must never raise GRIP_EST_F_MODEL_MISFIT; the wrong one must
  * raise it, and V_MU must stay cleared from then on.
- * (Until session 16 the wrong tire was a cornering-stiffness scale LKY x 4
- * and the circle's accelerometer left out the body roll, 8 % below the
- * kinematics: with the roll in, neither the tangent nor the secant form of
- * mu's column flags LKY x 4 in steady circles, the filter fits it with a
- * different beta; the old test found it through the 8 % only.
- * docs/estimator.md, "Model consistency".) */
+ * (Not a cornering-stiffness scale such as LKY x 4: with the body roll in
+ * the accelerometer's reading, neither the tangent nor the secant form of
+ * mu's column flags it in steady circles, since the filter fits it with a
+ * different beta; only an accelerometer 8 % below the kinematics made it
+ * show. docs/estimator.md, "7. Checks and validity".) */
 #ifndef MISFIT_LMUY
 #define MISFIT_LMUY 0.6
 #endif

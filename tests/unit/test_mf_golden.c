@@ -14,6 +14,11 @@
  *                carries into every force, plus the Q23.8 output step.
  * In a GRIP_DEBUG_SATURATION build no saturation may happen on any row (all
  * rows are inside the valid range).
+ *
+ * The other form of the MF 5.2 combined aligning moment
+ * (GRIP_MF_OPT_MZ52_SVYK_CAMBER) is checked against the column
+ * mz_svyk_camber of build/golden/mf_ext_<tyre>.txt with the same Mz
+ * tolerance (test_golden_mz52_option).
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -53,6 +58,7 @@ typedef struct {
 } row_t;
 
 static row_t rows[MAX_ROWS];
+static int n_rows_loaded;   /* rows[] of the tyre read last */
 
 static const char *const out_names[NOUT] = { "Fx0", "Fy0", "Mz0", "Fx", "Fy", "Mz" };
 
@@ -142,6 +148,7 @@ static int check_tire(const grip_test_tire *t)
 #endif
     n = read_rows(t->golden);
     assert_true(n > 100);
+    n_rows_loaded = n;
     for (j = 0; j < NOUT; j++) {
         snprintf(label[j], sizeof(label[j]), "%s %s", t->name, out_names[j]);
         err_init(&st[j], label[j], 1.0);
@@ -247,6 +254,78 @@ static int check_tire(const grip_test_tire *t)
     return failures;
 }
 
+/* GRIP_MF_OPT_MZ52_SVYK_CAMBER against mf_ext_<tyre>.txt (columns kappa
+ * alpha gamma fz p vx fx fy mz mz_svyk_camber ...): the combined Mz of the
+ * option (no effect on MF 6.x), same tolerance as Mz above. Returns the
+ * number of failed checks. */
+static int check_tire_mz52_option(const grip_test_tire *t)
+{
+    golden_file g;
+    char fname[128];
+    grip_mf_params q = *t->params;
+    err_stats st;
+    char label[96];
+    double worst = 0.0;
+    double fnomin = from_ql(t->params->fnomin);
+    double r0 = from_qs(t->params->unloaded_radius);
+    long over = 0;
+    long bad = 0;
+    int n = 0;
+    int nf;
+    q.options |= GRIP_MF_OPT_MZ52_SVYK_CAMBER;
+    snprintf(fname, sizeof fname, "mf_ext_%s.txt", t->name);
+    snprintf(label, sizeof label, "%s Mz (MZ52_SVYK_CAMBER)", t->name);
+    err_init(&st, label, 1.0);
+    assert_int_equal(golden_open(&g, fname), 0);
+    while ((nf = golden_next(&g)) > 0) {
+        grip_mf_input in;
+        grip_mf_output out;
+        double want = golden_num(&g, 9);
+        double fz = golden_num(&g, 3);
+        double mzpk;
+        double allowed;
+        double e;
+        assert_true(nf >= 10);
+        in.kappa = to_qs(golden_num(&g, 0));
+        in.alpha = to_qs(golden_num(&g, 1));
+        in.gamma = to_qs(golden_num(&g, 2));
+        in.fz = to_ql(fz);
+        in.p = to_ql(golden_num(&g, 4));
+        in.vx = to_qs(golden_num(&g, 5));
+        if (grip_mf_eval(&q, &in, &out) != GRIP_OK) {
+            bad++;
+        }
+        /* rows[] still holds this tyre's mf_<tyre>.txt (same input rows) */
+        mzpk = peak_mz(n_rows_loaded, fz);
+#if GRIP_ARITH_FIXED
+        allowed = 0.01 * mzpk + FLOOR_LSB * fnomin * r0 / 65536.0;
+#else
+        (void)mzpk;
+        (void)r0;
+        (void)fnomin;
+        allowed = 1e-4 * fz * 1.0;
+#endif
+        e = fabs(from_ql(out.mz) - want);
+        err_add(&st, from_ql(out.mz), want, golden_num(&g, 0), golden_num(&g, 1), fz);
+        if (e > allowed) {
+            if (over < 3) {
+                printf("# %s row %d: got %.9g want %.9g (|err| %.3e > %.3e)\n", label, n, from_ql(out.mz), want, e,
+                       allowed);
+            }
+            over++;
+        }
+        if (allowed > 0.0 && e / allowed > worst) {
+            worst = e / allowed;
+        }
+        n++;
+    }
+    golden_close(&g);
+    assert_true(n > 100);
+    err_print(&st, "N m");
+    printf("#   %-26s worst |err| / tolerance = %.3f (%ld rows over, %ld not OK)\n", label, worst, over, bad);
+    return (over != 0 || bad != 0) ? 1 : 0;
+}
+
 static void test_golden_all_tires(void **state)
 {
     struct stat sb;
@@ -264,6 +343,7 @@ static void test_golden_all_tires(void **state)
     }
     for (i = 0; i < grip_test_tire_count; i++) {
         failures += check_tire(&grip_test_tires[i]);
+        failures += check_tire_mz52_option(&grip_test_tires[i]);
     }
     assert_int_equal(failures, 0);
 }

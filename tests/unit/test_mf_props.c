@@ -899,6 +899,42 @@ static void test_option_book(void **state)
     assert_no_saturation();
 }
 
+/* GRIP_MF_OPT_MZ52_SVYK_CAMBER: only the MF 5.2 combined Mz changes (its
+ * Fy' = Fy - SVyk takes the cambered mu_y instead of mu_y at gamma = 0).
+ * Exact: Fx, Fy, the pure outputs and, at gamma = 0 (mu_y(gamma) = mu_y(0)),
+ * Mz are bit for bit the same; MF 6.x does not change at all. */
+static void test_option_mz52_svyk_camber(void **state)
+{
+    grip_mf_params p;
+    grip_mf_params q;
+    int i;
+    int differ = 0;
+    (void)state;
+    asymmetric_params(&p);
+    p.fittyp = 6;
+    p.pdy3 = to_qs(3.0);
+    q = p;
+    q.options = GRIP_MF_OPT_MZ52_SVYK_CAMBER;
+    for (i = 0; i <= 20; i++) {
+        double k = -0.5 + 0.05 * i;
+        res_t a = evc(&p, k, 0.1, 0.1, FNOM);
+        res_t b = evc(&q, k, 0.1, 0.1, FNOM);
+        assert_int_equal(a.st, b.st);
+        assert_true(a.fx == b.fx && a.fy == b.fy);
+        differ += (a.mz != b.mz);
+        assert_same(evc(&q, k, 0.1, 0.0, FNOM), evc(&p, k, 0.1, 0.0, FNOM), 1, 1, 1);
+        assert_same(evp(&q, k, 0.1, 0.1, FNOM), evp(&p, k, 0.1, 0.1, FNOM), 1, 1, 1);
+    }
+    assert_true(differ >= 18);   /* all but kappa ~ 0, where SVyk = 0 */
+    p.fittyp = 61;
+    q.fittyp = 61;
+    for (i = 0; i <= 20; i++) {
+        double k = -0.5 + 0.05 * i;
+        assert_same(evc(&q, k, 0.1, 0.1, FNOM), evc(&p, k, 0.1, 0.1, FNOM), 1, 1, 1);
+    }
+    assert_no_saturation();
+}
+
 /* Inflation pressure: p <= 0 means INFLPRES; p outside [0.5, 2] NOMPRES is
  * clamped. Exact. */
 static void test_pressure_input(void **state)
@@ -983,6 +1019,7 @@ int main(void)
         cmocka_unit_test_setup(test_option_tyreside, setup),
         cmocka_unit_test_setup(test_option_sae, setup),
         cmocka_unit_test_setup(test_option_book, setup),
+        cmocka_unit_test_setup(test_option_mz52_svyk_camber, setup),
         cmocka_unit_test_setup(test_pressure_input, setup),
         cmocka_unit_test_setup(test_slip_speed_friction, setup),
     };

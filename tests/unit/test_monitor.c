@@ -282,8 +282,8 @@ static void test_config_from_est(void **state)
     assert_int_equal(from.rate_hz, def.rate_hz);
     assert_int_equal(from.driven, def.driven);
     /* the stability factor comes from the tire at init: the default's
-     * 0.0367 is its value to 3 figures (0.0368 until session 4: this test
-     * found the 0.3 % difference) */
+     * 0.0367 is its value to 3 figures (0.0368, 0.3 % off, fails this
+     * test) */
     printf("# stability factor x100: from the estimator %.6f, monitor default %.6f\n",
            from_qs(from.stab_factor_x100), from_qs(def.stab_factor_x100));
     assert_true(fabs(from_qs(from.stab_factor_x100) - from_qs(def.stab_factor_x100)) < 5e-5);

@@ -83,7 +83,8 @@ def main():
     args = ap.parse_args()
     ok_all = True
 
-    table, db, _ = dbc.table_from_map(MAP)
+    table, _, mp = dbc.table_from_map(MAP)
+    db = golden_can.reference_db(mp["dbc"])   # cantools: the independent reference decode
     ids = {m.id for m in table.messages}
     orig = golden_can.read_candump(args.log)
     live = golden_can.read_candump(os.path.join(args.out, "live.log"))

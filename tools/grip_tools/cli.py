@@ -23,6 +23,8 @@ COMMANDS = {
     "est-eval": ("grip_tools.evaluate.est_eval", "estimator accuracy on simulator manoeuvres and real logs: beta, mu, axle Fy (table + PNG)"),
     "faults": ("grip_tools.evaluate.faults", "fault injection on the ESC inputs: monitor + estimator, fault table, false alarms"),
     "main-job": ("grip_tools.evaluate.main_job", "the README's main job (see tools/scripts/main_job.sh)"),
+    "fleet": ("grip_tools.fleet.cli", "the estimator over a fleet of logs on Dask: run, analyze, report"),
+    "sim-fleet": ("grip_tools.fleet.simfleet", "N simulator logs with truth and a manifest, for grip fleet run"),
     # CAN
     "can-table": ("grip_tools.can.dbc", "DBC + map file -> CAN signal table (C source, text form)"),
     "comma2k19": ("grip_tools.logs.comma2k19", "comma2k19 raw CAN arrays -> candump log"),

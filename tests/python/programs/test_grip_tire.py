@@ -9,7 +9,11 @@ are skipped, with the reason, when it is absent.
 Tolerances (docs/tools.md): float build |err| <= 1e-4 * Fz for Fx, Fy and
 1e-4 * Fz * R0 for Mz; fixed build 2e-3 * Fz and 2e-3 * Fz * R0 (the library's
 documented fixed-point error is the bound; these are the end-to-end
-checks of the tool, not of the model).
+checks of the tool, not of the model). The --outputs channels: |err| <=
+tol * (scale + |want|), tol 1e-4 float / 2e-3 fixed, with the channel's
+scale of tests/unit/test_mf_ext.c (R0, FNOMIN, FNOMIN R0, the file's
+stiffness, 1; Omega (1 + |kappa|) 1 m/s / R0); an empty field exactly
+where the reference has no value.
 """
 import csv
 import glob
@@ -277,6 +281,59 @@ class ForcesAgreeWithReference(unittest.TestCase):
         path = os.path.join(SHARED, "mfeval-tir", "MagicFormula62_Paramerters.tir")
         self.compare(path, ["--sae"], {"convention": "sae"}, sign_fz=-1.0)
         self.compare(path, ["--kappa-braking"], {"kappa_braking": True})
+
+    def test_mz52_svyk_camber(self):
+        path = os.path.join(SHARED, "mfeval-tir", "MagicFormula52_Paramerters.tir")
+        self.compare(path, ["--mz52-svyk-camber"], {"mz52_svyk_camber": True})
+
+    def test_outputs_all_channels(self):
+        arith = build_arith()
+        worst = {}
+        for i, path in enumerate(shared_tirs()):
+            params = tir.read_tir(path).params()
+            cols = grid(params, 150, 40 + i)
+            rc, out, err = run(["--tir", path, "--outputs", "all"], to_csv(cols))
+            self.assertEqual(rc, 0, f"{path}: {err[-300:]}")
+            head, rows = parse_out(out)
+            units = {"N m": "Nm"}
+            names = [f"{n}[{units.get(u, u)}]" for n, u, _m, _s in mf.EXT_CHANNELS]
+            self.assertEqual(head[-len(names) - 1:], names + ["status"])
+            ref = mf.evaluate_ext(params, cols["kappa"], cols["alpha"], cols["gamma"], cols["fz"], cols["p"],
+                                  cols["vx"])
+            r0, fn = params["unloaded_radius"], params["fnomin"]
+            scale = {"re": r0, "rl": r0, "rho": r0, "2a": r0, "2b": r0, "t": r0, "sigmax": r0, "sigmay": r0,
+                     "cz": params["vertical_stiffness"], "cx": params["longitudinal_stiffness"],
+                     "cy": params["lateral_stiffness"], "mzr": fn * r0, "mx": fn * r0, "my": fn * r0,
+                     "kxk": fn, "kya": fn, "mux": 1.0, "muy": 1.0}
+            for j, (name, _u, _m, _s) in enumerate(mf.EXT_CHANNELS):
+                field = [r[len(head) - len(names) - 1 + j] for r in rows]
+                want = ref[name]
+                self.assertEqual([f == "" for f in field], list(np.isnan(want)), f"{path} {name}")
+                got = np.array([float(f) if f else np.nan for f in field])
+                sc = scale.get(name, (1.0 + np.abs(cols["kappa"])) / r0)
+                e = np.abs(got - want) / (sc + np.abs(want))
+                e = e[~np.isnan(want)]
+                if e.size:
+                    worst[name] = max(worst.get(name, 0.0), float(e.max()))
+                    self.assertLessEqual(float(e.max()), TOL_REL[arith], f"{os.path.basename(path)} {name}")
+        print(f"\n# --outputs all ({arith}): worst |err| / (scale + |want|): "
+              + ", ".join(f"{k} {v:.1e}" for k, v in sorted(worst.items(), key=lambda kv: -kv[1])[:6]))
+
+    def test_outputs_subset_and_errors(self):
+        path = os.path.join(SHARED, "chrono-tir", "335_65R22_5_G275MSA_60psi.tir")
+        cols = grid(tir.read_tir(path).params(), 5, 3)
+        rc, out, err = run(["--tir", path, "--outputs", "my,cx,re", "--prefix", "m_"], to_csv(cols))
+        self.assertEqual(rc, 0, err)
+        head, rows = parse_out(out)
+        self.assertEqual(head[-7:], ["m_fx", "m_fy", "m_mz", "m_my[Nm]", "m_cx[N/m]", "m_re[m]", "m_status"])
+        self.assertTrue(all(r[-3] == "" and r[-2] != "" for r in rows))   # no LONGITUDINAL_STIFFNESS
+        for args in (["--outputs", "re,nope"], ["--outputs", "re,re"], ["--outputs", ""],
+                     ["--outputs", "re", "--pure"]):
+            rc, out, err = run(["--tir", path] + args, to_csv(cols))
+            self.assertEqual(rc, 2, f"{args}: {err}")
+            self.assertIn("--outputs", err)
+        rc, out, err = run(["--tir", path, "--outputs", "re"], "kappa,alpha,gamma,fz,p,vx,re[m]\n")
+        self.assertEqual(rc, 4, err)
 
     def test_mount_side(self):
         # the file is a RIGHT tyre: mounted right it is used as fitted,

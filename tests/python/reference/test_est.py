@@ -180,7 +180,7 @@ def _simulated(test, manoeuvre, surface):
 
 class UndersteerLimitTests(unittest.TestCase):
     """The low-friction measurement at the understeer limit (docs/
-    estimator.md, "Friction at the understeer limit")."""
+    estimator.md, "5. Friction")."""
 
     def test_not_used_on_dry_generator(self):
         # mu = 1 single-track generator: the yaw-deficit test holds in a few
@@ -284,7 +284,7 @@ class AyNoiseAtLimitTests(unittest.TestCase):
 
 class SlidingBranchTests(unittest.TestCase):
     """Past the peak slip ratio the tire's own sliding branch, not the
-    similarity-stretched one (docs/estimator.md, "mu")."""
+    similarity-stretched one (docs/estimator.md, "5. Friction")."""
 
     def test_straight_braking_onto_low_friction(self):
         # The simulator's straight ABS stop from dry onto mu 0.3: the cycled
@@ -313,7 +313,7 @@ class SlidingBranchTests(unittest.TestCase):
 
 class TireRelaxationTests(unittest.TestCase):
     """The tires work at the slip angle lagged by the relaxation length
-    (docs/estimator.md, "Tire relaxation")."""
+    (docs/estimator.md, "4. Lateral filter")."""
 
     def test_lengths_from_the_tire_file(self):
         # LATERAL_STIFFNESS in the file: sigma = C_alpha / c_lat; only PTY1 /
@@ -438,7 +438,7 @@ class SpinOutputTests(unittest.TestCase):
 
 class MuSecantTests(unittest.TestCase):
     """mu's column as the secant over mu's uncertainty (MU_SECANT,
-    docs/estimator.md "mu's secant")."""
+    docs/estimator.md "5. Friction")."""
 
     def test_table_secant_matches_the_tire_secant(self):
         # the tabulated shape's secant against the secant of the tire model
@@ -533,7 +533,7 @@ class LateralBalanceTests(unittest.TestCase):
 
 class OutputMuTests(unittest.TestCase):
     """The output forces move with the updates' change of mu along mu's
-    column (OUT_MU, docs/estimator.md "Outputs at the updated state")."""
+    column (OUT_MU, docs/estimator.md "6. Outputs")."""
 
     def test_snow_sine_dwell_front_force(self):
         # at the snow onset mu falls fast; forces at the prior mu lag the
@@ -568,7 +568,7 @@ class SteeringLatencyTests(unittest.TestCase):
 
 class DrivingResistanceTests(unittest.TestCase):
     """Drag and rolling resistance in the longitudinal force balance
-    (grip_est_config_t cda / crr; docs/estimator.md, "The ax update")."""
+    (grip_est_config_t cda / crr; docs/estimator.md, "5. Friction")."""
 
     def test_locked_wheel_mu_on_wet_brake_in_turn(self):
         # The reference simulator's braking in a turn on a wet road (mu 0.6,
@@ -595,7 +595,7 @@ class DrivingResistanceTests(unittest.TestCase):
 
 class AbsBrakingTests(unittest.TestCase):
     """Straight braking with an ABS: a braked wheel past 15 % slip is a
-    friction measurement (docs/estimator.md, "The ax update")."""
+    friction measurement (docs/estimator.md, "5. Friction")."""
 
     def test_mu_on_wet_mu_step(self):
         # The reference simulator's straight ABS stop from a wet road onto

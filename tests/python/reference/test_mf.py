@@ -11,6 +11,7 @@ Tolerances (stated with the figure measured when they were set):
 """
 import math
 import os
+import re
 import sys
 import tempfile
 import unittest
@@ -338,9 +339,42 @@ class Forms(unittest.TestCase):
         P = by_name("MagicFormula52_Paramerters.tir")
         o = mf.evaluate(P, 0.1, 0.05, 0.02, P["fnomin"], mirror=False, details=True)
         d = o["details"]
-        np.testing.assert_allclose(d["Fy_prime"], o["fy"] - d["SVyk"], rtol=1e-15)
+        # MFeval's calculateMz: SVyk with mu_y at gamma = 0 (muy_sub0), i.e.
+        # the Fy's SVyk scaled by mu_y(0) / mu_y(gamma)
+        svyk0 = d["SVyk"] * d["muy_gamma0"] / d["muy"]
+        np.testing.assert_allclose(d["Fy_prime"], o["fy"] - svyk0, rtol=1e-14)
         np.testing.assert_allclose(o["mz"], -d["t"] * d["Fy_prime"] + d["Mzr"] + d["s"] * o["fx"],
                                    rtol=1e-12)
+        # grip's earlier form (GRIP_MF_OPT_MZ52_SVYK_CAMBER): the SVyk of Fy itself
+        c = mf.evaluate(P, 0.1, 0.05, 0.02, P["fnomin"], mirror=False, details=True, mz52_svyk_camber=True)
+        np.testing.assert_allclose(c["details"]["Fy_prime"], c["fy"] - c["details"]["SVyk"], rtol=1e-15)
+        for q in ("fx", "fy", "fx0", "fy0", "mz0"):
+            self.assertEqual(float(c[q]), float(o[q]), q)
+        self.assertGreater(abs(float(c["mz"] - o["mz"])), 1e-4)      # measured 3.1e-4 N m
+        big = [mf.evaluate(P, 0.4, 0.05, 0.23, P["fnomin"], mz52_svyk_camber=f)["mz"] for f in (False, True)]
+        self.assertGreater(abs(float(big[1] - big[0])), 1.0)        # measured 9.3 N m = 2.5e-3 Fz R0 (13 deg)
+        # equal at gamma = 0, where mu_y(gamma) = mu_y(0)
+        a = mf.evaluate(P, 0.1, 0.05, 0.0, P["fnomin"])
+        b = mf.evaluate(P, 0.1, 0.05, 0.0, P["fnomin"], mz52_svyk_camber=True)
+        self.assertEqual(float(a["mz"]), float(b["mz"]))
+
+    def test_mz52_option_size_and_no_effect_on_mf6(self):
+        # the two MF 5.2 forms: max |dMz| / (Fz R0) over the file's range
+        # (31 x 31 x 9 x 5 grid; measured 9.2e-3 at kappa -0.2, gamma 15 deg;
+        # 3.8e-3 at gamma 13 deg, kappa 0.4, Fz = FNOMIN)
+        P = by_name("MagicFormula52_Paramerters.tir")
+        R = golden_mf.ranges(P)
+        K, A, G, F = np.meshgrid(np.linspace(*R["kappa"], 31), np.linspace(*R["alpha"], 31),
+                                 np.linspace(*R["gamma"], 9), np.linspace(*R["fz"], 5), indexing="ij")
+        a = mf.evaluate(P, K, A, G, F)
+        b = mf.evaluate(P, K, A, G, F, mz52_svyk_camber=True)
+        d = np.max(np.abs(a["mz"] - b["mz"]) / (F * P["unloaded_radius"]))
+        self.assertGreater(d, 5e-3)
+        self.assertLess(d, 2e-2)
+        P6 = by_name("MagicFormula61_Paramerters.tir")
+        a = mf.evaluate(P6, K[..., 0], A[..., 0], G[..., 0], P6["fnomin"])
+        b = mf.evaluate(P6, K[..., 0], A[..., 0], G[..., 0], P6["fnomin"], mz52_svyk_camber=True)
+        np.testing.assert_array_equal(a["mz"], b["mz"])
 
     def test_mf61_fy_prime_at_zero_camber(self):
         P = by_name("MagicFormula61_Paramerters.tir")
@@ -358,6 +392,135 @@ class Forms(unittest.TestCase):
         a = mf.evaluate(P5, 0.05, 0.05, 0.0, P5["fnomin"], p=200000.0)
         b = mf.evaluate(P5, 0.05, 0.05, 0.0, P5["fnomin"], p=300000.0)
         self.assertEqual(float(a["fy"]), float(b["fy"]))
+
+
+class Extended(unittest.TestCase):
+    """evaluate_ext: MFeval's other channels (docs/magic-formula.md section 9).
+    Tolerances: the equations solved at the result to rel 1e-9 (measured
+    <= 1e-12); Re equal to MFeval's own fixed-point iteration to 1e-9 m."""
+
+    def _mfeval_re(self, P, kappa, vx, fz, dpi=0.0):
+        """MFeval's calculateRe loop, as written there (scalar)."""
+        R0, Fz0, V0 = P["unloaded_radius"], P["fnomin"], P["longvl"]
+        cz = P["vertical_stiffness"] * (1.0 + P["pfz1"] * dpi)
+        re, old = R0 * 0.965, R0
+        while abs(old - re) > 1e-9:
+            old = re
+            omega = (kappa * vx + vx) / re
+            romega = R0 * (P["q_re0"] + P["q_v1"] * (omega * R0 / V0) ** 2)
+            re = romega - (Fz0 / cz) * (P["dreff"] * math.atan(P["breff"] * fz / Fz0) + P["freff"] * fz / Fz0)
+        return re
+
+    def test_re_is_mfevals_fixed_point(self):
+        P = by_name("MagicFormula61_Paramerters.tir")          # Q_V1 = 7e-4
+        worst = 0.0
+        for k in (-0.5, 0.0, 0.3, 1.0):
+            for vx in (1.0, 16.6, 60.0):
+                for fz in (500.0, 6752.0, 15000.0):
+                    o = mf.evaluate_ext(P, k, 0.0, 0.0, fz, vx=vx, mirror=False)
+                    want = self._mfeval_re(P, k, vx, fz)
+                    worst = max(worst, abs(float(o["re"]) - want))
+                    self.assertAlmostEqual(float(o["omega"]), (1.0 + k) * vx / float(o["re"]), places=9)
+        self.assertLess(worst, 1e-8)
+
+    def test_vertical_mf61_solves_its_load_equation(self):
+        for name in ("MagicFormula61_Paramerters.tir", "MagicFormula52_Paramerters.tir", "FSAE_Defaults.tir"):
+            P = by_name(name)
+            R0, Fz0, V0 = P["unloaded_radius"], P["fnomin"], P["longvl"]
+            fz = np.linspace(0.1, 2.0, 9) * Fz0
+            o = mf.evaluate_ext(P, 0.1, 0.1, 0.0, fz, mirror=False)
+            x = o["rho"] / R0
+            qfz1 = math.sqrt((P["vertical_stiffness"] * R0 / Fz0) ** 2 - 4.0 * P["q_fz2"])
+            ext = (1.0 + P["q_v2"] * R0 / V0 * np.abs(o["omega"]) - (P["q_fcx"] * o["fx"] / Fz0) ** 2
+                   - (P["q_fcy"] * o["fy"] / Fz0) ** 2)
+            np.testing.assert_allclose((qfz1 * x + P["q_fz2"] * x ** 2) * ext * Fz0, fz, rtol=1e-9)
+            np.testing.assert_allclose(o["cz"], fz / o["rho"], rtol=1e-12)
+            b = P["q_v1"] * (1.1 * V0 / V0) ** 2
+            romega = R0 * (P["q_re0"] + b / (o["re"] / R0) ** 2)
+            np.testing.assert_allclose(o["rl"], romega - o["rho"], rtol=1e-12)
+
+    def test_vertical_mf62_solves_fz62(self):
+        P = by_name("MagicFormula62_Paramerters.tir")
+        R0 = P["unloaded_radius"]
+        fz = np.array([100.0, 300.0, 3000.0, 6752.0, 15000.0, 6752.0, 6752.0])
+        gam = np.array([0.1, 0.0, 0.05, -0.05, 0.1, 0.0, 0.08])
+        alpha = np.array([0.0, 0.0, 0.1, -0.2, 0.05, 0.3, 0.1])
+        o = mf.evaluate_ext(P, 0.05, alpha, gam, fz, mirror=False)
+        out, det = mf._core(P, 0.05, alpha, gam, fz, None, None, "mftyre")
+        b = P["q_v1"] * (1.05 * P["longvl"] / P["longvl"]) ** 2
+        romega = R0 * (P["q_re0"] + b / (o["re"] / R0) ** 2)
+        f62, rho = mf._fz62(P, o["rl"], romega, gam, np.abs(o["omega"]), det["dpi"], out["fx"], out["fy"])
+        top = o["rl"] == romega
+        self.assertTrue(top[0])                     # camber deflection carries 100 N at gamma 0.1
+        self.assertTrue(np.all(f62[top] >= fz[top]))
+        np.testing.assert_allclose(f62[~top], fz[~top], rtol=1e-9)
+        np.testing.assert_allclose(o["rho"], rho, rtol=1e-12)
+        np.testing.assert_allclose(o["cz"], fz / rho, rtol=1e-12)
+
+    def test_missing_parameters_are_nan(self):
+        P = by_name("335_65R22_5_G275MSA_60psi.tir")
+        o = mf.evaluate_ext(P, 0.1, 0.1, 0.0, P["fnomin"])
+        self.assertTrue(np.isnan(o["cx"]) and np.isnan(o["cy"]))
+        self.assertTrue(np.isfinite(o["sigmax"]) and np.isfinite(o["re"]))
+        Q = dict(by_name("MagicFormula61_Paramerters.tir"), vertical_stiffness=0.0, lateral_stiffness=0.0)
+        o = mf.evaluate_ext(Q, 0.1, 0.1, 0.0, Q["fnomin"])
+        for k in ("re", "omega", "rl", "rho", "cz", "2a", "2b", "cy", "sigmay"):
+            self.assertTrue(np.isnan(o[k]), k)
+        for k in ("t", "mzr", "mux", "muy", "kxk", "kya", "cx", "sigmax", "mx", "my"):
+            self.assertTrue(np.isfinite(o[k]), k)
+
+    def test_unloaded(self):
+        P = by_name("PacejkaBook_Defaults.tir")
+        for fz in (0.0, -100.0):
+            o = mf.evaluate_ext(P, 0.1, 0.1, 0.02, fz, vx=10.0)
+            self.assertEqual(float(o["re"]), P["unloaded_radius"] * P["q_re0"])
+            self.assertEqual(float(o["rl"]), float(o["re"]))
+            for k in ("fx", "fy", "mz", "rho", "cz", "2a", "2b", "t", "mzr", "mux", "muy", "kxk", "kya",
+                      "sigmax", "sigmay", "mx", "my"):
+                self.assertEqual(float(o[k]), 0.0, k)
+
+    def test_conventions(self):
+        P = dict(by_name("MagicFormula61_Paramerters.tir"), tyreside=1, options=0)   # a left tyre, mounted left
+        k, a, g, f = 0.05, np.linspace(-0.3, 0.3, 7), 0.04, 6000.0
+        iso = mf.evaluate_ext(P, k, a, g, f)
+        mir = mf.evaluate_ext(P, k, -a, -g, f, mirror=True)
+        sae = mf.evaluate_ext(P, k, -a, g, -f, convention="sae")
+        for name, _u, msign, ssign in mf.EXT_CHANNELS:
+            np.testing.assert_array_equal(mir[name], msign * iso[name], name)
+            np.testing.assert_array_equal(sae[name], ssign * iso[name], name)
+        self.assertEqual([n for n, _u, m, _s in mf.EXT_CHANNELS if m < 0], ["mzr", "mx"])
+        self.assertEqual([n for n, _u, _m, s in mf.EXT_CHANNELS if s < 0], ["mzr", "my"])
+
+    def test_my_follows_the_rolling_direction(self):
+        P = by_name("MagicFormula61_Paramerters.tir")
+        f = P["fnomin"]
+        fwd = float(mf.evaluate_ext(P, 0.0, 0.0, 0.0, f, vx=20.0)["my"])
+        self.assertLess(fwd, 0.0)                                   # ISO: My < 0 rolling forward
+        self.assertEqual(float(mf.evaluate_ext(P, 0.0, 0.0, 0.0, f, vx=-20.0)["my"]), -fwd)
+        self.assertEqual(float(mf.evaluate_ext(P, 0.0, 0.0, 0.0, f, vx=0.0)["my"]), 0.0)
+        # a wheel spinning backwards (kappa < -1 - VXLOW / |vx|) flips it,
+        # the locked wheel (kappa = -1) has none
+        self.assertGreater(float(mf.evaluate_ext(P, -1.3, 0.0, 0.0, f, vx=20.0)["my"]), 0.0)
+        self.assertEqual(float(mf.evaluate_ext(P, -1.0, 0.0, 0.0, f, vx=20.0)["my"]), 0.0)
+
+    def test_relaxation_lengths(self):
+        P6 = by_name("MagicFormula61_Paramerters.tir")
+        o = mf.evaluate_ext(P6, 0.1, 0.1, 0.02, 5000.0, mirror=False)
+        self.assertAlmostEqual(float(o["sigmax"]), abs(float(o["kxk"] / o["cx"])), places=12)
+        self.assertAlmostEqual(float(o["sigmay"]), abs(float(o["kya"] / o["cy"])), places=12)
+        P5 = by_name("MagicFormula52_Paramerters.tir")
+        fz = P5["fnomin"]
+        o = mf.evaluate_ext(P5, 0.1, 0.1, 0.0, fz, mirror=False)
+        self.assertAlmostEqual(float(o["sigmax"]), P5["ptx1"] * P5["unloaded_radius"], places=12)
+        want = P5["pty1"] * math.sin(2.0 * math.atan(1.0 / P5["pty2"])) * P5["unloaded_radius"]
+        self.assertAlmostEqual(float(o["sigmay"]), want, places=12)
+
+    def test_c_header_has_every_channel(self):
+        with open(os.path.join(tir.REPO_ROOT, "include", "grip", "grip_mf.h")) as f:
+            h = f.read()
+        bits = re.findall(r"#define GRIP_MF_EXT_(\w+)\s+0x([0-9A-F]+)u /\*", h)
+        self.assertEqual(len(bits), len(mf.EXT_NAMES))
+        self.assertEqual([int(b, 16) for _n, b in bits], [1 << i for i in range(len(mf.EXT_NAMES))])
 
 
 class Golden(unittest.TestCase):
@@ -394,6 +557,19 @@ class Golden(unittest.TestCase):
                 self.assertLessEqual(np.abs(rows[:, 1]).max(), max(map(abs, R["alpha"])))
                 self.assertTrue(np.any(rows[:, 5] == 0.0))
                 self.assertTrue(np.any(rows[:, 5] < P["vxlow"]))
+                # the extended file: the same input rows, the other outputs
+                ext = os.path.join(d, f"mf_ext_{name}.txt")
+                stamps[ext] = os.stat(ext).st_mtime_ns
+                with open(ext) as f:
+                    head = [ln for ln in f if ln.startswith("#")]
+                self.assertIn("# columns: " + " ".join(golden_mf.EXT_COLUMNS) + "\n", head)
+                xr = np.loadtxt(ext, comments="#")
+                np.testing.assert_array_equal(xr[:, :6], rows[:, :6])
+                np.testing.assert_array_equal(xr[:, 6:9], rows[:, 9:12])
+                alt = mf.evaluate(P, rows[:, 0], rows[:, 1], rows[:, 2], rows[:, 3], p=p, vx=rows[:, 5],
+                                  mz52_svyk_camber=True)
+                j = golden_mf.EXT_COLUMNS.index("mz_svyk_camber")
+                np.testing.assert_allclose(xr[:, j], alt["mz"], rtol=1e-15, atol=1e-12)
             # a second run keeps unchanged files (their timestamps)
             golden_mf.write_golden(d)
             for g, st in stamps.items():

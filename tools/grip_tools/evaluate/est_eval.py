@@ -35,6 +35,17 @@ errors").
 
 Writes <out>/accuracy.json, <out>/accuracy.md (tables) and <out>/accuracy.png.
 The simulator's runs go to --runs-dir (default build/est_eval/runs).
+
+    grip est-eval --independent [--full] --out docs/estimator/independent
+
+runs the independent judge instead (grip_tools.sim.independent.judge,
+docs/independent-judge.md): CommonRoad's multi-body vehicle model, its own
+sensors, the C builds configured from vehicle data only; writes
+<out>/independent.md, independent.json, worst_runs.png and the fitted
+tires. By default a reduced set (the BMW 320i parameter set, every
+manoeuvre, dry / wet / snow: about 3 minutes on 2 cores), --full every
+vehicle x manoeuvre x surface; --vehicles / --manoeuvres / --surfaces
+narrow either.
 """
 import argparse
 import json
@@ -618,7 +629,18 @@ def main(argv=None):
     ap.add_argument("--av21", nargs="?", const=av21_log.LOG, default=None, metavar="LOG",
                     help="also run the C builds on the Dallara AV-21 log (default %(const)s): <out>/av21.json, "
                          "av21.png, av21_standin.tir")
+    ap.add_argument("--independent", action="store_true",
+                    help="the independent judge (CommonRoad multi-body model) instead: <out>/independent.md, .json")
+    ap.add_argument("--full", action="store_true", help="--independent: every vehicle x manoeuvre x surface")
+    ap.add_argument("--vehicles", nargs="+", help="--independent: only these vehicles")
+    ap.add_argument("--manoeuvres", nargs="+", help="--independent: only these manoeuvres")
+    ap.add_argument("--surfaces", nargs="+", help="--independent: only these surfaces")
     a = ap.parse_args(argv)
+    if a.independent:
+        from grip_tools.sim.independent import judge
+        judge.run(a.out, full=a.full, vehicles=a.vehicles, manoeuvres=a.manoeuvres, surfaces=a.surfaces,
+                  c_bins=a.c_bin)
+        return 0
     os.makedirs(a.out, exist_ok=True)
     runs = list(a.runs)
     if a.simulate:

@@ -53,7 +53,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import least_squares
 
-from grip_tools.channels import read_table
+from grip_tools.channels import CHANNELS, read_table
 from grip_tools.errors import DataError
 from grip_tools.reference import mf89
 
@@ -75,7 +75,7 @@ def write_csv(path, cols, order=None):
     n = len(next(iter(cols.values())))
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(order)
+        w.writerow([f"{k}[{CHANNELS[k].unit}]" if k in CHANNELS else k for k in order])
         for i in range(n):
             w.writerow([repr(float(cols[k][i])) for k in order])
 

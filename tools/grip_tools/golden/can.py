@@ -8,6 +8,11 @@
                   one row per (frame, input), with the compiled-in table
   can_rav4_steps.txt  the samples a zero-order-hold assembler must produce
                   from the RAV4 log (10 ms step, staleness 3 periods)
+  can_checksums.txt   checksum families (checksums.py, integers only): real
+                  frames (opendbc's test frames, RAV4 SPEED frames), frames
+                  made for the families without real ones, and every
+                  single-bit error of each, with the verdict the reference
+                  gives
 
 Expected physical values are cantools' float64 decode times the unit
 conversion and gain of dbc.py; range flags come from the exact decimal
@@ -21,7 +26,7 @@ import cantools
 from cantools.database.can import Message, Signal
 from cantools.database.conversion import LinearConversion
 
-from grip_tools.can import dbc
+from grip_tools.can import checksums, dbc, dbcfile
 from grip_tools.golden.io import header
 from grip_tools.paths import REPO_ROOT
 
@@ -186,8 +191,17 @@ def reference_inputs(table, db, msg, data):
     return out
 
 
+def reference_db(paths):
+    """The DBC files as cantools reads them: the independent reference decoder."""
+    db = cantools.database.Database(strict=False)
+    for p in paths:
+        db.add_dbc_file(p)
+    return db
+
+
 def write_rav4(outdir):
-    table, db, _ = dbc.table_from_map(RAV4_MAP)
+    table, _, mp = dbc.table_from_map(RAV4_MAP)
+    db = reference_db(mp["dbc"])
     by_id = {m.id: m for m in table.messages}
     frames = read_candump(RAV4_LOG)
     rows = []
@@ -256,11 +270,129 @@ def write_steps(path, table, frames, series, by_id):
     return len(steps)
 
 
+OPENDBC_DIR = os.path.join(ROOT, "tests", "data", "opendbc")
+OPENDBC_FRAMES = os.path.join(OPENDBC_DIR, "checksum_frames.txt")
+OPENDBC_DBC = {
+    "vw_mqb": "dbc/vw_mqb.dbc", "fca_giorgio": "dbc/fca_giorgio.dbc",
+    "honda_civic_hatchback_ex_2017_can": "dbc/generator/honda/honda_civic_hatchback_ex_2017_can.dbc",
+}
+
+
+def real_checksum_frames():
+    """(family, table Message, data, expect_ok, source) of the real frames:
+    opendbc's test frames with the check their DBC selects, and the RAV4
+    log's SPEED frames (Toyota)."""
+    dbs = {}
+    out = []
+    with open(OPENDBC_FRAMES) as f:
+        for line in f:
+            if line.startswith("#") or not line.strip():
+                continue
+            name, mname, _, hexd, verdict = line.split()
+            path = os.path.join(OPENDBC_DIR, OPENDBC_DBC[name])
+            if name not in dbs:
+                dbs[name] = dbcfile.load([path])
+            msg = dbs[name].get_message_by_name(mname)
+            m = dbc._message_of(msg, {"period_ms": 10}, dbc.MapText(path), f"messages.{mname}")
+            out.append((m.checksum, m, bytes.fromhex(hexd), verdict == "ok", f"opendbc:{name}"))
+    table, _, _ = dbc.table_from_map(RAV4_MAP)
+    speed = next(m for m in table.messages if m.name == "SPEED")
+    n = 0
+    for _, ident, data in read_candump(RAV4_LOG):
+        if ident == speed.id and n < 200:
+            out.append(("toyota", speed, data, True, "rav4"))
+            n += 1
+    return out
+
+
+def made_message(family, frame_id, length, start, nbits, order, ext=False, magic=None):
+    m = dbc.Message(name="M", id=frame_id | (0x80000000 if ext else 0), length=length, period_us=10000)
+    m.checksum, m.checksum_start, m.checksum_length, m.checksum_order = family, start, nbits, order
+    m.magic = magic or checksums.default_magic(family, frame_id) or [0] * 16
+    return m
+
+
+def made_checksum_frames(rng):
+    """Frames with the checksum the reference computes, for the families
+    without real frames (and more lengths and ids for those with)."""
+    specs = [("hkg_can_fd", 0x1A0, n, 0, 16, "intel") for n in (8, 12, 16, 20, 24, 32, 48, 64)] + \
+        [("hkg_can_fd", 0xEA, 24, 0, 16, "intel"),
+         ("hyundai", 0x260, 8, 56, 4, "intel"), ("hyundai", 0x421, 8, 60, 4, "intel"),
+         ("hyundai", 0x2B0, 5, 36, 4, "intel"), ("hyundai", 0x220, 8, 59, 4, "motorola"),
+         ("hyundai_whl_spd", 0x386, 8, 46, 2, "intel"),
+         ("subaru", 0x13C, 8, 0, 8, "intel"), ("subaru", 0x119, 8, 0, 8, "intel"),
+         ("chrysler", 0x1F4, 8, 56, 8, "intel"), ("chrysler", 0x2A6, 4, 24, 8, "intel"),
+         ("nissan", 0x169, 8, 56, 8, "intel"), ("nissan", 0x2B1, 6, 40, 8, "intel"),
+         ("ford", 0x415, 8, 24, 8, "intel"), ("ford", 0x91, 8, 32, 8, "intel"),
+         ("xor", 0x1A0, 8, 0, 8, "intel"), ("xor", 0x3D0, 6, 40, 8, "intel"),
+         ("honda", 0x1A6, 8, 59, 4, "motorola"), ("honda", 0x18DAB0F1, 8, 59, 4, "motorola"),
+         ("honda", 0x33D, 5, 32, 4, "intel"),
+         ("toyota", 0x260, 8, 56, 8, "intel"), ("toyota", 0x2E4, 5, 32, 8, "intel"),
+         ("volkswagen_mqb", 0x9F, 8, 0, 8, "intel"), ("volkswagen_mqb", 0x3C0, 4, 0, 8, "intel"),
+         ("fca_giorgio", 0xFE, 8, 56, 8, "intel"), ("fca_giorgio", 0x122, 4, 24, 8, "intel")]
+    out = []
+    for fam, fid, n, start, nbits, order in specs:
+        m = made_message(fam, fid, n, start, nbits, order, ext=fid > 0x7FF)
+        for _ in range(6):
+            data = bytearray(rng.randrange(256) for _ in range(n))
+            f = m.field()
+            v = checksums.compute(fam, m.frame_id, m.extended, data, f, m.magic)
+            if fam == "hyundai_whl_spd":
+                data[5] = (data[5] & 0x3F) | ((v & 3) << 6)
+                data[7] = (data[7] & 0x3F) | ((v >> 2) << 6)
+            else:
+                bits = checksums.field_bits(f.start, f.length, f.order)
+                # write v into the field: bits in DBC order, most significant first for Motorola
+                seq = bits if f.order == "intel" else list(reversed(bits))
+                for i, b in enumerate(seq):
+                    data[b // 8] = (data[b // 8] & ~(1 << (b % 8))) | (((v >> i) & 1) << (b % 8))
+            assert dbc.check_frame(m, bytes(data)) == "ok", (fam, hex(fid))
+            out.append((fam, m, bytes(data), True, "made"))
+    return out
+
+
+def reference_checksum(msg, data):
+    """The reference's verdict: 1 if the frame's checksum field holds what the family computes."""
+    return int(dbc.check_frame(msg, data) == "ok")
+
+
+def write_checksums(path, rng):
+    rows = []
+    frames = real_checksum_frames() + made_checksum_frames(rng)
+    for fam, m, data, expect_ok, source in frames:
+        ok = reference_checksum(m, data)
+        if ok != int(expect_ok):
+            raise AssertionError(f"{source} {m.name} {data.hex()}: reference says {ok}")
+        magic = bytes(m.magic).hex()
+        order = 0 if m.checksum_order == "intel" else 1
+        want = checksums.compute(fam, m.frame_id, m.extended, data, m.field(), m.magic)
+        kind = 0 if source != "made" else 1
+        rows.append(f"{checksums.FAMILY_INDEX[fam]} {m.id} {len(data)} {data.hex()} {m.checksum_start} "
+                    f"{m.checksum_length} {order} {magic} {want} {ok} {kind}")
+        if not expect_ok:
+            continue
+        for bit in range(8 * len(data)):
+            d = bytearray(data)
+            d[bit // 8] ^= 1 << (bit % 8)
+            d = bytes(d)
+            want = checksums.compute(fam, m.frame_id, m.extended, d, m.field(), m.magic)
+            rows.append(f"{checksums.FAMILY_INDEX[fam]} {m.id} {len(d)} {d.hex()} {m.checksum_start} "
+                        f"{m.checksum_length} {order} {magic} {want} {reference_checksum(m, d)} 2")
+    with open(path, "w") as f:
+        f.write(header("golden_can.checksums", reference_checksum, SEED,
+                       ["family", "id_key", "len", "data_hex", "cs_start", "cs_length", "cs_order(0=intel)",
+                        "magic_hex", "computed", "ok", "kind(0=real,1=made,2=one bit flipped)"],
+                       {"families": " ".join(checksums.FAMILIES)}))
+        f.write("\n".join(rows) + "\n")
+    return len(rows)
+
+
 def write_golden(outdir):
     rng = random.Random(SEED)
     write_raw(os.path.join(outdir, "can_raw.txt"), rng)
     write_scale(os.path.join(outdir, "can_scale.txt"), rng)
     write_rav4(outdir)
+    write_checksums(os.path.join(outdir, "can_checksums.txt"), random.Random(SEED + 1))
 
 
 if __name__ == "__main__":
@@ -273,4 +405,5 @@ if __name__ == "__main__":
     print("raw rows", write_raw(os.path.join(out, "can_raw.txt"), rng))
     print("scale rows", write_scale(os.path.join(out, "can_scale.txt"), rng))
     print("rav4 rows, steps", write_rav4(out))
+    print("checksum rows", write_checksums(os.path.join(out, "can_checksums.txt"), random.Random(SEED + 1)))
     print(f"{time.time() - t0:.1f} s")

@@ -6,6 +6,11 @@ Writes into outdir (build/golden):
                  SI units, ISO-W, MF-Tyre forms, every tyre mounted on the
                  left (a RIGHT file is mirrored, as the emitted struct says),
                  so the golden vectors run the mirroring path too
+  mf_ext_<name>.txt  the same input rows with the combined-slip outputs of
+                 the other forms and channels: EXT_COLUMNS (mz_svyk_camber =
+                 Mz with GRIP_MF_OPT_MZ52_SVYK_CAMBER, then MFeval's other
+                 channels mf.EXT_NAMES in SI units; nan where a channel is not
+                 available: its parameters are missing or it has no solution)
   mf_params.c    static const grip_mf_params grip_tire_<name> = {...} per
                  file (tools/grip_tools/reference/tir.py emitter) and the table
                  grip_test_tires[] / grip_test_tire_count (tests/support/mf_params.h)
@@ -37,6 +42,7 @@ from grip_tools.golden.io import header
 
 SEED = 20261123
 COLUMNS = ["kappa", "alpha", "gamma", "fz", "p", "vx", "fx0", "fy0", "mz0", "fx", "fy", "mz"]
+EXT_COLUMNS = COLUMNS[:6] + ["fx", "fy", "mz", "mz_svyk_camber"] + list(mf.EXT_NAMES)
 SUBDIRS = ("chrono-tir", "mfeval-tir")
 
 
@@ -173,7 +179,20 @@ def inputs(P, rng):
     return {c: np.concatenate([r[c] for r in rows]) for c in COLUMNS[:6]}
 
 
-def golden_text(path, name, P):
+def _ext_outputs(P, x, p):
+    """The EXT_COLUMNS outputs on the input rows x."""
+    alt = mf.evaluate(P, x["kappa"], x["alpha"], x["gamma"], x["fz"], p=p, vx=x["vx"],
+                      mz52_svyk_camber=True)
+    out = mf.evaluate_ext(P, x["kappa"], x["alpha"], x["gamma"], x["fz"], p=p, vx=x["vx"])
+    out["mz_svyk_camber"] = alt["mz"]
+    for k in ("fx", "fy", "mz", "mz_svyk_camber"):
+        if not np.all(np.isfinite(out[k])):
+            raise RuntimeError(f"non-finite {k} in the reference output")
+    return out
+
+
+def golden_texts(path, name, P):
+    """(mf_<name>.txt, mf_ext_<name>.txt) texts."""
     seed = SEED + zlib.crc32(name.encode()) % 100000
     rng = np.random.default_rng(seed)
     x = inputs(P, rng)
@@ -182,6 +201,7 @@ def golden_text(path, name, P):
     for k, v in out.items():
         if not np.all(np.isfinite(v)):
             raise RuntimeError(f"{path}: non-finite {k} in the reference output")
+    ext = _ext_outputs(P, x, p)
     R = ranges(P)
     side = "RIGHT, mounted left -> mirrored" if P["tyreside"] == -1 else "LEFT/unknown, mounted left"
     hdr = header("grip_tools.golden.mf", mf, seed, COLUMNS, params={
@@ -201,7 +221,12 @@ def golden_text(path, name, P):
     cols = [x[c] for c in COLUMNS[:6]] + [out[c] for c in COLUMNS[6:]]
     body = np.column_stack(cols)
     lines = [" ".join(f"{v:.17g}" for v in row) for row in body]
-    return hdr + "\n".join(lines) + "\n"
+    units = " ".join(f"{n}[{u}]" for n, u, _m, _s in mf.EXT_CHANNELS)
+    ext_hdr = hdr.replace("# columns: " + " ".join(COLUMNS),
+                          f"# param units: {units}\n# columns: " + " ".join(EXT_COLUMNS))
+    ext_body = np.column_stack([x[c] for c in EXT_COLUMNS[:6]] + [ext[c] for c in EXT_COLUMNS[6:]])
+    ext_lines = [" ".join(f"{v:.17g}" for v in row) for row in ext_body]
+    return hdr + "\n".join(lines) + "\n", ext_hdr + "\n".join(ext_lines) + "\n"
 
 
 def _c_string(s):
@@ -259,6 +284,8 @@ def write_golden(outdir):
         names[name] = path
         P = tir.read_tir(path).params("left")     # TirError propagates: generation fails
         entries.append((name, path, P))
-        _write_keep_stamp(os.path.join(outdir, f"mf_{name}.txt"), golden_text(path, name, P))
+        main, ext = golden_texts(path, name, P)
+        _write_keep_stamp(os.path.join(outdir, f"mf_{name}.txt"), main)
+        _write_keep_stamp(os.path.join(outdir, f"mf_ext_{name}.txt"), ext)
     write_if_changed(os.path.join(outdir, "mf_params.c"), params_c(entries))
     print(f"golden_mf: {len(entries)} tyres -> {outdir}/mf_*.txt, mf_params.c", file=sys.stderr)

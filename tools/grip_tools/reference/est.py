@@ -1,15 +1,41 @@
 """Float64 reference of the onboard estimator (lib/est, include/grip/grip_est.h).
 
-The same algorithm as lib/est/est.c, step for step and in the same order,
-in float64: input hold and validity, longitudinal speed filter, load
-transfer, four Magic Formula evaluations (grip_tools.reference.mf) at the prior
-state, analytic Jacobians, EKF predict of x = [vy, r, mu, b], scalar Joseph
-updates of yaw rate, ay and (when excited) ax, the model-consistency
-(misfit) statistics after the ay update (F_MODEL_MISFIT caps mu_conf),
-the lateral outputs at the updated state extrapolated over the configured
-sensor latency. docs/estimator.md describes
-the method and every constant; the constants below are those of
-lib/est/est_internal.h.
+The same algorithm as lib/est, step for step and in the same order, in
+float64. Estimator.step runs the stages in the order of lib/est/est_step.c,
+one method each, in a section named after the C file that holds the stage:
+
+    condition_inputs       est_input.c     inputs taken or held, ranges, the
+                                           steering lag and latency, gravity
+                                           on the road plane
+    estimate_speed         est_speed.c     wheel speeds -> vx (reference,
+                                           spread, ax offset, dead reckoning)
+    switch_lateral_filter  est_lateral.c   the lateral filter on / off (off:
+                                           the gyro bias at rest)
+    tire_model             est_tires.c     wheel loads; four Magic Formula
+                                           evaluations (grip_tools.reference.mf)
+                                           at the prior state, their Jacobians
+    with the lateral filter on:
+    friction_tests         est_friction.c  excitation, the limit test, the
+                                           understeer bound and its withdrawal
+    lateral_filter         est_lateral.c   EKF predict of x = [vy, r, mu, b],
+                                           scalar Joseph updates of yaw rate
+                                           and ay
+    update_balances        est_outputs.c   the axle forces' yaw and lateral
+                                           balances
+    estimate_friction      est_friction.c  the ax update (when excited), mu's
+                                           bounds
+    bound_state            est_lateral.c   the bounds of vy, r and b
+    then:
+    check_consistency      est_checks.c    model misfit (F_MODEL_MISFIT caps
+                                           mu_conf), the validity resting on it
+    compute_outputs        est_outputs.c   slip angles and forces at the
+                                           updated state extrapolated over the
+                                           sensor latency, the yaw-rate
+                                           reference
+
+config, __init__ and reset are est_init.c. docs/estimator.md describes the
+method and every constant; the constants below are grouped by stage as
+lib/est/est_tuning.h tabulates the C ones.
 
 Use:
     est = Estimator(config(tire_params))        # passenger car, 100 Hz
@@ -26,138 +52,6 @@ WS = (0, 1, 2, 3)
 STEER, YAW, AX, AY, VSPEED = 4, 5, 6, 7, 8
 N_IN = 17
 
-G = 9.80665
-V_ON, V_OFF, V_STAND, V_EXC = 3.0, 2.5, 0.3, 5.0
-HOLD_T, NOWHEEL_T = 0.05, 0.5
-DELTA_MAX, WS_MAX, YAW_MAX, ACC_MAX = 0.7, 120.0, 2.5, 15.0
-AX_TH, K_HI, K_LO, K_MID, WHEEL_DEV = 0.3, 5.0, 0.5, 1.5, 0.15
-# neither braking nor driving: wheels spread wider than SPREAD_REL |vx| +
-# SPREAD_ABS (a driven wheel slipping in a corner, below the outlier test)
-# move the mean towards the cluster the odd wheel left, fully at twice that
-SPREAD_REL, SPREAD_ABS = 0.01, 0.1
-# braking: every wheel slips, slower than the car; wheels below the
-# prediction pull vx at K_SLIP only. ax offset (unconfigured grade,
-# accelerometer bias) learned from trusted wheels at K_OFF [1/s^2], within
-# AX_OFF_MAX [m/s^2]. Every wheel locked or spinning while |ax| >= DR_AX:
-# dead reckoning on ax, V_VX kept for DR_T [s]. A wheel at |kappa| >= LOCK_K
-# while braking (locked, or cycled by an ABS past the tire's peak) makes the
-# ax update a friction measurement (noise R_LOCK) that moves the state but
-# leaves the covariance: no confidence added
-K_SLIP, K_OFF, AX_OFF_MAX = 0.2, 1.0, 1.5
-DR_AX, DR_T = 0.5, 2.0
-LOCK_K, R_LOCK = 0.15, 9.0
-MU_MIN, MU_MAX, MU_INIT = 0.1, 1.2, 1.0
-LIM_TAU, LIM_A, LIM_REL, LIM_ABS, LIM_T = 0.15, 2.0, 0.15, 0.03, 0.2
-# understeer limit (low-friction detection): yaw deficit share US_D against
-# the lagged reference (above US_R rad/s), implied front-axle utilization
-# min(US_UMAX, US_U0 + US_U1 deficit), an upper bound of mu below US_ZMAX
-US_D, US_R, US_U0, US_U1, US_UMAX, US_ZMAX = 0.15, 0.02, 0.3, 1.4, 0.85, 0.8
-# withdrawal of that bound: mu held down by it and not confirmed since
-# (P_mu above P_CONF, i.e. mu_conf < 0.5) goes back to its value before the
-# bound once the bound's own test has said "no deficit" (-LIM_REL < d <
-# US_D) in steady cornering (|ax| and |dvy/dt| = |ay - r vx| below B_AX)
-# for LIM_T at a front friction in use between REL_K and 1 / REL_K of the
-# one at which the bound was last set (far more friction in use shows the
-# bound too low, which the friction-in-use bound lifts by itself; the value
-# before would overshoot)
-REL_K = 0.8
-# excitation: a tire at EXC_U of its own friction (mu = 1). 0.5 opened the
-# gate at the snow sine-with-dwell onset only after the truth's front axle
-# had reached 90 % of its limit; by then the model was a second behind
-EXC_U, EXC_A, G_MIN = 0.2, 1.0, 0.05
-S = np.array([0.05, 0.005, 0.02, 0.001])  # scaled units of vy, r, mu, gyro bias
-# states are SI except the gyro bias, which is kept in its scaled unit
-# (0.001 rad/s) so that its small per-step corrections survive Q15.16
-S_X = np.array([0.05, 0.005, 0.02, 1.0])
-B_UNIT = 0.001
-S_AY = 0.5
-R_YAW, R_AY, R_AX = 1.44, 0.64, 1.0
-Q_C = np.array([100.0, 3600.0, 6.25, 0.25])
-P0 = np.array([36.0, 16.0, 225.0, 100.0])
-NX = 4
-B_MAX = 50.0            # gyro bias bound [0.001 rad/s]
-U_R0, R_LIM, R_AXLE = 0.8, 9.0, 290.0  # ay noise at the limit (_ay_noise)
-B_U, B_A, B_AX = 0.5, 4.0, 1.0  # gyro bias adapts below this model utilization, |ay|, |ax| [m/s^2]
-B_RACC = 2.0           # ... and below this model yaw acceleration [rad/s^2] (the tires' lag is least known there)
-VY_K = 1.0              # |vy| <= VY_K |vx| + 1 m/s
-P_MIN, P_MAX = 0.01, 400.0
-H_MAX_VY, H_MAX = 5.0, 2.0
-NU_SIGMA, CONF_S0 = 4.0, 0.15
-P_CONF = ((CONF_S0 - 0.05) / S[2]) ** 2  # P_mu at mu_conf = 0.5 (sigma_mu 0.1)
-# model-consistency (misfit) check (docs/estimator.md), two statistics
-# low-passed over MF_TAU: the ay update's normalized innovation squared
-# (misfit above NIS_HI, the chi-square(1) 95 % point, cleared below NIS_LO)
-# and the share of time the model claims saturated tires (utilization >=
-# SAT_U) while the mu-independent friction-limit test says the car is not
-# at the limit (misfit above SAT_HI, cleared below SAT_LO); mu_conf is
-# capped at CONF_MISFIT while misfit
-MF_TAU, NIS_HI, NIS_LO = 2.0, 3.84, 1.0
-SAT_U, SAT_HI, SAT_LO, CONF_MISFIT = 0.95, 0.7, 0.1, 0.45
-# mu_conf also capped from when the saturation share rises above SAT_MU
-# until it falls below SAT_MU_LO (hysteresis: a share hovering at one
-# threshold would toggle the validity of mu)
-SAT_MU, SAT_MU_LO = 0.1, 0.05
-BIG = 1000000
-# tire relaxation (the slip angle the tire works at lags the kinematic one
-# by the relaxation length sigma: sigma d(alpha_t)/dt + |vx| alpha_t = |vx|
-# alpha, Pacejka ch. 7.2): sigma at the axle's static load from the tire
-# file (LATERAL_STIFFNESS: sigma = C_alpha / c_lat; else the MF 5.2 PTY1 /
-# PTY2 form; neither: no lag; at most SIG_MAX), in proportion to each
-# wheel's load, at least SIG_MIN [m]; the exponent |vx| dt / sigma is capped
-# at RLX_A_MAX (exp(-16) is below one Q15.16 unit)
-SIG_MIN, SIG_MAX, RLX_A_MAX = 0.02, 5.0, 16.0
-# the axle forces' yaw balance: the yaw moment the model lacks (the yaw-rate
-# update's correction of the predicted r, as a yaw acceleration clamped at
-# MB_RACC [rad/s^2], times Iz) moves force from one axle to the other at
-# the outputs, low-passed over MB_TAU [s]; not while |ax| >= MB_AX [m/s^2]
-# (braking or driving: the model's left / right Fx moment errs there too)
-MB_TAU, MB_RACC, MB_AX = 0.05, 20.0, 1.0
-# the axle forces' lateral balance: the lateral force the model lacks after
-# the updates (m times the measured ay less the model's at the updated
-# state), low-passed over SB_TAU [s], split between the axles in their
-# static shares (lr / l front, lf / l rear: no yaw moment, that is the yaw
-# balance's); not while |ax| >= MB_AX, like the yaw balance
-SB_TAU = 0.02
-# mu's column of the Jacobians is the secant over mu's own uncertainty
-# (statistical linearization, MU_SECANT): from mu down to mu - dmu, dmu =
-# SEC_K sigma_mu within [SEC_MIN, mu - mu_lb] (mu_lb: the friction in use,
-# mu's lower bound), on the tire's lateral
-# force shape |Fy| / Fz at static load tabulated at SHAPE_N + 1 slip angles
-# over [0, alpha_pk]; no column below SHAPE_F_MIN of Fz (the origin, where
-# the secant is 0 / 0 and the column 0 anyway). The tangent is 0 while the
-# model tire is linear, however far from it a lower mu would take it: at
-# the snow onset mu stayed at its prior while vy took the ay deficit.
-# SEC_K 3: the prior 1.0 +- 0.3 puts snow 2.3 sigma away, and a 1-sigma
-# secant saw only the top of that span (mu stalled at 0.55 - 0.6)
-SHAPE_N, SEC_K, SEC_MIN, SHAPE_F_MIN = 16, 3.0, 0.02, 0.01
-MU_SECANT = True
-# the updates' correction moves the lagged slip angles along the kinematic
-# slope (RLX_CARRY; off only to measure what it does: TireRelaxationTests)
-RLX_CARRY = True
-# the ay noise's utilization is the model's at mu + AY_U_K sigma_mu while
-# the car is at its limit (the limit test) and mu is not held by the
-# understeer bound (its cut is no evidence to confirm): at a mu still too high the
-# model's tires sit at their own limit, R grew 150 x and the ay update could
-# no longer pull mu down (snow sine with dwell)
-AY_U_K = 0.5
-# the output forces move with the update's change of mu along d Fy / d mu,
-# as they do with its change of slip angle (OUT_MU; off only to measure)
-OUT_MU = True
-# the balances' memory is cleared at the understeer bound's cut only when
-# the cut is larger than CUT_CLEAR: a small cut re-armed the bound every
-# few steps and the balances never built up (step steer snow)
-CUT_CLEAR = 0.05
-# vx extrapolated over the latency like vy and r (VX_AT_OUTPUT) and the
-# understeer bound applied as an estimate projection (PROJECT_US_BOUND):
-# off only to measure what they do (SpinOutputTests)
-VX_AT_OUTPUT = True
-PROJECT_US_BOUND = True
-# the steering latency's alignment (STEER_ALIGN) and the axle forces'
-# lateral balance (LAT_BALANCE): off only to measure what they do
-# (SteeringLatencyTests, LateralBalanceTests)
-STEER_ALIGN = True
-LAT_BALANCE = True
-
 # validity and flag bits (grip_est.h)
 V_VX, V_BETA, V_YAW, V_YAW_REF, V_FZ = 1, 2, 4, 8, 16
 V_AXLE, V_MU, V_STEER, V_MARGIN = 1 << 9, 1 << 10, 1 << 11, 1 << 12
@@ -172,6 +66,171 @@ F_INPUT_DEGRADED = 1 << 16   # set by grip_monitor_gate (monitor_ref.gate), not 
 def V_WHEEL(i):
     return 1 << (5 + i)
 
+
+# ---------------------------------------------------------------------------
+# Constants by stage, as lib/est/est_tuning.h tabulates the C ones (units,
+# meaning and the measurements behind the values there)
+
+# -- physics
+G = 9.80665
+BIG = 1000000           # step counters saturate here
+
+# -- input conditioning (est_input.c)
+HOLD_T = 0.05
+DELTA_MAX, WS_MAX, YAW_MAX, ACC_MAX = 0.7, 120.0, 2.5, 15.0
+# the steering latency's alignment (STEER_ALIGN): off only to measure what
+# it does (SteeringLatencyTests)
+STEER_ALIGN = True
+
+# -- longitudinal speed (est_speed.c)
+V_STAND = 0.3
+AX_TH, K_HI, K_LO, K_MID, WHEEL_DEV = 0.3, 5.0, 0.5, 1.5, 0.15
+# neither braking nor driving: wheels spread wider than SPREAD_REL |vx| +
+# SPREAD_ABS (a driven wheel slipping in a corner, below the outlier test)
+# move the mean towards the cluster the odd wheel left, fully at twice that
+SPREAD_REL, SPREAD_ABS = 0.01, 0.1
+# braking: every wheel slips, slower than the car; wheels below the
+# prediction pull vx at K_SLIP only. ax offset (unconfigured grade,
+# accelerometer bias) learned from trusted wheels at K_OFF [1/s^2], within
+# AX_OFF_MAX [m/s^2]. Every wheel locked or spinning while |ax| >= DR_AX:
+# dead reckoning on ax, V_VX kept for DR_T [s]; without wheels for NOWHEEL_T
+K_SLIP, K_OFF, AX_OFF_MAX = 0.2, 1.0, 1.5
+DR_AX, DR_T = 0.5, 2.0
+NOWHEEL_T = 0.5
+
+# -- the lateral filter on / off (est_lateral.c)
+V_ON, V_OFF = 3.0, 2.5  # on above V_ON, off below V_OFF [m/s]
+
+# -- the lateral filter (est_lateral.c)
+S = np.array([0.05, 0.005, 0.02, 0.001])  # scaled units of vy, r, mu, gyro bias
+# states are SI except the gyro bias, which is kept in its scaled unit
+# (0.001 rad/s) so that its small per-step corrections survive Q15.16
+S_X = np.array([0.05, 0.005, 0.02, 1.0])
+B_UNIT = 0.001
+S_AY = 0.5
+R_YAW, R_AY, R_AX = 1.44, 0.64, 1.0
+Q_C = np.array([100.0, 3600.0, 6.25, 0.25])
+P0 = np.array([36.0, 16.0, 225.0, 100.0])
+NX = 4
+P_MIN, P_MAX = 0.01, 400.0
+H_MAX_VY, H_MAX = 5.0, 2.0
+NU_SIGMA = 4.0
+VY_K = 1.0              # |vy| <= VY_K |vx| + 1 m/s
+B_MAX = 50.0            # gyro bias bound [0.001 rad/s]
+B_U, B_A, B_AX = 0.5, 4.0, 1.0  # gyro bias adapts below this model utilization, |ay|, |ax| [m/s^2]
+B_RACC = 2.0           # ... and below this model yaw acceleration [rad/s^2] (the tires' lag is least known there)
+U_R0, R_LIM, R_AXLE = 0.8, 9.0, 290.0  # ay noise at the limit (_ay_noise)
+# the ay noise's utilization is the model's at mu + AY_U_K sigma_mu while
+# the car is at its limit (the limit test) and mu is not held by the
+# understeer bound (its cut is no evidence to confirm): at a mu still too high the
+# model's tires sit at their own limit, R grew 150 x and the ay update could
+# no longer pull mu down (snow sine with dwell)
+AY_U_K = 0.5
+
+# -- the tire model at the prior state (est_tires.c)
+G_MIN = 0.05            # floor of the tire's slope factor sqrt(1 - u)
+# tire relaxation (the slip angle the tire works at lags the kinematic one
+# by the relaxation length sigma: sigma d(alpha_t)/dt + |vx| alpha_t = |vx|
+# alpha, Pacejka ch. 7.2): sigma at the axle's static load from the tire
+# file (LATERAL_STIFFNESS: sigma = C_alpha / c_lat; else the MF 5.2 PTY1 /
+# PTY2 form; neither: no lag; at most SIG_MAX), in proportion to each
+# wheel's load, at least SIG_MIN [m]; the exponent |vx| dt / sigma is capped
+# at RLX_A_MAX (exp(-16) is below one Q15.16 unit)
+SIG_MIN, SIG_MAX, RLX_A_MAX = 0.02, 5.0, 16.0
+
+# -- friction (est_friction.c)
+MU_MIN, MU_MAX, MU_INIT = 0.1, 1.2, 1.0
+V_EXC = 5.0             # mu adapts, and the limit tests run, above this [m/s]
+# excitation: a tire at EXC_U of its own friction (mu = 1). 0.5 opened the
+# gate at the snow sine-with-dwell onset only after the truth's front axle
+# had reached 90 % of its limit; by then the model was a second behind
+EXC_U, EXC_A = 0.2, 1.0
+LIM_TAU, LIM_A, LIM_REL, LIM_ABS, LIM_T = 0.15, 2.0, 0.15, 0.03, 0.2
+# understeer limit (low-friction detection): yaw deficit share US_D against
+# the lagged reference (above US_R rad/s), implied front-axle utilization
+# min(US_UMAX, US_U0 + US_U1 deficit), an upper bound of mu below US_ZMAX
+US_D, US_R, US_U0, US_U1, US_UMAX, US_ZMAX = 0.15, 0.02, 0.3, 1.4, 0.85, 0.8
+# withdrawal of that bound: mu held down by it and not confirmed since
+# (P_mu above P_CONF, i.e. mu_conf < 0.5) goes back to its value before the
+# bound once the bound's own test has said "no deficit" (-LIM_REL < d <
+# US_D) in steady cornering (|ax| and |dvy/dt| = |ay - r vx| below B_AX)
+# for LIM_T at a front friction in use between REL_K and 1 / REL_K of the
+# one at which the bound was last set (far more friction in use shows the
+# bound too low, which the friction-in-use bound lifts by itself; the value
+# before would overshoot)
+REL_K = 0.8
+# mu_conf: 1 at sigma_mu <= CONF_S0 - 0.1, 0 at >= CONF_S0 (est_tuning.h
+# lists it with the outputs; P_CONF needs it here)
+CONF_S0 = 0.15
+P_CONF = ((CONF_S0 - 0.05) / S[2]) ** 2  # P_mu at mu_conf = 0.5 (sigma_mu 0.1)
+# the balances' memory is cleared at the understeer bound's cut only when
+# the cut is larger than CUT_CLEAR: a small cut re-armed the bound every
+# few steps and the balances never built up (step steer snow)
+CUT_CLEAR = 0.05
+# mu's column of the Jacobians is the secant over mu's own uncertainty
+# (statistical linearization, MU_SECANT): from mu down to mu - dmu, dmu =
+# SEC_K sigma_mu within [SEC_MIN, mu - mu_lb] (mu_lb: the friction in use,
+# mu's lower bound), on the tire's lateral
+# force shape |Fy| / Fz at static load tabulated at SHAPE_N + 1 slip angles
+# over [0, alpha_pk]; no column below SHAPE_F_MIN of Fz (the origin, where
+# the secant is 0 / 0 and the column 0 anyway). The tangent is 0 while the
+# model tire is linear, however far from it a lower mu would take it: at
+# the snow onset mu stayed at its prior while vy took the ay deficit.
+# SEC_K 3: the prior 1.0 +- 0.3 puts snow 2.3 sigma away, and a 1-sigma
+# secant saw only the top of that span (mu stalled at 0.55 - 0.6)
+SHAPE_N, SEC_K, SEC_MIN, SHAPE_F_MIN = 16, 3.0, 0.02, 0.01
+MU_SECANT = True
+# A wheel at |kappa| >= LOCK_K while braking (locked, or cycled by an ABS
+# past the tire's peak) makes the ax update a friction measurement (noise
+# R_LOCK) that moves the state but leaves the covariance: no confidence added
+LOCK_K, R_LOCK = 0.15, 9.0
+# the understeer bound applied as an estimate projection (PROJECT_US_BOUND):
+# off only to measure what it does (SpinOutputTests)
+PROJECT_US_BOUND = True
+
+# -- forces and outputs (est_outputs.c)
+# the axle forces' yaw balance: the yaw moment the model lacks (the yaw-rate
+# update's correction of the predicted r, as a yaw acceleration clamped at
+# MB_RACC [rad/s^2], times Iz) moves force from one axle to the other at
+# the outputs, low-passed over MB_TAU [s]; not while |ax| >= MB_AX [m/s^2]
+# (braking or driving: the model's left / right Fx moment errs there too)
+MB_TAU, MB_RACC, MB_AX = 0.05, 20.0, 1.0
+# the axle forces' lateral balance: the lateral force the model lacks after
+# the updates (m times the measured ay less the model's at the updated
+# state), low-passed over SB_TAU [s], split between the axles in their
+# static shares (lr / l front, lf / l rear: no yaw moment, that is the yaw
+# balance's); not while |ax| >= MB_AX, like the yaw balance
+SB_TAU = 0.02
+# switches, off only to measure what they do: the lateral balance
+# (LAT_BALANCE, LateralBalanceTests); the updates' correction moving the
+# lagged slip angles along the kinematic slope (RLX_CARRY,
+# TireRelaxationTests); the output forces moving with the update's change
+# of mu along d Fy / d mu as they do with its change of slip angle (OUT_MU);
+# vx extrapolated over the latency like vy and r (VX_AT_OUTPUT,
+# SpinOutputTests)
+LAT_BALANCE = True
+RLX_CARRY = True
+OUT_MU = True
+VX_AT_OUTPUT = True
+
+# -- consistency checks (est_checks.c)
+# model-consistency (misfit) check (docs/estimator.md), two statistics
+# low-passed over MF_TAU: the ay update's normalized innovation squared
+# (misfit above NIS_HI, the chi-square(1) 95 % point, cleared below NIS_LO)
+# and the share of time the model claims saturated tires (utilization >=
+# SAT_U) while the mu-independent friction-limit test says the car is not
+# at the limit (misfit above SAT_HI, cleared below SAT_LO); mu_conf is
+# capped at CONF_MISFIT while misfit
+MF_TAU, NIS_HI, NIS_LO = 2.0, 3.84, 1.0
+SAT_U, SAT_HI, SAT_LO, CONF_MISFIT = 0.95, 0.7, 0.1, 0.45
+# mu_conf also capped from when the saturation share rises above SAT_MU
+# until it falls below SAT_MU_LO (hysteresis: a share hovering at one
+# threshold would toggle the validity of mu)
+SAT_MU, SAT_MU_LO = 0.1, 0.05
+
+
+# ---------------------------------------------------------------------------
+# Configuration (est_init.c) and helpers
 
 def config(tire_front, tire_rear=None, rate_hz=100, **kw):
     """The passenger car of grip_est_config_default (the simulator's
@@ -198,8 +257,8 @@ def _between(x, f):
 
 def _wheel_velocity(vx, vy, r, xa, ya, cdi, sdi):
     """Velocity of each wheel's contact point in its own (steered) frame
-    (est.c writes these four lines out in the tire loop and in
-    lateral_outputs: a C helper cost stack on the M0+)."""
+    (the C writes these four lines out in the tire loop, est_lateral.c, and
+    in the lateral outputs, est_outputs.c: a C helper cost stack on the M0+)."""
     vcx = vx - r * ya
     vcy = vy + r * xa
     return cdi * vcx + sdi * vcy, cdi * vcy - sdi * vcx
@@ -239,7 +298,7 @@ def shape_lookup(row, y):
 def _peak_friction(P, fz, longitudinal=False):
     """Peak |Fy| / Fz at load fz over alpha = 0.02 .. 0.5 rad and its slip
     angle; longitudinal: peak |Fx| / Fz over the braking slips kappa =
-    -0.02 .. -0.5 and |kappa| there (grip_est_init's peak_friction)."""
+    -0.02 .. -0.5 and |kappa| there (est_init.c peak_friction)."""
     s = 0.02 * np.arange(1, 26)
     if longitudinal:
         f, _, _ = _tire(P, -s, np.zeros(25), np.full(25, fz), np.full(25, 20.0))
@@ -290,8 +349,36 @@ def _relax_share(dist, sig):
     return out
 
 
-class Estimator:
+
+
+class StepData:
+    """What the stages of one step hand each other (est_ctx_t: the C step's
+    working values), filled in stage by stage; nothing here outlives the
+    step. The Estimator holds the state."""
+
     def __init__(self, cfg):
+        self.out = dict(vx=0.0, vy=0.0, beta=0.0, yaw_rate=0.0, yaw_rate_ref=0.0, yaw_error=0.0, delta=0.0,
+                        kappa=np.zeros(4), alpha=np.zeros(4), fz=np.zeros(4), fx=np.zeros(4), fy=np.zeros(4),
+                        mz=np.zeros(4), util=np.zeros(4), fy_axle=np.zeros(2), util_axle=np.zeros(2), mu=0.0,
+                        mu_conf=0.0, yaw_rate_bias=0.0, fy_margin_front=0.0, steer_char=0)
+        self.flags = 0
+        self.vbits = 0               # validity bits
+        # wheel positions from the CG (x forward, y left): FL, FR, RL, RR
+        self.xw = [cfg["lf"], cfg["lf"], -cfg["lr"], -cfg["lr"]]
+        self.yw = [0.5 * cfg["track_f"], -0.5 * cfg["track_f"], 0.5 * cfg["track_r"], -0.5 * cfg["track_r"]]
+        self.excited = False         # mu adapts in this step
+        self.nis = None              # the ay update's NIS (None: no ay update in this step)
+
+
+class Estimator:
+    """The estimator's state (grip_est_t) and its step (grip_est_step)."""
+
+    # ---- est_init.c: configuration, init, reset -----------------------------
+    def __init__(self, cfg):
+        """grip_est_init: what the step needs of the configuration and the
+        tires (static loads, stiffnesses, peak friction, relaxation lengths,
+        the force shape of mu's secant, step counts of the time constants),
+        then reset."""
         self.cfg = cfg
         c = cfg
         l = c["lf"] + c["lr"]
@@ -315,7 +402,7 @@ class Estimator:
             # (understeer-limit friction measurement)
             self.mu0[a], self.alpha_pk[a] = _peak_friction(P, fz)
             self.mu0_k[a] = 2.0 * (_peak_friction(P, 1.5 * fz)[0] - self.mu0[a])
-            # the braking slip of the longitudinal peak (the sliding branch in step())
+            # the braking slip of the longitudinal peak (the sliding branch of the tire model)
             self.kappa_pk[a] = _peak_friction(P, fz, longitudinal=True)[1]
             if self.c_alpha[a] <= 0 or self.c_kappa[a] <= 0 or self.mu0[a] < 0.05:
                 raise ValueError("tire model gives no cornering/slip stiffness or friction")
@@ -357,6 +444,8 @@ class Estimator:
         self.reset()
 
     def reset(self):
+        """grip_est_reset: the state as at start (vx unknown, the lateral
+        filter off, mu at MU_INIT with its initial covariance)."""
         self.vx = 0.0
         self.psi = 0.0
         self.x = np.array([0.0, 0.0, MU_INIT, 0.0])
@@ -388,65 +477,51 @@ class Estimator:
         self.alpha_t = np.zeros(4)   # lagged (relaxed) slip angles
         self.rlx_init = False        # alpha_t set since the observer started
 
-    # -- Kalman pieces (scaled units) --
-    def _condition(self):
-        P = self.P
-        for i in range(NX):
-            P[i, i] = _clamp(P[i, i], P_MIN, P_MAX)
-        sd = np.sqrt(np.diag(P))
-        for i in range(NX):
-            for j in range(i + 1, NX):
-                b = 0.99 * sd[i] * sd[j]
-                P[i, j] = P[j, i] = _clamp(P[i, j], -b, b)
+    # ---- est_step.c: the stages in their order ------------------------------
+    def step(self, value, valid):
+        """One input sample (value[17], valid[17]) in, the output dict out."""
+        s = StepData(self.cfg)
+        self.condition_inputs(s, value, valid)
+        self.estimate_speed(s, value, valid)
+        self.switch_lateral_filter(s)
+        self.tire_model(s)
+        if self.active:
+            self.friction_tests(s)
+            self.lateral_filter(s)
+            self.update_balances(s)
+            self.estimate_friction(s)
+            self.bound_state(s)
+        self.check_consistency(s)
+        self.compute_outputs(s)
+        o = s.out
+        o["valid"] = s.vbits
+        o["flags"] = s.flags
+        o["excited"] = s.excited
+        o["nis_f"] = self.nis_f
+        o["sat_f"] = self.sat_f
+        return o
 
-    def _update(self, h, nu, r, mu_ok, b_ok=True, keep_p=False):
-        P = self.P
-        ph = P @ h
-        s = r + float(h @ ph)
-        k = ph / s
-        ks = ph.copy()
-        if not mu_ok:
-            k[2] = 0.0
-            ks[2] = 0.0
-        if not b_ok:
-            k[3] = 0.0
-            ks[3] = 0.0
-        lim = NU_SIGMA * math.sqrt(max(s, 0.0))
-        nu = _clamp(nu, -lim, lim)
-        self.x = self.x + k * nu * S_X
-        if not keep_p:
-            Pn = P - np.outer(k, ph) - np.outer(ph, k) + np.outer(k, ks)
-            self.P = 0.5 * (Pn + Pn.T)
-        w = _clamp(nu / math.sqrt(s), -NU_SIGMA, NU_SIGMA)
-        return w * w
-
+    # ---- shared by the stages (est_internal.h) ------------------------------
     def _vx_rate(self, ax, r, vy, g_x):
-        """vx's rate in the body frame (est.c vx_rate): ax less its learned
-        offset, plus r vy, plus gravity along the grade."""
+        """vx's rate in the body frame: ax less its learned offset, plus
+        r vy, plus gravity along the grade (vx's prediction, est_speed.c,
+        and vx at the outputs' time, est_outputs.c)."""
         return ax - self.ax_off + r * vy + g_x
 
-    def _mu_secant(self, alpha, fy, mu, floor):
-        """d Fy / d mu of each wheel as the secant of mu F0(alpha / mu) from
-        mu down to mu - dmu (MU_SECANT), on the tabulated force shape: the
-        ratio F(mu - dmu) / F(mu) of the shape applied to the wheel's own
-        force (its load and combined slip), within [0, F / mu] like the
-        tangent it replaces."""
-        sig = math.sqrt(self.P[2, 2]) * S[2]
-        dmu = max(min(SEC_K * sig, mu - floor), SEC_MIN)
-        mu2 = mu - dmu
-        inv_mu, inv_mu2, inv_dmu = 1.0 / mu, 1.0 / mu2, 1.0 / dmu
-        r2 = mu2 * inv_mu
-        out = np.zeros(4)
-        for i in range(4):
-            a = i // 2
-            f1 = shape_lookup(self.fy_shape[a], abs(alpha[i]) * inv_mu * self.inv_apk[a])
-            if f1 > SHAPE_F_MIN:
-                f2 = shape_lookup(self.fy_shape[a], abs(alpha[i]) * inv_mu2 * self.inv_apk[a])
-                q = _clamp((1.0 - r2 * (f2 / f1)) * inv_dmu, 0.0, inv_mu)
-                out[i] = fy[i] * q
-        return out
+    def _yaw_rate_linear(self, vx, delta):
+        """Steady-state yaw rate of the linear single-track model (eq. 2.14
+        with 2.17): the limit tests' reference (est_friction.c) and the
+        output's yaw_rate_ref before its friction limit (est_outputs.c)."""
+        l = self.cfg["lf"] + self.cfg["lr"]
+        av2 = 0.01 * self.k_us * vx * vx
+        den = max(l * (1 + av2), 0.1 * l)
+        return vx * delta / den
 
-    def _take(self, value, valid, idx, slot, lim, st):
+    # ---- est_input.c: input conditioning ------------------------------------
+    def _take(self, value, valid, idx, slot, lim, s):
+        """Input idx into hold[slot] when valid, finite and within lim
+        (beyond: F_SATURATED); True while the held value is at most
+        HOLD_T old."""
         ok = False
         if valid[idx]:
             v = float(value[idx])
@@ -456,37 +531,41 @@ class Estimator:
                     self.hold[slot] = v
                     self.age[slot] = 0
                 else:
-                    st["flags"] |= F_SATURATED
+                    s.flags |= F_SATURATED
         if not ok and self.age[slot] < BIG:
             self.age[slot] += 1
         return self.age[slot] <= self.hold_steps
 
-    def step(self, value, valid):
+    def condition_inputs(self, s, value, valid):
+        """est_input.c: the inputs the stages work with. Takes the steering
+        angle, yaw rate, ax, ay and vehicle speed (held HOLD_T when missing),
+        the road-wheel angle (range, steering lag, aligned to the inertial
+        data's time for the state and to now for the outputs), the yaw rate
+        less the gyro bias, ay less the roll's share of gravity, and gravity
+        along the body axes on the configured road plane.
+
+        State: reads x[3] (gyro bias); writes hold, age, delta_f, delta_prev,
+        delta_prev_ok, psi. Step: writes steer_ok, yaw_ok, ax_ok, ay_ok,
+        vs_ok, delta, cd, sd (the state's angle), cd_o, sd_o (the outputs'),
+        yaw, ax, ay, g_x, g_y and the input flags."""
         c = self.cfg
         dt = c["dt"]
-        st = {"flags": 0}
-        vbits = 0
-        o = dict(vx=0.0, vy=0.0, beta=0.0, yaw_rate=0.0, yaw_rate_ref=0.0, yaw_error=0.0, delta=0.0,
-                 kappa=np.zeros(4), alpha=np.zeros(4), fz=np.zeros(4), fx=np.zeros(4), fy=np.zeros(4),
-                 mz=np.zeros(4), util=np.zeros(4), fy_axle=np.zeros(2), util_axle=np.zeros(2), mu=0.0,
-                 mu_conf=0.0, yaw_rate_bias=0.0, fy_margin_front=0.0, steer_char=0)
-        steer_ok = self._take(value, valid, STEER, 0, c["steer_ratio"] * DELTA_MAX * 2.0, st)
-        yaw_ok = self._take(value, valid, YAW, 1, YAW_MAX, st)
-        ax_ok = self._take(value, valid, AX, 2, ACC_MAX, st)
-        ay_ok = self._take(value, valid, AY, 3, ACC_MAX, st)
-        vs_ok = self._take(value, valid, VSPEED, 4, WS_MAX, st) and self.age[4] == 0
-        flags = st["flags"]
+        steer_ok = self._take(value, valid, STEER, 0, c["steer_ratio"] * DELTA_MAX * 2.0, s)
+        yaw_ok = self._take(value, valid, YAW, 1, YAW_MAX, s)
+        ax_ok = self._take(value, valid, AX, 2, ACC_MAX, s)
+        ay_ok = self._take(value, valid, AY, 3, ACC_MAX, s)
+        vs_ok = self._take(value, valid, VSPEED, 4, WS_MAX, s) and self.age[4] == 0
         if not steer_ok:
-            flags |= F_NO_STEER
+            s.flags |= F_NO_STEER
         if not yaw_ok:
-            flags |= F_NO_YAW
+            s.flags |= F_NO_YAW
         if not ax_ok:
-            flags |= F_NO_AX
+            s.flags |= F_NO_AX
         if not ay_ok:
-            flags |= F_NO_AY
+            s.flags |= F_NO_AY
         delta = self.hold[0] / c["steer_ratio"]
         if abs(delta) > DELTA_MAX:
-            flags |= F_STEER_LIMIT
+            s.flags |= F_STEER_LIMIT
             delta = _clamp(delta, -DELTA_MAX, DELTA_MAX)
         if not steer_ok:
             delta = 0.0
@@ -528,10 +607,25 @@ class Estimator:
                 self.psi -= 2.0 * math.pi
             elif self.psi < -math.pi:
                 self.psi += 2.0 * math.pi
-        xw = [c["lf"], c["lf"], -c["lr"], -c["lr"]]
-        yw = [0.5 * c["track_f"], -0.5 * c["track_f"], 0.5 * c["track_r"], -0.5 * c["track_r"]]
+        s.steer_ok, s.yaw_ok, s.ax_ok, s.ay_ok, s.vs_ok = steer_ok, yaw_ok, ax_ok, ay_ok, vs_ok
+        s.delta, s.cd, s.sd, s.cd_o, s.sd_o = delta, cd, sd, cd_o, sd_o
+        s.yaw, s.ax, s.ay, s.g_x, s.g_y = yaw, ax, ay, g_x, g_y
 
-        # longitudinal speed
+    # ---- est_speed.c: longitudinal speed ------------------------------------
+    def estimate_speed(self, s, value, valid):
+        """est_speed.c: vx from the wheel speeds (or the vehicle speed input)
+        against its prediction on ax: outlier wheels (locked, spinning), the
+        reference wheel while braking or driving, the spread reference,
+        the filter gain by how far the wheels agree, the ax offset from
+        trusted wheels, dead reckoning on ax with every wheel off, standstill.
+
+        State: reads x[0], x[1] (active), hold[4]; writes vx, vx_init,
+        ax_off, dr_steps, no_wheel_steps. Step: reads cd, yaw, ax, ax_ok,
+        vs_ok, g_x; writes ws, ws_ok, wheels_ok, lock, spin, dead_reck,
+        at_rest, vx, the wheel flags and V_VX."""
+        c = self.cfg
+        dt = c["dt"]
+        cd, yaw, ax, ax_ok, vs_ok, g_x, yw = s.cd, s.yaw, s.ax, s.ax_ok, s.vs_ok, s.g_x, s.yw
         r_now = self.x[1] if self.active else yaw
         vy_now = self.x[0] if self.active else 0.0
         vx_pred = self.vx + self._vx_rate(ax, r_now, vy_now, g_x) * dt
@@ -545,7 +639,7 @@ class Estimator:
             v = float(value[i])
             ws_ok[i] = bool(valid[i]) and math.isfinite(v) and abs(v) < WS_MAX
             if valid[i] and not ws_ok[i]:
-                flags |= F_SATURATED
+                s.flags |= F_SATURATED
             ws[i] = v if ws_ok[i] else 0.0
             if ws_ok[i]:
                 vc = ws[i] / cd if i < 2 else ws[i]
@@ -579,9 +673,9 @@ class Estimator:
         if n_good > 0:
             n_ws = n_good
         if lock:
-            flags |= F_WHEEL_LOCK
+            s.flags |= F_WHEEL_LOCK
         if spin:
-            flags |= F_WHEEL_SPIN
+            s.flags |= F_WHEEL_SPIN
         k = 0.0
         v_ref = 0.0
         if vs_ok:
@@ -619,7 +713,7 @@ class Estimator:
         if vs_ok or n_ws > 0:
             self.no_wheel_steps = 0
         else:
-            flags |= F_NO_WHEELS
+            s.flags |= F_NO_WHEELS
             if self.no_wheel_steps < BIG:
                 self.no_wheel_steps += 1
         if not self.vx_init:
@@ -638,44 +732,43 @@ class Estimator:
         self.vx = _clamp(self.vx, -WS_MAX, WS_MAX)
         vx = self.vx
         if abs(vx) < V_STAND:
-            flags |= F_STANDSTILL
+            s.flags |= F_STANDSTILL
         if vx < -V_STAND:
-            flags |= F_REVERSING
+            s.flags |= F_REVERSING
         if self.vx_init and self.no_wheel_steps <= self.nowheel_steps and self.dr_steps <= self.dr_n:
-            vbits |= V_VX
+            s.vbits |= V_VX
+        s.ws, s.ws_ok, s.wheels_ok, s.lock, s.spin = ws, ws_ok, wheels_ok, lock, spin
+        s.dead_reck, s.at_rest, s.vx = dead_reck, at_rest, vx
 
-        # loads
-        l = c["lf"] + c["lr"]
-        m = c["mass"]
-        dlong = c["h_cg"] / (2 * l) * (ax * m)
-        may_h = c["h_cg"] * (ay * m)
-        dlat_f = c["roll_split_front"] * may_h / c["track_f"]
-        dlat_r = (1 - c["roll_split_front"]) * may_h / c["track_r"]
-        # static load on the road plane plus downforce 0.5 rho C_L A vx^2
-        v2 = vx * vx
-        fz0 = [self.fz_base[0] + self.k_aero[0] * v2, self.fz_base[1] + self.k_aero[1] * v2]
-        fz = np.array([fz0[0] - dlong - dlat_f, fz0[0] - dlong + dlat_f,
-                       fz0[1] + dlong - dlat_r, fz0[1] + dlong + dlat_r])
-        fz = np.maximum(fz, 0.0)
-        o["fz"] = fz
-        if ax_ok and ay_ok:
-            vbits |= V_FZ
-        fz_sum_f = fz[0] + fz[1]
+    # ---- est_lateral.c: the lateral filter ----------------------------------
+    def switch_lateral_filter(self, s):
+        """est_lateral.c: the lateral filter on above V_ON with the steering,
+        the yaw rate and vx valid (vy 0, r the gyro's, their covariance
+        reset: F_RESET); off below V_OFF or without them (F_LOW_SPEED: vy 0,
+        r the gyro's, the limit tests and the balances forgotten, the gyro
+        bias a random walk that the gyro measures at rest). Then the prior
+        state of this step.
 
+        State: writes active, x, P (the vy and r rows at the start; while
+        off the bias's variance and its update at rest), and while off
+        rlx_init, mb_f, lat_sb, r_lin_f and the limit tests' counters and
+        flags. Step: reads vx, yaw, ax, the inputs' flags, at_rest,
+        wheels_ok; writes vy, r, mu (the prior), F_RESET, F_LOW_SPEED."""
+        yaw, ax, yaw_ok = s.yaw, s.ax, s.yaw_ok
         active = self.active
-        if active and (vx < V_OFF or not steer_ok or not (vbits & V_VX)):
+        if active and (s.vx < V_OFF or not s.steer_ok or not (s.vbits & V_VX)):
             active = False
-        if not active and vx >= V_ON and steer_ok and yaw_ok and (vbits & V_VX):
+        if not active and s.vx >= V_ON and s.steer_ok and yaw_ok and (s.vbits & V_VX):
             active = True
             self.x[0], self.x[1] = 0.0, yaw
             for i in range(2):
                 for j in range(NX):
                     self.P[i, j] = self.P[j, i] = 0.0
             self.P[0, 0], self.P[1, 1] = P0[0], P0[1]
-            flags |= F_RESET
+            s.flags |= F_RESET
         self.active = active
         if not active:
-            flags |= F_LOW_SPEED
+            s.flags |= F_LOW_SPEED
             self.rlx_init = False
             self.mb_f = 0.0
             self.lat_sb = 0.0
@@ -689,251 +782,648 @@ class Estimator:
             # gyro bias: random walk; at standstill (every wheel at rest) the
             # yaw rate is zero, so the gyro reads its bias
             self.P[3, 3] = self.P[3, 3] + self.q[3]
-            if at_rest and yaw_ok and wheels_ok and ax_ok and abs(ax) < B_AX:
+            if s.at_rest and yaw_ok and s.wheels_ok and s.ax_ok and abs(ax) < B_AX:
                 self._update(np.array([0.0, 0.0, 0.0, S[3] / S[1]]), (self.hold[1] - B_UNIT * self.x[3]) / S[1], R_YAW,
                              False)
                 self._condition()
                 self.x[3] = _clamp(self.x[3], -B_MAX, B_MAX)
-        mu = float(self.x[2])
-        excited = False
+        s.vy, s.r = float(self.x[0]), float(self.x[1])
+        s.mu = float(self.x[2])
 
-        if active:
-            vy, r = float(self.x[0]), float(self.x[1])
-            # the friction in use bounds mu from below; mu's secant spans no
-            # lower (a steering offset's onset took mu 1.0 -> 0.49 in 0.05 s
-            # on a dry road with the secant down to MU_MIN)
-            a_tot = math.sqrt(ax * ax + ay * ay)
-            mu_lb = max(MU_MIN, min(a_tot / (G * max(self.mu0)), MU_MAX) if (ax_ok and ay_ok) else MU_MIN)
-            cdi = np.array([cd, cd, 1.0, 1.0])
-            sdi = np.array([sd, sd, 0.0, 0.0])
-            xa, ya = np.array(xw), np.array(yw)
-            vxw, vyw = _wheel_velocity(vx, vy, r, xa, ya, cdi, sdi)
-            den = np.maximum(np.abs(vxw), V_OFF)
-            t = vyw / den
-            alpha_k = np.arctan(t)
-            # the tires work at the lagged slip angle (relaxation, SIG_MIN);
-            # the Jacobians below keep the kinematic slope: the lag settles
-            # within sigma / |vx| (~20 ms at speed), inside the filter's horizon
-            sig = [max(self.sig_a[i // 2] * fz[i] / self.fz_static[i // 2], SIG_MIN) if self.sig_a[i // 2] > 0.0
-                   else 0.0 for i in range(4)]
-            phi = _relax_share(np.abs(vxw) * dt, sig)
-            if not self.rlx_init:
-                self.alpha_t, self.rlx_init = alpha_k.copy(), True
-            alpha = self.alpha_t + phi * (alpha_k - self.alpha_t)
-            # (the updates' correction of vy was carried into alpha_t at the
-            # end of the last step, below; what is lagged here is the rest of
-            # the motion since then)
-            self.alpha_t = alpha.copy()
-            kappa = np.array([_clamp((ws[i] - vxw[i]) / den[i], -1.0, 1.5) if ws_ok[i] else 0.0
-                              for i in range(4)])
-            lever = xa * cdi + ya * sdi
-            side = np.array([1.0, -1.0, 1.0, -1.0])
-            # similarity up to the peak slip ratio; past it the tire's own
-            # sliding branch, shifted to start at the stretched peak (a locked
-            # wheel slides at the tire's sliding ratio of the road's friction)
-            kpk = np.array([self.kappa_pk[0], self.kappa_pk[0], self.kappa_pk[1], self.kappa_pk[1]])
-            ak = np.abs(kappa)
-            tk = np.clip(np.sign(kappa) * np.where(ak <= mu * kpk, ak / mu, kpk + ak - mu * kpk), -1.5, 1.5)
-            apk = np.array([self.alpha_pk[0], self.alpha_pk[0], self.alpha_pk[1], self.alpha_pk[1]])
-            ta = np.clip(alpha / mu, -apk, apk) * side
-            fx = np.zeros(4)
-            fy = np.zeros(4)
-            mz = np.zeros(4)
-            for a in range(2):
-                sl = slice(2 * a, 2 * a + 2)
-                fxa, fya, mza = _tire(c["tire"][a], tk[sl], ta[sl], fz[sl], vxw[sl])
-                fx[sl], fy[sl], mz[sl] = fxa, fya * side[sl], mza * side[sl]
-            fx, fy, mz = mu * fx, mu * fy, mu * mz
-            o.update(kappa=kappa, alpha=alpha, fx=fx, fy=fy, mz=mz)
-            for i in range(4):
-                if ws_ok[i]:
-                    vbits |= V_WHEEL(i)
-            axle = np.array([0, 0, 1, 1])
-            fzst = np.array([self.fz_static[a] for a in axle])
-            mu0w = np.array([self.mu0[a] for a in axle])
-            caw = np.array([self.c_alpha[a] for a in axle])
-            ckw = np.array([self.c_kappa[a] for a in axle])
-            big = fz > 50.0
-            fxn = np.where(big, fx / np.where(big, fz, 1.0), 0.0)
-            fyn = np.where(big, fy / np.where(big, fz, 1.0), 0.0)
-            fzr = np.where(big, fz / fzst, 0.0)
-            u = np.sqrt(fxn ** 2 + fyn ** 2) / (mu * mu0w)
-            o["util"] = np.minimum(u, 1.5)
-            g = np.maximum(G_MIN, np.sqrt(1.0 - np.minimum(u, 1.0)))
-            ca = fzr * caw
-            # Excitation: the utilization the slips would cause on the tire's
-            # own friction (mu = 1), never measured against the estimate
-            # itself, which would let a falling mu excite its own adaptation.
-            cap = np.maximum(mu0w * fz, 50.0)
-            ulin_y = np.abs(alpha) * (fzr * caw) / cap
-            ulin_x = np.abs(kappa) * (fzr * ckw) / cap
-            umax = float(np.max(np.maximum(ulin_y, ulin_x)))
-            umax_x = float(np.max(ulin_x))
-            c2 = 1.0 / (1.0 + np.clip(t, -100.0, 100.0) ** 2)
-            dady = c2 * cdi / den
-            dadr = c2 * lever / den
-            dfda = -(g * ca)
-            # d(mu F0(s/mu))/dmu = (F - s F')/mu lies between 0 (linear) and
-            # F/mu (sliding) for a concave force curve: the slope
-            # approximation may not leave that interval (it flips the sign)
-            if MU_SECANT:
-                dfdmu = self._mu_secant(alpha, fy, mu, mu_lb)
-            else:
-                dfdmu = _between(fy - alpha * dfda, fy) / mu
-            dfy_dvy, dfy_dr = dady * dfda, dadr * dfda
-            jay = [float(np.sum(cdi * dfy_dvy)), float(np.sum(cdi * dfy_dr)), float(np.sum(cdi * dfdmu))]
-            jr = [float(np.sum(lever * dfy_dvy)), float(np.sum(lever * dfy_dr)), float(np.sum(lever * dfdmu))]
-            dfxdk = g * (fzr * ckw)
-            dfxdmu = _between(fx - kappa * dfxdk, fx) / mu
-            jax_mu = float(np.sum(cdi * dfxdmu - sdi * dfdmu))
-            fbx = cdi * fx - sdi * fy
-            fby = sdi * fx + cdi * fy
-            sfx, sfy = float(np.sum(fbx)), float(np.sum(fby))
-            smz = float(np.sum(xa * fby - ya * fbx + mz))
-            for a in range(2):
-                fzx = fz[2 * a] + fz[2 * a + 1]
-                fxa = fx[2 * a] + fx[2 * a + 1]
-                if fzx > 100.0:
-                    o["util_axle"][a] = min(math.hypot(fxa / fzx, (fy[2 * a] + fy[2 * a + 1]) / fzx) / (mu * self.mu0[a]), 1.5)
-            # the measured ax also carries the drag and the rolling resistance
-            # (vx > 0 here: the lateral observer runs above V_OFF)
-            ay_m, racc = sfy / m, smz / c["iz"]
-            ax_m = (sfx - (self.k_drag * vx * vx + self.f_roll)) / m
-            excited = (vx >= V_EXC and umax >= EXC_U and ay_ok and ax_ok and abs(ax) + abs(ay) >= EXC_A)
-            av2 = 0.01 * self.k_us * vx * vx
-            den_l = max(l * (1 + av2), 0.1 * l)
-            r_lin = vx * delta / den_l
-            self.r_lin_f += min(dt / LIM_TAU, 1.0) * (r_lin - self.r_lin_f)
-            # both limit tests need speed, the inertial inputs and acceleration
-            lim_ok = vx >= V_EXC and yaw_ok and ax_ok and ay_ok and a_tot >= LIM_A
-            if lim_ok and abs(yaw - self.r_lin_f) >= LIM_REL * abs(self.r_lin_f) + LIM_ABS:
-                self.lim_steps = min(self.lim_steps + 1, BIG)
-            else:
-                self.lim_steps = 0
-            at_limit = self.lim_steps >= self.lim_n
-            # Low-friction detection at the understeer limit (docs/estimator.md,
-            # "Friction at the understeer limit"): the yaw rate has stayed below
-            # the lagged linear reference by the share US_D for LIM_T, so the
-            # front axle works near its peak; the front axle's friction in use
-            # (steady-state share of m ay and m ax, peak at mu = 1 with the
-            # load sensitivity) divided by the utilization that deficit
-            # implies bounds mu from above (a bound on the state, see the
-            # bounds below). Used only when it says low friction (< US_ZMAX):
-            # on dry the test cannot tell 1.0 from 0.85.
-            dd = (1.0 - yaw / self.r_lin_f) if abs(self.r_lin_f) > US_R else 0.0
-            same_turn = (self.r_lin_f > 0.0 and ay > 0.0) or (self.r_lin_f < 0.0 and ay < 0.0)
-            if lim_ok and same_turn and dd >= US_D:
-                self.us_steps = min(self.us_steps + 1, BIG)
-            else:
-                self.us_steps = 0
-            mu_us = 0.0
-            if self.P[2, 2] <= P_CONF:
-                self.us_low = False
-            if self.us_steps >= self.lim_n or self.us_low:
-                cf = [self.mu0[0] + self.mu0_k[0] * (fz[i] / self.fz_static[0] - 1.0) for i in (0, 1)]
-                a_pk = max((cf[0] * fz[0] + cf[1] * fz[1]) / m, 0.5)
-                fzs = max(fz[0] + fz[1] + fz[2] + fz[3], 1.0)
-                use_f = math.hypot(ay * (c["lr"] / l), ax * ((fz[0] + fz[1]) / fzs)) / a_pk
-                if self.us_steps >= self.lim_n:
-                    z = use_f / min(US_UMAX, US_U0 + US_U1 * dd)
-                    if z < US_ZMAX:
-                        mu_us = z
-                        self.use_b = use_f
-                # Withdrawal (docs/estimator.md): at the same front friction
-                # in use the deficit that set the bound is gone, so it was
-                # not the tires' (a steering-angle offset fakes one, and its
-                # end leaves mu low with nothing to pull it back: in the
-                # linear range the ay update does not see mu). Only in steady
-                # cornering: braking in a turn lowers the deficit while the
-                # front is still at its limit, and a spinning car's yaw rate
-                # can match the reference with the rear axle sliding
-                if (self.us_low and lim_ok and same_turn and -LIM_REL < dd < US_D and abs(ax) < B_AX
-                        and abs(ay + g_y - yaw * vx) < B_AX and REL_K * self.use_b <= use_f <= self.use_b / REL_K):
-                    self.rel_steps = min(self.rel_steps + 1, BIG)
-                elif self.us_low and lim_ok and same_turn:
-                    # a step out of the band counts one back, not to 0: at a
-                    # car's own understeer the deficit hovers at US_D (wet
-                    # step steer after a steering offset: 0.13 - 0.16, the
-                    # count never reached LIM_T and mu stayed at the bound)
-                    self.rel_steps = max(self.rel_steps - 1, 0)
-                else:
-                    self.rel_steps = 0
-                if self.rel_steps >= self.lim_n:
-                    self.x[2] = max(self.x[2], self.mu_pre)
-                    self.us_low = False
-                    # the confidence the updates gained at the bound's mu
-                    # goes with it (back to mu_conf 0)
-                    self.P[2, 2] = max(self.P[2, 2], (CONF_S0 / S[2]) ** 2)
+    def lateral_filter(self, s):
+        """est_lateral.c: the EKF of x = [vy, r, mu, b] (b: the gyro bias):
+        the predict, then the yaw-rate and ay updates, each measurement
+        predicted to first order at the current state from the model's
+        forces at the prior one (tire_model).
+
+        State: reads and writes x, P; reads us_low. Step: reads the inputs,
+        vx, the model's accelerations and Jacobians, excited, at_limit;
+        writes b_ok, dvy, dr, r_updated, steer_in_range, nis."""
+        self._predict(s)
+        self._update_yaw_rate(s)
+        self._update_ay(s)
+
+    def _predict(self, s):
+        """The gyro bias's gate (b_ok), then the predict: vy on the measured
+        ay (the model's without one: the tire model enters through the ay
+        measurement, so a flat tire curve at the limit leaves vy to the
+        kinematics), r on the model's yaw moment, P through the
+        transition's Jacobian plus the process noise."""
+        c = self.cfg
+        dt = c["dt"]
+        m = c["mass"]
+        o = s.out
+        ax, ay, ay_ok, vx, vy, r, jay, jr = s.ax, s.ay, s.ay_ok, s.vx, s.vy, s.r, s.jay, s.jr
+        # the gyro bias adapts only where the tire model is trusted
+        # (linear range), else it would absorb model errors at the limit
+        # (and not with a locked or spinning wheel, hard braking or driving,
+        # the yaw-rate limit test set, or in a fast yaw transient, where
+        # the modelled tire lag errs most: a bias is a constant, a
+        # transient's residual is not)
+        s.b_ok = (abs(s.racc) < B_RACC and float(np.max(o["util"])) < B_U and abs(ay) < B_A and abs(ax) < B_AX
+                  and not s.lock and not s.spin and not s.at_limit)
+        dvy = ((ay if ay_ok else s.ay_m) + s.g_y - r * vx) * dt
+        dr = s.racc * dt
+        a_vv, a_vr, a_vm = jay[0] / m, jay[1] / m, jay[2] / m
+        a_rv, a_rr, a_rm = jr[0] / c["iz"], jr[1] / c["iz"], jr[2] / c["iz"]
+        row0 = ([1.0, -vx * dt * (S[1] / S[0]), 0.0] if ay_ok else
+                [1 + a_vv * dt, (a_vr - vx) * dt * (S[1] / S[0]), a_vm * dt * (S[2] / S[0])])
+        F = np.array([row0 + [0.0],
+                      [a_rv * dt * (S[0] / S[1]), 1 + a_rr * dt, a_rm * dt * (S[2] / S[1]), 0.0],
+                      [0.0, 0.0, 1.0, 0.0],
+                      [0.0, 0.0, 0.0, 1.0]])
+        self.x[0], self.x[1] = vy + dvy, r + dr
+        Pn = F @ self.P @ F.T
+        self.P = 0.5 * (Pn + Pn.T) + np.diag(self.q)
+        self._condition()
+        s.dvy, s.dr, s.a_vv, s.a_vr, s.a_vm = dvy, dr, a_vv, a_vr, a_vm
+
+    def _update_yaw_rate(self, s):
+        """The yaw-rate update: the gyro reads r + bias. mu held: the yaw
+        moment balance is the most model-sensitive equation (Iz, lever arms,
+        the front / rear force split at the limit). s.r_updated: r after it
+        (the yaw balance's, update_balances)."""
+        if s.yaw_ok:
+            self._update(np.array([0.0, 1.0, 0.0, S[3] / S[1]]), (self.hold[1] - self.x[1] - B_UNIT * self.x[3]) / S[1],
+                         R_YAW, False, s.b_ok)
+            self._condition()
+        s.r_updated = float(self.x[1])
+
+    def _model_ay(self, s):
+        """The model's ay to first order at the current state, from its
+        forces and Jacobians at the prior one."""
+        return s.ay_m + s.a_vv * (self.x[0] - s.vy) + s.a_vr * (self.x[1] - s.r) + s.a_vm * (self.x[2] - s.mu)
+
+    def _update_ay(self, s):
+        """The ay update (mu adapts when excited), its noise grown at the
+        limit (_ay_noise). s.nis: its normalized innovation squared (the
+        misfit check's, check_consistency)."""
+        o = s.out
+        mu = s.mu
+        a_vv, a_vr, a_vm = s.a_vv, s.a_vr, s.a_vm
+        # a road-wheel angle beyond the rack's travel (F_STEER_LIMIT) is
+        # not the car's: the model's slip angles would be fitted to it
+        # (at lock on a straight road vy went to 2.3 m/s, past both
+        # axles' peaks, and stayed there after the steering recovered)
+        s.steer_in_range = not (s.flags & F_STEER_LIMIT)
+        if s.ay_ok and s.steer_in_range:
+            ay_pred = self._model_ay(s)
+            h = np.array([_clamp(a_vv * S[0] / S_AY, -H_MAX_VY, H_MAX_VY),
+                          _clamp(a_vr * S[1] / S_AY, -H_MAX, H_MAX),
+                          _clamp(a_vm * S[2] / S_AY, -H_MAX, H_MAX), 0.0])
+            # at mu + AY_U_K sigma_mu only while the car's own yaw
+            # response (the mu-independent limit test) says it is at its
+            # limit: elsewhere a model at its own limit is the model's
+            # claim, not evidence (AV-21 log: with a mu cut by the
+            # understeer bound, the updates confirmed it to mu_conf 0.74);
+            # nor while the bound holds mu (a steering offset fakes both
+            # the deficit and the limit test)
+            sig_mu = math.sqrt(self.P[2, 2]) * S[2] if (s.at_limit and not self.us_low) else 0.0
+            s.nis = self._update(h, (s.ay - ay_pred) / S_AY,
+                                 _ay_noise(o["util"] * (mu / (mu + AY_U_K * sig_mu)), o["fz"]), s.excited, s.b_ok)
+            self._condition()
+
+    def bound_state(self, s):
+        """est_lateral.c: the state's bounds after the updates and mu's
+        bounds (estimate_friction, whose projection moves vy and r too):
+        |vy| by VY_K |vx| + 1 m/s, r by the gyro's range, the gyro bias by
+        B_MAX. Writes x[0], x[1], x[3]."""
+        lim = VY_K * abs(s.vx) + 1.0
+        self.x[0] = _clamp(self.x[0], -lim, lim)
+        self.x[1] = _clamp(self.x[1], -YAW_MAX, YAW_MAX)
+        self.x[3] = _clamp(self.x[3], -B_MAX, B_MAX)
+
+    # -- Kalman pieces (scaled units) --
+    def _condition(self):
+        P = self.P
+        for i in range(NX):
+            P[i, i] = _clamp(P[i, i], P_MIN, P_MAX)
+        sd = np.sqrt(np.diag(P))
+        for i in range(NX):
+            for j in range(i + 1, NX):
+                b = 0.99 * sd[i] * sd[j]
+                P[i, j] = P[j, i] = _clamp(P[i, j], -b, b)
+
+    def _update(self, h, nu, r, mu_ok, b_ok=True, keep_p=False):
+        P = self.P
+        ph = P @ h
+        s = r + float(h @ ph)
+        k = ph / s
+        ks = ph.copy()
+        if not mu_ok:
+            k[2] = 0.0
+            ks[2] = 0.0
+        if not b_ok:
+            k[3] = 0.0
+            ks[3] = 0.0
+        lim = NU_SIGMA * math.sqrt(max(s, 0.0))
+        nu = _clamp(nu, -lim, lim)
+        self.x = self.x + k * nu * S_X
+        if not keep_p:
+            Pn = P - np.outer(k, ph) - np.outer(ph, k) + np.outer(k, ks)
+            self.P = 0.5 * (Pn + Pn.T)
+        w = _clamp(nu / math.sqrt(s), -NU_SIGMA, NU_SIGMA)
+        return w * w
+
+    # ---- est_tires.c: the tire model at the prior state ---------------------
+    def tire_model(self, s):
+        """est_tires.c: the wheel loads; with the lateral filter on, the four
+        tire evaluations at the prior state (friction_floor first: mu's
+        secant spans no lower than the friction in use).
+
+        State: writes alpha_t, rlx_init (the lagged slip angles). Step:
+        reads the inputs, vx, the wheel speeds, the prior state; writes fz,
+        fz_sum_f, the model's forces (out), accelerations and Jacobians, the
+        excitation's inputs, V_FZ, V_WHEEL."""
+        self._wheel_loads(s)
+        if self.active:
+            self.friction_floor(s)
+            self._tire_forces(s)
+
+    def _wheel_loads(self, s):
+        """Quasi-static wheel loads: static on the road plane, downforce,
+        longitudinal and lateral load transfer from ax and ay."""
+        c = self.cfg
+        ax, ay, vx, o = s.ax, s.ay, s.vx, s.out
+        l = c["lf"] + c["lr"]
+        m = c["mass"]
+        dlong = c["h_cg"] / (2 * l) * (ax * m)
+        may_h = c["h_cg"] * (ay * m)
+        dlat_f = c["roll_split_front"] * may_h / c["track_f"]
+        dlat_r = (1 - c["roll_split_front"]) * may_h / c["track_r"]
+        # static load on the road plane plus downforce 0.5 rho C_L A vx^2
+        v2 = vx * vx
+        fz0 = [self.fz_base[0] + self.k_aero[0] * v2, self.fz_base[1] + self.k_aero[1] * v2]
+        fz = np.array([fz0[0] - dlong - dlat_f, fz0[0] - dlong + dlat_f,
+                       fz0[1] + dlong - dlat_r, fz0[1] + dlong + dlat_r])
+        fz = np.maximum(fz, 0.0)
+        o["fz"] = fz
+        if s.ax_ok and s.ay_ok:
+            s.vbits |= V_FZ
+        s.fz = fz
+        s.fz_sum_f = fz[0] + fz[1]
+
+    def _tire_forces(self, s):
+        """The four tires at the prior state (s.vy, r, mu): kinematic slip
+        angles lagged by the relaxation length, slip ratios, Magic Formula
+        forces scaled by mu (similarity), utilizations, the Jacobians of the
+        body forces and yaw moment in vy, r and mu (mu's column: the secant,
+        _mu_secant), the model's ay, ax and yaw acceleration."""
+        c = self.cfg
+        o = s.out
+        vx, ws, ws_ok, fz, mu, cd, sd, vy, r = s.vx, s.ws, s.ws_ok, s.fz, s.mu, s.cd, s.sd, s.vy, s.r
+        dt = c["dt"]
+        m = c["mass"]
+        cdi = np.array([cd, cd, 1.0, 1.0])
+        sdi = np.array([sd, sd, 0.0, 0.0])
+        xa, ya = np.array(s.xw), np.array(s.yw)
+        vxw, vyw = _wheel_velocity(vx, vy, r, xa, ya, cdi, sdi)
+        den = np.maximum(np.abs(vxw), V_OFF)
+        t = vyw / den
+        alpha_k = np.arctan(t)
+        # the tires work at the lagged slip angle (relaxation, SIG_MIN);
+        # the Jacobians below keep the kinematic slope: the lag settles
+        # within sigma / |vx| (~20 ms at speed), inside the filter's horizon
+        sig = [max(self.sig_a[i // 2] * fz[i] / self.fz_static[i // 2], SIG_MIN) if self.sig_a[i // 2] > 0.0
+               else 0.0 for i in range(4)]
+        phi = _relax_share(np.abs(vxw) * dt, sig)
+        if not self.rlx_init:
+            self.alpha_t, self.rlx_init = alpha_k.copy(), True
+        alpha = self.alpha_t + phi * (alpha_k - self.alpha_t)
+        # (the updates' correction of vy was carried into alpha_t at the
+        # end of the last step, _lateral_outputs; what is lagged here is the
+        # rest of the motion since then)
+        self.alpha_t = alpha.copy()
+        kappa = np.array([_clamp((ws[i] - vxw[i]) / den[i], -1.0, 1.5) if ws_ok[i] else 0.0
+                          for i in range(4)])
+        lever = xa * cdi + ya * sdi
+        side = np.array([1.0, -1.0, 1.0, -1.0])
+        # similarity up to the peak slip ratio; past it the tire's own
+        # sliding branch, shifted to start at the stretched peak (a locked
+        # wheel slides at the tire's sliding ratio of the road's friction)
+        kpk = np.array([self.kappa_pk[0], self.kappa_pk[0], self.kappa_pk[1], self.kappa_pk[1]])
+        ak = np.abs(kappa)
+        tk = np.clip(np.sign(kappa) * np.where(ak <= mu * kpk, ak / mu, kpk + ak - mu * kpk), -1.5, 1.5)
+        apk = np.array([self.alpha_pk[0], self.alpha_pk[0], self.alpha_pk[1], self.alpha_pk[1]])
+        ta = np.clip(alpha / mu, -apk, apk) * side
+        fx = np.zeros(4)
+        fy = np.zeros(4)
+        mz = np.zeros(4)
+        for a in range(2):
+            sl = slice(2 * a, 2 * a + 2)
+            fxa, fya, mza = _tire(c["tire"][a], tk[sl], ta[sl], fz[sl], vxw[sl])
+            fx[sl], fy[sl], mz[sl] = fxa, fya * side[sl], mza * side[sl]
+        fx, fy, mz = mu * fx, mu * fy, mu * mz
+        o.update(kappa=kappa, alpha=alpha, fx=fx, fy=fy, mz=mz)
+        for i in range(4):
+            if ws_ok[i]:
+                s.vbits |= V_WHEEL(i)
+        axle = np.array([0, 0, 1, 1])
+        fzst = np.array([self.fz_static[a] for a in axle])
+        mu0w = np.array([self.mu0[a] for a in axle])
+        caw = np.array([self.c_alpha[a] for a in axle])
+        ckw = np.array([self.c_kappa[a] for a in axle])
+        big = fz > 50.0
+        fxn = np.where(big, fx / np.where(big, fz, 1.0), 0.0)
+        fyn = np.where(big, fy / np.where(big, fz, 1.0), 0.0)
+        fzr = np.where(big, fz / fzst, 0.0)
+        u = np.sqrt(fxn ** 2 + fyn ** 2) / (mu * mu0w)
+        o["util"] = np.minimum(u, 1.5)
+        g = np.maximum(G_MIN, np.sqrt(1.0 - np.minimum(u, 1.0)))
+        ca = fzr * caw
+        # Excitation: the utilization the slips would cause on the tire's
+        # own friction (mu = 1), never measured against the estimate
+        # itself, which would let a falling mu excite its own adaptation.
+        cap = np.maximum(mu0w * fz, 50.0)
+        ulin_y = np.abs(alpha) * (fzr * caw) / cap
+        ulin_x = np.abs(kappa) * (fzr * ckw) / cap
+        s.umax = float(np.max(np.maximum(ulin_y, ulin_x)))
+        s.umax_x = float(np.max(ulin_x))
+        c2 = 1.0 / (1.0 + np.clip(t, -100.0, 100.0) ** 2)
+        dady = c2 * cdi / den
+        dadr = c2 * lever / den
+        dfda = -(g * ca)
+        # d(mu F0(s/mu))/dmu = (F - s F')/mu lies between 0 (linear) and
+        # F/mu (sliding) for a concave force curve: the slope
+        # approximation may not leave that interval (it flips the sign)
+        if MU_SECANT:
+            dfdmu = self._mu_secant(alpha, fy, mu, s.mu_lb)
+        else:
+            dfdmu = _between(fy - alpha * dfda, fy) / mu
+        dfy_dvy, dfy_dr = dady * dfda, dadr * dfda
+        jay = [float(np.sum(cdi * dfy_dvy)), float(np.sum(cdi * dfy_dr)), float(np.sum(cdi * dfdmu))]
+        jr = [float(np.sum(lever * dfy_dvy)), float(np.sum(lever * dfy_dr)), float(np.sum(lever * dfdmu))]
+        dfxdk = g * (fzr * ckw)
+        dfxdmu = _between(fx - kappa * dfxdk, fx) / mu
+        jax_mu = float(np.sum(cdi * dfxdmu - sdi * dfdmu))
+        fbx = cdi * fx - sdi * fy
+        fby = sdi * fx + cdi * fy
+        sfx, sfy = float(np.sum(fbx)), float(np.sum(fby))
+        smz = float(np.sum(xa * fby - ya * fbx + mz))
+        for a in range(2):
+            fzx = fz[2 * a] + fz[2 * a + 1]
+            fxa = fx[2 * a] + fx[2 * a + 1]
+            if fzx > 100.0:
+                o["util_axle"][a] = min(math.hypot(fxa / fzx, (fy[2 * a] + fy[2 * a + 1]) / fzx) / (mu * self.mu0[a]), 1.5)
+        # the measured ax also carries the drag and the rolling resistance
+        # (vx > 0 here: the lateral observer runs above V_OFF)
+        s.ay_m, s.racc = sfy / m, smz / c["iz"]
+        s.ax_m = (sfx - (self.k_drag * vx * vx + self.f_roll)) / m
+        s.xa, s.ya, s.sig, s.alpha, s.kappa, s.fy = xa, ya, sig, alpha, kappa, fy
+        s.dfda, s.dfdmu, s.jay, s.jr, s.jax_mu = dfda, dfdmu, jay, jr, jax_mu
+
+    # ---- est_friction.c: friction -------------------------------------------
+    def friction_floor(self, s):
+        """est_friction.c (est_internal.h inlines it into est_tires.c): the
+        friction in use, mu's lower bound mu_lb, from |a| against the tires'
+        peak (a bound on the state, no measurement: it adds no confidence);
+        mu's secant spans no lower (a steering offset's onset took mu 1.0 ->
+        0.49 in 0.05 s on a dry road with the secant down to MU_MIN). Runs
+        before the tire evaluations. Writes s.a_tot, s.mu_lb."""
+        ax, ay = s.ax, s.ay
+        s.a_tot = math.sqrt(ax * ax + ay * ay)
+        s.mu_lb = max(MU_MIN, min(s.a_tot / (G * max(self.mu0)), MU_MAX) if (s.ax_ok and s.ay_ok) else MU_MIN)
+
+    def _mu_secant(self, alpha, fy, mu, floor):
+        """d Fy / d mu of each wheel as the secant of mu F0(alpha / mu) from
+        mu down to mu - dmu (MU_SECANT), on the tabulated force shape: the
+        ratio F(mu - dmu) / F(mu) of the shape applied to the wheel's own
+        force (its load and combined slip), within [0, F / mu] like the
+        tangent it replaces."""
+        sig = math.sqrt(self.P[2, 2]) * S[2]
+        dmu = max(min(SEC_K * sig, mu - floor), SEC_MIN)
+        mu2 = mu - dmu
+        inv_mu, inv_mu2, inv_dmu = 1.0 / mu, 1.0 / mu2, 1.0 / dmu
+        r2 = mu2 * inv_mu
+        out = np.zeros(4)
+        for i in range(4):
+            a = i // 2
+            f1 = shape_lookup(self.fy_shape[a], abs(alpha[i]) * inv_mu * self.inv_apk[a])
+            if f1 > SHAPE_F_MIN:
+                f2 = shape_lookup(self.fy_shape[a], abs(alpha[i]) * inv_mu2 * self.inv_apk[a])
+                q = _clamp((1.0 - r2 * (f2 / f1)) * inv_dmu, 0.0, inv_mu)
+                out[i] = fy[i] * q
+        return out
+
+    def friction_tests(self, s):
+        """est_friction.c: excitation (mu may adapt), the friction-limit
+        test (the yaw rate off the lagged linear reference) and the
+        understeer bound (_understeer_bound, an upper bound of mu, and its
+        withdrawal, which moves mu and its variance before the predict), all
+        on the tire model at the prior state.
+
+        State: reads and writes r_lin_f, lim_steps, and what
+        _understeer_bound lists. Step: reads vx, yaw, ax, ay, delta, a_tot,
+        the excitation's umax; writes excited (F_EXCITED), at_limit, mu_us
+        (> 0: the understeer bound)."""
+        vx, yaw, ax, ay = s.vx, s.yaw, s.ax, s.ay
+        dt = self.cfg["dt"]
+        excited = (vx >= V_EXC and s.umax >= EXC_U and s.ay_ok and s.ax_ok and abs(ax) + abs(ay) >= EXC_A)
+        # friction-limit test, independent of the mu estimate: the yaw rate
+        # leaves the lagged linear reference by LIM_REL and LIM_ABS for LIM_T
+        r_lin = self._yaw_rate_linear(vx, s.delta)
+        self.r_lin_f += min(dt / LIM_TAU, 1.0) * (r_lin - self.r_lin_f)
+        # both limit tests need speed, the inertial inputs and acceleration
+        lim_ok = vx >= V_EXC and s.yaw_ok and s.ax_ok and s.ay_ok and s.a_tot >= LIM_A
+        if lim_ok and abs(yaw - self.r_lin_f) >= LIM_REL * abs(self.r_lin_f) + LIM_ABS:
+            self.lim_steps = min(self.lim_steps + 1, BIG)
+        else:
+            self.lim_steps = 0
+        s.at_limit = self.lim_steps >= self.lim_n
+        s.mu_us = self._understeer_bound(s, lim_ok)
+        if s.at_limit:
+            excited = True
+        s.excited = excited
+
+    def _understeer_bound(self, s, lim_ok):
+        """Low-friction detection at the understeer limit (docs/estimator.md,
+        "Friction at the understeer limit"): the yaw rate has stayed below
+        the lagged linear reference by the share US_D for LIM_T, so the
+        front axle works near its peak; the front axle's friction in use
+        (steady-state share of m ay and m ax, peak at mu = 1 with the load
+        sensitivity) divided by the utilization that deficit implies bounds
+        mu from above (a bound on the state, applied in estimate_friction).
+        Used only when it says low friction (< US_ZMAX): on dry the test
+        cannot tell 1.0 from 0.85. Returns that bound (0: none).
+
+        State: reads r_lin_f, P[2, 2]; writes us_steps, us_low, use_b,
+        rel_steps, and at the withdrawal x[2] and P[2, 2]."""
+        c = self.cfg
+        vx, yaw, ax, ay, fz, g_y = s.vx, s.yaw, s.ax, s.ay, s.fz, s.g_y
+        l = c["lf"] + c["lr"]
+        m = c["mass"]
+        dd = (1.0 - yaw / self.r_lin_f) if abs(self.r_lin_f) > US_R else 0.0
+        same_turn = (self.r_lin_f > 0.0 and ay > 0.0) or (self.r_lin_f < 0.0 and ay < 0.0)
+        if lim_ok and same_turn and dd >= US_D:
+            self.us_steps = min(self.us_steps + 1, BIG)
+        else:
+            self.us_steps = 0
+        mu_us = 0.0
+        if self.P[2, 2] <= P_CONF:
+            self.us_low = False
+        if self.us_steps >= self.lim_n or self.us_low:
+            cf = [self.mu0[0] + self.mu0_k[0] * (fz[i] / self.fz_static[0] - 1.0) for i in (0, 1)]
+            a_pk = max((cf[0] * fz[0] + cf[1] * fz[1]) / m, 0.5)
+            fzs = max(fz[0] + fz[1] + fz[2] + fz[3], 1.0)
+            use_f = math.hypot(ay * (c["lr"] / l), ax * ((fz[0] + fz[1]) / fzs)) / a_pk
+            if self.us_steps >= self.lim_n:
+                z = use_f / min(US_UMAX, US_U0 + US_U1 * dd)
+                if z < US_ZMAX:
+                    mu_us = z
+                    self.use_b = use_f
+            # Withdrawal (docs/estimator.md): at the same front friction
+            # in use the deficit that set the bound is gone, so it was
+            # not the tires' (a steering-angle offset fakes one, and its
+            # end leaves mu low with nothing to pull it back: in the
+            # linear range the ay update does not see mu). Only in steady
+            # cornering: braking in a turn lowers the deficit while the
+            # front is still at its limit, and a spinning car's yaw rate
+            # can match the reference with the rear axle sliding
+            if (self.us_low and lim_ok and same_turn and -LIM_REL < dd < US_D and abs(ax) < B_AX
+                    and abs(ay + g_y - yaw * vx) < B_AX and REL_K * self.use_b <= use_f <= self.use_b / REL_K):
+                self.rel_steps = min(self.rel_steps + 1, BIG)
+            elif self.us_low and lim_ok and same_turn:
+                # a step out of the band counts one back, not to 0: at a
+                # car's own understeer the deficit hovers at US_D (wet
+                # step steer after a steering offset: 0.13 - 0.16, the
+                # count never reached LIM_T and mu stayed at the bound)
+                self.rel_steps = max(self.rel_steps - 1, 0)
             else:
                 self.rel_steps = 0
-            if at_limit:
-                excited = True
+            if self.rel_steps >= self.lim_n:
+                self.x[2] = max(self.x[2], self.mu_pre)
+                self.us_low = False
+                # the confidence the updates gained at the bound's mu
+                # goes with it (back to mu_conf 0)
+                self.P[2, 2] = max(self.P[2, 2], (CONF_S0 / S[2]) ** 2)
+        else:
+            self.rel_steps = 0
+        return mu_us
 
-            # the gyro bias adapts only where the tire model is trusted
-            # (linear range), else it would absorb model errors at the limit
-            # (and not with a locked or spinning wheel, hard braking or driving,
-            # the yaw-rate limit test set, or in a fast yaw transient, where
-            # the modelled tire lag errs most: a bias is a constant, a
-            # transient's residual is not)
-            b_ok = (abs(racc) < B_RACC and float(np.max(o["util"])) < B_U and abs(ay) < B_A and abs(ax) < B_AX and not lock
-                    and not spin and not at_limit)
-            dvy = ((ay if ay_ok else ay_m) + g_y - r * vx) * dt
-            dr = racc * dt
-            a_vv, a_vr, a_vm = jay[0] / m, jay[1] / m, jay[2] / m
-            a_rv, a_rr, a_rm = jr[0] / c["iz"], jr[1] / c["iz"], jr[2] / c["iz"]
-            row0 = ([1.0, -vx * dt * (S[1] / S[0]), 0.0] if ay_ok else
-                    [1 + a_vv * dt, (a_vr - vx) * dt * (S[1] / S[0]), a_vm * dt * (S[2] / S[0])])
-            F = np.array([row0 + [0.0],
-                          [a_rv * dt * (S[0] / S[1]), 1 + a_rr * dt, a_rm * dt * (S[2] / S[1]), 0.0],
-                          [0.0, 0.0, 1.0, 0.0],
-                          [0.0, 0.0, 0.0, 1.0]])
-            self.x[0], self.x[1] = vy + dvy, r + dr
-            Pn = F @ self.P @ F.T
-            self.P = 0.5 * (Pn + Pn.T) + np.diag(self.q)
+    def estimate_friction(self, s):
+        """est_friction.c, after the lateral filter's updates: the ax update
+        (a friction measurement when excited, with a speed reference or a
+        braked wheel sliding), then mu's bounds: the friction in use from
+        below, the understeer bound from above, applied as a projection of
+        the whole state.
+
+        State: reads and writes x, P, us_low, mu_pre; writes us_clamped,
+        and mb_f, lat_sb (cleared at the bound's large cut). Step: reads ax,
+        vs_ok, wheels_ok, the model's ax, Jacobian and slips, excited, b_ok,
+        mu_us, mu_lb."""
+        c = self.cfg
+        m = c["mass"]
+        ax, mu, mu_us, mu_lb, jax_mu = s.ax, s.mu, s.mu_us, s.mu_lb, s.jax_mu
+        # The ax update, only with an independent speed reference (from the
+        # wheel speeds alone vx is biased by the very slip that carries the
+        # information), and only when the slips push the way the car
+        # accelerates (a speed reference a few per cent off the wheel speeds
+        # makes slip of the wrong sign, which would drive mu down: RAV4 log).
+        # A braked wheel at 15 % slip or more (locked, or cycled by an ABS
+        # past the tire's peak) works at the road's friction, and its slip
+        # is far above what a 0.3 % speed-reference error moves: braking
+        # with one is a friction measurement without a speed reference.
+        # The free wheels' slips are in the same sum, so it moves mu but
+        # adds no confidence (P is kept)
+        ref_ok = bool(c["speed_ref_mu"]) and s.vs_ok
+        braked_slip = ax < -AX_TH and bool(np.any(np.abs(s.kappa) >= LOCK_K))
+        if (s.excited and (ref_ok or braked_slip) and s.wheels_ok and s.umax_x >= EXC_U
+                and abs(ax) >= EXC_A and float(np.sum(s.kappa)) * ax > 0.0):
+            ax_pred = s.ax_m + jax_mu / m * (self.x[2] - mu)
+            h = np.array([0.0, 0.0, _clamp(jax_mu / m * S[2] / S_AY, -H_MAX, H_MAX), 0.0])
+            self._update(h, (ax - ax_pred) / S_AY, R_AX if ref_ok else R_LOCK, True, s.b_ok, keep_p=not ref_ok)
             self._condition()
-            if yaw_ok:
-                self._update(np.array([0.0, 1.0, 0.0, S[3] / S[1]]), (self.hold[1] - self.x[1] - B_UNIT * self.x[3]) / S[1],
-                             R_YAW, False, b_ok)
-                self._condition()
-            # the yaw moment the model lacks (the gyro's yaw acceleration
-            # against the model's), as a front-axle force: Iz dr / l
-            dmr = _clamp((float(self.x[1]) - (r + dr)) / dt, -MB_RACC, MB_RACC) if (yaw_ok and abs(ax) < MB_AX) else 0.0
-            self.mb_f += min(dt / MB_TAU, 1.0) * (c["iz"] * dmr / l - self.mb_f)
-            sb_t = 0.0
-            # a road-wheel angle beyond the rack's travel (F_STEER_LIMIT) is
-            # not the car's: the model's slip angles would be fitted to it
-            # (at lock on a straight road vy went to 2.3 m/s, past both
-            # axles' peaks, and stayed there after the steering recovered)
-            steer_in_range = not (flags & F_STEER_LIMIT)
-            if ay_ok and steer_in_range:
-                ay_pred = ay_m + a_vv * (self.x[0] - vy) + a_vr * (self.x[1] - r) + a_vm * (self.x[2] - mu)
-                h = np.array([_clamp(a_vv * S[0] / S_AY, -H_MAX_VY, H_MAX_VY),
-                              _clamp(a_vr * S[1] / S_AY, -H_MAX, H_MAX),
-                              _clamp(a_vm * S[2] / S_AY, -H_MAX, H_MAX), 0.0])
-                # at mu + AY_U_K sigma_mu only while the car's own yaw
-                # response (the mu-independent limit test) says it is at its
-                # limit: elsewhere a model at its own limit is the model's
-                # claim, not evidence (AV-21 log: with a mu cut by the
-                # understeer bound, the updates confirmed it to mu_conf 0.74);
-                # nor while the bound holds mu (a steering offset fakes both
-                # the deficit and the limit test)
-                sig_mu = math.sqrt(self.P[2, 2]) * S[2] if (at_limit and not self.us_low) else 0.0
-                nis = self._update(h, (ay - ay_pred) / S_AY,
-                                   _ay_noise(o["util"] * (mu / (mu + AY_U_K * sig_mu)), o["fz"]), excited, b_ok)
-                self._condition()
-                # the lateral force the model still lacks at the updated state
-                # (the lateral balance, SB_*): the ay update is weak at the
-                # limit, where the model is least trusted
-                if abs(ax) < MB_AX and LAT_BALANCE:
-                    ay_post = ay_m + a_vv * (self.x[0] - vy) + a_vr * (self.x[1] - r) + a_vm * (self.x[2] - mu)
-                    sb_t = m * _clamp(ay - ay_post, -ACC_MAX, ACC_MAX)
+        # the friction in use is a lower bound of the friction available;
+        # at the understeer limit mu_us (friction_tests) an upper one. Both
+        # are bounds on the state, not measurements: they add no confidence
+        # (a steering-angle offset fakes an understeer deficit)
+        mu_ub = max(mu_us, mu_lb) if mu_us > 0.0 else MU_MAX
+        self.us_clamped = self.x[2] > mu_ub
+        if mu_us > 0.0 and self.us_clamped and not self.us_low:
+            self.us_low, self.mu_pre = True, float(self.x[2])
+            # the model's forces jump with a large cut: the balances'
+            # memory is the error of the model before it
+            if self.x[2] - mu_ub > CUT_CLEAR:
+                self.mb_f = 0.0
+                self.lat_sb = 0.0
+        # The understeer measurement cutting mu is applied as an estimate
+        # projection (the constrained Kalman filter): the whole state
+        # moves along mu's covariance onto the bound, the covariance
+        # kept (a bound adds no confidence). vy and r were fitted with
+        # the mu the bound rejects (snow onset: beta 1.2 deg off with mu
+        # right again; the ay update, weak at the limit, takes seconds).
+        # Not the friction-in-use bound: it nudges mu up on most steps
+        # at the dry limit, and the gain P_vy,mu / P_mu amplified the
+        # fixed-point build's last-bit differences past its golden
+        # tolerance (docs/estimator.md)
+        if PROJECT_US_BOUND and mu_us > 0.0 and self.x[2] > mu_ub:
+            self._update(np.array([0.0, 0.0, 1.0, 0.0]), (mu_ub - self.x[2]) / S[2], 0.0, True, False, keep_p=True)
+        self.x[2] = _clamp(self.x[2], mu_lb, mu_ub)
+
+    # ---- est_outputs.c: forces and outputs ----------------------------------
+    def update_balances(self, s):
+        """est_outputs.c, after the lateral filter's updates and before the
+        ax update: the axle forces' yaw and lateral balances, low-passed.
+        The yaw balance: the yaw moment the model lacks (the yaw-rate
+        update's correction of the predicted r, taken before the ay update
+        moves r too, as a yaw acceleration) as a front-axle force Iz dr / l.
+        The lateral balance: the lateral force the model still lacks at the
+        updated state, m times the measured ay less the model's (the ay
+        update is weak at the limit, where the model is least trusted).
+        Neither while braking or driving (|ax| >= MB_AX: the model's left /
+        right Fx moment errs there too). Output corrections only: the state
+        does not take them.
+
+        State: reads x; writes mb_f, lat_sb. Step: reads r, dr, r_updated,
+        the model's ay (_model_ay), ax, ay."""
+        c = self.cfg
+        dt = c["dt"]
+        l = c["lf"] + c["lr"]
+        m = c["mass"]
+        ax = s.ax
+        dmr = _clamp((s.r_updated - (s.r + s.dr)) / dt, -MB_RACC, MB_RACC) if (s.yaw_ok and abs(ax) < MB_AX) else 0.0
+        self.mb_f += min(dt / MB_TAU, 1.0) * (c["iz"] * dmr / l - self.mb_f)
+        sb_t = 0.0
+        if s.nis is not None and abs(ax) < MB_AX and LAT_BALANCE:
+            ay_post = self._model_ay(s)
+            sb_t = m * _clamp(s.ay - ay_post, -ACC_MAX, ACC_MAX)
+        self.lat_sb += self.sb_a * (sb_t - self.lat_sb)
+
+    def compute_outputs(self, s):
+        """est_outputs.c: the output dict. With the lateral filter on, vy,
+        r, slip angles and forces at the updated state extrapolated over the
+        inertial sensors' latency (_lateral_outputs) and vx at the outputs'
+        time; without it vx and the yaw rate as measured, vy and beta 0.
+        Then the steering angle, mu, the gyro bias, the yaw-rate reference
+        with the under / oversteer indication, and with the filter on the
+        front axle's lateral margin (V_MARGIN with V_BETA, check_consistency).
+
+        State: reads x, mb_f, lat_sb; writes alpha_t (_lateral_outputs).
+        Step: writes out, V_YAW, V_YAW_REF, V_STEER, V_MARGIN."""
+        c = self.cfg
+        o = s.out
+        vx, yaw, delta, active = s.vx, s.yaw, s.delta, self.active
+        if active:
+            self._lateral_outputs(s)
+        mu = float(self.x[2])
+
+        # vx at the output's time too, like vy and r (its prediction's rate,
+        # at the updated state): in a spin it falls by ~6 m/s^2 and beta =
+        # atan(vy / vx) took vx 20 ms old (sine with dwell wet 0.54 -> 0.44
+        # deg RMS). The slip angles and ratios keep the state's vx
+        vx_o = vx
+        if active and VX_AT_OUTPUT:
+            vx_o = vx + c.get("latency", 0.0) * self._vx_rate(s.ax, float(self.x[1]), float(self.x[0]), s.g_x)
+        o["vx"] = vx_o
+        o["vy"] = s.vy_o if active else 0.0
+        o["beta"] = math.atan(s.vy_o / max(vx_o, V_OFF)) if active else 0.0
+        o["yaw_rate"] = s.r_o if active else yaw
+        if s.yaw_ok:
+            s.vbits |= V_YAW
+        o["delta"] = delta
+        o["mu"] = mu
+        o["yaw_rate_bias"] = B_UNIT * float(self.x[3])
+        # yaw-rate reference: steady-state bicycle, limited to what the road
+        # can carry: |r| <= mu mu0 g / vx
+        if (s.vbits & V_VX) and s.steer_ok and vx >= V_ON:
+            rr = self._yaw_rate_linear(vx, delta)
+            lim = mu * min(self.mu0) * G / vx
+            o["yaw_rate_ref"] = _clamp(rr, -lim, lim)
+            s.vbits |= V_YAW_REF
+            if s.yaw_ok:
+                o["yaw_error"] = yaw - o["yaw_rate_ref"]
+                rref = o["yaw_rate_ref"]
+                sgn = math.copysign(1.0, rref) if abs(rref) > 0.01 else (0.0 if yaw == 0 else math.copysign(1.0, yaw))
+                d = sgn * (rref - yaw)
+                thr = 0.03 + 0.1 * abs(rref)
+                o["steer_char"] = 1 if d > thr else (-1 if -d > thr else 0)
+                s.vbits |= V_STEER
+        if active:
+            o["fy_margin_front"] = mu * self.mu0[0] * s.fz_sum_f - abs(o["fy_axle"][0])
+            if s.vbits & V_BETA:
+                s.vbits |= V_MARGIN
+
+    def _lateral_outputs(self, s):
+        """Outputs at the updated state, extrapolated over the inertial
+        sensors' latency (config 'latency'): vy and r, slip angles exactly
+        at that state, forces to first order along the local slope (and
+        along d Fy / d mu with the updates' mu, OUT_MU), the balances'
+        forces shared out by load within each axle's friction. Writes
+        alpha_t (the updates' vy correction carried into the lagged angles);
+        out alpha, fy, fy_axle; s.vy_o, s.r_o."""
+        c = self.cfg
+        o = s.out
+        vx, ay, ay_ok, fz, mu = s.vx, s.ay, s.ay_ok, s.fz, s.mu
+        cd_o, sd_o, alpha, fy, dfda, dfdmu = s.cd_o, s.sd_o, s.alpha, s.fy, s.dfda, s.dfdmu
+        lim = VY_K * abs(vx) + 1.0
+        lat = c.get("latency", 0.0)
+        vyd = (ay if ay_ok else s.ay_m) + s.g_y - float(self.x[1]) * vx
+        vy_o = _clamp(float(self.x[0]) + lat * vyd, -lim, lim)
+        r_o = _clamp(float(self.x[1]) + lat * s.racc, -YAW_MAX, YAW_MAX)
+        cdi_o = np.array([cd_o, cd_o, 1.0, 1.0])
+        sdi_o = np.array([sd_o, sd_o, 0.0, 0.0])
+        vxw, vyw = _wheel_velocity(vx, vy_o, r_o, s.xa, s.ya, cdi_o, sdi_o)
+        den_o = np.maximum(np.abs(vxw), V_OFF)
+        t_o = vyw / den_o
+        alpha_o = np.arctan(t_o)
+        # The updates' correction of vy (posterior - predicted) moves each
+        # lagged slip angle along the kinematic slope: vy is predicted from
+        # the measured ay, so its correction is a re-estimate of where the
+        # car is, not motion the tire lags (the Jacobians assume the whole
+        # slope). r is predicted from the model's yaw moment: its correction
+        # stays in the lag, else a model-vs-gyro fight drifts the lagged
+        # angles (AV-21 log: 11 deg apart within 0.2 s at 3 m/s)
+        duv = float(self.x[0]) - (s.vy + s.dvy)
+        if RLX_CARRY:
+            self.alpha_t = self.alpha_t + cdi_o * duv / (1.0 + np.clip(t_o, -100.0, 100.0) ** 2) / den_o
+        # ... and carried over the latency towards alpha_o
+        alpha_to = self.alpha_t + _relax_share(np.abs(vxw) * lat, s.sig) * (alpha_o - self.alpha_t)
+        fy_o = fy + dfda * (alpha_to - alpha)
+        if OUT_MU:
+            fy_o = fy_o + dfdmu * (float(self.x[2]) - mu)
+        # the yaw balance (MB_*): +df on the front axle, -df on the rear
+        # (the lateral sum unchanged, the moment a df + b df = l df),
+        # and the lateral balance (SB_*) in the axles' static shares (no
+        # moment), shared by load; the axle's force stays within its
+        # friction
+        for a in range(2):
+            fza = max(fz[2 * a] + fz[2 * a + 1], 1.0)
+            cap = float(self.x[2]) * self.mu0[a] * fza
+            fa = fy_o[2 * a] + fy_o[2 * a + 1]
+            dfa = (self.mb_f + self.sb_f_share * self.lat_sb) if a == 0 else (self.lat_sb - self.sb_f_share * self.lat_sb - self.mb_f)
+            dfa = _clamp(dfa, -cap - fa, cap - fa)
+            for i in (2 * a, 2 * a + 1):
+                fy_o[i] = fy_o[i] + dfa * fz[i] / fza
+        o.update(alpha=alpha_o, fy=fy_o)
+        o["fy_axle"] = np.array([fy_o[0] + fy_o[1], fy_o[2] + fy_o[3]])
+        s.vy_o, s.r_o = vy_o, r_o
+
+    # ---- est_checks.c: consistency checks -----------------------------------
+    def check_consistency(self, s):
+        """est_checks.c, before the outputs: with the lateral filter on, the
+        model-consistency (misfit) statistics of the step's ay update and
+        the validity that rests on them (beta, the axle and wheel forces:
+        V_BETA, V_AXLE, V_WHEEL); mu's confidence from its variance, capped
+        while the model misfits or its saturation share builds up
+        (F_MODEL_MISFIT, V_MU). mu_conf measures only how well the data
+        constrain mu if the tire model is right; the misfit check says
+        whether it is.
+
+        State: reads P; reads and writes nis_f, sat_f, misfit, sat_cap.
+        Step: reads nis, vx, the model's utilization, at_limit, the inputs'
+        flags, dead_reck, excited; writes out mu_conf, validity and flags."""
+        o = s.out
+        if self.active:
+            if s.nis is not None:
                 # model consistency (docs/estimator.md): the low-passed ay
                 # NIS (1 on average for a consistent filter), and the share of
                 # time the model claims saturated tires while the car's yaw
-                # response (the mu-independent limit test) is not at the limit
-                a_mf = min(dt / MF_TAU, 1.0)
-                sat = 1.0 if (vx >= V_EXC and float(np.max(o["util"])) >= SAT_U and not at_limit) else 0.0
-                self.nis_f += a_mf * (nis - self.nis_f)
+                # response (the mu-independent limit test) is not at the
+                # limit. A tire model that does not fit is absorbed by vy and
+                # mu, so the NIS alone stays small (AV-21 log)
+                a_mf = min(self.cfg["dt"] / MF_TAU, 1.0)
+                sat = 1.0 if (s.vx >= V_EXC and float(np.max(o["util"])) >= SAT_U and not s.at_limit) else 0.0
+                self.nis_f += a_mf * (s.nis - self.nis_f)
                 self.sat_f += a_mf * (sat - self.sat_f)
                 if self.nis_f > NIS_HI or self.sat_f > SAT_HI:
                     self.misfit = True
@@ -945,133 +1435,25 @@ class Estimator:
                     self.sat_cap = True
                 elif self.sat_f < SAT_MU_LO:
                     self.sat_cap = False
-            self.lat_sb += self.sb_a * (sb_t - self.lat_sb)
-            # ... and only when the slips push the way the car accelerates
-            # (a speed reference a few per cent off the wheel speeds makes
-            # slip of the wrong sign, which would drive mu down: RAV4 log)
-            # A braked wheel at 15 % slip or more (locked, or cycled by an ABS
-            # past the tire's peak) works at the road's friction, and its slip
-            # is far above what a 0.3 % speed-reference error moves: braking
-            # with one is a friction measurement without a speed reference.
-            # The free wheels' slips are in the same sum, so it moves mu but
-            # adds no confidence (P is kept)
-            ref_ok = bool(self.cfg["speed_ref_mu"]) and vs_ok
-            braked_slip = ax < -AX_TH and bool(np.any(np.abs(kappa) >= LOCK_K))
-            if (excited and (ref_ok or braked_slip) and wheels_ok and umax_x >= EXC_U
-                    and abs(ax) >= EXC_A and float(np.sum(kappa)) * ax > 0.0):
-                ax_pred = ax_m + jax_mu / m * (self.x[2] - mu)
-                h = np.array([0.0, 0.0, _clamp(jax_mu / m * S[2] / S_AY, -H_MAX, H_MAX), 0.0])
-                self._update(h, (ax - ax_pred) / S_AY, R_AX if ref_ok else R_LOCK, True, b_ok, keep_p=not ref_ok)
-                self._condition()
-            # the friction in use is a lower bound of the friction available;
-            # at the understeer limit mu_us (above) an upper one. Both are
-            # bounds on the state, not measurements: they add no confidence
-            # (a steering-angle offset fakes an understeer deficit)
-            mu_ub = max(mu_us, mu_lb) if mu_us > 0.0 else MU_MAX
-            self.us_clamped = self.x[2] > mu_ub
-            if mu_us > 0.0 and self.us_clamped and not self.us_low:
-                self.us_low, self.mu_pre = True, float(self.x[2])
-                # the model's forces jump with a large cut: the balances'
-                # memory is the error of the model before it
-                if self.x[2] - mu_ub > CUT_CLEAR:
-                    self.mb_f = 0.0
-                    self.lat_sb = 0.0
-            # The understeer measurement cutting mu is applied as an estimate
-            # projection (the constrained Kalman filter): the whole state
-            # moves along mu's covariance onto the bound, the covariance
-            # kept (a bound adds no confidence). vy and r were fitted with
-            # the mu the bound rejects (snow onset: beta 1.2 deg off with mu
-            # right again; the ay update, weak at the limit, takes seconds).
-            # Not the friction-in-use bound: it nudges mu up on most steps
-            # at the dry limit, and the gain P_vy,mu / P_mu amplified the
-            # fixed-point build's last-bit differences past its golden
-            # tolerance (docs/estimator.md)
-            if PROJECT_US_BOUND and mu_us > 0.0 and self.x[2] > mu_ub:
-                self._update(np.array([0.0, 0.0, 1.0, 0.0]), (mu_ub - self.x[2]) / S[2], 0.0, True, False, keep_p=True)
-            self.x[2] = _clamp(self.x[2], mu_lb, mu_ub)
-            lim = VY_K * abs(vx) + 1.0
-            self.x[0] = _clamp(self.x[0], -lim, lim)
-            self.x[1] = _clamp(self.x[1], -YAW_MAX, YAW_MAX)
-            self.x[3] = _clamp(self.x[3], -B_MAX, B_MAX)
             # with every wheel locked (spinning) the slips leave the tire
             # model's range and the lateral force no longer tells the slip
             # angle: beta is dead reckoning too, flagged (docs/estimator.md);
             # and a tire model that does not fit the car (misfit) does not
             # give a sideslip to stand behind either, nor does a steering angle
-            # beyond the rack's travel (no ay update: dead reckoning as well)
-            if ay_ok and yaw_ok and not dead_reck and not self.misfit and steer_in_range:
-                vbits |= V_BETA | V_AXLE
-            if not (vbits & V_BETA):
-                vbits &= ~(V_WHEEL(0) | V_WHEEL(1) | V_WHEEL(2) | V_WHEEL(3))
-            if excited:
-                flags |= F_EXCITED
-            # Outputs at the updated state, extrapolated over the inertial
-            # sensors' latency (config 'latency'): slip angles exactly at that
-            # state, forces to first order along the local slope.
-            lat = c.get("latency", 0.0)
-            vyd = (ay if ay_ok else ay_m) + g_y - float(self.x[1]) * vx
-            vy_o = _clamp(float(self.x[0]) + lat * vyd, -lim, lim)
-            r_o = _clamp(float(self.x[1]) + lat * racc, -YAW_MAX, YAW_MAX)
-            cdi_o = np.array([cd_o, cd_o, 1.0, 1.0])
-            sdi_o = np.array([sd_o, sd_o, 0.0, 0.0])
-            vxw, vyw = _wheel_velocity(vx, vy_o, r_o, xa, ya, cdi_o, sdi_o)
-            den_o = np.maximum(np.abs(vxw), V_OFF)
-            t_o = vyw / den_o
-            alpha_o = np.arctan(t_o)
-            # The updates' correction of vy (posterior - predicted) moves each
-            # lagged slip angle along the kinematic slope: vy is predicted from
-            # the measured ay, so its correction is a re-estimate of where the
-            # car is, not motion the tire lags (the Jacobians assume the whole
-            # slope). r is predicted from the model's yaw moment: its correction
-            # stays in the lag, else a model-vs-gyro fight drifts the lagged
-            # angles (AV-21 log: 11 deg apart within 0.2 s at 3 m/s)
-            duv = float(self.x[0]) - (vy + dvy)
-            if RLX_CARRY:
-                self.alpha_t = self.alpha_t + cdi_o * duv / (1.0 + np.clip(t_o, -100.0, 100.0) ** 2) / den_o
-            # ... and carried over the latency towards alpha_o
-            alpha_to = self.alpha_t + _relax_share(np.abs(vxw) * lat, sig) * (alpha_o - self.alpha_t)
-            fy_o = fy + dfda * (alpha_to - alpha)
-            if OUT_MU:
-                fy_o = fy_o + dfdmu * (float(self.x[2]) - mu)
-            # the yaw balance (MB_*): +df on the front axle, -df on the rear
-            # (the lateral sum unchanged, the moment a df + b df = l df),
-            # and the lateral balance (SB_*) in the axles' static shares (no
-            # moment), shared by load; the axle's force stays within its
-            # friction
-            for a in range(2):
-                fza = max(fz[2 * a] + fz[2 * a + 1], 1.0)
-                cap = float(self.x[2]) * self.mu0[a] * fza
-                fa = fy_o[2 * a] + fy_o[2 * a + 1]
-                dfa = (self.mb_f + self.sb_f_share * self.lat_sb) if a == 0 else (self.lat_sb - self.sb_f_share * self.lat_sb - self.mb_f)
-                dfa = _clamp(dfa, -cap - fa, cap - fa)
-                for i in (2 * a, 2 * a + 1):
-                    fy_o[i] = fy_o[i] + dfa * fz[i] / fza
-            o.update(alpha=alpha_o, fy=fy_o)
-            o["fy_axle"] = np.array([fy_o[0] + fy_o[1], fy_o[2] + fy_o[3]])
-        mu = float(self.x[2])
-
-        # vx at the output's time too, like vy and r (its prediction's rate,
-        # at the updated state): in a spin it falls by ~6 m/s^2 and beta =
-        # atan(vy / vx) took vx 20 ms old (sine with dwell wet 0.54 -> 0.44
-        # deg RMS). The slip angles and ratios keep the state's vx
-        vx_o = vx
-        if active and VX_AT_OUTPUT:
-            vx_o = vx + c.get("latency", 0.0) * self._vx_rate(ax, float(self.x[1]), float(self.x[0]), g_x)
-        o["vx"] = vx_o
-        o["vy"] = vy_o if active else 0.0
-        o["beta"] = math.atan(vy_o / max(vx_o, V_OFF)) if active else 0.0
-        o["yaw_rate"] = r_o if active else yaw
-        if yaw_ok:
-            vbits |= V_YAW
-        o["delta"] = delta
-        o["mu"] = mu
-        o["yaw_rate_bias"] = B_UNIT * float(self.x[3])
+            # beyond the rack's travel (no ay update: dead reckoning as well).
+            # The per-wheel outputs come from the same model
+            if s.ay_ok and s.yaw_ok and not s.dead_reck and not self.misfit and s.steer_in_range:
+                s.vbits |= V_BETA | V_AXLE
+            if not (s.vbits & V_BETA):
+                s.vbits &= ~(V_WHEEL(0) | V_WHEEL(1) | V_WHEEL(2) | V_WHEEL(3))
+            if s.excited:
+                s.flags |= F_EXCITED
         sig = math.sqrt(self.P[2, 2]) * S[2]
         o["mu_conf"] = _clamp((CONF_S0 - sig) / 0.1, 0.0, 1.0)
         if self.misfit:
             # the tire model does not explain the measurements: whatever mu
             # the filter found, it is not the road's
-            flags |= F_MODEL_MISFIT
+            s.flags |= F_MODEL_MISFIT
             o["mu_conf"] = min(o["mu_conf"], CONF_MISFIT)
         elif self.sat_cap:
             # the saturation share on its way to the misfit level: no
@@ -1079,32 +1461,7 @@ class Estimator:
             # low-passed over 2 s and would declare the misfit late)
             o["mu_conf"] = min(o["mu_conf"], CONF_MISFIT)
         if o["mu_conf"] >= 0.5:
-            vbits |= V_MU
-        if (vbits & V_VX) and steer_ok and vx >= V_ON:
-            av2 = 0.01 * self.k_us * vx * vx
-            den = max(l * (1 + av2), 0.1 * l)
-            rr = vx * delta / den
-            lim = mu * min(self.mu0) * G / vx
-            o["yaw_rate_ref"] = _clamp(rr, -lim, lim)
-            vbits |= V_YAW_REF
-            if yaw_ok:
-                o["yaw_error"] = yaw - o["yaw_rate_ref"]
-                rref = o["yaw_rate_ref"]
-                sgn = math.copysign(1.0, rref) if abs(rref) > 0.01 else (0.0 if yaw == 0 else math.copysign(1.0, yaw))
-                d = sgn * (rref - yaw)
-                thr = 0.03 + 0.1 * abs(rref)
-                o["steer_char"] = 1 if d > thr else (-1 if -d > thr else 0)
-                vbits |= V_STEER
-        if active:
-            o["fy_margin_front"] = mu * self.mu0[0] * fz_sum_f - abs(o["fy_axle"][0])
-            if vbits & V_BETA:
-                vbits |= V_MARGIN
-        o["valid"] = vbits
-        o["flags"] = flags
-        o["excited"] = excited
-        o["nis_f"] = self.nis_f
-        o["sat_f"] = self.sat_f
-        return o
+            s.vbits |= V_MU
 
 
 # ---------------------------------------------------------------------------

@@ -9,7 +9,8 @@ docs/magic-formula.md; keep the two in step.
 
 Variants (params['fittyp']):
   5, 6, 21  MF 5.2 / PAC2002: no pressure terms, camber scaled by LGAX/LGAY/LGAZ,
-            SHy/SVy with PHY3/PVY3/PVY4, aligning moment with Fy' = Fy - SVyk
+            SHy/SVy with PHY3/PVY3/PVY4, aligning moment with Fy' = Fy - SVyk,
+            SVyk with mu_y at gamma = 0 (MFeval's calculateMz)
   61, 62    MF 6.1 / 6.2: inflation pressure (NOMPRES, PP*), camber stiffness
             PKY6/PKY7, PEY5, RBX3, RBY4, QDZ10/QDZ11, aligning moment with
             Fy' = Gyk * Fy0(gamma = 0)
@@ -18,8 +19,15 @@ form='book' (the Pacejka-book forms: alpha* = tan(alpha), gamma* = sin(gamma),
 A_mu = 10, QBZ5/QBZ6 in Bt, |gamma*| in Dt, square-root equivalent slip
 angles, Fy' with gamma = 0 in Gyk, cos(alpha) in the combined Mzr, Fz0' in s,
 trail not scaled by LFZO).
-Left out: turn slip (phi_t = 0, all zeta = 1), Mx, My, relaxation, the
-vertical model; vx < 0 is handled with |vx| (slips must be defined with |vx|).
+Left out: turn slip (phi_t = 0, all zeta = 1), transient relaxation
+dynamics; vx < 0 is handled with |vx| (slips must be defined with |vx|).
+evaluate_ext() adds MFeval's other output channels (effective rolling
+radius, loaded radius and vertical stiffness with the MF 5.2/6.1 and MF 6.2
+vertical models, contact patch, trail, residual moment, friction, slip
+stiffnesses, structural stiffnesses, relaxation lengths, Mx, My), written
+from MFeval's Solver (calculateRe, calculateRhoRl61/62, calculateFz62,
+calculateContactPatch, calculateRelax, calculateMx, calculateMy);
+docs/magic-formula.md section 9.
 
 Native convention: ISO-W as MF-Tyre / MFeval (kappa > 0 driving, Fx > 0
 forward, alpha > 0 gives Fy < 0 for a normal tyre, Fz > 0 loaded).
@@ -125,6 +133,7 @@ def _prepare(P, kappa, alpha, gamma, fz, p, vx, form):
     c.gamma = np.clip(gamma, -ANGLE_LIMIT, ANGLE_LIMIT)
     # speed and the low-speed reduction
     vabs = np.minimum(np.abs(vx), VX_LIMIT)
+    c.vx = np.clip(vx, -VX_LIMIT, VX_LIMIT)   # signed (extended outputs only)
     vxlow = P["vxlow"]
     if vxlow > 0:
         r = np.clip(vabs / vxlow, 0.0, 1.0)
@@ -234,14 +243,17 @@ def _gyk(c, gy, muy):
     return Gyk, SVyk
 
 
-def _core(P, kappa, alpha, gamma, fz, p, vx, form):
-    """All forces and moments in ISO-W, no mirroring. Returns a dict."""
+def _core(P, kappa, alpha, gamma, fz, p, vx, form, mz52_svyk_camber=False):
+    """All forces and moments in ISO-W, no mirroring. Returns a dict.
+
+    mz52_svyk_camber: MF 5.2 aligning moment with Fy' = Fy - SVyk(mu_y(gamma))
+    (grip's earlier form) instead of MFeval's Fy - SVyk(mu_y(gamma = 0))."""
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         c = _prepare(P, kappa, alpha, gamma, fz, p, vx, form)
         Fz, dfz, dpi, R0 = c.Fz, c.dfz, c.dpi, P["unloaded_radius"]
         x0 = _fx0(c)
         y0 = _fy0(c, c.gy)
-        y00 = _fy0(c, np.zeros_like(c.gy)) if c.mf6 else y0   # Fy0 at gamma = 0
+        y00 = _fy0(c, np.zeros_like(c.gy))                     # Fy0 at gamma = 0
 
         # ---- pure aligning moment
         gz = c.gz
@@ -277,7 +289,7 @@ def _core(P, kappa, alpha, gamma, fz, p, vx, form):
                   * c.lmuy_s * c.cosa)
         Br = P["qbz9"] * P["lky"] / _nz(c.lmuy_s) + P["qbz10"] * y0["By"] * y0["Cy"]
         Mzr0 = Dr * np.cos(np.arctan(Br * ar)) * c.cosa * c.w
-        Mz0 = -t0 * y00["Fy0"] + Mzr0
+        Mz0 = -t0 * (y00["Fy0"] if c.mf6 else y0["Fy0"]) + Mzr0
 
         # ---- combined longitudinal force
         rbx3 = P["rbx3"] if c.mf6 else 0.0
@@ -306,7 +318,11 @@ def _core(P, kappa, alpha, gamma, fz, p, vx, form):
         Mzr = Dr * np.cos(np.arctan(Br * ar_eq)) * c.w * (c.cosa if c.f["mzr_cos"] else 1.0)
         t = Dt * np.cos(Ct * np.arctan(Bt * at_eq - Et * (Bt * at_eq - np.arctan(Bt * at_eq)))) * trail_scale
         if not c.mf6:
-            Fyp = Fy - SVyk
+            # MF 5.2 (MF-Tyre 5.2 manual, as MFeval): Fy' = Fy - SVyk, where
+            # MFeval's calculateMz takes SVyk from the combined-slip evaluation
+            # with mu_y at gamma = 0 (muy_sub0; RVY3 and RBY4 keep gamma)
+            SVyk_mz = SVyk if mz52_svyk_camber else _gyk(c, c.gy, y00["muy"])[1]
+            Fyp = Fy - SVyk_mz
         elif c.f["fyp_gamma0"]:
             Gyk0, _ = _gyk(c, np.zeros_like(c.gy), y00["muy"])
             Fyp = Gyk0 * y00["Fy0"]
@@ -321,8 +337,8 @@ def _core(P, kappa, alpha, gamma, fz, p, vx, form):
         det.update(y0)
         det.update(dict(Gxa=Gxa, Gyk=Gyk, SVyk=SVyk, t0=t0, t=t, Mzr0=Mzr0, Mzr=Mzr, s=s,
                         Bt=Bt, Ct=Ct, Dt=Dt, Et=Et, Br=Br, Dr=Dr, SHt=SHt, SHf=SHf,
-                        alpha_t=at, alpha_r=ar, alpha_t_eq=at_eq, alpha_r_eq=ar_eq, Fy_prime=Fyp,
-                        Fy0_gamma0=y00["Fy0"], r=c.r, ra=c.ra, w=c.w, dfz=dfz, dpi=dpi))
+                        alpha_t=at, alpha_r=ar, alpha_t_eq=at_eq, alpha_r_eq=ar_eq, Fy_prime=Fyp, ctx=c,
+                        Fy0_gamma0=y00["Fy0"], muy_gamma0=y00["muy"], r=c.r, ra=c.ra, w=c.w, dfz=dfz, dpi=dpi))
         return out, det
 
 
@@ -363,7 +379,8 @@ def mirror_outputs(out):
 
 
 def evaluate(params, kappa, alpha, gamma, fz, p=None, vx=None, *, form="mftyre",
-             convention="iso", kappa_braking=False, mirror=None, details=False):
+             convention="iso", kappa_braking=False, mirror=None, details=False,
+             mz52_svyk_camber=False):
     """Forces and moments of one parameter set (array inputs broadcast).
 
     params: dict of grip_mf_params fields in SI (tir.Tir.params()).
@@ -373,6 +390,9 @@ def evaluate(params, kappa, alpha, gamma, fz, p=None, vx=None, *, form="mftyre",
     kappa is positive in braking. mirror: None = when the mounting side
     (options' RIGHT_SIDE bit) differs from the file's (tyreside), as the C
     library does, or True/False to force.
+    mz52_svyk_camber=True: MF 5.2 combined Mz with grip's earlier Fy' = Fy -
+    SVyk(mu_y at gamma) (GRIP_MF_OPT_MZ52_SVYK_CAMBER) instead of MFeval's
+    Fy - SVyk(mu_y at gamma = 0); no effect on MF 6.x.
     Returns {fx0, fy0, mz0, fx, fy, mz} (and the internals when details).
     """
     k, a, g, f = to_iso(kappa, alpha, gamma, fz, convention, kappa_braking)
@@ -380,10 +400,289 @@ def evaluate(params, kappa, alpha, gamma, fz, p=None, vx=None, *, form="mftyre",
         mirror = (int(params.get("tyreside", 1)) == -1) != bool(int(params.get("options", 0)) & (1 << 3))
     if mirror:
         a, g = mirror_inputs(a, g)
-    out, det = _core(params, k, a, g, f, p, vx, form)
+    out, det = _core(params, k, a, g, f, p, vx, form, mz52_svyk_camber)
     if mirror:
         out = mirror_outputs(out)
     out = from_iso(out, convention)
     if details:
         out["details"] = det
     return out
+
+
+# ---------------------------------------------------------------------------
+# Extended outputs (MFeval's other channels).
+
+# name, unit, sign under mirroring (x-z plane), sign SAE per ISO-W
+EXT_CHANNELS = (
+    ("re", "m", 1, 1),          # effective rolling radius
+    ("omega", "rad/s", 1, 1),   # wheel spin (1 + kappa) vx / Re
+    ("rl", "m", 1, 1),          # loaded radius
+    ("rho", "m", 1, 1),         # vertical deflection
+    ("cz", "N/m", 1, 1),        # vertical stiffness Fz / rho
+    ("2a", "m", 1, 1),          # contact patch length
+    ("2b", "m", 1, 1),          # contact patch width
+    ("t", "m", 1, 1),           # pneumatic trail (combined slip)
+    ("mzr", "N m", -1, -1),     # residual aligning moment (combined slip)
+    ("mux", "-", 1, 1),         # longitudinal friction coefficient
+    ("muy", "-", 1, 1),         # lateral friction coefficient (|mu_y|, as MFeval)
+    ("kxk", "N", 1, 1),         # longitudinal slip stiffness dFx0/dkappa
+    ("kya", "N/rad", 1, 1),     # cornering stiffness dFy0/dalpha
+    ("cx", "N/m", 1, 1),        # overall longitudinal stiffness
+    ("cy", "N/m", 1, 1),        # overall lateral stiffness
+    ("sigmax", "m", 1, 1),      # longitudinal relaxation length
+    ("sigmay", "m", 1, 1),      # lateral relaxation length
+    ("mx", "N m", -1, 1),       # overturning moment
+    ("my", "N m", 1, -1),       # rolling resistance moment
+)
+EXT_NAMES = tuple(ch[0] for ch in EXT_CHANNELS)
+RE_NEWTON_MAX = 60       # Newton steps of the rolling-radius cubic (converges in < 10)
+RL62_SCAN = 500          # grid points of the MF 6.2 deflection scan
+RL62_BISECT = 60         # bisection steps of the MF 6.2 loaded radius
+
+
+def _re_root(a, b):
+    """Root r > 0 of r = a + b / r^2 (the effective rolling radius / R0, with
+    Omega from Re: MFeval iterates Re = Romega(Omega = (1 + kappa) Vx / Re) -
+    deflection to 1e-9 m). Newton from r0 = a + b / a^2, which lies above
+    the root, converges monotonically. NaN where there is no positive root."""
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
+    ok = (a > 0.0) & (b >= -4.0 * a ** 3 / 27.0)
+    aa = np.where(ok, a, 1.0)
+    bb = np.where(ok, b, 0.0)
+    r = aa + bb / aa ** 2
+    for _ in range(RE_NEWTON_MAX):
+        f = r ** 3 - aa * r ** 2 - bb
+        d = 3.0 * r ** 2 - 2.0 * aa * r
+        r = r - f / np.where(d > 0.0, d, 1.0)
+    ok &= np.abs(r ** 3 - aa * r ** 2 - bb) <= 1e-12 * np.maximum(1.0, np.abs(r) ** 3)
+    return np.where(ok, r, np.nan)
+
+
+def _fz62(P, rl, romega, gamma, omega_abs, dpi, fx, fy):
+    """MF 6.2 vertical force at loaded radius rl and its deflection (MFeval's
+    calculateFz62, MF-Tyre/MF-Swift 6.2 equation manual)."""
+    R0, Fz0, V0 = P["unloaded_radius"], P["fnomin"], P["longvl"]
+    qfz1 = np.sqrt((P["vertical_stiffness"] * R0 / Fz0) ** 2 - 4.0 * P["q_fz2"])
+    u = rl / romega
+    sfyg = (P["q_fys1"] + P["q_fys2"] * u + P["q_fys3"] * u ** 2) * gamma
+    rho_fr = np.maximum(romega - rl, 0.0)
+    rtw = (1.075 - 0.5 * P["aspect_ratio"]) * P["width"]
+    num = P["q_cam1"] * rl + P["q_cam2"] * rl ** 2
+    den = P["q_cam1"] * romega + P["q_cam2"] * romega ** 2
+    # ((num gamma)^2 / (den gamma)^2) (rtw/8)|tan gamma| - Q_CAM3 rho_fr |gamma|;
+    # MFeval turns the 0/0 of gamma = 0 (or den = 0) into 0: the whole term
+    cam = (gamma != 0.0) & (den != 0.0)
+    rho_g = np.where(cam, (num / np.where(cam, den, 1.0)) ** 2 * (rtw / 8.0) * np.abs(np.tan(gamma))
+                     - P["q_cam3"] * rho_fr * np.abs(gamma), 0.0)
+    rho = np.maximum(rho_fr + rho_g, 0.0)
+    x = rho / R0
+    pos = x > 0.0
+    xp = np.where(pos, x, 1.0)
+    fy_term = np.where(pos, xp ** P["q_fcy2"], 0.0) * P["q_fcy"] * (fy - sfyg) / Fz0
+    fcorr = ((1.0 + P["q_v2"] * (R0 / V0) * omega_abs - (P["q_fcx"] * fx / Fz0) ** 2 - fy_term ** 2)
+             * (1.0 + P["pfz1"] * dpi))
+    return np.where(pos, fcorr * (qfz1 * x + P["q_fz2"] * x ** 2) * Fz0, 0.0), rho
+
+
+def _rl62(P, fz, romega, gamma, omega_abs, dpi, fx, fy):
+    """MF 6.2 loaded radius Rl = Romega - d: the smallest free-rolling
+    deflection d in [0, R0] with Fz62(Romega - d) = Fz (MFeval minimizes
+    (Fz62 - Fz)^2 with fminsearch from Rl = 0.3 m). Where even d = 0 gives
+    Fz62 >= Fz (the camber deflection at a small load) the minimum is Rl =
+    Romega, as MFeval's; NaN where no d reaches Fz. Inside the fitted range
+    there is one root; at large camber (|gamma| > 0.45 rad on
+    MagicFormula62) the camber term makes several, and the smallest
+    deflection is the one continuous with the unloaded tyre."""
+    R0 = P["unloaded_radius"]
+
+    def g(d):
+        return _fz62(P, romega - d, romega, gamma, omega_abs, dpi, fx, fy)[0] - fz
+
+    at_top = g(np.zeros_like(romega)) >= 0.0
+    # first sign change on a dense grid (quadratic spacing: fine at small d)
+    grid = R0 * (np.arange(1, RL62_SCAN + 1) / RL62_SCAN) ** 2
+    lo = np.zeros_like(romega)
+    hi = np.full_like(romega, np.nan)
+    prev = np.zeros_like(romega)
+    for d in grid:
+        found = np.isnan(hi) & (g(np.full_like(romega, d)) > 0.0)
+        lo = np.where(found, prev, lo)
+        hi = np.where(found, d, hi)
+        prev = np.where(np.isnan(hi), d, prev)
+    ok = at_top | ~np.isnan(hi)
+    a, b = lo, np.where(np.isnan(hi), R0, hi)
+    for _ in range(RL62_BISECT):
+        m = 0.5 * (a + b)
+        pos = g(m) > 0.0
+        a = np.where(pos, a, m)
+        b = np.where(pos, m, b)
+    d = np.where(at_top, 0.0, 0.5 * (a + b))
+    rl = romega - d
+    rho = _fz62(P, rl, romega, gamma, omega_abs, dpi, fx, fy)[1]
+    return np.where(ok, rl, np.nan), np.where(ok, rho, np.nan)
+
+
+def _ext(P, c, det, out):
+    """MFeval's extra channels in ISO-W and the model's frame (before the
+    un-mirroring). NaN marks a channel whose parameters are missing or whose
+    equation has no solution (the C library clears its valid bit)."""
+    R0, Fz0, V0 = P["unloaded_radius"], P["fnomin"], P["longvl"]
+    Fz0p = P["lfzo"] * Fz0
+    loaded = c.loaded
+    fz = np.where(loaded, c.Fz, 0.0)
+    kap = c.kappa_in
+    vx = c.vx
+    gam = c.gamma
+    dpi = c.dpi
+    fx = out["fx"]
+    fy = out["fy"]
+    shape = fz.shape
+    nan = np.full(shape, np.nan)
+    e = {}
+
+    # effective rolling radius (calculateRe): Re = Romega(Omega) - Fz0 / Cz
+    # (DREFF atan(BREFF Fz/Fz0) + FREFF Fz/Fz0), Omega = (1 + kappa) Vx / Re
+    cz0 = P["vertical_stiffness"]
+    czp = cz0 * (1.0 + P["pfz1"] * dpi)
+    has_cz = (cz0 > 0.0) & (czp > 0.0)
+    czs = np.where(has_cz, czp, 1.0)
+    defl = Fz0 / czs * (P["dreff"] * np.arctan(P["breff"] * fz / Fz0) + P["freff"] * fz / Fz0)
+    b = P["q_v1"] * ((1.0 + kap) * vx / V0) ** 2
+    r = _re_root(P["q_re0"] - defl / R0, b)
+    r = np.where(has_cz, r, np.nan)
+    re = r * R0
+    e["re"] = re
+    e["omega"] = (1.0 + kap) * vx / re
+    romega = R0 * (P["q_re0"] + b / r ** 2)
+    omega_abs = np.abs(e["omega"])
+
+    # loaded radius, deflection and vertical stiffness
+    qfz1_sq = (cz0 * R0 / Fz0) ** 2 - 4.0 * P["q_fz2"]
+    vert_ok = has_cz & (qfz1_sq >= 0.0) & np.isfinite(romega)
+    if c.fittyp == 62:
+        rl, rho = _rl62(P, fz, romega, gam, omega_abs, dpi, fx, fy)
+    else:
+        # calculateRhoRl61 (MF 5.2 and 6.1): Fz = (Q_FZ1 x + Q_FZ2 x^2) * ext,
+        # x = rho / R0, solved in the form that stays finite for Q_FZ2 = 0
+        ext = ((1.0 + P["q_v2"] * (R0 / V0) * omega_abs - (P["q_fcx"] * fx / Fz0) ** 2
+                - (P["q_fcy"] * fy / Fz0) ** 2) * (1.0 + P["pfz1"] * dpi))
+        qfz1 = np.sqrt(np.maximum(qfz1_sq, 0.0))
+        y = (fz / Fz0) / np.where(ext > 0.0, ext, 1.0)
+        disc = qfz1 ** 2 + 4.0 * P["q_fz2"] * y
+        den = qfz1 + np.sqrt(np.maximum(disc, 0.0))
+        x = np.where(den > 0.0, 2.0 * y / np.where(den > 0.0, den, 1.0), 0.0)
+        good = (ext > 0.0) & (disc >= 0.0) & (den > 0.0)
+        rho = np.where(good, np.maximum(x * R0, 0.0), np.nan)
+        rl = np.where(good, np.maximum(romega - rho, 0.0), np.nan)
+    rho = np.where(loaded, rho, 0.0)
+    rl = np.where(loaded, rl, romega)
+    e["rl"] = np.where(vert_ok, rl, np.nan)
+    e["rho"] = np.where(vert_ok, rho, np.nan)
+    e["cz"] = np.where(vert_ok, np.where(rho > 0.0, fz / np.where(rho > 0.0, rho, 1.0), 0.0), np.nan)
+    if c.fittyp == 62:
+        e["cz"] = np.where(loaded & ~(rho > 0.0), np.nan, e["cz"])
+
+    # contact patch (calculateContactPatch), with its bottoming limit
+    fzc = np.where(R0 - fz / czs - (P["rim_radius"] + P["bottom_offst"]) < 0.0,
+                   np.maximum((R0 - P["rim_radius"] - P["bottom_offst"]) * czs, 0.0), fz)
+    w = P["width"]
+    if c.mf6:
+        q = fzc / (czs * R0)
+        a = R0 * (P["q_ra2"] * q + P["q_ra1"] * np.sqrt(q))
+        bb = w * (P["q_rb2"] * q + P["q_rb1"] * np.cbrt(q))
+        a_ok = has_cz
+        b_ok = has_cz & (w > 0.0)
+    else:
+        qa1, qa2 = P["q_a1"], P["q_a2"]
+        a_ok = has_cz
+        if qa1 == 0.0 and qa2 == 0.0:
+            # MFeval's defaults from the vertical stiffness ("empirically discovered")
+            yy = math.log10(R0 * cz0 / Fz0) if cz0 > 0.0 else 0.0
+            qa1 = -0.0388 * yy ** 3 + 0.2509 * yy ** 2 - 0.6283 * yy + 0.6279
+            qa2 = 1.693 * qa1 ** 2
+        a = R0 * (qa2 * fzc / Fz0 + qa1 * np.sqrt(fzc / Fz0))
+        bb = np.full(shape, 0.5 * w)
+        b_ok = np.full(shape, w > 0.0)
+    e["2a"] = np.where(a_ok, 2.0 * a, np.nan)
+    e["2b"] = np.where(b_ok, 2.0 * bb, np.nan)
+
+    # trail, residual moment, friction, slip stiffnesses (the model's own)
+    e["t"] = np.where(loaded, det["t"], 0.0)
+    e["mzr"] = np.where(loaded, det["Mzr"], 0.0)
+    e["mux"] = np.where(loaded, det["mux"], 0.0)
+    e["muy"] = np.where(loaded, np.abs(det["muy"]), 0.0)
+    e["kxk"] = np.where(loaded, det["Kxk"], 0.0)
+    e["kya"] = np.where(loaded, det["Kya"], 0.0)
+
+    # structural stiffnesses and relaxation lengths (calculateRelax)
+    dfz = (fz - Fz0p) / Fz0p
+    cx0, cy0 = P["longitudinal_stiffness"], P["lateral_stiffness"]
+    cx = cx0 * (1.0 + P["pcfx1"] * dfz + P["pcfx2"] * dfz ** 2) * (1.0 + P["pcfx3"] * dpi)
+    cy = cy0 * (1.0 + P["pcfy1"] * dfz + P["pcfy2"] * dfz ** 2) * (1.0 + P["pcfy3"] * dpi)
+    e["cx"] = np.where(cx0 > 0.0, cx, np.nan)
+    e["cy"] = np.where(cy0 > 0.0, cy, np.nan)
+    if c.mf6:
+        e["sigmax"] = np.where((cx0 > 0.0) & (cx != 0.0), np.abs(e["kxk"] / np.where(cx != 0.0, cx, 1.0)), np.nan)
+        e["sigmay"] = np.where((cy0 > 0.0) & (cy != 0.0), np.abs(e["kya"] / np.where(cy != 0.0, cy, 1.0)), np.nan)
+    else:
+        e["sigmax"] = ((P["ptx1"] + P["ptx2"] * dfz) * np.exp(-P["ptx3"] * dfz) * P["lsgkp"] * R0 * fz / Fz0)
+        e["sigmay"] = (P["pty1"] * np.sin(2.0 * np.arctan2(fz, P["pty2"] * Fz0p)) * (1.0 - P["pky3"] * np.abs(gam))
+                       * R0 * P["lfzo"] * P["lsgal"])
+
+    # overturning moment (calculateMx; MF-Tyre equation manual, QSX12-14)
+    fzmin = P["fzmin"]
+    fzr2 = fz * np.minimum(1.0, (fz / fzmin) ** 2) if fzmin > 0.0 else fz
+    mx = (R0 * fzr2 * P["lmx"] * (P["qsx1"] * P["lvmx"] - P["qsx2"] * gam * (1.0 + P["ppmx1"] * dpi)
+                                  - P["qsx12"] * gam * np.abs(gam) + P["qsx3"] * fy / Fz0
+                                  + P["qsx4"] * np.cos(P["qsx5"] * np.arctan((P["qsx6"] * fzr2 / Fz0) ** 2))
+                                  * np.sin(P["qsx7"] * gam + P["qsx8"] * np.arctan(P["qsx9"] * fy / Fz0))
+                                  + P["qsx10"] * np.arctan(P["qsx11"] * fzr2 / Fz0) * gam)
+          + R0 * fy * P["lmx"] * (P["qsx13"] + P["qsx14"] * np.abs(gam)))
+    e["mx"] = np.where(loaded, mx, 0.0)
+
+    # rolling resistance moment (calculateMy: MF 5.2 manual / paper A48)
+    fzr1 = fz * np.minimum(1.0, fz / fzmin) if fzmin > 0.0 else fz
+    u = vx / V0
+    base = P["qsy1"] + P["qsy2"] * fx / Fz0 + P["qsy3"] * np.abs(u) + P["qsy4"] * u ** 4
+    if c.mf6:
+        my = (-R0 * Fz0 * P["lmy"] * (base + (P["qsy5"] + P["qsy6"] * fzr1 / Fz0) * gam ** 2)
+              * (fzr1 / Fz0) ** P["qsy7"] * (1.0 + dpi) ** P["qsy8"])
+    else:
+        my = -R0 * fzr1 * P["lmy"] * base
+    # the sign of the wheel's rolling: MFeval flips My for Vx < 0 and, in a
+    # window |1 + kappa| |Vx| <= VXLOW around the locked wheel, multiplies it
+    # by sin(pi/2 (1 + kappa) |Vx| / VXLOW) (flipped below the window)
+    if P["vxlow"] > 0.0:
+        roll = np.sin(0.5 * math.pi * np.clip((1.0 + kap) * np.abs(vx) / P["vxlow"], -1.0, 1.0))
+    else:
+        roll = np.sign(1.0 + kap)
+    e["my"] = np.where(loaded, my * np.sign(vx) * roll, 0.0)
+    return e
+
+
+def evaluate_ext(params, kappa, alpha, gamma, fz, p=None, vx=None, *, form="mftyre",
+                 convention="iso", kappa_braking=False, mirror=None, mz52_svyk_camber=False):
+    """evaluate()'s combined outputs {fx, fy, mz} and MFeval's other output
+    channels EXT_NAMES (units in EXT_CHANNELS), same arguments. A channel is
+    NaN where the parameter set lacks what it needs (VERTICAL_STIFFNESS,
+    WIDTH, LONGITUDINAL_/LATERAL_STIFFNESS = 0: not given) or its equation
+    has no solution; grip_mf_eval_ext clears the channel's valid bit there.
+    Fz <= 0: forces, moments, mu, stiffnesses Kxk, Kya, trail, Cz, rho, 2a
+    are 0; Re, Omega and Rl are those of the unloaded wheel."""
+    k, a, g, f = to_iso(kappa, alpha, gamma, fz, convention, kappa_braking)
+    if mirror is None:
+        mirror = (int(params.get("tyreside", 1)) == -1) != bool(int(params.get("options", 0)) & (1 << 3))
+    if mirror:
+        a, g = mirror_inputs(a, g)
+    out, det = _core(params, k, a, g, f, p, vx, form, mz52_svyk_camber)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        e = _ext(params, det["ctx"], det, out)
+    res = {q: out[q] for q in ("fx", "fy", "mz")}
+    if mirror:
+        res = mirror_outputs(res)
+    res = from_iso(res, convention)
+    for name, _unit, msign, ssign in EXT_CHANNELS:
+        v = e[name] * (msign if mirror else 1)
+        res[name] = v * (ssign if convention == "sae" else 1)
+    return res

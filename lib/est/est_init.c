@@ -1,0 +1,347 @@
+/*
+ * est_init.c - the estimator's configuration (defaults and checks), init
+ * (the axle constants derived once from the tire models at static load:
+ * cornering and slip stiffness, peak friction and its load sensitivity,
+ * relaxation length, the lateral force shape for mu's secant, the
+ * stability factor), reset, and the stability factor's getter.
+ */
+#include <stddef.h>
+
+#include "est_internal.h"
+
+/* the nearest whole number (step counts from times) */
+static int32_t r_to_int(grip_real_t a)
+{
+#if GRIP_ARITH_FIXED
+    return (a >= 0) ? (int32_t)((a + 32768) >> 16) : -(int32_t)((32768 - a) >> 16);
+#else
+    return (int32_t)((a >= 0.0f) ? (a + 0.5f) : (a - 0.5f));
+#endif
+}
+
+/* finite and within [lo, hi] (a configuration value) */
+static int in_range(grip_real_t v, grip_real_t lo, grip_real_t hi)
+{
+    return r_is_finite(v) && v >= lo && v <= hi;
+}
+
+grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_params *tire)
+{
+    if (cfg == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    cfg->mass = RCL(1450.0);
+    cfg->iz = RCL(2450.0);
+    cfg->lf = RC(1.10);
+    cfg->lr = RC(1.60);
+    cfg->track_f = RC(1.55);
+    cfg->track_r = RC(1.53);
+    cfg->h_cg = RC(0.55);
+    cfg->steer_ratio = RC(15.5);
+    cfg->wheel_radius = RC(0.30);
+    cfg->roll_split_front = RC(0.60);
+    cfg->roll_gradient = RC(0.0088);
+    cfg->rate_hz = 100u;
+    cfg->speed_ref_mu = 0u;
+    cfg->cla = R_ZERO;
+    cfg->aero_front = RC(0.5);
+    cfg->air_density = RC(1.2);
+    cfg->cda = R_ZERO;
+    cfg->crr = R_ZERO;
+    cfg->tan_bank = R_ZERO;
+    cfg->tan_grade = R_ZERO;
+    cfg->latency = R_ZERO;
+    cfg->steer_lag = R_ZERO;
+    cfg->steer_latency = R_ZERO;
+    cfg->tire[0].kind = GRIP_EST_TIRE_MF;
+    cfg->tire[0].model.mf = tire;
+    cfg->tire[1].kind = GRIP_EST_TIRE_MF;
+    cfg->tire[1].model.mf = tire;
+    return GRIP_OK;
+}
+
+/* Peak lateral friction coefficient |Fy| / Fz of a tire at load fz over the
+ * sweep alpha = 0.02 .. 0.5 rad (pure side slip, 20 m/s); *slip_pk gets
+ * the slip angle of the peak (0.5 if no force). longitudinal: |Fx| / Fz over
+ * the braking slips kappa = -0.02 .. -0.5 (pure longitudinal slip), *slip_pk
+ * |kappa| there. -1 if a tire call fails. */
+static int peak_friction(const grip_est_tire_t *t, grip_real_t fz, int longitudinal, grip_real_t *mu_pk,
+                         grip_real_t *slip_pk)
+{
+    grip_mf_input in;
+    grip_mf_output o;
+    int k;
+    in.gamma = R_ZERO;
+    in.fz = fz;
+    in.p = R_ZERO;
+    in.vx = RC(20.0);
+    *mu_pk = R_ZERO;
+    *slip_pk = RC(0.5);
+    for (k = 1; k <= 25; ++k) {
+        grip_real_t s = r_mul(RC(0.02), r_from_int(k));
+        grip_real_t u;
+        in.kappa = longitudinal ? r_neg(s) : R_ZERO;
+        in.alpha = longitudinal ? R_ZERO : s;
+        if (tire_eval(t, &in, &o) < 0) {
+            return -1;
+        }
+        u = r_abs(r_div(longitudinal ? o.fx : o.fy, in.fz));
+        if (u > *mu_pk) {
+            *mu_pk = u;
+            *slip_pk = s;
+        }
+    }
+    return 0;
+}
+
+/* Lateral relaxation length [m] of the tire at load fz (est_tuning.h):
+ * C_alpha / LATERAL_STIFFNESS, else PTY1 sin(2 atan(Fz / (PTY2 Fz0'))) R0
+ * LFZO (MF 5.2), else 0 (no lag); at most EST_SIG_MAX. */
+static grip_real_t relax_length(const grip_est_tire_t *t, grip_real_t c_alpha, grip_real_t fz)
+{
+    const grip_mf_params *p;
+    grip_real_t fz0;
+    if (t->kind != GRIP_EST_TIRE_MF || t->model.mf == NULL) {
+        return R_ZERO;
+    }
+    p = t->model.mf;
+    fz0 = r_mul(p->lfzo, p->fnomin);
+    if (p->lateral_stiffness > R_ZERO) {
+        return r_min(r_div(c_alpha, p->lateral_stiffness), RC(EST_SIG_MAX));
+    }
+    if (p->pty1 > R_ZERO && p->pty2 > R_ZERO && fz0 > R_ZERO) {
+        grip_real_t s = r_sin(r_mul(RC(2.0), r_atan(r_div(fz, r_mul(p->pty2, fz0)))));
+        return r_min(r_mul(r_mul(r_mul(p->pty1, s), p->unloaded_radius), p->lfzo), RC(EST_SIG_MAX));
+    }
+    return R_ZERO;
+}
+
+static grip_status_t check_config(const grip_est_config_t *c)
+{
+    int a;
+    if (!in_range(c->mass, RCL(1.0), RCL(60000.0)) || !in_range(c->iz, RCL(1.0), RCL(200000.0)) ||
+        !in_range(c->lf, RC(0.05), RC(10.0)) || !in_range(c->lr, RC(0.05), RC(10.0)) ||
+        !in_range(c->track_f, RC(0.2), RC(4.0)) || !in_range(c->track_r, RC(0.2), RC(4.0)) ||
+        !in_range(c->h_cg, R_ZERO, RC(3.0)) || !in_range(c->steer_ratio, R_ONE, RC(100.0)) ||
+        !in_range(c->wheel_radius, RC(0.05), RC(2.0)) ||
+        !in_range(c->roll_split_front, R_ZERO, R_ONE) || !in_range(c->roll_gradient, R_ZERO, RC(0.05)) || c->rate_hz < 50u || c->rate_hz > 2000u ||
+        c->speed_ref_mu > 1u || !in_range(c->cla, R_ZERO, RC(20.0)) || !in_range(c->aero_front, R_ZERO, R_ONE) ||
+        !in_range(c->air_density, RC(0.5), RC(1.5)) || !in_range(c->cda, R_ZERO, RC(5.0)) ||
+        !in_range(c->crr, R_ZERO, RC(0.05)) || !in_range(c->tan_bank, RC(-0.5), RC(0.5)) ||
+        !in_range(c->tan_grade, RC(-0.5), RC(0.5)) || !in_range(c->latency, R_ZERO, RC(0.1)) ||
+        !in_range(c->steer_lag, R_ZERO, RC(0.5)) || !in_range(c->steer_latency, R_ZERO, RC(0.1))) {
+        return GRIP_ERR_PARAM;
+    }
+    for (a = 0; a < 2; ++a) {
+        if (c->tire[a].kind != GRIP_EST_TIRE_MF || c->tire[a].model.mf == NULL) {
+            return GRIP_ERR_PARAM;
+        }
+        if (grip_mf_check_params(c->tire[a].model.mf) != GRIP_OK) {
+            return GRIP_ERR_PARAM;
+        }
+    }
+    return GRIP_OK;
+}
+
+grip_status_t grip_est_reset(grip_est_t *est)
+{
+    int i, j;
+    if (est == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    if (est->magic != EST_MAGIC) {
+        return GRIP_ERR_STATE;
+    }
+    est->vx = R_ZERO;
+    est->x[0] = R_ZERO;
+    est->x[1] = R_ZERO;
+    est->x[2] = RC(EST_MU_INIT);
+    est->x[3] = R_ZERO;
+    for (i = 0; i < GRIP_EST_NX; ++i) {
+        for (j = 0; j < GRIP_EST_NX; ++j) {
+            est->p[i][j] = R_ZERO;
+        }
+    }
+    est->p[0][0] = RC(EST_P0_VY);
+    est->p[1][1] = RC(EST_P0_R);
+    est->p[2][2] = RC(EST_P0_MU);
+    est->p[3][3] = RC(EST_P0_B);
+    for (i = 0; i < 5; ++i) {
+        est->hold[i] = R_ZERO;
+        est->age[i] = 1000000;
+    }
+    est->no_wheel_steps = 1000000;
+    est->dr_steps = 0;
+    est->ax_off = R_ZERO;
+    est->r_lin_f = R_ZERO;
+    est->delta_f = R_ZERO;
+    est->delta_prev = R_ZERO;
+    est->delta_o_d = R_ZERO;
+    est->delta_prev_ok = 0;
+    est->lim_steps = 0;
+    est->us_steps = 0;
+    est->us_low = 0;
+    est->rel_steps = 0;
+    est->mu_pre = R_ZERO;
+    est->use_b = R_ZERO;
+    est->nis_f = R_ZERO;
+    est->sat_f = R_ZERO;
+    est->sat_cap = 0;
+    est->misfit = 0;
+    for (i = 0; i < 4; ++i) {
+        est->alpha_t[i] = R_ZERO;
+        est->fy_dmu[i] = R_ZERO;
+    }
+    est->mu_lin = RC(EST_MU_INIT);
+    est->mu_floor = RC(EST_MU_MIN);
+    est->rlx_init = 0;
+    est->yaw_mb = R_ZERO;
+    est->lat_sb = R_ZERO;
+    est->active = 0;
+    est->vx_init = 0;
+    est->psi = R_ZERO;
+    return GRIP_OK;
+}
+
+grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
+{
+    grip_status_t st;
+    grip_real_t l, m_g;
+    int a, k;
+    if (est == NULL || cfg == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    est->magic = 0;
+    st = check_config(cfg);
+    if (st != GRIP_OK) {
+        return st;
+    }
+    est->cfg = *cfg;
+    l = r_add(cfg->lf, cfg->lr);
+    m_g = r_mul(RC(EST_G * 0.5), cfg->mass);              /* half the weight [N] */
+    est->fz_static[0] = r_mul(r_div(cfg->lr, l), m_g);
+    est->fz_static[1] = r_mul(r_div(cfg->lf, l), m_g);
+    est->xw[0] = cfg->lf;
+    est->xw[1] = cfg->lf;
+    est->xw[2] = r_neg(cfg->lr);
+    est->xw[3] = r_neg(cfg->lr);
+    est->yw[0] = r_mul(RC(0.5), cfg->track_f);
+    est->yw[1] = r_neg(est->yw[0]);
+    est->yw[2] = r_mul(RC(0.5), cfg->track_r);
+    est->yw[3] = r_neg(est->yw[2]);
+    for (a = 0; a < 2; ++a) {
+        grip_mf_input in;
+        grip_mf_output o1, o2;
+        grip_real_t best, best2, alpha2, mux_pk;   /* mux_pk: the braking peak, not used */
+        in.kappa = R_ZERO;
+        in.alpha = RC(0.01);
+        in.gamma = R_ZERO;
+        in.fz = est->fz_static[a];
+        in.p = R_ZERO;
+        in.vx = RC(20.0);
+        if (tire_eval(&cfg->tire[a], &in, &o1) < 0) {
+            return GRIP_ERR_PARAM;
+        }
+        in.alpha = RC(-0.01);
+        if (tire_eval(&cfg->tire[a], &in, &o2) < 0) {
+            return GRIP_ERR_PARAM;
+        }
+        est->c_alpha[a] = r_div_keep(r_sub(o2.fy, o1.fy), RC(0.02));
+        in.alpha = R_ZERO;
+        in.kappa = RC(0.01);
+        if (tire_eval(&cfg->tire[a], &in, &o1) < 0) {
+            return GRIP_ERR_PARAM;
+        }
+        in.kappa = RC(-0.01);
+        if (tire_eval(&cfg->tire[a], &in, &o2) < 0) {
+            return GRIP_ERR_PARAM;
+        }
+        est->c_kappa[a] = r_div_keep(r_sub(o1.fx, o2.fx), RC(0.02));
+        /* peak lateral friction coefficient at static load, and its load
+         * sensitivity from the same sweep at 1.5 x static load (the
+         * understeer-limit friction measurement sums the front wheels' peaks
+         * at their current loads); the braking slip of the longitudinal peak
+         * (kappa_at_friction) */
+        if (peak_friction(&cfg->tire[a], est->fz_static[a], 0, &best, &est->alpha_pk[a]) < 0 ||
+            peak_friction(&cfg->tire[a], r_mul(RC(1.5), est->fz_static[a]), 0, &best2, &alpha2) < 0 ||
+            peak_friction(&cfg->tire[a], est->fz_static[a], 1, &mux_pk, &est->kappa_pk[a]) < 0) {
+            return GRIP_ERR_PARAM;
+        }
+        est->mu0[a] = best;
+        est->mu0_k[a] = r_mul(RC(2.0), r_sub(best2, best));
+        if (est->c_alpha[a] <= R_ZERO || est->c_kappa[a] <= R_ZERO || best < RC(0.05)) {
+            return GRIP_ERR_PARAM;
+        }
+        est->sig_a[a] = relax_length(&cfg->tire[a], est->c_alpha[a], est->fz_static[a]);
+        /* the lateral force's shape over [0, alpha_pk] for mu's secant */
+        est->inv_apk[a] = r_div(R_ONE, est->alpha_pk[a]);
+        in.kappa = R_ZERO;
+        in.fz = est->fz_static[a];
+        for (k = 0; k <= GRIP_EST_SHAPE_N; ++k) {
+            in.alpha = r_mul(est->alpha_pk[a], r_div(r_from_int(k), r_from_int(GRIP_EST_SHAPE_N)));
+            if (tire_eval(&cfg->tire[a], &in, &o1) < 0) {
+                return GRIP_ERR_PARAM;
+            }
+            est->fy_shape[a][k] = r_abs(r_div(o1.fy, in.fz));
+        }
+    }
+    {
+        /* stability factor A = m (lr Cr - lf Cf) / (l^2 Cf Cr), Cf, Cr per axle
+         * (seed eq. 2.17 with K per tire = C / 2); stored as 100 A */
+        grip_real_t cf = r_mul(RC(2.0), est->c_alpha[0]);
+        grip_real_t cr = r_mul(RC(2.0), est->c_alpha[1]);
+        grip_real_t num = r_sub(r_mul(cfg->lr, cr), r_mul(cfg->lf, cf));   /* N (QL) */
+        grip_real_t a1 = r_div(num, cf);                                    /* m */
+        grip_real_t b100 = r_div(r_mul(RC(100.0), cfg->mass), cr);          /* 100 kg rad / N */
+        est->k_us = r_div(r_mul(a1, b100), r_mul(l, l));
+    }
+    est->rate = r_from_int((int32_t)cfg->rate_hz);
+    est->ay_fac = r_div(R_ONE, r_add(R_ONE, r_mul(RC(EST_G), cfg->roll_gradient)));
+    {
+        /* road plane (residual/vehicle.py): the normal load factor
+         * 1 / sqrt(1 + sx^2 + sy^2) does not depend on the heading */
+        grip_real_t sx = cfg->tan_grade, sy = cfg->tan_bank;
+        grip_real_t fzn = r_div(R_ONE, r_sqrt(r_add(R_ONE, r_add(r_sq(sx), r_sq(sy)))));
+        grip_real_t kq = r_mul(RC(0.25), r_mul(cfg->air_density, cfg->cla));   /* per wheel */
+        est->plane = (sx != R_ZERO || sy != R_ZERO) ? 1 : 0; /* grip-deviation: MISRA-10.6 tool: ?: of constants is not composite (8.10.3) */
+        for (a = 0; a < 2; ++a) {
+            est->fz_base[a] = est->plane ? r_mul(fzn, est->fz_static[a]) : est->fz_static[a];
+        }
+        est->k_aero[0] = r_mul(kq, cfg->aero_front);
+        est->k_aero[1] = r_mul(kq, r_sub(R_ONE, cfg->aero_front));
+        est->k_drag = r_mul(RC(0.5), r_mul(cfg->air_density, cfg->cda));
+        est->f_roll = r_mul(cfg->crr, r_mul(RC(EST_G), cfg->mass));
+    }
+    est->q[0] = r_div(RC(EST_Q_VY), est->rate);
+    est->q[1] = r_div(RC(EST_Q_R), est->rate);
+    est->q[2] = r_div(RC(EST_Q_MU), est->rate);
+    est->q[3] = r_div(RC(EST_Q_B), est->rate);
+    est->nis_a = r_min(r_div(R_ONE, r_mul(RC(EST_MF_TAU), est->rate)), R_ONE);
+    est->mb_a = r_min(r_div(R_ONE, r_mul(est->rate, RC(EST_MB_TAU))), R_ONE);
+    est->steer_k = (cfg->steer_lag > R_ZERO) ? r_min(r_div(R_ONE, r_mul(cfg->steer_lag, est->rate)), R_ONE) : R_ONE;
+    est->st_k_in = r_mul(r_sub(cfg->steer_latency, cfg->latency), est->rate);
+    est->st_k_out = r_mul(cfg->steer_latency, est->rate);
+    est->sb_a = r_min(r_div(R_ONE, r_mul(est->rate, RC(EST_SB_TAU))), R_ONE);
+    est->sb_share_f = r_div(cfg->lr, r_add(cfg->lf, cfg->lr));
+    est->lim_n = r_to_int(r_mul(RC(EST_LIM_T), est->rate));
+    est->hold_steps = r_to_int(r_mul(RC(EST_HOLD_T), est->rate));
+    est->nowheel_n = r_to_int(r_mul(RC(EST_NOWHEEL_T), est->rate));
+    est->dr_n = r_to_int(r_mul(RC(EST_DR_T), est->rate));
+    if (est->hold_steps < 1) {
+        est->hold_steps = 1;
+    }
+    est->magic = EST_MAGIC;
+    return grip_est_reset(est);
+}
+
+grip_status_t grip_est_stability_factor(const grip_est_t *est, grip_real_t *a_x100)
+{
+    if (est == NULL || a_x100 == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    if (est->magic != EST_MAGIC) {
+        return GRIP_ERR_STATE;
+    }
+    *a_x100 = est->k_us;
+    return GRIP_OK;
+}

@@ -1,0 +1,297 @@
+/*
+ * est_tuning.h - every tuning constant of the estimator (lib/est) in one
+ * table, grouped by the stage of grip_est_step that uses it. For each: the
+ * unit, what it means, and why it has this value (a physical quantity, a
+ * sensor's range, a numeric format's limit, or tuning). Where tuning was
+ * measured, the measurement that decided it: the float64 reference
+ * (tools/grip_tools/reference/est.py, which mirrors every value) on the
+ * simulator's manoeuvres unless another source is named; Fy errors are RMS
+ * in % of the axle's peak, front / rear, beta errors RMS / max.
+ * docs/estimator.md has the method around them. "Scaled units" are the
+ * covariance's (EST_S_*).
+ */
+#ifndef GRIP_EST_TUNING_H
+#define GRIP_EST_TUNING_H
+
+/* ---- physics ----------------------------------------------------------- */
+#define EST_G        9.80665 /* m/s^2  standard gravity                                  */
+
+/* ---- input conditioning (est_input.c) ---------------------------------- */
+#define EST_HOLD_T   0.05    /* s      a missing or invalid input is held this long, then
+                              *        the outputs that need it lose their validity (tuning:
+                              *        5 frames of a 100 Hz signal)                         */
+#define EST_DELTA_MAX 0.7    /* rad    road-wheel angle limit: no car steers further; the
+                              *        steering input's range is twice this at the wheel.
+                              *        Beyond it F_STEER_LIMIT and no ay update (fitted to
+                              *        the clamped angle, a straight road at lock took vy to
+                              *        2.3 m/s, past both axles' peaks)                     */
+#define EST_WS_MAX   120.0   /* m/s    wheel-speed and vehicle-speed range (432 km/h); also
+                              *        bounds vx                                            */
+#define EST_YAW_MAX  2.5     /* rad/s  gyro range used (143 deg/s); also bounds the yaw-rate
+                              *        state                                                */
+#define EST_ACC_MAX  15.0    /* m/s^2  accelerometer range used (1.5 g); also bounds the
+                              *        lateral balance's residual, so that mass x residual
+                              *        fits QL                                              */
+
+/* ---- longitudinal speed (est_speed.c) ---------------------------------- */
+#define EST_V_STAND  0.3     /* m/s    standstill: every wheel below this; vx is then set
+                              *        to 0, so an accelerometer bias cannot move a parked
+                              *        car                                                 */
+#define EST_AX_TH    0.3     /* m/s^2  braking below -AX_TH takes the fastest wheel as the
+                              *        reference, driving above +AX_TH the slowest (tuning) */
+#define EST_WHEEL_DEV 0.15   /* -      a wheel 15 % (+0.5 m/s) off the prediction counts as
+                              *        locked or spinning and leaves the reference (tuning) */
+#define EST_K_HI     5.0     /* 1/s    gain of the wheel speeds on vx when they agree with
+                              *        each other and with the prediction (tuning)          */
+#define EST_K_MID    1.5     /* 1/s    ... agree with each other but not with the prediction
+                              *        (recovery after a long loss; tuning)                 */
+#define EST_K_LO     0.5     /* 1/s    ... disagree (tuning)                                 */
+#define EST_K_SLIP   0.2     /* 1/s    braking with the reference wheel below the prediction:
+                              *        the brakes slip every wheel, so even the fastest reads
+                              *        low; at K_HI vx followed it within 0.2 s, 2 % low, and
+                              *        the ay update explained the missing force by mu 1.11
+                              *        on a 0.6 road (wet brake in turn)                    */
+/* neither braking nor driving: trusted wheels spread wider than SPREAD_REL
+ * |vx| + SPREAD_ABS move the reference from their mean towards the cluster
+ * the odd wheel left, fully at twice that spread (a driven wheel slipping in
+ * a corner below the outlier test: the wet ramp steer's vx read 3.7 % high,
+ * beta 0.52 / 1.02 -> 0.28 / 1.02 deg RMS / max, Fy 5.2 / 4.3 -> 2.7 / 2.3 %).
+ * Continuous: a switch between the mean and one wheel chattered at its
+ * threshold */
+#define EST_SPREAD_REL 0.01  /* -                                                            */
+#define EST_SPREAD_ABS 0.1   /* m/s                                                          */
+#define EST_K_OFF    1.0     /* 1/s^2  learning gain of the ax offset (unconfigured grade,
+                              *        accelerometer bias) from trusted wheels: with vx a
+                              *        second-order complementary filter, poles near 0.2 and
+                              *        4.8 /s (0.477 of a 0.5 m/s^2 offset after 15 s)      */
+#define EST_AX_OFF_MAX 1.5   /* m/s^2  bound of that offset (a 15 % grade)                  */
+#define EST_DR_AX    0.5     /* m/s^2  every wheel locked or spinning while |ax| >= DR_AX:
+                              *        vx integrates ax (dead reckoning; four locked wheels
+                              *        at 20 m/s on snow otherwise read a standstill). Below
+                              *        it the car has stopped or slides at under 0.05 g, and
+                              *        the wheels are taken again                            */
+#define EST_DR_T     2.0     /* s      vx stays valid this long in dead reckoning (tuning)   */
+#define EST_NOWHEEL_T 0.5    /* s      ... and this long with no wheel speed at all (tuning) */
+
+/* ---- lateral observer on / off (est_lateral.c) ------------------------- */
+#define EST_V_ON     3.0     /* m/s    the lateral observer starts above ...                 */
+#define EST_V_OFF    2.5     /* m/s    ... and stops below (hysteresis; tuning); also the
+                              *        floor of |vx| in the slip-angle and sideslip quotients */
+
+/* ---- lateral filter: scaled units, noises, bounds (est_lateral.c) ---------
+ * The covariance lives in scaled units (state i in units of S_i) so that it
+ * runs in Q15.16: variances O(1 .. 400), and with the measurement rows
+ * bounded (H_MAX_VY, H_MAX) the innovation variance h P h' + r stays below
+ * (5 x 20 + 2 x 20 + 2 x 20)^2 + 192 = 32592 < 32768. */
+#define EST_S_VY     0.05    /* m/s                                                         */
+#define EST_S_R      0.005   /* rad/s                                                       */
+#define EST_S_MU     0.02    /* -                                                           */
+#define EST_S_B      0.001   /* rad/s  gyro bias; also the bias state's own unit, so that
+                              *        its per-step corrections survive Q15.16 (1 LSB =
+                              *        1.5e-5 rad/s in SI)                                   */
+#define EST_S_AY     0.5     /* m/s^2  lateral and longitudinal acceleration                */
+/* measurement noise [scaled units^2], as sigma in SI */
+#define EST_R_YAW    1.44    /* yaw rate, sigma 0.006 rad/s                                 */
+#define EST_R_AY     0.64    /* ay, sigma 0.4 m/s^2 below U_R0 (grows at the limit, below)  */
+#define EST_R_AX     1.0     /* ax, sigma 0.5 m/s^2                                          */
+/* continuous process noise [scaled units^2 / s] */
+#define EST_Q_VY     100.0   /* vy' 0.5 m/s^2 /sqrt(s): the kinematic vy' = ay - r vx errs
+                              *        by the ay error, roll and bank                         */
+#define EST_Q_R      3600.0  /* r' 0.3 rad/s^2 /sqrt(s)                                       */
+#define EST_Q_MU     6.25    /* mu 0.05 /sqrt(s): mu's confidence decays without excitation  */
+#define EST_Q_B      0.25    /* gyro bias random walk 0.0005 rad/s /sqrt(s)                    */
+/* initial variances [scaled units^2] */
+#define EST_P0_VY    36.0    /* sigma 0.3 m/s                                                */
+#define EST_P0_R     16.0    /* sigma 0.02 rad/s                                             */
+#define EST_P0_MU    225.0   /* sigma 0.3: the prior 1.0 +- 0.3 (mu_conf 0 at start)          */
+#define EST_P0_B     100.0   /* sigma 0.01 rad/s                                             */
+#define EST_P_MIN    0.01    /* diagonal of P held in [P_MIN, P_MAX] and every correlation    */
+#define EST_P_MAX    400.0   /* below 0.99: P stays positive definite and inside Q15.16      */
+#define EST_H_MAX_VY 5.0     /* bounds of the measurement row's vy entry ...                 */
+#define EST_H_MAX    2.0     /* ... and of its r and mu entries (the 32768 bound above)      */
+#define EST_NU_SIGMA 4.0     /* innovations clamped to 4 sigma: robust to glitches, and the
+                              *        NIS stays <= 16, inside Q15.16                          */
+#define EST_VY_K     1.0     /* -      |vy| <= VY_K |vx| + 1 m/s: sideslip up to ~45 deg (a
+                              *        spin); 0.5 |vx| + 1 cut the simulator's spin-outs at
+                              *        27 deg                                                */
+#define EST_B_MAX    0.05    /* rad/s  bound of the gyro-bias state (tuning)                 */
+/* the gyro bias adapts only where the tire model is trusted, else it absorbs
+ * the model's errors (0.01 rad/s on a generator with no offset at all) */
+#define EST_B_U      0.5     /* -      model utilization below this ...                       */
+#define EST_B_A      4.0     /* m/s^2  ... |ay| below this ...                                */
+#define EST_B_AX     1.0     /* m/s^2  ... |ax| below this (also for the bias at rest, and
+                              *        "steady" for the understeer bound's withdrawal, with
+                              *        |dvy/dt| below it) ...                                   */
+#define EST_B_RACC   2.0     /* rad/s^2 ... and the model's yaw acceleration below this (the
+                              *        tire lag's error is largest in fast yaw transients): a
+                              *        6 mrad/s offset learned to 2.50 mrad/s; 1.0 -> 2.21
+                              *        (shuts the step steer's build-up), 3.0 -> 1.95          */
+/* Noise of the ay update at the friction limit, where the tire model is
+ * least certain: R grows from utilization U_R0 to 1 by up to R_LIM x with the
+ * most-used tire, and by up to R_AXLE x more with an axle's load-weighted
+ * mean: 10 x R (1.26 m/s^2) with one tire at its limit, 300 x R (6.9 m/s^2:
+ * vy left to the kinematics) with both tires of an axle. With a constant R
+ * the dry ramp steer overshot beta by 0.8 deg, and 10 x R lost 2.2 m/s of vy
+ * in the wet sine with dwell's spin. R_AXLE 40 / 140 / 290 -> that run's beta
+ * max 3.41 / 1.95 / 1.42 deg, at a cost of V_MU on the simulator runs 2,168 /
+ * 1,878 / 1,028 steps. The axle term and not a larger one-tire factor: one
+ * wheel's faked slip (a wheel speed 10 % high) then switched the update off
+ * for the whole fault. 0.64 x 300 = 192 keeps the innovation variance within
+ * the 32768 bound above */
+#define EST_U_R0     0.8     /* -                                                             */
+#define EST_R_LIM    9.0     /* -                                                             */
+#define EST_R_AXLE   290.0   /* -                                                             */
+#define EST_AY_U_K   0.5     /* -      while the car is at its limit (the mu-independent limit
+                              *        test) and mu is not held by the understeer bound, the
+                              *        ay noise takes the model's utilization at mu + AY_U_K
+                              *        sigma_mu: with mu still too high the model sits at its
+                              *        own limit, R at 150 x kept mu from falling (sine with
+                              *        dwell snow: mu stalled at 0.55 - 0.6 for 0.15 s)        */
+
+/* ---- tire model at the prior state (est_tires.c) ----------------------- */
+#define EST_G_MIN    0.05    /* -      floor (tuning) of the slope factor sqrt(1 - u) of
+                              *        dFy/dalpha, a reduction between the linear and the
+                              *        FIALA (1 - u)^(2/3)                                      */
+/* tire relaxation: the tires work at the slip angle lagged by the relaxation
+ * length sigma (sigma d(alpha_t)/dt + |vx| alpha_t = |vx| alpha), sigma from
+ * the tire file at the axle's static load (C_alpha / LATERAL_STIFFNESS, else
+ * the MF 5.2 PTY1 / PTY2 form, else no lag) in proportion to the wheel's
+ * load. The simulator's tires lag: without it the model force led the
+ * truth's through every steering reversal (sine with dwell dry beta 0.35 /
+ * 0.74 -> 0.17 / 0.52 deg RMS / max) */
+#define EST_SIG_MIN  0.02    /* m      least relaxation length of a wheel (tuning)            */
+#define EST_SIG_MAX  5.0     /* m      most of an axle: a file's stiffnesses far off give at
+                              *        most this                                               */
+#define EST_RLX_A_MAX 16.0   /* -      exponent |vx| dt / sigma capped here: exp(-16) is below
+                              *        one Q15.16 unit                                         */
+
+/* ---- friction (est_friction.c) ----------------------------------------- */
+#define EST_MU_MIN   0.1     /* -      bounds of mu (1 = the tire as fitted; tuning); the      */
+#define EST_MU_MAX   1.2     /* -      friction in use also bounds it from below each step     */
+#define EST_MU_INIT  1.0     /* -      prior: the tire as fitted (P0_MU: snow 2.3 sigma away)  */
+#define EST_V_EXC    5.0     /* m/s    mu adapts, and the limit tests run, only above (tuning) */
+#define EST_EXC_U    0.2     /* -      excitation: a wheel's slips would use this share of the
+                              *        tire's own friction (mu = 1, never the estimate: a
+                              *        falling mu would excite its own adaptation); at 0.5 the
+                              *        gate opened at the snow sine with dwell's onset only
+                              *        once the truth's front axle was at 90 % of its limit,
+                              *        and mu was a second behind                              */
+#define EST_EXC_A    1.0     /* m/s^2  ... and |ax| + |ay| at least this (tuning)               */
+/* friction-limit test, independent of the mu estimate: the yaw rate leaves
+ * the linear bicycle reference, lagged over LIM_TAU, by more than LIM_REL
+ * |r_lin| + LIM_ABS for LIM_T with |a| >= LIM_A (tuning). LIM_T also
+ * debounces the understeer bound and its withdrawal: 0.08 s with a
+ * 1.0 m/s^2 gate let a steering offset fake a deficit within 0.08 s (fault
+ * table 0 -> 2 NEITHER), 0.06 s took sine with dwell wet's mu 0.13 off */
+#define EST_LIM_TAU  0.15    /* s                                                             */
+#define EST_LIM_A    2.0     /* m/s^2                                                         */
+#define EST_LIM_REL  0.15    /* -                                                             */
+#define EST_LIM_ABS  0.03    /* rad/s                                                         */
+#define EST_LIM_T    0.2     /* s                                                             */
+/* low-friction detection at the understeer limit: the yaw rate below the
+ * lagged reference by the share d >= US_D (reference above US_R) for LIM_T;
+ * the front axle's friction in use over the utilization the deficit implies,
+ * u(d) = min(US_UMAX, US_U0 + US_U1 d), bounds mu from above when below
+ * US_ZMAX. u(d) follows the dry ramp steer (friction in use over the true mu
+ * 0.56 / 0.71 / 0.80 / 0.83 at d = 0.15 / 0.25 / 0.35 / 0.4; wet and snow
+ * higher), the curve that pulls mu down least; US_U0 0.5 took the dry ramp
+ * steer to beta 0.69 / 1.25 deg (mu 0.14 off) */
+#define EST_US_D     0.15    /* -      at 0.3 the snow step steer's tires were at their limit
+                              *        1.3 s before the deficit reached it; 0.2 -> 0.15: step
+                              *        steer snow beta 0.53 / 1.00 -> 0.50 / 0.88 deg RMS /
+                              *        max, the AV-21 log's misfit steps 5,194 -> 5,213         */
+#define EST_US_R     0.02    /* rad/s  (tuning)                                                */
+#define EST_US_U0    0.3     /* -                                                             */
+#define EST_US_U1    1.4     /* -                                                             */
+#define EST_US_UMAX  0.85    /* -                                                             */
+#define EST_US_ZMAX  0.8     /* -      on dry the test cannot tell 1.0 from 0.85; without this
+                              *        cut the dry ramp steer went to mu 0.83, beta 2.1 deg RMS */
+/* withdrawal of that bound: mu held down by it and unconfirmed since (P_mu >
+ * P_CONF, i.e. mu_conf < 0.5) goes back to its value before the bound once
+ * the bound's own test has said "no deficit" (-LIM_REL < d < US_D) in steady
+ * cornering (|ax| and |dvy/dt| below B_AX) for LIM_T at a front friction in
+ * use between REL_K and 1 / REL_K of the one at which the bound was last
+ * set: a steering offset's faked deficit ends, a low road's does not. Far
+ * more friction in use shows the bound too low, which the friction in use
+ * lifts by itself (without the upper end the value before overshot: mu
+ * 0.43 -> 1.11 on the generator's 0.5 road) */
+#define EST_REL_K    0.8     /* -                                                             */
+/* P_mu [scaled units^2] at mu_conf 0.5 (sigma_mu 0.1) */
+#define EST_P_CONF   (((EST_CONF_S0 - 0.05) / EST_S_MU) * ((EST_CONF_S0 - 0.05) / EST_S_MU))
+#define EST_CUT_CLEAR 0.05   /* -      the balances' memory is cleared at the understeer bound's
+                              *        cut only above this cut: clearing at every cut, small
+                              *        cuts re-armed the bound every few steps and the balances
+                              *        never built up (step steer snow front Fy 3.9 -> 5.1 %)   */
+/* mu's column of the Jacobians: the secant of mu F0(alpha / mu) from mu down
+ * to mu - dmu, dmu = SEC_K sigma_mu within [SEC_MIN, mu - mu_floor] (the
+ * friction in use), on the force shape tabulated at init: a statistical
+ * linearization over mu's own uncertainty. The tangent is 0 while the model
+ * tire is linear, however far a lower mu would take it (the snow onset: mu
+ * stayed at its prior while vy took the ay deficit) */
+#define EST_SEC_K    3.0     /* -      the prior 1.0 +- 0.3 puts snow 2.3 sigma away: SEC_K 1.5
+                              *        / 2 / 2.5 / 3 / 4 -> sine with dwell snow front Fy 5.6 /
+                              *        4.9 / 4.8 / 4.2 / 4.6 %                                   */
+#define EST_SEC_MIN  0.02    /* -      least span: with mu known the column is the shape's own
+                              *        tangent                                                  */
+#define EST_SHAPE_F_MIN 0.01 /* -      no column where the shape |Fy| / Fz is below this (the
+                              *        origin: 0 / 0, and the column is 0 there anyway)         */
+/* the longitudinal (ax) update also runs without a speed reference while
+ * braking with a wheel at |kappa| >= LOCK_K (locked, or cycled by an ABS past
+ * the tire's peak): such a wheel works at the road's friction, and a 0.3 %
+ * speed-reference error moves its slip by 0.003 only. LOCK_K 0.5 / 0.15 /
+ * 0.1 -> the wet mu step's error 1 s after the limit 0.70 / 0.01 / 0.02;
+ * below 15 % the test reaches into braking below the limit, where the slip
+ * depends on the speed reference */
+#define EST_LOCK_K   0.15    /* -                                                             */
+#define EST_R_LOCK   9.0     /* scaled units^2: sigma 1.5 m/s^2; as a normal update 0.5 m/s^2
+                              *        set V_MU on the wet brake in turn with errors up to
+                              *        0.18. Biased (the free wheels' slips, drag and rolling
+                              *        resistance are in the same sum), so it moves the state
+                              *        but keeps the covariance                                 */
+
+/* ---- forces and outputs (est_outputs.c) -------------------------------- */
+/* the yaw balance: the yaw moment the model lacks (the yaw-rate update's
+ * correction of the predicted r as a yaw acceleration, at most MB_RACC,
+ * times Iz / l) moves force from one axle to the other at the outputs,
+ * low-passed over MB_TAU; not while |ax| >= MB_AX, where the model's left /
+ * right Fx moment errs too (wet brake in turn rear Fy 3.6 -> 8.4 % without
+ * the gate) */
+#define EST_MB_TAU   0.05    /* s      0.03 / 0.05 / 0.07 / 0.1 -> sine with dwell snow Fy
+                              *        6.4 / 4.8, 7.3 / 4.7, 8.1 / 5.2, 9.1 / 6.0 %; 0.03
+                              *        spreads the differentiated gyro noise over every run
+                              *        (brake in turn snow rear 1.8 -> 3.4 %)                   */
+#define EST_MB_RACC  20.0    /* rad/s^2 (tuning)                                               */
+#define EST_MB_AX    1.0     /* m/s^2                                                          */
+#define EST_SB_TAU   0.02    /* s      the lateral balance: the lateral force the model lacks
+                              *        after the updates (mass x (ay - the model's ay at the
+                              *        updated state)) in the axles' static shares, low-passed
+                              *        over SB_TAU; not while |ax| >= MB_AX. The ay noise
+                              *        (0.03 m/s^2) is 44 N, so no longer filter is needed:
+                              *        0.1 s lagged the reversals                               */
+
+/* ---- consistency checks (est_checks.c) --------------------------------- */
+#define EST_CONF_S0  0.15    /* -      mu_conf = (CONF_S0 - sigma_mu) / 0.1: 1 at sigma_mu <=
+                              *        0.05, 0 at >= 0.15; V_MU from 0.5                         */
+/* model consistency (misfit): two statistics low-passed over MF_TAU: the ay
+ * update's normalized innovation squared, and the share of time the model
+ * claims saturated tires (utilization >= SAT_U) while the mu-independent
+ * limit test does not fire. The NIS alone is blind to a model the filter
+ * absorbs into vy and mu (the AV-21 log: at most 0.19) */
+#define EST_MF_TAU   2.0     /* s      window of both                                          */
+#define EST_NIS_HI   3.84    /* -      misfit above: chi-square(1) 95 % point ...                */
+#define EST_NIS_LO   1.0     /* -      ... cleared below: a consistent filter's mean            */
+#define EST_SAT_U    0.95    /* -      model utilization counted as saturated                   */
+#define EST_SAT_HI   0.7     /* -      misfit above: between the golden generator's 0.49 / 0.54
+                              *        (the right tire) and the AV-21 log's 0.92; 0.5 was within
+                              *        0.01 of the generator                                    */
+#define EST_SAT_LO   0.1     /* -      ... cleared below (with the NIS below NIS_LO)            */
+#define EST_CONF_MISFIT 0.45 /* -      mu_conf cap while misfit, below V_MU's 0.5               */
+#define EST_SAT_MU   0.1     /* -      mu_conf also capped from when the saturation share rises
+                              *        above this (the misfit is declared late: on the AV-21
+                              *        log the ay updates at the limit confirmed a wrong mu
+                              *        while the share rose 0.12 -> 0.37) ...                    */
+#define EST_SAT_MU_LO 0.05   /* -      ... until it falls below this: a single threshold toggled
+                              *        V_MU where the share hovers at 0.1 (golden bicycle_1khz:
+                              *        the fixed build's mask on 59 -> 4 of 4,000 rows)          */
+
+#endif

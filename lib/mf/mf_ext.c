@@ -1,0 +1,953 @@
+/*
+ * mf_ext.c - the extended outputs of the Magic Formula (grip_mf_eval_ext):
+ * MFeval's other output channels, from one combined-slip evaluation.
+ *
+ *   Re, Omega        effective rolling radius (MFeval calculateRe)
+ *   Rl, rho, Cz      loaded radius, deflection, vertical stiffness
+ *                    (calculateRhoRl61 for MF 5.2 / 6.1, calculateFz62 for
+ *                    MF 6.2)
+ *   2a, 2b           contact patch (calculateContactPatch)
+ *   t, Mzr           trail and residual moment of the combined Mz
+ *   mu_x, mu_y       friction coefficients
+ *   Kxk, Kya         slip stiffnesses
+ *   Cx, Cy, sigma    structural stiffnesses, relaxation lengths
+ *                    (calculateRelax)
+ *   Mx, My           overturning and rolling resistance moments
+ *                    (calculateMx, calculateMy)
+ *
+ * The equations are in docs/magic-formula.md section 9 and the float64
+ * reference tools/grip_tools/reference/mf.py (evaluate_ext); what is
+ * specific to this C code (formats, iterations, validity) in
+ * docs/magic-formula-c.md section 8. As in mf_eval.c every quantity is
+ * normalized (lengths by UNLOADED_RADIUS R0, loads by FNOMIN, moments by
+ * Fz R0 or FNOMIN R0) and scaled to SI at the end. The two iterations (the
+ * rolling radius and the MF 6.2 loaded radius) have fixed step counts; a
+ * result that has not converged is flagged, not returned.
+ */
+#include "mf_internal.h"
+
+/* Largest magnitude a channel may take: kept below the formats' ends
+ * (QL +-8.4e6, QS +-32768) in both builds, so that both flag the same
+ * channels. */
+#define MF_QL_MAX      RCL(8.0e6)
+#define MF_QL_SMALL    RCL(250.0)     /* MF_QL_MAX / 32000                      */
+#define MF_QS_MAX      RC(30000.0)
+#define MF_QS_SMALL    RC(1.0)        /* MF_QS_MAX / 30000                      */
+
+#define MF_HALF_PI     RC(1.5707963267949)
+#define MF_LN10        RC(2.30258509299405)
+
+#define MF_RE_STEPS    3              /* Halley steps of the rolling radius      */
+#define MF_RE_TOL      RC(2.0e-4)     /* last step of Re / R0, converged         */
+#define MF_RE_MAX      RC(6.0)        /* Re / R0 beyond: not a rolling radius    */
+#define MF_RE_TINY     MF_RE_TOL      /* a Halley step below: the next are < 1e-9 */
+#define MF_RL62_SCAN   12             /* scan points of the MF 6.2 deflection    */
+#define MF_RL62_STEPS  10             /* Illinois steps of the MF 6.2 deflection */
+#define MF_RL62_TOL    RC(2.0e-3)     /* |Fz62 - Fz| / FNOMIN at the result      */
+#define MF_EXP_MAX     RC(10.0)       /* exp arguments beyond: channel flagged   */
+
+/* x * s, or 0 with *ok cleared when the product would leave
+ * [-max, max]: small is max / 32000 (below it no QS x can reach max). No
+ * overflow in either build. */
+static grip_real_t mf_times(grip_real_t x, grip_real_t s, grip_real_t max, grip_real_t small, int *ok)
+{
+    grip_real_t as = r_abs(s);
+    if ((r_abs(x) <= RC(2.0)) && (as <= r_mul(RC(0.5), max))) {
+        return r_mul(x, s);   /* the common case, without a division */
+    }
+    if ((r_abs(x) > MF_QS_MAX) || ((as > small) && (r_abs(x) > r_div(max, as)))) {
+        *ok = 0;
+        return R_ZERO;
+    }
+    return r_mul(x, s);
+}
+
+static grip_real_t mf_times_ql(grip_real_t x, grip_real_t s, int *ok)
+{
+    return mf_times(x, s, MF_QL_MAX, MF_QL_SMALL, ok);
+}
+
+static grip_real_t mf_times_qs(grip_real_t x, grip_real_t s, int *ok)
+{
+    return mf_times(x, s, MF_QS_MAX, MF_QS_SMALL, ok);
+}
+
+/* a / b limited to +-lim (mf_div_lim); *ok cleared when the limit acts. */
+static grip_real_t mf_div_ok(grip_real_t a, grip_real_t b, grip_real_t lim, int *ok)
+{
+    grip_real_t q = mf_div_lim(a, b, lim);
+    if (r_abs(q) >= lim) {
+        *ok = 0;
+    }
+    return q;
+}
+
+/* exp(a); *ok cleared (and 0) beyond MF_EXP_MAX. */
+static grip_real_t mf_exp_ok(grip_real_t a, int *ok)
+{
+    if (a > MF_EXP_MAX) {
+        *ok = 0;
+        return R_ZERO;
+    }
+    return (a < r_neg(MF_EXP_MAX)) ? R_ZERO : r_exp(a);
+}
+
+/* x^e for x > 0 (0 for x <= 0), e * ln(x) clamped to [-20, 10]. */
+static grip_real_t mf_pow_pos(grip_real_t x, grip_real_t e)
+{
+    if (!(x > R_ZERO)) {
+        return R_ZERO;
+    }
+    return r_exp(r_clamp(r_mul(e, r_log(x)), RC(-20.0), MF_EXP_MAX));
+}
+
+/* What every channel uses: the operating point of the evaluation. */
+typedef struct {
+    const grip_mf_params *p;
+    const mf_core *c;
+    grip_real_t kap;     /* kappa (ISO, clamped, before the low-speed scaling) */
+    grip_real_t gam;     /* gamma (ISO, mirrored, clamped; not gamma*)         */
+    grip_real_t vx;      /* vx, signed                                         */
+    grip_real_t fz;      /* Fz / FNOMIN (0 when unloaded)                      */
+    grip_real_t fx0;     /* combined Fx / FNOMIN, Fy / FNOMIN (0 unloaded)     */
+    grip_real_t fy0;
+    grip_real_t kq;      /* 8e6 N / Fz: the largest |K / Fz| that fits QL      */
+    grip_real_t czp;     /* Cz0 (1 + PFZ1 dpi) [N/m], QL                       */
+    grip_real_t r0czp;   /* R0 Cz0 (1 + PFZ1 dpi) [N], QL                      */
+    grip_real_t cz_r0;   /* Cz0 (1 + PFZ1 dpi) R0 / FNOMIN                     */
+    grip_real_t c0;      /* Cz0 R0 / FNOMIN (Q_FZ1, MF 5.2's Q_A1 default)     */
+    int loaded;
+    int has_cz;          /* VERTICAL_STIFFNESS > 0 and the above formed        */
+    /* rolling radius */
+    int re_ok;
+    grip_real_t r;       /* Re / R0                                            */
+    grip_real_t b;       /* Q_V1 u^2, u = (1 + kappa) vx / LONGVL              */
+    grip_real_t u;
+    grip_real_t romega;  /* Romega / R0 (free radius at the wheel's spin)      */
+    grip_real_t wspeed;  /* R0 |Omega| / LONGVL                                */
+} ext_ctx;
+
+/* ------------------------------------------------------ rolling radius */
+
+/* Re = Romega(Omega) - FNOMIN / Cz (DREFF atan(BREFF Fz/FNOMIN) + FREFF
+ * Fz/FNOMIN), Romega = R0 (Q_RE0 + Q_V1 (Omega R0 / LONGVL)^2), Omega =
+ * (1 + kappa) vx / Re. With r = Re / R0 and u = (1 + kappa) vx / LONGVL:
+ * r = a + b / r^2, a = Q_RE0 - deflection / R0, b = Q_V1 u^2, which MFeval
+ * iterates as written until Re changes by less than 1e-9 m. Here: the root
+ * of f = r^3 - a r^2 - b by Halley's method (cubic convergence; one
+ * division a step) from an upper bound of the root, where f is convex:
+ * a + b / a^2 (the root is >= a for b >= 0, so b / r^2 <= b / a^2; b < 0
+ * likewise) or, when that is far (b > a^3), a + b^(1/3) (f >= 0 there).
+ * Three steps reach 1e-13 relative for a in [0.3, 1.5], b in [0, 30]
+ * (the domain's worst, vx = 300 m/s, kappa = 1.5, Q_V1 = 7e-4: b = 1.4);
+ * the last step must be below MF_RE_TOL. No root when b < -4 a^3 / 27. */
+static void ext_radius(ext_ctx *e)
+{
+    const grip_mf_params *p = e->p;
+    int i;
+    grip_real_t k;
+    grip_real_t a;
+    grip_real_t b;
+    grip_real_t num;
+    grip_real_t r;
+    grip_real_t step = R_ONE;
+    e->re_ok = 0;
+    /* FNOMIN / (Cz R0) < 1000, and |u| < 181 (u^2 in QS) */
+    num = r_mul(r_add(R_ONE, e->kap), e->vx);
+    if (!e->has_cz || !(r_mul(RC(0.001), p->fnomin) < e->r0czp) ||
+        !(r_mul(r_abs(num), RC(1.0 / 181.0)) < p->longvl)) {
+        return;
+    }
+    k = r_div(p->fnomin, e->r0czp);
+    a = r_sub(p->q_re0, r_mul(k, r_add(r_mul(p->dreff, r_atan(r_mul(p->breff, e->fz))), r_mul(p->freff, e->fz))));
+    e->u = r_div(num, p->longvl);
+    b = r_mul(p->q_v1, r_sq(e->u));
+    if (!(a > RC(0.01)) || (r_add(r_mul(RC(27.0), b), r_mul(RC(4.0), r_mul(r_sq(a), a))) < R_ZERO)) {
+        return;
+    }
+    if (b <= r_mul(r_sq(a), a)) {
+        r = r_add(a, r_div(b, r_sq(a)));
+    } else {
+        r = r_add(a, mf_pow_pos(b, RC(0.333333333333333)));
+    }
+    if (!(r <= MF_RE_MAX)) {
+        return;
+    }
+    for (i = 0; i < MF_RE_STEPS; i++) {
+        /* after a step below MF_RE_TINY the error is below 1e-9 (cubic
+         * convergence): the next steps are skipped, the count of the loop
+         * stays fixed */
+        if (r_abs(step) > MF_RE_TINY) {
+            grip_real_t f = r_sub(r_mul(r_sq(r), r_sub(r, a)), b);
+            grip_real_t d = r_mul(r, r_sub(r_mul(RC(3.0), r), r_mul(RC(2.0), a)));   /* f'  */
+            grip_real_t dd = r_sub(r_mul(RC(6.0), r), r_mul(RC(2.0), a));            /* f'' */
+            grip_real_t den = r_sub(r_mul(RC(2.0), r_sq(d)), r_mul(f, dd));
+            if ((den > R_ZERO) && (d > RC(0.0001))) {
+                step = r_div(r_mul(r_mul(RC(2.0), f), d), den);
+            } else {
+                step = R_ONE;   /* no convergence: flagged below */
+            }
+            r = r_clamp(r_sub(r, step), RC(0.01), MF_RE_MAX);
+        }
+    }
+    if (!(r_abs(step) <= MF_RE_TOL) || !r_is_finite(r)) {
+        return;
+    }
+    e->r = r;
+    e->b = b;
+    e->re_ok = 1;
+}
+
+/* Romega / R0 and R0 |Omega| / LONGVL = |u| / r, for the vertical model. */
+static void ext_spin(ext_ctx *e)
+{
+    e->romega = r_add(e->p->q_re0, r_div(e->b, r_sq(e->r)));
+    e->wspeed = r_div(r_abs(e->u), e->r);
+}
+
+/* ------------------------------------------- loaded radius, MF 5.2/6.1 */
+
+/* Q_FZ1 = sqrt((Cz0 R0 / FNOMIN)^2 - 4 Q_FZ2), formed without the square
+ * of the (possibly large) ratio; *ok cleared when the root is imaginary. */
+static grip_real_t ext_qfz1(const grip_mf_params *p, grip_real_t c, int *ok)
+{
+    grip_real_t t = r_div(mf_div_lim(r_mul(RC(4.0), p->q_fz2), c, RC(1000.0)), c);
+    if ((t > R_ONE) || (c > RC(150.0))) {
+        *ok = 0;
+        return R_ZERO;
+    }
+    return r_mul(c, r_sqrt(r_sub(R_ONE, t)));
+}
+
+/* FNOMIN / R0 [N/m] as QL; *ok cleared beyond the format. */
+static grip_real_t ext_fz0_per_r0(const grip_mf_params *p, int *ok)
+{
+    if (!(p->unloaded_radius > r_div(p->fnomin, MF_QL_MAX))) {
+        *ok = 0;
+        return R_ZERO;
+    }
+    return r_div_keep(p->fnomin, p->unloaded_radius);
+}
+
+/* MFeval's calculateRhoRl61 (MF 5.2 and 6.1): Fz = (Q_FZ1 x + Q_FZ2 x^2)
+ * E FNOMIN with x = rho / R0 and E = (1 + Q_V2 R0 |Omega| / LONGVL -
+ * (Q_FCX Fx / FNOMIN)^2 - (Q_FCY Fy / FNOMIN)^2)(1 + PFZ1 dpi); x is the
+ * root 2 y / (Q_FZ1 + sqrt(Q_FZ1^2 + 4 Q_FZ2 y)), y = Fz / (FNOMIN E),
+ * which stays finite for Q_FZ2 = 0. Cz = Fz / rho = E (Q_FZ1 + Q_FZ2 x)
+ * FNOMIN / R0 without dividing by the small x. */
+static int ext_vertical61(const ext_ctx *e, grip_real_t *x_out, grip_real_t *cz_n)
+{
+    const grip_mf_params *p = e->p;
+    int ok = 1;
+    grip_real_t qfz1 = ext_qfz1(p, e->c0, &ok);
+    grip_real_t ex = r_mul(r_sub(r_sub(r_add(R_ONE, r_mul(p->q_v2, e->wspeed)), r_sq(r_mul(p->q_fcx, e->fx0))),
+                                 r_sq(r_mul(p->q_fcy, e->fy0))),
+                           r_add(R_ONE, r_mul(p->pfz1, e->c->op.dpi)));
+    grip_real_t y;
+    grip_real_t disc;
+    grip_real_t x;
+    if (!ok || !(ex > RC(0.001))) {
+        return 0;
+    }
+    y = mf_div_ok(e->fz, ex, RC(1000.0), &ok);
+    disc = r_add(r_sq(qfz1), r_mul(RC(4.0), r_mul(p->q_fz2, y)));
+    if (!ok || !(disc >= R_ZERO)) {
+        return 0;
+    }
+    x = mf_div_ok(r_mul(RC(2.0), y), r_add(qfz1, r_sqrt(disc)), RC(100.0), &ok);
+    *x_out = r_max(x, R_ZERO);
+    *cz_n = r_mul(ex, r_add(qfz1, r_mul(p->q_fz2, *x_out)));
+    return ok;
+}
+
+/* ------------------------------------------------ loaded radius, MF 6.2 */
+
+/* What MF 6.2's vertical force needs besides the deflection. */
+typedef struct {
+    grip_real_t qfz1;
+    grip_real_t tan_g;   /* |tan(gamma)|                                       */
+    grip_real_t rtw8;    /* (1.075 - 0.5 ASPECT_RATIO) WIDTH / (8 R0)           */
+    grip_real_t den;     /* Q_CAM1 Romega + Q_CAM2 Romega^2 [-]                 */
+    grip_real_t base;    /* 1 + Q_V2 R0 |Omega| / LONGVL - (Q_FCX Fx/FNOMIN)^2  */
+    grip_real_t press;   /* 1 + PFZ1 dpi                                        */
+} fz62_ctx;
+
+/* MFeval's calculateFz62 (MF-Tyre 6.2 manual) at the free-rolling
+ * deflection d (R0 units; Rl = Romega - d), minus Fz: returned / FNOMIN,
+ * with the total deflection x = rho / R0 and the correction factor.
+ * fcorr is kept above -8 and its Fy term below 16 in magnitude: far below
+ * the root only the sign of the result matters, and no product leaves QS. */
+static grip_real_t ext_fz62(const ext_ctx *e, const fz62_ctx *z, grip_real_t d, grip_real_t *x_out,
+                            grip_real_t *fcorr_out)
+{
+    const grip_mf_params *p = e->p;
+    grip_real_t r0 = p->unloaded_radius;
+    grip_real_t rl = r_sub(e->romega, d);                             /* Rl / R0 */
+    grip_real_t ul = mf_div_lim(rl, e->romega, RC(10.0));             /* Rl / Romega */
+    grip_real_t x = d;
+    grip_real_t sfyg;
+    grip_real_t fyt;
+    grip_real_t fcorr;
+    /* camber deflection; MFeval turns its 0/0 (gamma = 0, or no Q_CAM1,
+     * Q_CAM2) into 0 for the whole term */
+    if ((e->gam != R_ZERO) && (z->den != R_ZERO)) {
+        grip_real_t rlm = r_mul(rl, r0);
+        grip_real_t num = r_mul(rlm, r_add(p->q_cam1, r_mul(p->q_cam2, rlm)));
+        grip_real_t ratio = mf_div_lim(num, z->den, RC(100.0));
+        x = r_add(x, r_sub(r_mul(r_mul(r_sq(ratio), z->rtw8), z->tan_g), r_mul(r_mul(p->q_cam3, d), r_abs(e->gam))));
+    }
+    x = r_max(x, R_ZERO);
+    /* (Q_FYS1 + Q_FYS2 Rl/Romega + Q_FYS3 (Rl/Romega)^2) gamma / FNOMIN */
+    sfyg = r_div(r_mul(e->gam, r_add(p->q_fys1, r_add(r_mul(ul, p->q_fys2), r_mul(r_sq(ul), p->q_fys3)))), p->fnomin);
+    fyt = r_mul(r_mul(mf_pow_pos(x, p->q_fcy2), p->q_fcy), r_sub(e->fy0, sfyg));
+    if (p->q_fcy2 == R_ZERO) {
+        fyt = (x > R_ZERO) ? r_mul(p->q_fcy, r_sub(e->fy0, sfyg)) : R_ZERO;
+    }
+    fyt = r_clamp(fyt, RC(-16.0), RC(16.0));
+    fcorr = r_max(r_mul(r_sub(z->base, r_sq(fyt)), z->press), RC(-8.0));
+    *x_out = x;
+    *fcorr_out = fcorr;
+    return r_sub(r_mul(r_mul(fcorr, x), r_add(z->qfz1, r_mul(p->q_fz2, x))), e->fz);
+}
+
+/* The MF 6.2 loaded radius: the smallest free-rolling deflection d in
+ * [0, R0] with Fz62 = Fz (MFeval: fminsearch of (Fz62 - Fz)^2 from Rl =
+ * 0.3 m). d = 0 when even the unloaded radius carries Fz (the camber
+ * deflection at a small load; MFeval's minimum is there too). Otherwise the
+ * first sign change on MF_RL62_SCAN points d = (k / 12)^2 R0, then
+ * MF_RL62_STEPS Illinois steps inside it (regula falsi that halves the
+ * retained end's value, so both ends move); flagged unless |Fz62 - Fz| <=
+ * MF_RL62_TOL FNOMIN at the result. */
+static int ext_vertical62(const ext_ctx *e, grip_real_t *d_out, grip_real_t *x_out, grip_real_t *cz_n)
+{
+    const grip_mf_params *p = e->p;
+    fz62_ctx z;
+    int ok = 1;
+    int found = 0;
+    int side = 0;
+    int i;
+    grip_real_t lo = R_ZERO;
+    grip_real_t hi = R_ONE;
+    grip_real_t glo;
+    grip_real_t ghi = R_ONE;
+    grip_real_t d = R_ZERO;
+    grip_real_t gd;
+    grip_real_t x;
+    grip_real_t fcorr;
+    grip_real_t rom = r_mul(e->romega, p->unloaded_radius);          /* Romega [m] */
+    grip_real_t cg = r_cos(e->gam);
+    z.qfz1 = ext_qfz1(p, e->c0, &ok);
+    z.tan_g = mf_div_lim(r_abs(r_sin(e->gam)), r_abs(cg), RC(100.0));
+    z.rtw8 = r_mul(r_mul(r_sub(RC(1.075), r_mul(RC(0.5), p->aspect_ratio)),
+                         mf_div_lim(p->width, p->unloaded_radius, RC(100.0))),
+                   RC(0.125));
+    z.den = r_mul(rom, r_add(p->q_cam1, r_mul(p->q_cam2, rom)));
+    z.base = r_sub(r_add(R_ONE, r_mul(p->q_v2, e->wspeed)), r_sq(r_mul(p->q_fcx, e->fx0)));
+    z.press = r_add(R_ONE, r_mul(p->pfz1, e->c->op.dpi));
+    if (!ok) {
+        return 0;
+    }
+    glo = ext_fz62(e, &z, R_ZERO, &x, &fcorr);
+    if (glo >= R_ZERO) {
+        /* the unloaded radius already carries Fz: Cz = Fz / rho */
+        *d_out = R_ZERO;
+        *x_out = x;
+        *cz_n = (x > R_ZERO) ? mf_div_ok(e->fz, x, RC(1000.0), &ok) : R_ZERO;
+        return ok;
+    }
+    for (i = 1; i <= MF_RL62_SCAN; i++) {
+        if (!found) {
+            grip_real_t q = r_div(r_from_int(i), r_from_int(MF_RL62_SCAN));
+            grip_real_t dk = r_sq(q);
+            grip_real_t gk = ext_fz62(e, &z, dk, &x, &fcorr);
+            if (gk > R_ZERO) {
+                found = 1;
+                hi = dk;
+                ghi = gk;
+            } else {
+                lo = dk;
+                glo = gk;
+            }
+        }
+    }
+    if (!found) {
+        return 0;
+    }
+    gd = glo;
+    d = lo;
+    for (i = 0; i < MF_RL62_STEPS; i++) {
+        /* glo <= 0 < ghi: the ratio first, whose product with the
+         * (small) interval keeps its resolution */
+        d = r_clamp(r_sub(lo, r_mul(mf_div_lim(glo, r_sub(ghi, glo), R_ONE), r_sub(hi, lo))), lo, hi);
+        gd = ext_fz62(e, &z, d, &x, &fcorr);
+        if (gd > R_ZERO) {
+            hi = d;
+            ghi = gd;
+            if (side > 0) {
+                glo = r_mul(RC(0.5), glo);
+            }
+            side = 1;
+        } else {
+            lo = d;
+            glo = gd;
+            if (side < 0) {
+                ghi = r_mul(RC(0.5), ghi);
+            }
+            side = -1;
+        }
+    }
+    if (!(r_abs(gd) <= MF_RL62_TOL)) {
+        return 0;
+    }
+    (void)ext_fz62(e, &z, d, &x, &fcorr);
+    *d_out = d;
+    *x_out = x;
+    /* at the root Fz = fcorr x (Q_FZ1 + Q_FZ2 x) FNOMIN: Cz = Fz / rho */
+    *cz_n = r_mul(fcorr, r_add(z.qfz1, r_mul(p->q_fz2, x)));
+    return 1;
+}
+
+/* Rl, rho, Cz into out (valid bits set in *valid). */
+static void ext_vertical(ext_ctx *e, uint32_t want, grip_mf_output_ext *out, uint32_t *valid)
+{
+    const grip_mf_params *p = e->p;
+    grip_real_t r0 = p->unloaded_radius;
+    grip_real_t d = R_ZERO;
+    grip_real_t x = R_ZERO;
+    grip_real_t cz_n = R_ZERO;
+    int ok = e->re_ok;
+    grip_real_t fz0_r0 = ext_fz0_per_r0(p, &ok);
+    if (ok) {
+        ext_spin(e);
+    }
+    if (ok && e->loaded) {
+        if (p->fittyp == 62) {
+            ok = ext_vertical62(e, &d, &x, &cz_n);
+        } else {
+            ok = ext_vertical61(e, &x, &cz_n);
+            d = x;
+        }
+    }
+    if (!ok) {
+        return;
+    }
+    if ((want & GRIP_MF_EXT_RL) != 0u) {
+        out->rl = r_mul(r_max(r_sub(e->romega, d), R_ZERO), r0);
+        *valid |= GRIP_MF_EXT_RL;
+    }
+    if ((want & GRIP_MF_EXT_RHO) != 0u) {
+        out->rho = r_mul(x, r0);
+        *valid |= GRIP_MF_EXT_RHO;
+    }
+    if ((want & GRIP_MF_EXT_CZ) != 0u) {
+        int cok = 1;
+        out->cz = e->loaded ? mf_times_ql(cz_n, fz0_r0, &cok) : R_ZERO;
+        *valid |= cok ? GRIP_MF_EXT_CZ : 0u;
+    }
+}
+
+/* ------------------------------------------------------- contact patch */
+
+/* x^(1/3) for x >= 0 */
+static grip_real_t mf_cbrt(grip_real_t x)
+{
+    return (x > R_ZERO) ? r_exp(r_mul(r_log(x), RC(0.333333333333333))) : R_ZERO;
+}
+
+/* MFeval's calculateContactPatch. q = Fz / (Cz R0), limited where the
+ * approximate loaded radius R0 - Fz / Cz would reach RIM_RADIUS +
+ * BOTTOM_OFFST (its bottoming); MF 6.x: a = R0 (Q_RA2 q + Q_RA1 sqrt q),
+ * b = WIDTH (Q_RB2 q + Q_RB1 q^(1/3)); MF 5.2: a = R0 (Q_A2 f + Q_A1
+ * sqrt f), f = q Cz R0 / FNOMIN (MFeval's defaults of Q_A1, Q_A2 from the
+ * vertical stiffness when both are 0), b = WIDTH / 2. q (of order 1e-4 at
+ * light loads) is formed as 4096 q, so that its Q15.16 step does not
+ * dominate sqrt(q) and q^(1/3): sqrt(q) = sqrt(4096 q) / 64,
+ * q^(1/3) = (4096 q)^(1/3) / 16. */
+static void ext_patch(const ext_ctx *e, uint32_t want, grip_mf_output_ext *out, uint32_t *valid)
+{
+    const grip_mf_params *p = e->p;
+    grip_real_t r0 = p->unloaded_radius;
+    int ok = e->has_cz;
+    grip_real_t qs = R_ZERO;                                          /* 4096 q */
+    grip_real_t qb;
+    grip_real_t a = R_ZERO;
+    grip_real_t b = R_ZERO;
+    if (ok) {
+        qs = mf_div_ok(r_mul(RC(4096.0), r_min(e->fz, RC(7.0))), e->cz_r0, RC(16384.0), &ok);
+        qb = r_max(r_sub(R_ONE, mf_div_lim(r_add(p->rim_radius, p->bottom_offst), r0, RC(100.0))), R_ZERO);
+        qs = r_min(qs, r_mul(RC(4096.0), qb));
+    }
+    if (ok) {
+        grip_real_t q = r_mul(qs, RC(1.0 / 4096.0));
+        grip_real_t sq = r_mul(r_sqrt(qs), RC(1.0 / 64.0));
+        if (e->c->op.mf52) {
+            grip_real_t qa1 = p->q_a1;
+            grip_real_t qa2 = p->q_a2;
+            grip_real_t f = r_mul(q, e->cz_r0);
+            grip_real_t sf = r_mul(sq, r_sqrt(e->cz_r0));
+            if ((qa1 == R_ZERO) && (qa2 == R_ZERO)) {
+                grip_real_t y = r_div(r_log(e->c0), MF_LN10);
+                qa1 = r_add(r_mul(r_add(r_mul(r_add(r_mul(RC(-0.0388), y), RC(0.2509)), y), RC(-0.6283)), y),
+                            RC(0.6279));
+                qa2 = r_mul(RC(1.693), r_sq(qa1));
+            }
+            a = r_mul(r0, r_add(r_mul(qa2, f), r_mul(qa1, sf)));
+        } else {
+            a = r_mul(r0, r_add(r_mul(p->q_ra2, q), r_mul(p->q_ra1, sq)));
+            b = r_mul(p->width, r_add(r_mul(p->q_rb2, q), r_mul(p->q_rb1, r_mul(mf_cbrt(qs), RC(0.0625)))));
+        }
+    }
+    if (ok && ((want & GRIP_MF_EXT_LENGTH) != 0u)) {
+        out->contact_length = r_mul(RC(2.0), a);
+        *valid |= GRIP_MF_EXT_LENGTH;
+    }
+    if ((want & GRIP_MF_EXT_WIDTH) != 0u) {
+        if (e->c->op.mf52 && (p->width > R_ZERO)) {
+            out->contact_width = p->width;
+            *valid |= GRIP_MF_EXT_WIDTH;
+        } else if (ok && (p->width > R_ZERO)) {
+            out->contact_width = r_mul(RC(2.0), b);
+            *valid |= GRIP_MF_EXT_WIDTH;
+        } else {
+            /* WIDTH or VERTICAL_STIFFNESS not given */
+        }
+    }
+}
+
+/* --------------------------------------------- stiffness, relaxation */
+
+/* sin(2 atan(n / d)) = 2 n d / (n^2 + d^2), exactly, without the
+ * transcendentals (d = 0: 0, the limit; n = d = 0: 0). */
+static grip_real_t ext_sin2atan(grip_real_t n, grip_real_t d)
+{
+    grip_real_t an = r_abs(n);
+    grip_real_t ad = r_abs(d);
+    grip_real_t m = r_max(an, ad);
+    grip_real_t q;
+    if (m == R_ZERO) {
+        return R_ZERO;
+    }
+    q = r_div(r_min(an, ad), m);                                       /* in [0, 1] */
+    q = r_div(r_mul(RC(2.0), q), r_add(R_ONE, r_sq(q)));
+    return (((n < R_ZERO) != (d < R_ZERO)) && (q != R_ZERO)) ? r_neg(q) : q;
+}
+
+/* MFeval's calculateRelax: Cx = LONGITUDINAL_STIFFNESS (1 + PCFX1 dfz +
+ * PCFX2 dfz^2)(1 + PCFX3 dpi), Cy likewise; MF 6.x: sigma_x = |Kxk / Cx|,
+ * sigma_y = |Kya / Cy|; MF 5.2: sigma_x = (PTX1 + PTX2 dfz) exp(-PTX3 dfz)
+ * LSGKP R0 Fz / FNOMIN, sigma_y = PTY1 sin(2 atan(Fz / (PTY2 Fz0'))) (1 -
+ * PKY3 |gamma|) R0 LFZO LSGAL. kxk, kya: Kxk, Kya [N] of the evaluation. */
+static void ext_relax(const ext_ctx *e, grip_real_t kxk, int kxk_ok, grip_real_t kya, int kya_ok, uint32_t want,
+                      grip_mf_output_ext *out, uint32_t *valid)
+{
+    const grip_mf_params *p = e->p;
+    const mf_ext_op *op = &e->c->op;
+    grip_real_t dfz = op->dfz;
+    grip_real_t dpi = op->dpi;
+    uint32_t wx = GRIP_MF_EXT_CX | (op->mf52 ? 0u : GRIP_MF_EXT_SIGMAX);   /* what needs Cx, Cy */
+    uint32_t wy = GRIP_MF_EXT_CY | (op->mf52 ? 0u : GRIP_MF_EXT_SIGMAY);
+    int cxok = 0;
+    int cyok = 0;
+    grip_real_t cx = R_ZERO;
+    grip_real_t cy = R_ZERO;
+    if ((p->longitudinal_stiffness > R_ZERO) && ((want & wx) != 0u)) {
+        cxok = 1;
+    }
+    if ((p->lateral_stiffness > R_ZERO) && ((want & wy) != 0u)) {
+        cyok = 1;
+    }
+    if (cxok) {
+        cx = mf_times_ql(r_mul(r_add(R_ONE, r_add(r_mul(p->pcfx1, dfz), r_mul(p->pcfx2, r_sq(dfz)))),
+                               r_add(R_ONE, r_mul(p->pcfx3, dpi))),
+                         p->longitudinal_stiffness, &cxok);
+    }
+    if (cyok) {
+        cy = mf_times_ql(r_mul(r_add(R_ONE, r_add(r_mul(p->pcfy1, dfz), r_mul(p->pcfy2, r_sq(dfz)))),
+                               r_add(R_ONE, r_mul(p->pcfy3, dpi))),
+                         p->lateral_stiffness, &cyok);
+    }
+    grip_real_t sx = R_ZERO;
+    grip_real_t sy = R_ZERO;
+    int sxok;
+    int syok;
+    if (cxok && ((want & GRIP_MF_EXT_CX) != 0u)) {
+        out->cx = cx;
+        *valid |= GRIP_MF_EXT_CX;
+    }
+    if (cyok && ((want & GRIP_MF_EXT_CY) != 0u)) {
+        out->cy = cy;
+        *valid |= GRIP_MF_EXT_CY;
+    }
+    if (op->mf52) {
+        grip_real_t r0 = p->unloaded_radius;
+        sxok = 1;
+        syok = 1;
+        sx = r_mul(r_mul(r_mul(r_mul(r_add(p->ptx1, r_mul(p->ptx2, dfz)), mf_exp_ok(r_neg(r_mul(p->ptx3, dfz)), &sxok)),
+                               p->lsgkp),
+                         r0),
+                   e->fz);
+        sy = r_mul(r_mul(r_mul(r_mul(r_mul(p->pty1, ext_sin2atan(op->fzp, p->pty2)),
+                                     r_sub(R_ONE, r_mul(p->pky3, r_abs(e->gam)))),
+                               r0),
+                         p->lfzo),
+                   p->lsgal);
+    } else {
+        /* |K / C| below 1000 m, decided by a product (no division) */
+        sxok = 0;
+        syok = 0;
+        if (cxok && kxk_ok && (r_mul(r_abs(kxk), RC(0.001)) < r_abs(cx))) {
+            sxok = 1;
+            sx = r_div(r_abs(kxk), r_abs(cx));
+        }
+        if (cyok && kya_ok && (r_mul(r_abs(kya), RC(0.001)) < r_abs(cy))) {
+            syok = 1;
+            sy = r_div(r_abs(kya), r_abs(cy));
+        }
+    }
+    if (sxok && ((want & GRIP_MF_EXT_SIGMAX) != 0u)) {
+        out->sigmax = sx;
+        *valid |= GRIP_MF_EXT_SIGMAX;
+    }
+    if (syok && ((want & GRIP_MF_EXT_SIGMAY) != 0u)) {
+        out->sigmay = sy;
+        *valid |= GRIP_MF_EXT_SIGMAY;
+    }
+}
+
+/* ------------------------------------------------------------ Mx, My */
+
+/* atan(v^2) without forming a square beyond QS. */
+static grip_real_t mf_atan_sq(grip_real_t v)
+{
+    grip_real_t av = r_abs(v);
+    if (av <= R_ONE) {
+        return r_atan(r_sq(av));
+    }
+    return r_sub(MF_HALF_PI, r_atan(r_sq(r_div(R_ONE, av))));
+}
+
+/* MFeval's low-load factor of Mx and My: Fz is replaced by Fz (Fz /
+ * FZMIN)^n below FZMIN (n = 2 in Mx, 1 in My); 1 above, or without FZMIN. */
+static grip_real_t ext_low_load(const ext_ctx *e, int squared)
+{
+    const grip_mf_params *p = e->p;
+    grip_real_t f;
+    if (!(p->fzmin > R_ZERO) || !(e->c->op.fz_ql < p->fzmin)) {
+        return R_ONE;
+    }
+    f = r_div(e->c->op.fz_ql, p->fzmin);
+    return squared ? r_sq(f) : f;
+}
+
+/* Mx / (Fz R0): MF-Tyre equation manual (QSX1-QSX14, MFeval's calculateMx):
+ * R0 Fz LMX (QSX1 LVMX - QSX2 gamma (1 + PPMX1 dpi) - QSX12 gamma |gamma|
+ * + QSX3 Fy/FNOMIN + QSX4 cos(QSX5 atan((QSX6 Fz/FNOMIN)^2)) sin(QSX7 gamma
+ * + QSX8 atan(QSX9 Fy/FNOMIN)) + QSX10 atan(QSX11 Fz/FNOMIN) gamma) + R0 Fy
+ * LMX (QSX13 + QSX14 |gamma|), Fz with the low-load factor. */
+static grip_real_t ext_mx(const ext_ctx *e)
+{
+    const grip_mf_params *p = e->p;
+    grip_real_t g = e->gam;
+    grip_real_t ga = r_abs(g);
+    grip_real_t red = ext_low_load(e, 1);
+    grip_real_t fr = r_mul(red, e->fz);
+    grip_real_t br = r_sub(r_sub(r_mul(p->qsx1, p->lvmx), r_mul(r_mul(p->qsx2, g), r_add(R_ONE, r_mul(p->ppmx1, e->c->op.dpi)))),
+                           r_mul(r_mul(p->qsx12, g), ga));
+    br = r_add(br, r_mul(p->qsx3, e->fy0));
+    br = r_add(br, r_mul(r_mul(p->qsx4, r_cos(r_mul(p->qsx5, mf_atan_sq(r_mul(p->qsx6, fr))))),
+                         r_sin(r_add(r_mul(p->qsx7, g), r_mul(p->qsx8, r_atan(r_mul(p->qsx9, e->fy0)))))));
+    br = r_add(br, r_mul(r_mul(p->qsx10, r_atan(r_mul(p->qsx11, fr))), g));
+    return r_mul(p->lmx, r_add(r_mul(red, br), r_mul(e->c->fy, r_add(p->qsx13, r_mul(p->qsx14, ga)))));
+}
+
+/* My, MFeval's calculateMy. MF 6.x (paper A48): -R0 FNOMIN LMY (QSY1 + QSY2
+ * Fx/FNOMIN + QSY3 |vx/LONGVL| + QSY4 (vx/LONGVL)^4 + (QSY5 + QSY6 Fz/FNOMIN)
+ * gamma^2) (Fz/FNOMIN)^QSY7 (p/NOMPRES)^QSY8; MF 5.2 (MF-Tyre 5.2 manual):
+ * -R0 Fz LMY (QSY1 + ... + QSY4 (vx/LONGVL)^4). Both times the sign of the
+ * rolling: -1 for vx < 0, and sin(pi/2 (1 + kappa) |vx| / VXLOW) within
+ * |1 + kappa| |vx| <= VXLOW of the locked wheel (-1 below it). Returned as
+ * 64 My / (Fz R0): the bracket is of order QSY1 = 0.01, so it is formed
+ * times 64 (the coefficients times 64 are exact) to keep its resolution;
+ * MF 6.x's (Fz/FNOMIN)^QSY7 / (Fz/FNOMIN) = red (red Fz/FNOMIN)^(QSY7 - 1)
+ * with red the low-load factor. */
+static grip_real_t ext_my(const ext_ctx *e, int *ok)
+{
+    const grip_mf_params *p = e->p;
+    const mf_ext_op *op = &e->c->op;
+    grip_real_t red = ext_low_load(e, 0);
+    grip_real_t u = mf_div_ok(r_abs(e->vx), p->longvl, RC(64.0), ok);
+    grip_real_t u2 = r_sq(u);
+    grip_real_t s = RC(64.0);
+    grip_real_t base = r_add(r_add(r_add(r_mul(s, p->qsy1), r_mul(r_mul(s, p->qsy2), e->fx0)), r_mul(r_mul(s, p->qsy3), u)),
+                             r_mul(r_mul(r_mul(s, p->qsy4), u2), u2));
+    grip_real_t my;
+    grip_real_t roll;
+    if (op->mf52) {
+        my = r_neg(r_mul(r_mul(p->lmy, base), red));
+    } else {
+        grip_real_t fr = r_mul(red, e->fz);
+        base = r_add(base, r_mul(r_add(r_mul(s, p->qsy5), r_mul(r_mul(s, p->qsy6), fr)), r_sq(e->gam)));
+        my = r_neg(r_mul(r_mul(r_mul(r_mul(p->lmy, base), red), mf_pow_pos(fr, r_sub(p->qsy7, R_ONE))),
+                         mf_pow_pos(r_add(R_ONE, op->dpi), p->qsy8)));
+    }
+    if (p->vxlow > R_ZERO) {
+        roll = r_sin(r_mul(MF_HALF_PI, mf_div_lim(r_mul(r_add(R_ONE, e->kap), r_abs(e->vx)), p->vxlow, R_ONE)));
+    } else {
+        roll = r_sign(r_add(R_ONE, e->kap));
+    }
+    my = r_mul(my, roll);
+    return (e->vx < R_ZERO) ? r_neg(my) : my;
+}
+
+/* ------------------------------------------------------------ public */
+
+uint32_t grip_mf_ext_supported(const grip_mf_params *p)
+{
+    uint32_t m = GRIP_MF_EXT_ALL;
+    if ((p == NULL) || !mf_params_usable(p)) {
+        return 0u;
+    }
+    if (!(p->vertical_stiffness > R_ZERO)) {
+        m &= ~(GRIP_MF_EXT_RE | GRIP_MF_EXT_OMEGA | GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ |
+               GRIP_MF_EXT_LENGTH);
+        if (!((p->fittyp == 5) || (p->fittyp == 6) || (p->fittyp == 21))) {
+            m &= ~GRIP_MF_EXT_WIDTH;
+        }
+    } else {
+        int ok = 1;
+        grip_real_t c = mf_div_ok(mf_times_ql(p->unloaded_radius, p->vertical_stiffness, &ok), p->fnomin,
+                                  RC(1000.0), &ok);
+        (void)ext_qfz1(p, c, &ok);
+        if (!ok) {
+            m &= ~(GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ);
+        }
+    }
+    if (!(p->width > R_ZERO)) {
+        m &= ~GRIP_MF_EXT_WIDTH;
+    }
+    if (!(p->longitudinal_stiffness > R_ZERO)) {
+        m &= ~GRIP_MF_EXT_CX;
+        if (p->fittyp >= 61) {
+            m &= ~GRIP_MF_EXT_SIGMAX;
+        }
+    }
+    if (!(p->lateral_stiffness > R_ZERO)) {
+        m &= ~GRIP_MF_EXT_CY;
+        if (p->fittyp >= 61) {
+            m &= ~GRIP_MF_EXT_SIGMAY;
+        }
+    }
+    return m;
+}
+
+/* Every output zero, no channel valid (R_ZERO is all bits zero in both
+ * builds: one block copy). */
+static const grip_mf_output_ext EXT_ZERO = { R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO,
+                                             R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO,
+                                             R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, 0u };
+
+/* *v not finite: 0 and its bit cleared. */
+static inline void ext_finite(grip_real_t *v, uint32_t bit, uint32_t *valid)
+{
+    if (((*valid & bit) != 0u) && !r_is_finite(*v)) {
+        *v = R_ZERO;
+        *valid &= ~bit;
+    }
+}
+
+/* The inputs as the model saw them, before the low-speed scaling: the
+ * conventions and clamps of mf_prepare (mf_eval.c) for kappa, gamma, vx. */
+static void ext_inputs(const grip_mf_params *p, const grip_mf_input *in, const mf_io *io, ext_ctx *e)
+{
+    int clamped = 0;
+    grip_real_t kap = ((p->options & GRIP_MF_OPT_KAPPA_BRAKE) != 0u) ? r_neg(in->kappa) : in->kappa;
+    grip_real_t gam = io->mirror ? r_neg(in->gamma) : in->gamma;
+    e->kap = mf_clamp_sym(kap, RC(GRIP_MF_KAPPA_MAX), &clamped);
+    e->gam = mf_clamp_sym(gam, RC(GRIP_MF_GAMMA_MAX), &clamped);
+    e->vx = mf_clamp_sym(in->vx, RC(GRIP_MF_VX_MAX), &clamped);
+}
+
+grip_status_t grip_mf_eval_ext(const grip_mf_params *p, const grip_mf_input *in, uint32_t outputs,
+                               grip_mf_output_ext *out)
+{
+    mf_core c;
+    ext_ctx e;
+    grip_mf_output base;
+    grip_status_t st;
+    uint32_t valid = 0u;
+    int ok;
+    grip_real_t fzr0;
+    grip_real_t kxk = R_ZERO;
+    grip_real_t kya = R_ZERO;
+    int kxk_ok = 1;
+    int kya_ok = 1;
+    if (out == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    *out = EXT_ZERO;
+    if ((p == NULL) || (in == NULL)) {
+        return GRIP_ERR_NULL;
+    }
+    if ((outputs & ~GRIP_MF_EXT_ALL) != 0u) {
+        return GRIP_ERR_INPUT;
+    }
+    st = mf_eval_core(p, in, &base, &c);
+    out->fx = base.fx;
+    out->fy = base.fy;
+    out->mz = base.mz;
+    if (st < 0) {
+        return st;
+    }
+
+    e.p = p;
+    e.c = &c;
+    ext_inputs(p, in, &c.io, &e);
+    e.loaded = c.io.zero ? 0 : 1;
+    if (!e.loaded) {
+        c.fx = R_ZERO;
+        c.fy = R_ZERO;
+        c.t = R_ZERO;
+        c.mzr = R_ZERO;
+        c.kxk = R_ZERO;
+        c.kya = R_ZERO;
+        c.muy = R_ZERO;
+    }
+    e.fz = c.op.fz;
+    e.fx0 = r_mul(c.fx, e.fz);
+    e.fy0 = r_mul(c.fy, e.fz);
+    e.kq = MF_QS_MAX;
+    if (((outputs & (GRIP_MF_EXT_KXK | GRIP_MF_EXT_KYA | GRIP_MF_EXT_SIGMAX | GRIP_MF_EXT_SIGMAY)) != 0u) &&
+        (c.op.fz_ql > MF_QL_SMALL)) {
+        e.kq = r_div(MF_QL_MAX, c.op.fz_ql);
+    }
+    e.has_cz = 0;
+    e.r = R_ZERO;
+    e.b = R_ZERO;
+    e.u = R_ZERO;
+    e.romega = R_ZERO;
+    e.wspeed = R_ZERO;
+    if ((outputs & (GRIP_MF_EXT_RE | GRIP_MF_EXT_OMEGA | GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ |
+                    GRIP_MF_EXT_LENGTH | GRIP_MF_EXT_WIDTH)) != 0u) {
+        /* the vertical stiffness at the pressure, times R0, over FNOMIN */
+        ok = 1;
+        e.czp = mf_times_ql(r_add(R_ONE, r_mul(p->pfz1, c.op.dpi)), p->vertical_stiffness, &ok);
+        e.r0czp = mf_times_ql(p->unloaded_radius, e.czp, &ok);
+        e.cz_r0 = R_ZERO;
+        e.c0 = R_ZERO;
+        if ((outputs & (GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ | GRIP_MF_EXT_LENGTH | GRIP_MF_EXT_WIDTH)) !=
+            0u) {
+            e.cz_r0 = mf_div_ok(e.r0czp, p->fnomin, RC(1000.0), &ok);
+            e.c0 = mf_div_ok(mf_times_ql(p->unloaded_radius, p->vertical_stiffness, &ok), p->fnomin, RC(1000.0), &ok);
+        }
+        if (ok && (p->vertical_stiffness > R_ZERO) && (e.czp > R_ZERO)) {
+            e.has_cz = 1;
+        }
+    }
+    fzr0 = r_mul(p->unloaded_radius, c.op.fz_ql);                      /* Fz R0 [N m] */
+
+    if ((outputs & (GRIP_MF_EXT_RE | GRIP_MF_EXT_OMEGA | GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ)) != 0u) {
+        ext_radius(&e);
+        if (e.re_ok && ((outputs & GRIP_MF_EXT_RE) != 0u)) {
+            ok = 1;
+            out->re = mf_times_qs(e.r, p->unloaded_radius, &ok);
+            valid |= ok ? GRIP_MF_EXT_RE : 0u;
+        }
+        if (e.re_ok && ((outputs & GRIP_MF_EXT_OMEGA) != 0u)) {
+            /* (1 + kappa) vx / Re = u LONGVL / Re: below 30000 rad/s */
+            grip_real_t re = r_mul(e.r, p->unloaded_radius);
+            grip_real_t num = r_mul(r_add(R_ONE, e.kap), e.vx);
+            if (r_mul(r_abs(num), RC(1.0 / 30000.0)) < re) {
+                out->omega = r_div(num, re);
+                valid |= GRIP_MF_EXT_OMEGA;
+            }
+        }
+        if ((outputs & (GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ)) != 0u) {
+            ext_vertical(&e, outputs, out, &valid);
+        }
+    }
+    if ((outputs & (GRIP_MF_EXT_LENGTH | GRIP_MF_EXT_WIDTH)) != 0u) {
+        ext_patch(&e, outputs, out, &valid);
+    }
+    if ((outputs & GRIP_MF_EXT_T) != 0u) {
+        out->t = r_mul(c.t, p->unloaded_radius);
+        valid |= GRIP_MF_EXT_T;
+    }
+    if ((outputs & GRIP_MF_EXT_MZR) != 0u) {
+        ok = 1;
+        out->mzr = mf_times_ql(c.mzr, fzr0, &ok);
+        out->mzr = (c.io.mirror != c.io.sae) ? r_neg(out->mzr) : out->mzr;
+        valid |= ok ? GRIP_MF_EXT_MZR : 0u;
+    }
+    if ((outputs & GRIP_MF_EXT_MUX) != 0u) {
+        out->mux = e.loaded ? mf_mux(p, c.op.dfz, c.op.dpi, c.op.gmux, c.op.lmux_s) : R_ZERO;
+        valid |= GRIP_MF_EXT_MUX;
+    }
+    if ((outputs & GRIP_MF_EXT_MUY) != 0u) {
+        out->muy = r_abs(c.muy);
+        valid |= GRIP_MF_EXT_MUY;
+    }
+    if ((outputs & (GRIP_MF_EXT_KXK | GRIP_MF_EXT_SIGMAX)) != 0u) {
+        kxk_ok = 0;
+        if (r_abs(c.kxk) <= e.kq) {
+            kxk_ok = 1;
+            kxk = r_mul(c.kxk, c.op.fz_ql);
+        }
+        if (kxk_ok && ((outputs & GRIP_MF_EXT_KXK) != 0u)) {
+            out->kxk = kxk;
+            valid |= GRIP_MF_EXT_KXK;
+        }
+    }
+    if ((outputs & (GRIP_MF_EXT_KYA | GRIP_MF_EXT_SIGMAY)) != 0u) {
+        kya_ok = 0;
+        if (r_abs(c.kya) <= e.kq) {
+            kya_ok = 1;
+            kya = r_mul(c.kya, c.op.fz_ql);
+        }
+        if (kya_ok && ((outputs & GRIP_MF_EXT_KYA) != 0u)) {
+            out->kya = kya;
+            valid |= GRIP_MF_EXT_KYA;
+        }
+    }
+    if ((outputs & (GRIP_MF_EXT_CX | GRIP_MF_EXT_CY | GRIP_MF_EXT_SIGMAX | GRIP_MF_EXT_SIGMAY)) != 0u) {
+        ext_relax(&e, kxk, kxk_ok, kya, kya_ok, outputs, out, &valid);
+    }
+    if ((outputs & GRIP_MF_EXT_MX) != 0u) {
+        ok = 1;
+        out->mx = e.loaded ? mf_times_ql(ext_mx(&e), fzr0, &ok) : R_ZERO;
+        out->mx = c.io.mirror ? r_neg(out->mx) : out->mx;
+        valid |= ok ? GRIP_MF_EXT_MX : 0u;
+    }
+    if ((outputs & GRIP_MF_EXT_MY) != 0u) {
+        grip_real_t my = R_ZERO;
+        ok = 1;
+        if (e.loaded) {
+            my = mf_times_ql(ext_my(&e, &ok), r_div_keep(fzr0, RC(64.0)), &ok);
+        }
+        out->my = c.io.sae ? r_neg(my) : my;
+        valid |= ok ? GRIP_MF_EXT_MY : 0u;
+    }
+    /* a non-finite coefficient that only a channel uses (grip_mf_check_params
+     * rejects it; the evaluation does not repeat that check): the channel is
+     * flagged, never NaN (float build; compiles away in the fixed build) */
+    ext_finite(&out->re, GRIP_MF_EXT_RE, &valid);
+    ext_finite(&out->omega, GRIP_MF_EXT_OMEGA, &valid);
+    ext_finite(&out->rl, GRIP_MF_EXT_RL, &valid);
+    ext_finite(&out->rho, GRIP_MF_EXT_RHO, &valid);
+    ext_finite(&out->cz, GRIP_MF_EXT_CZ, &valid);
+    ext_finite(&out->contact_length, GRIP_MF_EXT_LENGTH, &valid);
+    ext_finite(&out->contact_width, GRIP_MF_EXT_WIDTH, &valid);
+    ext_finite(&out->t, GRIP_MF_EXT_T, &valid);
+    ext_finite(&out->mzr, GRIP_MF_EXT_MZR, &valid);
+    ext_finite(&out->mux, GRIP_MF_EXT_MUX, &valid);
+    ext_finite(&out->muy, GRIP_MF_EXT_MUY, &valid);
+    ext_finite(&out->kxk, GRIP_MF_EXT_KXK, &valid);
+    ext_finite(&out->kya, GRIP_MF_EXT_KYA, &valid);
+    ext_finite(&out->cx, GRIP_MF_EXT_CX, &valid);
+    ext_finite(&out->cy, GRIP_MF_EXT_CY, &valid);
+    ext_finite(&out->sigmax, GRIP_MF_EXT_SIGMAX, &valid);
+    ext_finite(&out->sigmay, GRIP_MF_EXT_SIGMAY, &valid);
+    ext_finite(&out->mx, GRIP_MF_EXT_MX, &valid);
+    ext_finite(&out->my, GRIP_MF_EXT_MY, &valid);
+    out->valid = valid;
+    return st;
+}

@@ -1,0 +1,85 @@
+"""Throughput of grip.mf.evaluate (numpy arrays in, arrays out), printed
+as TAP comments; no assertion on time (the machine may be busy).
+
+Measured: N combined-slip points (MF 5.2 / PacejkaBook_Defaults, random
+kappa and alpha, gamma 0, Fz 4000 N), best of 3 runs, in each arithmetic
+with one thread and with one thread per CPU; and, for reference, the same
+loop in C (bench_mf.c, linked to the Makefile's libgrip.a) when the build
+is there, which shows what the binding adds to the library's own time.
+Also checked: the binding and the C loop give the same checksum.
+
+    .venv/bin/python tests/python/run.py test_throughput.py binding
+"""
+import os
+import subprocess
+import tempfile
+import time
+
+import numpy as np
+
+import grip
+from grip_tools.golden import est as golden_est
+from . import common
+from .common import ARITHS, ROOT
+
+TIR = golden_est.tire_path()
+N = int(os.environ.get("GRIP_BENCH_POINTS", "200000"))
+REPEAT = 3
+
+
+def best_of(fn):
+    best, cpu = 1e30, 1e30
+    for _ in range(REPEAT):
+        w, c = time.perf_counter(), time.process_time()
+        fn()
+        best = min(best, time.perf_counter() - w)
+        cpu = min(cpu, time.process_time() - c)
+    return best, cpu
+
+
+def c_reference(arith, pts, tmp):
+    b = common.BUILD[arith]
+    libs = [os.path.join(b, "libgrip_port.a"), os.path.join(b, "libgrip.a")]
+    if not all(os.path.exists(x) for x in libs):
+        return None
+    exe = os.path.join(tmp, f"bench_{arith}")
+    src = os.path.join(os.path.dirname(os.path.abspath(__file__)), "bench_mf.c")
+    subprocess.run(["cc", "-std=c99", "-O2", "-Wall", "-Werror", f"-DGRIP_ARITH_FIXED={int(arith == 'fixed')}",
+                    "-DGRIP_DEBUG_SATURATION=0", "-D_POSIX_C_SOURCE=200809L", "-I" + os.path.join(ROOT, "include"),
+                    "-I" + os.path.join(ROOT, "port", "linux"), src] + libs + ["-lm", "-o", exe],
+                   check=True, capture_output=True)
+    p = subprocess.run([exe, TIR, str(len(pts)), str(REPEAT)], input=pts.tobytes(), capture_output=True,
+                       check=True, timeout=600)
+    secs, cpu, checksum = p.stdout.split()
+    return float(secs), float(cpu), float(checksum)
+
+
+class TestThroughput(common.BindingTest):
+    def test_mf_points_per_second(self):
+        tyre = grip.mf.load(TIR)
+        rng = np.random.default_rng(11)
+        k = rng.uniform(-0.3, 0.3, N)
+        a = rng.uniform(-0.2, 0.2, N)
+        cpus = os.cpu_count() or 1
+        print(f"# grip.mf.evaluate, {N} combined-slip points, best of {REPEAT}, {cpus} CPUs, "
+              f"load average {os.getloadavg()[0]:.1f}", flush=True)
+        with tempfile.TemporaryDirectory() as tmp:
+            for arith in ARITHS:
+                res = {}
+                for threads in (1, 0):
+                    wall, cpu = best_of(lambda: res.__setitem__(threads, grip.mf.evaluate(
+                        tyre, k, a, 0.0, 4000.0, arith=arith, threads=threads)))
+                    label = "1 thread" if threads == 1 else f"{cpus} threads"
+                    print(f"# {arith:5s} binding, {label:9s}: {N / wall / 1e6:6.2f} M points/s "
+                          f"({wall / N * 1e9:6.0f} ns/point wall, {cpu / N * 1e9:6.0f} ns/point CPU)", flush=True)
+                r = res[1]
+                self.assertTrue((r["status"] == 0).all())
+                ref = c_reference(arith, np.column_stack([k, a]).astype(np.float64), tmp)
+                if ref is None:
+                    print(f"# {arith:5s} C loop: build/{arith}-gcc/libgrip.a not built", flush=True)
+                    continue
+                secs, cpu, checksum = ref
+                print(f"# {arith:5s} C loop, libgrip.a, 1 thread : {N / secs / 1e6:6.2f} M points/s "
+                      f"({secs / N * 1e9:6.0f} ns/point wall, {cpu / N * 1e9:6.0f} ns/point CPU)", flush=True)
+                mine = float(np.sum(r["fx"]) + np.sum(r["fy"]) + np.sum(r["mz"]))
+                self.assertAlmostEqual(mine, checksum, delta=1e-9 * abs(checksum) + 1e-6)

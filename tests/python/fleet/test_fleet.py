@@ -1,0 +1,332 @@
+"""grip fleet on a small simulated fleet: a 2-worker LocalCluster gives the
+same tables as a run in one process (bit for bit), a rerun does no work, a
+changed log is recomputed, a corrupt log is an error row, a killed worker
+loses no result; analyze and report read the results; the candump and
+Parquet inputs; the replay summary parser.
+
+The fleet: grip sim-fleet 50 logs of 2.5 s from three simulated step
+steers (dry, wet, snow: one simulator batch), 17 sensor variants each, plus
+one corrupt log."""
+import contextlib
+import io
+import os
+import shutil
+import signal
+import tempfile
+import time
+import unittest
+
+from grip_tools.paths import REPO_ROOT
+
+BIN = {a: os.path.join(REPO_ROOT, "build", f"{a}-gcc", "bin", "grip-replay") for a in ("float", "fixed")}
+RAV4_LOG = os.path.join(REPO_ROOT, "tests", "data", "comma2k19-rav4", "rav4_bus0.log")
+N = 50
+
+try:
+    import dask  # noqa: F401
+    import distributed  # noqa: F401
+    import pandas  # noqa: F401
+    import pyarrow  # noqa: F401
+    HAVE_DEPS = True
+except ImportError:
+    HAVE_DEPS = False
+
+_DIR = None
+_CLIENT = None
+
+
+def setUpModule():
+    global _DIR
+    if not HAVE_DEPS or not os.path.exists(BIN["float"]):
+        return
+    from grip_tools.fleet import simfleet
+    _DIR = tempfile.mkdtemp(prefix="grip-fleet-test-")
+    fleet = os.path.join(_DIR, "fleet")
+    simfleet.main([str(N), "--out", fleet, "--duration", "2.5", "--variants", "17",
+                   "--manoeuvres", "step-steer", "--workers", "0", "--no-progress"])
+    with open(os.path.join(fleet, "logs", "corrupt.csv"), "w") as f:
+        f.write("t_s,wheel_speed_fl,wheel_speed_fr\n0.0,12.0,12.0\n0.01,#!garbage,12.0\n")
+    import pandas as pd
+    m = pd.read_csv(os.path.join(fleet, "manifest.csv"))
+    bad = m.iloc[[0]].copy()
+    bad["log_id"], bad["path"], bad["truth"] = "corrupt", "logs/corrupt.csv", None
+    pd.concat([m, bad]).to_csv(os.path.join(fleet, "manifest.csv"), index=False)
+
+
+def tearDownModule():
+    if _CLIENT is not None:
+        from grip_tools.fleet import cluster
+        cluster.close_client(_CLIENT)
+    if _DIR:
+        shutil.rmtree(_DIR, ignore_errors=True)
+
+
+def client():
+    """One 2-worker LocalCluster for the module (its start costs seconds)."""
+    global _CLIENT
+    if _CLIENT is None:
+        from dask.distributed import Client, LocalCluster
+        _CLIENT = Client(LocalCluster(n_workers=2, threads_per_worker=1, processes=True, memory_limit="2GiB",
+                                      dashboard_address=None))
+        _CLIENT.n_workers = 2
+    return _CLIENT
+
+
+def run(out, *extra, cl=None, on_result=None):
+    from grip_tools.fleet import run as fr
+    a = fr.parse_args([os.path.join(_DIR, "fleet"), "--out", out, "--no-progress", *extra])
+    return fr.run_fleet(a, client=cl, on_result=on_result)
+
+
+def same_bits(a, b):
+    """Two tables equal bit for bit: same schema, every column the same
+    validity and the same bytes of every value (NaN included)."""
+    import pyarrow as pa
+    if a.schema != b.schema or a.num_rows != b.num_rows:
+        return False
+    for n in a.column_names:
+        x, y = a[n].combine_chunks(), b[n].combine_chunks()
+        if x.null_count or y.null_count:
+            if x.is_null().to_pylist() != y.is_null().to_pylist():
+                return False
+        if pa.types.is_floating(x.type):
+            xs, ys = x.to_numpy(zero_copy_only=False), y.to_numpy(zero_copy_only=False)
+            if xs.tobytes() != ys.tobytes():
+                return False
+        elif not x.equals(y):
+            return False
+    return True
+
+
+def table(path, drop=("wall_s", "cpu_s", "rss_peak_mb")):
+    import pyarrow.parquet as pq
+    t = pq.read_table(path)
+    return t.drop_columns([c for c in drop if c in t.column_names])
+
+
+@unittest.skipUnless(HAVE_DEPS, "dask, distributed, pandas, pyarrow not installed")
+@unittest.skipUnless(os.path.exists(BIN["float"]), "build/float-gcc/bin/grip-replay not built")
+class FleetRunTests(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.serial = os.path.join(_DIR, "serial")
+        cls.info_serial = run(cls.serial, "--workers", "0", "--steps")
+        cls.dask = os.path.join(_DIR, "dask")
+        cls.info_dask = run(cls.dask, "--steps", cl=client())
+
+    def test_a_every_log_has_a_row(self):
+        import pyarrow.parquet as pq
+        t = pq.read_table(os.path.join(self.dask, "logs.parquet")).to_pandas()
+        self.assertEqual(len(t), N + 1)
+        self.assertEqual(list(t["log_id"]), sorted(t["log_id"]))
+        ok = t[t["status"] == "ok"]
+        self.assertEqual(len(ok), N)
+        self.assertTrue(ok["has_truth"].all())
+        self.assertTrue(ok["acc_beta_rms_deg"].notna().all())
+        self.assertTrue((ok["steps"] == 251).all())
+        # the loop's attribution ran on every log (2.5 s moving: enough samples)
+        self.assertTrue(ok["attr_scores"].notna().all(), ok["attr_note"].unique())
+        self.assertEqual(self.info_dask["computed"], N + 1)
+
+    def test_b_cluster_equals_one_process(self):
+        """Bit for bit: the logs and bands tables (all columns but the task's
+        wall and CPU time and its worker's peak memory)
+        and every per-step table."""
+        for name in ("logs.parquet", "bands.parquet"):
+            s, d = table(os.path.join(self.serial, name)), table(os.path.join(self.dask, name))
+            self.assertTrue(same_bits(s, d), name)
+        import pyarrow.parquet as pq
+        ids = sorted(os.listdir(os.path.join(self.serial, "steps", "arith=float")))
+        self.assertEqual(len(ids), N)
+        for i in ids:
+            p = os.path.join("steps", "arith=float", i, "part-0.parquet")
+            self.assertTrue(same_bits(pq.read_table(os.path.join(self.serial, p)),
+                                      pq.read_table(os.path.join(self.dask, p))), i)
+
+    def test_c_corrupt_log_is_an_error_row(self):
+        import pyarrow.parquet as pq
+        t = pq.read_table(os.path.join(self.dask, "logs.parquet")).to_pandas().set_index("log_id")
+        r = t.loc["corrupt"]
+        self.assertEqual(r["status"], "error")
+        self.assertEqual(r["stage"], "decode")
+        self.assertIn("not a number", r["error"])
+        self.assertIn("#!garbage", r["error"])
+
+    def test_d_rerun_does_no_work(self):
+        before = table(os.path.join(self.dask, "logs.parquet"), drop=())
+        info = run(self.dask, "--steps", cl=client())
+        self.assertEqual(info["computed"], 0)
+        self.assertEqual(info["skipped"], N + 1)
+        self.assertTrue(same_bits(before, table(os.path.join(self.dask, "logs.parquet"), drop=())))
+
+    def test_e_changed_log_is_recomputed(self):
+        out = os.path.join(_DIR, "changed")
+        shutil.copytree(self.serial, out)
+        path = os.path.join(_DIR, "fleet", "logs", "sim000007.csv")
+        original = open(path).read()
+        try:
+            with open(path, "a") as f:
+                f.write("# a comment: same inputs, other bytes\n")
+            info = run(out, "--workers", "0", "--steps")
+        finally:
+            with open(path, "w") as f:
+                f.write(original)
+        self.assertEqual(info["computed"], 1)
+        # a different option (no per-step table) changes every hash
+        info = run(out, "--workers", "0", "--no-attribution")
+        self.assertEqual(info["computed"], N + 1)
+
+    def test_f_killed_worker_loses_no_result(self):
+        out = os.path.join(_DIR, "killed")
+        cl = client()
+        killed = []
+
+        def kill_one(_):
+            if not killed:
+                pids = cl.run(os.getpid)
+                addr = sorted(pids)[0]
+                os.kill(pids[addr], signal.SIGKILL)
+                killed.append(addr)
+        info = run(out, "--steps", cl=cl, on_result=kill_one)
+        self.assertTrue(killed)
+        self.assertEqual(info["rows"], N + 1)
+        self.assertTrue(same_bits(table(os.path.join(self.serial, "logs.parquet")),
+                                  table(os.path.join(out, "logs.parquet"))))
+        # the nanny restarts the worker
+        deadline = time.time() + 60
+        while len(cl.scheduler_info()["workers"]) < 2 and time.time() < deadline:
+            time.sleep(0.5)
+
+    def test_f2_stopped_run_keeps_its_rows(self):
+        out = os.path.join(_DIR, "stopped")
+        seen = []
+
+        def stop(_):
+            seen.append(1)
+            if len(seen) == 10:
+                raise KeyboardInterrupt
+        with self.assertRaises(KeyboardInterrupt):
+            run(out, "--workers", "0", "--steps", on_result=stop)
+        self.assertFalse(os.path.exists(os.path.join(out, "logs.parquet")))
+        info = run(out, "--workers", "0", "--steps")
+        self.assertEqual((info["computed"], info["skipped"]), (N + 1 - 10, 10))
+        self.assertFalse(os.path.exists(os.path.join(out, "_journal")))
+        self.assertTrue(same_bits(table(os.path.join(self.serial, "logs.parquet")),
+                                  table(os.path.join(out, "logs.parquet"))))
+
+    def test_g_analyze_and_report(self):
+        import json
+        from grip_tools.fleet import analyze, report
+        with contextlib.redirect_stdout(io.StringIO()):      # the Markdown it prints
+            self.assertEqual(analyze.main([self.dask]), 0)
+        a = os.path.join(self.dask, "analysis")
+        for f in ("residuals.parquet", "effects.parquet", "analysis.md", "analysis.json"):
+            self.assertTrue(os.path.exists(os.path.join(a, f)), f)
+        import pandas as pd
+        res = pd.read_parquet(os.path.join(a, "residuals.parquet"))
+        self.assertEqual(set(res["grouping"]), {"vehicle", "surface", "band", "vehicle+surface+band"})
+        self.assertIn("beta_err_deg", set(res["quantity"]))
+        # the pooled count is every log's samples
+        bands = pd.read_parquet(os.path.join(self.dask, "bands.parquet"))
+        yaw = bands[(bands["quantity"] == "yaw_resid") & (bands["arith"] == "float")]
+        row = res[(res["grouping"] == "vehicle") & (res["quantity"] == "yaw_resid")].iloc[0]
+        self.assertEqual(row["n"], yaw["n"].sum())
+        eff = json.load(open(os.path.join(a, "analysis.json")))["effects"]
+        self.assertEqual({e["effect"] for e in eff}, {"sensor_bias", "sensor_scale", "sensor_delay"})
+        self.assertEqual(report.main([self.dask, "--baseline", self.serial, "--fail-on-regression"]), 0)
+        md = open(os.path.join(self.dask, "report", "report.md")).read()
+        self.assertIn("**0 regressions**", md)
+        for png in ("distributions.png", "accuracy.png"):
+            self.assertTrue(os.path.getsize(os.path.join(self.dask, "report", png)) > 1000)
+
+    def test_h_report_finds_a_regression(self):
+        import pyarrow as pa
+        import pyarrow.compute as pc
+        import pyarrow.parquet as pq
+        from grip_tools.fleet import report
+        worse = os.path.join(_DIR, "worse")
+        shutil.copytree(self.serial, worse)
+        t = pq.read_table(os.path.join(worse, "logs.parquet"))
+        i = t.column_names.index("acc_beta_rms_deg")
+        t = t.set_column(i, "acc_beta_rms_deg", pc.add(t["acc_beta_rms_deg"], pa.scalar(1.0)))
+        pq.write_table(t, os.path.join(worse, "logs.parquet"))
+        self.assertEqual(report.main([worse, "--baseline", self.serial, "--fail-on-regression"]), 1)
+        import pandas as pd
+        reg = pd.read_csv(os.path.join(worse, "report", "regressions.csv"))
+        self.assertEqual(int(((reg["kind"] == "regression") & (reg["metric"] == "acc_beta_rms_deg")).sum()), N)
+
+
+@unittest.skipUnless(HAVE_DEPS, "dask, distributed, pandas, pyarrow not installed")
+@unittest.skipUnless(os.path.exists(BIN["float"]) and os.path.exists(BIN["fixed"]), "grip-replay not built")
+class FleetInputsTests(unittest.TestCase):
+    def test_candump_and_parquet_and_both_arithmetics(self):
+        import pandas as pd
+        d = tempfile.mkdtemp(prefix="grip-fleet-inputs-", dir=_DIR)
+        src = os.path.join(_DIR, "fleet", "logs", "sim000003.csv")
+        inp = pd.read_csv(src)
+        inp.to_parquet(os.path.join(d, "same.parquet"), index=False)
+        shutil.copy(src, os.path.join(d, "same.csv"))
+        shutil.copy(RAV4_LOG, os.path.join(d, "rav4.log"))
+        pd.DataFrame({"log_id": ["pq", "csv", "rav4"], "path": ["same.parquet", "same.csv", "rav4.log"],
+                      "preset": ["generic", "generic", "rav4"],
+                      "vehicle_file": [os.path.join(_DIR, "fleet", "vehicle.txt")] * 2 + [None]}).to_csv(
+            os.path.join(d, "manifest.csv"), index=False)
+        from grip_tools.fleet import run as fr
+        a = fr.parse_args([d, "--out", os.path.join(d, "out"), "--arith", "both", "--workers", "0",
+                           "--no-progress"])
+        fr.run_fleet(a)
+        t = pd.read_parquet(os.path.join(d, "out", "logs.parquet")).set_index(["log_id", "arith"])
+        self.assertTrue((t["status"] == "ok").all(), t["error"].dropna().tolist())
+        # the Parquet log gives what its CSV gives
+        skip = {"path", "format", "input_hash", "wall_s", "cpu_s", "rss_peak_mb"}
+        for arith in ("float", "fixed"):
+            p, c = t.loc[("pq", arith)], t.loc[("csv", arith)]
+            for k in t.columns:
+                if k not in skip:
+                    self.assertTrue((p[k] == c[k]) or (pd.isna(p[k]) and pd.isna(c[k])), (arith, k, p[k], c[k]))
+        r = t.loc[("rav4", "float")]
+        self.assertEqual(r["frames_read"], 53800)
+        self.assertEqual(r["decode_errors"], 0)
+        self.assertEqual(r["steps"], 5999)
+        fx = t.loc[("rav4", "fixed")]
+        self.assertLess(fx["dev_beta_max_rad"], 1e-3)
+
+
+class ReplayParserTests(unittest.TestCase):
+    CANDUMP = """grip-replay: x.log, table rav4 (4 messages, 14 signals), step 10 ms, stale after 3 periods
+  frames         53800 read (46408.584930 .. 46468.577630 s), 17409 decoded, 36391 other ids, 0 error frames, 0 remote requests
+  decode errors  7 (dlc 1, checksum 2, counter frozen 0, out of range 4, sender fault 0), counter skips 3
+  timing         5 reordered, 1 late, 0 too old, 2 timestamp jumps
+  drops          0 (file replay)
+  estimator      5999 steps, 0 errors; valid: beta 5999, yaw-rate reference 5999, mu 0; final mu 0.988
+"""
+
+    def test_summary(self):
+        from grip_tools.fleet import backend
+        c = backend.parse_summary(self.CANDUMP)
+        self.assertEqual((c["frames_read"], c["frames_decoded"], c["decode_errors"], c["checksum_errors"],
+                          c["out_of_range"], c["counter_skips"], c["reordered"], c["timestamp_jumps"],
+                          c["est_steps"]), (53800, 17409, 7, 2, 4, 3, 5, 2, 5999))
+        self.assertNotIn("rows_off_step", c)
+
+    def test_error_line(self):
+        from grip_tools.fleet import backend
+        err = ("grip-replay: f.csv:2: column ax: not a number 'x'\n"
+               "grip-replay: f.csv (CSV input), step 10 ms: 0 rows, 0 with a time step off by > 1 %\n"
+               "  estimator      0 steps, 0 errors\n")
+        self.assertEqual(backend.error_line(err), "grip-replay: f.csv:2: column ax: not a number 'x'")
+
+    def test_output_columns(self):
+        from grip_tools.fleet import backend
+        text = ("t_s,step,yaw_rate,yaw_rate_fault,ay,ay_fault,est_status,est_valid,est_flags,vx,yaw_rate\n"
+                "0.000000,0,0.5,ok,,missing,0,7,16,20.5,0.25\n")
+        c = backend.parse_output(text)
+        self.assertEqual(c["in_yaw_rate"][0], 0.5)
+        self.assertEqual(c["yaw_rate"][0], 0.25)
+        self.assertTrue(c["in_ay"][0] != c["in_ay"][0])
+        self.assertEqual(c["in_ay_fault"][0], "missing")
+        self.assertEqual(c["est_flags"].dtype.kind, "i")
+
+
+if __name__ == "__main__":
+    unittest.main()

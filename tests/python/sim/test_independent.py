@@ -1,0 +1,174 @@
+"""The independent judge (grip_tools.sim.independent): physics sanity of
+the multi-body driver and its sensors, and a reduced est-eval run.
+
+The est-eval run checks that the table is produced and its numbers are
+finite; it does not check the estimator against the targets (the
+measured table in docs/estimator/independent/ says how it scores).
+"""
+import json
+import math
+import os
+import tempfile
+import unittest
+
+import numpy as np
+
+from grip_tools.sim.independent import judge, mb, manoeuvres, sensors
+
+
+def circle(veh, v=12.0, radius=40.0, duration=8.0):
+    """Constant speed on a circle (the curvature PI of the circle manoeuvres)."""
+    def steer(drv, t, x, dt):
+        vv = max(x[mb.VX], 1.0)
+        return drv.curvature_pi(x, 1.0 / radius, dt, veh.linear_delta(vv, vv * vv / radius))
+    return manoeuvres.Scenario("circle", v, duration, steer, lambda drv, t, x: ("hold", v, 0.0))
+
+
+def fit_circle(x, y):
+    """Least-squares circle through points: centre and radius."""
+    a = np.column_stack([x, y, np.ones_like(x)])
+    b = x * x + y * y
+    c = np.linalg.lstsq(a, b, rcond=None)[0]
+    xc, yc = c[0] / 2, c[1] / 2
+    return xc, yc, math.sqrt(c[2] + xc * xc + yc * yc)
+
+
+class SteadyCircleTests(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.veh = mb.Vehicle("bmw320i")
+        cls.sim = mb.simulate(cls.veh, circle(cls.veh), 1.0)
+
+    def last(self, seconds=3.0):
+        return self.sim["t"] >= self.sim["t"][-1] - seconds
+
+    def test_runs_to_the_end(self):
+        self.assertIsNone(self.sim["ended"])
+        self.assertAlmostEqual(self.sim["t"][-1], 8.0, places=6)
+
+    def test_lateral_acceleration_is_v2_over_r(self):
+        sel = self.last()
+        x = self.sim["x"][sel]
+        _, _, radius = fit_circle(x[:, mb.X_], x[:, mb.Y_])
+        v = np.hypot(x[:, mb.VX], x[:, mb.VY])
+        _, ay, _ = mb.kinematic_acceleration(self.sim)
+        want = float(np.mean(v * v)) / radius
+        got = float(np.mean(ay[sel]))
+        self.assertLess(abs(got - want) / want, 0.01, (got, want, radius))
+        # the curvature controller holds the circle it was given
+        self.assertLess(abs(radius - 40.0) / 40.0, 0.02)
+
+    def test_wheel_speeds_are_vx_plus_track_terms(self):
+        sel = self.last()
+        sig = sensors.true_signals(self.sim, self.veh)
+        xs = self.sim["x"][sel]
+        roll = np.array([mb.wheel_rolling_speeds(x, self.veh.p) for x in xs])
+        for i, w in enumerate(mb.WHEELS):
+            ws = sig[f"wheel_speed_{w}"][sel]
+            rel = np.max(np.abs(ws - roll[:, i]) / roll[:, i])
+            self.assertLess(rel, 0.01, w)
+        # inner (left) wheels slower than outer ones by about track x yaw rate
+        r = float(np.mean(xs[:, mb.R]))
+        d_rear = float(np.mean(sig["wheel_speed_rr"][sel] - sig["wheel_speed_rl"][sel]))
+        self.assertAlmostEqual(d_rear, self.veh.p.T_r * r, delta=0.02 * self.veh.p.T_r * r + 0.01)
+
+    def test_body_rolls_outwards_and_accelerometer_sees_it(self):
+        sel = self.last()
+        sig = sensors.true_signals(self.sim, self.veh)
+        phi, _, _, _ = mb.body_angles_iso(self.sim)
+        _, ay, _ = mb.kinematic_acceleration(self.sim)
+        # left turn: ISO roll positive (right side down), accelerometer reads more
+        self.assertGreater(float(np.mean(phi[sel])), 0.0)
+        self.assertGreater(float(np.mean(sig["ay"][sel])), float(np.mean(ay[sel])))
+        # yaw gyro: r cos(roll) cos(pitch) in steady state
+        self.assertAlmostEqual(float(np.mean(sig["yaw_rate"][sel])),
+                               float(np.mean(self.sim["x"][sel, mb.R] * np.cos(phi[sel]))), places=4)
+
+
+class SpecificForceTests(unittest.TestCase):
+    def test_at_rest_on_a_banked_road(self):
+        for bank in (-0.15, 0.05, 0.2):
+            sx, sy = sensors.specific_force(0.0, 0.0, 0.0, bank, 0.0, 0.0, 0.0)
+            self.assertAlmostEqual(sx, 0.0, places=12)
+            self.assertAlmostEqual(sy, mb.G * math.sin(bank), places=12)
+
+    def test_at_rest_on_a_grade(self):
+        sx, sy = sensors.specific_force(0.0, 0.0, 0.0, 0.0, 0.08, 0.0, 0.0)
+        self.assertAlmostEqual(sx, mb.G * math.sin(0.08), places=12)
+        self.assertAlmostEqual(sy, 0.0, places=12)
+
+    def test_true_signals_at_rest_on_a_bank(self):
+        veh = mb.Vehicle("escort")
+        n = 5
+        x = np.tile(np.array(veh.initial_state(0.0)), (n, 1))
+        bank = np.linspace(-0.1, 0.1, n)
+        sim = {"x": x, "f": np.zeros_like(x), "bank": bank, "grade": np.zeros(n), "t": np.arange(n) * 1e-3}
+        sig = sensors.true_signals(sim, veh)
+        np.testing.assert_allclose(sig["ay"], mb.G * np.sin(bank), atol=1e-12)
+        np.testing.assert_allclose(sig["ax"], 0.0, atol=1e-12)
+
+    def test_body_roll_adds_gravity(self):
+        sx, sy = sensors.specific_force(0.0, 4.0, 0.0, 0.0, 0.0, 0.05, 0.0)
+        self.assertAlmostEqual(sy, 4.0 * math.cos(0.05) + mb.G * math.sin(0.05), places=12)
+
+    def test_road_gravity_is_gravity(self):
+        g = mb.road_gravity(0.1, -0.06)
+        self.assertAlmostEqual(math.sqrt(g[0] ** 2 + g[1] ** 2 + g[2] ** 2), mb.G, places=12)
+
+
+class BankedRoadTests(unittest.TestCase):
+    def test_gravity_pulls_a_free_car_down_the_bank(self):
+        veh = mb.Vehicle("bmw320i")
+        bank = 0.1   # left edge up: the car drifts to the right, vy < 0, without steering
+
+        def road(t, x):
+            return bank, 0.0, 1.0
+        sc = manoeuvres.Scenario("bank", 15.0, 2.0, lambda drv, t, x, dt: 0.0,
+                                 lambda drv, t, x: ("hold", 15.0, 0.0), road)
+        sim = mb.simulate(veh, sc, 1.0)
+        self.assertLess(sim["x"][-1, mb.Y_], -0.05)
+        sig = sensors.true_signals(sim, veh)
+        # the accelerometer reads the tires' pull up the bank: positive, the
+        # size of g sin(bank) once the tires hold the car
+        self.assertGreater(float(sig["ay"][-1]), 0.5 * mb.G * math.sin(bank))
+
+
+class JudgeTests(unittest.TestCase):
+    def test_passes_apply_only_where_defined(self):
+        p = judge.passes({"beta_rms_deg": None, "valid_share": 0.5, "mu_err": None,
+                          "fy_front_rms_pct": None, "fy_rear_rms_pct": 3.0})
+        self.assertEqual(p, {"beta": None, "baseline": None, "valid": False, "mu": None, "fy": True, "all": False})
+
+    def test_bicycle_baseline_is_kinematic_at_low_speed(self):
+        bp = dict(m=1200.0, lf=1.1, lr=1.5, cf=8e4, cr=8e4)
+        b = judge.bicycle_beta(bp, np.array([0.05]), np.array([1.0]))
+        self.assertAlmostEqual(float(b[0]), 1.5 / 2.6 * 0.05, delta=2e-3)
+
+    @unittest.skipUnless(os.path.exists(judge.est_eval.C_BINS["float"]), "C float build not made (make)")
+    def test_reduced_est_eval_run(self):
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "out")
+            doc = judge.run(out, vehicles=["bmw320i"], manoeuvres=["step-steer", "sine-dwell"],
+                            surfaces=["wet"], runs_dir=os.path.join(d, "runs"), step_checks=False, plots=True)
+            for f in ("independent.md", "independent.json", "worst_runs.png", "fitted_bmw320i.tir"):
+                self.assertTrue(os.path.exists(os.path.join(out, f)), f)
+            with open(os.path.join(out, "independent.json")) as fh:
+                js = json.load(fh)
+            self.assertEqual(len(js["results"]), 2)
+            with open(os.path.join(out, "independent.md")) as fh:
+                md = fh.read()
+            self.assertIn("| bmw320i | step-steer | wet | generic | float |", md)
+            self.assertIn("| bmw320i | sine-dwell | wet | fitted |", md)
+            for r in doc["results"]:
+                for cname, builds in r["configs"].items():
+                    for arith, m in builds.items():
+                        self.assertEqual(m["errors"], 0)
+                        for k in ("beta_rms_deg", "beta_max_deg", "valid_share", "vx_rms", "zero_rms_deg",
+                                  "bicycle_rms_deg", "fy_front_rms_pct", "fy_rear_rms_pct"):
+                            self.assertIsNotNone(m.get(k), (r["manoeuvre"], cname, arith, k))
+                            self.assertTrue(math.isfinite(m[k]), (r["manoeuvre"], cname, arith, k))
+                        self.assertIn(m["pass"]["all"], (True, False))
+
+
+if __name__ == "__main__":
+    unittest.main()
