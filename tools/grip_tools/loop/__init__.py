@@ -10,5 +10,6 @@
     sanity.py      the base-model check (sign, side, unit, offset)
     report.py      Markdown + PNG report, updated parameter set (JSON)
     benchmark.py   the generality benchmark (generated rig sets, one undeclared effect each)
+    blas.py        one BLAS thread while the loop computes (its parallelism is processes)
     cli.py         `grip analyze`
 """

@@ -41,7 +41,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from grip_tools.loop import candidates, correction, grammar, sanity
+from grip_tools.loop import blas, candidates, correction, grammar, sanity
 from grip_tools.loop.effects import TireModel, all_effects, tyre_specials
 
 MIN_GAIN = 0.03      # a named tyre effect lowers the normalised held-out error by at least 3 %
@@ -141,6 +141,12 @@ def analyse(model, ds, effects=None, n_blocks=8, min_gain=0.05, holdout=None, al
     effects.all_effects(), none gated), selected by the same criterion.
     jobs > 1: the grammar's refinement runs in that many processes on
     records of PARALLEL_ROWS rows or more."""
+    with blas.single_thread():          # processes, not BLAS threads (loop/blas.py)
+        return _analyse(model, ds, effects, n_blocks, min_gain, holdout, also, progress, n_refine,
+                        use_grammar, jobs)
+
+
+def _analyse(model, ds, effects, n_blocks, min_gain, holdout, also, progress, n_refine, use_grammar, jobs):
     t_start, w_start = time.process_time(), time.perf_counter()
     holdout = holdout or f"blocks:{n_blocks}"
     train, test = holdout_masks(len(ds), holdout)
