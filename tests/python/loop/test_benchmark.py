@@ -12,6 +12,8 @@ meets its target today is asserted against the target; one that does not
 is printed and asserted against FLOOR, the figure measured today (one set
 below it: a tie between near-equivalent drivers can fall the other way on
 another BLAS)."""
+import os
+import tempfile
 import time
 import unittest
 
@@ -56,6 +58,16 @@ class GeneralityBenchmark(unittest.TestCase):
 
     def test_held_out_error_halved(self):
         self._rate("halved")
+
+    def test_reselect_reproduces_the_rule(self):
+        """benchmark.reselect (docs: the alternative selection rules) applied
+        with the tool's own rule to the written benchmark.json names the
+        same sets as the run."""
+        with tempfile.TemporaryDirectory() as d:
+            benchmark.write(d, self.outcomes, {"command": "test"})
+            r = benchmark.reselect(os.path.join(d, "benchmark.json"), rules=(("ic", 6.0),))
+        self.assertEqual(r[None], self.s["named"])
+        self.assertEqual(r[("ic", 6.0)], self.s["named"])
 
     def test_null_sets(self):
         for o in self.outcomes:

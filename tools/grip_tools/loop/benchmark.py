@@ -95,7 +95,7 @@ ACCEPT = {
     "load_peaked": _acc(FRICTION, ("dfz2",)),
     "stiffness_load": _acc(STIFFNESS, ("dfz", "dfz2")),
     "speed_friction": _acc(FRICTION, ("v", "v2")),
-    "slip_speed_friction": _acc(FRICTION, ("vs",), ("slip_velocity_friction",)),
+    "slip_speed_friction": _acc(FRICTION, ("vs", "vs2"), ("slip_velocity_friction",)),
     "relaxation": _acc(("lag:relax", "lag:relax2"), ("const",), ("relaxation", "relaxation2")),
     "sensor_lowpass": _acc(("out:delay",), ("const",), ("sensor_delay",)),
     "alpha_drift": _acc(("in:alpha",), DRIFT),
@@ -615,6 +615,52 @@ def write(outdir, outcomes, meta):
     with open(path, "w") as f:
         f.write("\n".join(L))
     return path, s
+
+
+def _accept_of(s):
+    """ACCEPT of a set read back from benchmark.json (the drifts' output from its truth)"""
+    k = s["kind"]
+    if k in ("gain_drift", "offset_drift"):
+        return _out_acc("scale" if k == "gain_drift" else "offset", s["truth"]["output"], DRIFT)
+    return ACCEPT.get(k, {"pairs": set(), "names": set()})
+
+
+def reselect(path, rules=(("ic", 6.0), ("ic", 2.0), ("ic", 20.0), ("best", 0.0),
+                          ("score", 0.005), ("score", 0.01), ("score", 0.02))):
+    """Effect sets of a benchmark.json named correctly under other selection
+    rules, from the ranked candidates it keeps: ("ic", band) the tie band
+    of attribution._select, ("best", 0) the lowest IC alone, ("score", f)
+    ties within a share f of the best score; each then with the fewest
+    parameters, a constant change first, and the named-form replacement of
+    attribution._select. Returns {rule: named}, and the recorded count under
+    None."""
+    from grip_tools.loop.attribution import SPECIAL_TOL
+    with open(path) as f:
+        sets = [s for s in json.load(f)["sets"] if s["kind"] != "null"]
+    out = {None: sum(bool(s["named"]) for s in sets)}
+    for kind, val in rules:
+        n = 0
+        for s in sets:
+            acc = sorted((c for c in s["ranked"] if c["accepted"]), key=lambda c: c["ic"])
+            if not acc:
+                continue
+            if kind == "ic":
+                band = [c for c in acc if c["ic"] <= acc[0]["ic"] + val]
+            elif kind == "score":
+                best = min(c["score"] for c in acc)
+                band = [c for c in acc if c["score"] <= best * (1.0 + val)]
+            else:
+                band = acc[:1]
+            ch = min(band, key=lambda c: (c["k"], tuple(c["family"][1:]) != ("const",), c["ic"]))
+            if ch["kind"] == "grammar":
+                named = [c for c in acc if c["kind"] == "named" and ch["family"] in c["families"]
+                         and 1.0 - c["score"] >= (1.0 - ch["score"]) * (1.0 - SPECIAL_TOL)]
+                if named:
+                    ch = min(named, key=lambda c: c["score"])
+            a = _accept_of(s)
+            n += tuple(ch["family"]) in a["pairs"] or ch["name"] in a["names"]
+        out[(kind, val)] = n
+    return out
 
 
 def main(n, outdir, seed=0, duration=150.0, rate=40.0, jobs=2, command=""):

@@ -374,7 +374,7 @@ class SlipVelocity(Effect):
     representable)."""
     name = "slip_velocity_friction"
     pnames = ("lmuv",)
-    families = (("mu", "vs"), ("mux", "vs"), ("muy", "vs"), ("grip", "vs"))
+    families = tuple((t, d) for d in ("vs", "vs2") for t in ("mu", "mux", "muy", "grip"))
     x0 = (0.0,)
     lo = (0.0,)
     hi = (50.0,)

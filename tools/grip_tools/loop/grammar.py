@@ -12,7 +12,8 @@ residual). Targets (TARGETS):
 
   Magic Formula scaling factors, lambda x (1 + m) (lambda >= 0.05):
     mu (LMUX, LMUY), mux, muy, k (LKX, LKY), kx, ky, grip (mu and k, two
-    columns), c (LCX, LCY), e (LEX, LEY), trail (LTR), kyc (LKYC)
+    columns), c (LCX, LCY), e (LEX, LEY), trail (LTR), kyc (LKYC), comb
+    (LXAL, LYKA: the combined-slip weighting)
   additive shifts: svy (Fy += m Fz), svx (Fx += m Fz), mres (Mz += m Fz R0)
   input channels: in:p (p + m NOMPRES), in:fz (Fz (1 + m)), in:alpha
     (alpha + m), in:kappa (kappa + m), in:gamma (gamma + m)
@@ -23,27 +24,31 @@ residual). Targets (TARGETS):
     out:delay (every output delayed by m seconds)
 
 Drivers (DRIVERS): const; dfz, dfz2 (dfz, dfz^2), dfz = (Fz - FNOMIN) / FNOMIN;
-gamma, gamma2; dpi, dpi2 (p - NOMPRES) / NOMPRES; vs (slip speed / LONGVL);
-v, v2 ((|vx| - LONGVL) / LONGVL); time ((t - t0) / 1000 s); and first-order
-states state:<source> of a source u normalised by its training mean u_ref,
+gamma, gamma2; dpi, dpi2 (p - NOMPRES) / NOMPRES; vs, vs2 (slip speed /
+LONGVL); v, v2 ((|vx| - LONGVL) / LONGVL); fx, fy (the base model's forces
+/ FNOMIN); time ((t - t0) / 1000 s); and first-order states state:<source>
+of a source u normalised by its training mean u_ref,
 
     x_0 = 0,  x_i = x_{i-1} + (1 - exp(-dt_i / tau)) (u_i / u_ref - x_{i-1}),
     tau = tau_heat when u_i / u_ref > x_{i-1} (heating), tau_rec otherwise,
 
-sources energy (|F| Vs of the base model: friction power), slip
-(sqrt(kappa^2 + tan^2 alpha)), load (Fz / FNOMIN) and run (1 while the
-tyre rolls loaded: |vx| > 1 m/s and Fz > 0.1 FNOMIN). Both time
-constants are fitted.
+or two of them (state2:<source>, tau1 < tau2: either node of a linear
+two-node thermal model). Sources: energy (|F| Vs, the friction power, with
+the measured forces where measured), slip (sqrt(kappa^2 + tan^2 alpha)),
+load (Fz / FNOMIN) and run (1 while the tyre rolls loaded: |vx| > 1 m/s
+and Fz > 0.1 FNOMIN). The time constants are fitted, at least TAU_MIN (a
+faster state is its source: a static dependence, not a state).
 
-Search (search()): every applicable (target x driver) pair is first fitted
-linearly: the model's sensitivity to each target column at m = 0 (one
-finite difference per column over the whole record; for lag:relax and
-out:delay the first-order terms -sigma/|vx| d(alpha, kappa)/dt and
--d dy/dt) times the driver columns, least squares on the training rows,
-for states over a grid of time constants (TAU_GRID). The best `refine`
-pairs by the held-out criterion are then fitted with the full model
-(scipy least_squares on at most FIT_ROWS training rows; states and lags
-run over the whole record), starting from the linear estimate.
+Search (screen(), refine(); attribution._tyre_search drives them): every
+applicable (target x driver) pair is first fitted linearly: the model's
+sensitivity to each target column at m = 0 (one finite difference per
+column over the whole record) times the driver columns, least squares on
+the training rows, for states over a grid of time constants (TAU_GRID,
+TAU_GRID2); the lags and the output delay are screened on their exact
+prediction over a grid of lengths and delays. The best pairs by the
+held-out criterion are then fitted with the full model (scipy
+least_squares on at most FIT_ROWS training rows; states and lags run over
+the whole record), starting from the linear estimate.
 """
 import math
 from dataclasses import dataclass
@@ -55,6 +60,7 @@ V_MIN = 0.5                   # m/s: speed floor of the relaxation lag (lib/rela
 A_MAX = 16.0                  # |vx| dt / sigma beyond this is a full step (lib/relax)
 TAU_GRID = (0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0, 128.0, 256.0, 512.0)  # s: state time constants screened
 TAU_GRID2 = (0.5, 2.0, 8.0, 32.0, 128.0, 512.0)  # s: the pairs (tau1 < tau2) screened for two-node states
+TAU_MIN = TAU_GRID[0]         # s: the fastest state time constant (screened and fitted)
 FIT_ROWS = 4000               # training rows the nonlinear fit uses at most (evenly strided)
 SCREEN_ROWS = 20000           # rows the linear screening uses at most (every k-th row)
 REFINE = 10                   # pairs refined with the full model
@@ -463,6 +469,11 @@ def _lat(ctx):
     return (any(o in ctx.ds.outputs for o in ("fy", "mz")), "no fy or mz")
 
 
+def _combined(ctx):
+    return (_kappa_fx(ctx)[0] and _lat(ctx)[0] and float(np.std(ctx.alpha)) > 1e-4,
+            "needs fx with kappa varying and fy or mz with alpha varying")
+
+
 def _gamma_varies(ctx):
     return (float(np.std(ctx.gamma)) > 1e-4 and any(o in ctx.ds.outputs for o in ("fy", "mz")),
             "gamma constant or no fy/mz")
@@ -492,6 +503,9 @@ def targets():
         ScaleTarget("e", [("e", ("lex", "ley"))], "curvature factors LEX, LEY"),
         ScaleTarget("trail", [("trail", ("ltr",))], "pneumatic trail LTR", needs=("mz",)),
         ScaleTarget("kyc", [("kyc", ("lkyc",))], "camber stiffness LKYC", requires=_gamma_varies),
+        ScaleTarget("comb", [("comb", ("lxal", "lyka"))],
+                    "combined-slip weighting LXAL, LYKA (how fast one slip takes the other force away)",
+                    requires=_combined),
         ShiftTarget("svy", "fy", "lateral force shift Fy + m Fz (vertical shift, ply steer / conicity)"),
         ShiftTarget("svx", "fx", "longitudinal force shift Fx + m Fz (vertical shift)"),
         ShiftTarget("mres", "mz", "residual moment Mz + m Fz R0", arm=True),
@@ -593,8 +607,12 @@ class StateDriver(Driver):
         return (math.exp(z[0]), math.exp(z[1]))
 
     def fit_bounds(self, ctx):
+        # a state is at least as slow as the screening grid's fastest (and 2
+        # samples): a time constant going to 0 turns the state into its
+        # source, a static dependence on load, slip or friction power that
+        # is not a state (and that the static drivers cover)
         dt = float(np.median(np.diff(ctx.t))) if ctx.n > 1 else 0.01
-        lo, hi = math.log(max(dt, 0.05)), math.log(self.tau_max(ctx))
+        lo, hi = math.log(max(2.0 * dt, TAU_MIN)), math.log(self.tau_max(ctx))
         return [lo, lo], [hi, hi]
 
 
@@ -635,6 +653,10 @@ def _dpi(ctx):
     return (ctx.p - ctx.nompres) / ctx.nompres
 
 
+def _vs(ctx):
+    return ctx.sources["slip"] * np.abs(ctx.vx) / ctx.longvl
+
+
 def _dv(ctx):
     return (np.abs(ctx.vx) - ctx.longvl) / ctx.longvl
 
@@ -654,8 +676,9 @@ def drivers():
                      var("p", 100.0)),
         SimpleDriver("dpi2", ("1", "dpi", "dpi^2"), lambda c: [c.ones, _dpi(c), _dpi(c) ** 2],
                      "pressure, a quadratic", var("p", 100.0)),
-        SimpleDriver("vs", ("vs",), lambda c: [c.sources["slip"] * np.abs(c.vx) / c.longvl],
-                     "slip speed Vs / LONGVL"),
+        SimpleDriver("vs", ("vs",), lambda c: [_vs(c)], "slip speed Vs / LONGVL"),
+        SimpleDriver("vs2", ("1", "vs", "vs^2"), lambda c: [c.ones, _vs(c), _vs(c) ** 2],
+                     "slip speed, a quadratic"),
         SimpleDriver("v", ("dv",), lambda c: [_dv(c)], "speed (|vx| - LONGVL) / LONGVL", var("vx", 0.3)),
         SimpleDriver("v2", ("1", "dv", "dv^2"), lambda c: [c.ones, _dv(c), _dv(c) ** 2], "speed, a quadratic",
                      var("vx", 0.3)),
