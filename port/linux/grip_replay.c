@@ -66,6 +66,7 @@ typedef struct {
     long long time_offset_us;
     unsigned long max_frames;
     const char *est_tir;       /* --estimate: tire of both axles; NULL = inputs only */
+    const char *est_tir_rear;  /* --estimate-rear: the rear axle's tire instead; NULL = as front */
     const char *vehicle;       /* --vehicle: configuration preset */
     const char *vehicle_file;  /* --vehicle-file: key = value overrides of the preset */
     const char *csv_in;        /* --csv: estimator inputs from a CSV file instead of CAN */
@@ -99,6 +100,7 @@ typedef struct {
     /* the estimator, when --estimate is given */
     int est_on;
     grip_mf_params tire;
+    grip_mf_params tire_rear;  /* --estimate-rear: the rear axle's tire */
     grip_est_t est;
     grip_est_output_t est_out;
     grip_status_t est_status;
@@ -459,6 +461,7 @@ static void usage(FILE *f)
             "      --idle-exit S      live: stop once no frame came for S seconds (after the first)\n"
             "  -e, --estimate TIR     run the estimator each step (tire .tir on both axles) and\n"
             "                         append its outputs to every row\n"
+            "      --estimate-rear TIR  the rear axle's tire (-e's then on the front axle only)\n"
             "      --vehicle NAME     estimator vehicle: rav4 (default), av21 or generic\n"
             "      --vehicle-file F   override vehicle values: lines `key = value` (SI): mass iz lf lr\n"
             "                         track track_f track_r h_cg steer_ratio wheel_radius\n"
@@ -518,7 +521,7 @@ static const struct {
     { "", "--all-inputs", SC_ANY },   { "", "--units", SC_ANY },          { "", "--dump", SC_CAN },
     { "-i", "--interface", SC_LIVE }, { "", "--fd", SC_LIVE },            { "-d", "--duration", SC_LIVE },
     { "-n", "--frames", SC_CAN },     { "", "--idle-exit", SC_LIVE },     { "-e", "--estimate", SC_ANY },
-    { "", "--vehicle", SC_EST },      { "", "--vehicle-file", SC_EST },   { "", "--csv", SC_CSV },
+    { "", "--estimate-rear", SC_EST }, { "", "--vehicle", SC_EST },      { "", "--vehicle-file", SC_EST },   { "", "--csv", SC_CSV },
     { "", "--ignore-columns", SC_CSV }, { "-q", "--quiet", SC_ANY },
 };
 #define N_OPTS (sizeof OPTS / sizeof OPTS[0])
@@ -591,6 +594,8 @@ static int parse_args(int argc, char **argv, options *o)
             o->iface = v;
         } else if (IS("-e", "--estimate")) {
             o->est_tir = v;
+        } else if (strcmp(a, "--estimate-rear") == 0) {
+            o->est_tir_rear = v;
         } else if (strcmp(a, "--vehicle") == 0) {
             o->vehicle = v;
         } else if (strcmp(a, "--vehicle-file") == 0) {
@@ -1898,6 +1903,17 @@ estimator:
         if (vehicle_config(o.vehicle, &r.tire, rate_hz, &ecfg) != 0) {
             fprintf(stderr, "grip-replay: unknown --vehicle '%s' (rav4, av21, generic)\n", o.vehicle);
             return EXIT_USAGE;
+        }
+        if (o.est_tir_rear != NULL) {
+            if (tir_precheck(o.est_tir_rear) != 0) {
+                return EXIT_USAGE;
+            }
+            if (grip_tir_read(o.est_tir_rear, &r.tire_rear, err, sizeof err) != 0) {
+                fprintf(stderr, "grip-replay: %s\n", err);
+                return EXIT_USAGE;
+            }
+            ecfg.tire[1].kind = GRIP_EST_TIRE_MF;
+            ecfg.tire[1].model.mf = &r.tire_rear;
         }
         if (o.vehicle_file != NULL && vehicle_file(o.vehicle_file, &ecfg) != 0) {
             return EXIT_USAGE;

@@ -14,6 +14,7 @@ COMMANDS = {
     # tire engineer: evaluate, fit, convert, close the loop
     "tir2c": ("grip_tools.reference.tir", "emit a grip_mf_params C definition from a .tir file"),
     "fit-mf": ("grip_tools.fit.mf", "identify Magic Formula coefficients from measured sweeps"),
+    "axle-stiffness": ("grip_tools.fit.axle_stiffness", "rear-axle .tir whose cornering stiffness gives the car's understeer gradient (or a ramp's)"),
     "fit-brush": ("grip_tools.fit.brush", "fit Neo-FIALA to Magic Formula curves (G275 demo) or to sweeps"),
     "mf89": ("grip_tools.reference.mf89", "1989-style lateral Magic Formula: constraint report of a coefficient set"),
     "brush-verify": ("grip_tools.reference.brush", "brush models: closed forms vs quadrature, every n (--write-table: lib/brush/brush_table.h)"),

@@ -128,9 +128,10 @@ def effect_update(name, params, model, dt=None):
     return upd
 
 
-def write_tir(base_path, updates, out_path):
+def write_tir(base_path, updates, out_path, note="grip_tools analyze"):
     """Copy of the .tir file base_path with KEY = value lines replaced (or
-    added to [SCALING_COEFFICIENTS] when absent); line endings kept."""
+    added to [SCALING_COEFFICIENTS] when absent); line endings kept; the
+    changed lines say they were written by `note`."""
     with open(base_path, newline="") as f:
         lines = f.readlines()
     todo = {k.upper(): v for k, v in updates.items()}
@@ -139,14 +140,14 @@ def write_tir(base_path, updates, out_path):
         key = ln.split("=", 1)[0].strip().upper() if "=" in ln and not ln.lstrip().startswith(("$", "!")) else None
         if key in todo:
             eol = "\r\n" if ln.endswith("\r\n") else "\n"
-            out.append(f"{key:<26s}= {float(todo.pop(key))!r:<18} $ updated by grip_tools analyze{eol}")
+            out.append(f"{key:<26s}= {float(todo.pop(key))!r:<18} $ updated by {note}{eol}")
         else:
             out.append(ln)
     if todo:
         idx = next(i for i, ln in enumerate(out) if ln.strip().upper().startswith("[SCALING_COEFFICIENTS]"))
         eol = "\r\n" if out[idx].endswith("\r\n") else "\n"
         for k, v in todo.items():
-            out.insert(idx + 1, f"{k:<26s}= {float(v)!r:<18} $ added by grip_tools analyze{eol}")
+            out.insert(idx + 1, f"{k:<26s}= {float(v)!r:<18} $ added by {note}{eol}")
     with open(out_path, "w", newline="") as f:
         f.writelines(out)
     return out_path
