@@ -296,6 +296,13 @@ grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_para
  * GRIP_ERR_STATE). */
 grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg);
 
+#define grip_est_init_detail GRIP_TYPED(grip_est_init_detail)
+/* grip_est_init; on GRIP_ERR_PARAM *detail (may be NULL) names what failed:
+ * a configuration member ("mass", "rate_hz"), or part "tire" with the
+ * axle's index and the parameter set's member ("fnomin") or "model.mf"
+ * when the set is valid but gives no usable tire at the static load. */
+grip_status_t grip_est_init_detail(grip_est_t *est, const grip_est_config_t *cfg, grip_check_detail_t *detail);
+
 /* Forgets the dynamic state (speed, observer, held inputs); keeps the
  * configuration. */
 grip_status_t grip_est_reset(grip_est_t *est);

@@ -61,6 +61,18 @@ typedef enum {
     GRIP_ERR_DOMAIN = -5        /* a math function was called outside its domain */
 } grip_status_t;
 
+/* Which field a parameter or configuration check rejected, for a message
+ * such as "tire[1].fnomin: in (0, 1e6] N". Filled by the *_detail
+ * functions (grip_mf_check_params_detail, grip_*_check_params_detail of
+ * grip_brush.h, grip_est_init_detail, grip_monitor_init_detail); every
+ * string is a constant of the library, never NULL. */
+typedef struct {
+    const char *part;   /* the member that holds the field, e.g. "tire"; "" for the struct itself */
+    int32_t index;      /* the element of part (axle 0 front, 1 rear), or -1                     */
+    const char *field;  /* the struct member that failed, e.g. "fnomin"; "" if none did          */
+    const char *rule;   /* the condition it breaks, e.g. "in (0, 1e6] N"; "" if none             */
+} grip_check_detail_t;
+
 #define grip_status_str GRIP_TYPED(grip_status_str)
 /* A short, constant, human-readable description of a status code. */
 const char *grip_status_str(grip_status_t status);

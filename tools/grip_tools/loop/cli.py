@@ -47,18 +47,20 @@ def progress_end():
 
 
 def apply_main(argv):
+    from grip_tools.reference import tir
     ap = argparse.ArgumentParser(prog="grip analyze apply", description="predict with a fitted update on new data")
     ap.add_argument("update", help="update.json written by grip analyze")
     ap.add_argument("data", help="tire-level CSV (the schema of grip analyze)")
     ap.add_argument("--tir", required=True, help="the base model's .tir (as in the run that wrote the update)")
+    tir.add_reader_options(ap)
     ap.add_argument("--side", choices=("fitted", "left", "right"), default="fitted")
     ap.add_argument("-o", "--output", help="CSV: the data plus <output>_model and <output>_updated columns")
     a = ap.parse_args(argv)
+    tir.apply_reader_options(a)
     import json
     import numpy as np
     from grip_tools.errors import DataError
     from grip_tools.loop.effects import all_effects
-    from grip_tools.reference import tir
     with open(a.update) as f:
         try:
             upd = json.load(f)
@@ -122,10 +124,12 @@ def main(argv=None):
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv and argv[0] == "apply":
         return apply_main(argv[1:])
+    from grip_tools.reference import tir
     ap = argparse.ArgumentParser(prog="grip analyze", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("data", nargs="?")
     ap.add_argument("--tir")
+    tir.add_reader_options(ap)
     ap.add_argument("--generate")
     ap.add_argument("--vehicle", help="vehicle-level undeclared-effect set from sim (datasets.VEH_KINDS)")
     ap.add_argument("--seed", type=int, default=1)
@@ -159,6 +163,7 @@ def main(argv=None):
               f"both {s['named_and_halved']}; null sets {s['null_sets']}: passing {s['null_ok']}")
         print(f"report: {path}", file=sys.stderr)
         return 0
+    tir.apply_reader_options(a)
     if a.generate:
         from grip_tools.loop import datasets
         ds, _ = datasets.make(a.generate, a.seed)
