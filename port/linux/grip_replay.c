@@ -434,7 +434,8 @@ static void usage(FILE *f)
             "      --estimate-rear TIR  the rear axle's tire (-e's then on the front axle only)\n"
             "      --strict           .tir: every warning is an error (an unknown key, a key in\n"
             "                         another section, an empty value)\n"
-            "      --no-range-check   .tir: accept coefficients outside their plausible ranges\n"
+            "      --no-range-check   .tir: accept coefficients outside their plausible ranges\n");
+    fprintf(f,
             "      --vehicle NAME     estimator vehicle: rav4 (default), av21 or generic\n"
             "      --vehicle-file F   override vehicle values: lines `key = value` (SI): mass iz lf lr\n"
             "                         track track_f track_r h_cg steer_ratio wheel_radius\n"
