@@ -121,10 +121,14 @@ static void rear_wheel_angle(grip_est_t *est, est_ctx_t *s, int rear_ok)
         s->flags |= GRIP_EST_F_STEER_LIMIT;
         d = sym_clamp(d, RC(EST_DELTA_R_MAX));
     }
-    d2 = r_sq(d);
     s->delta_r = d;
-    s->cr = r_add(R_ONE, r_mul(d2, r_add(RC(-0.5), r_mul(d2, RC(1.0 / 24.0)))));
-    s->sr = r_mul(d, r_add(R_ONE, r_mul(d2, r_add(RC(-1.0 / 6.0), r_mul(d2, RC(1.0 / 120.0))))));
+    s->cr = R_ONE;
+    s->sr = R_ZERO;
+    if (d != R_ZERO) {
+        d2 = r_sq(d);
+        s->cr = r_add(R_ONE, r_mul(d2, r_add(RC(-0.5), r_mul(d2, RC(1.0 / 24.0)))));
+        s->sr = r_mul(d, r_add(R_ONE, r_mul(d2, r_add(RC(-1.0 / 6.0), r_mul(d2, RC(1.0 / 120.0))))));
+    }
 }
 
 void est_take_inputs(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)

@@ -53,7 +53,7 @@ void est_speed(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)
      * estimated vy: it enters the reference only when no wheel steered less
      * gives one (est_tuning.h) */
     int far[4];
-    int near_ok = 0;
+    int n_near = 0;
     far[0] = r_abs(s->sd) > RC(EST_WS_STEER_MAX); /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
     far[1] = far[0];
     far[2] = r_abs(s->sr) > RC(EST_WS_STEER_MAX); /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
@@ -61,12 +61,6 @@ void est_speed(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)
     for (i = 0; i < 4; ++i) {
         grip_real_t v = in->value[GRIP_IN_WHEEL_SPEED_FL + i];
         ws_ok[i] = in->valid[GRIP_IN_WHEEL_SPEED_FL + i] && r_is_finite(v) && r_abs(v) < RC(EST_WS_MAX);
-        if (ws_ok[i] && !far[i]) {
-            near_ok = 1;
-        }
-    }
-    for (i = 0; i < 4; ++i) {
-        grip_real_t v = in->value[GRIP_IN_WHEEL_SPEED_FL + i];
         if (in->valid[GRIP_IN_WHEEL_SPEED_FL + i] && !ws_ok[i]) {
             flags |= GRIP_EST_F_SATURATED;
         }
@@ -91,14 +85,24 @@ void est_speed(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)
                     outl[i] = 1;
                 }
             }
-            if (far[i] && near_ok) {
-                outl[i] = 1;    /* not an outlier by speed: no lock / spin flag */
+            if (!far[i]) {
+                n_near += 1;
             }
             if (!outl[i]) {
                 n_good += 1;
             }
         } else {
             wheels_ok = 0;
+        }
+    }
+    /* the far-steered wheels out of the reference while a wheel steered
+     * less is valid (not outliers by speed: no lock / spin flag) */
+    if (n_near > 0) {
+        for (i = 0; i < 4; ++i) {
+            if (ws_ok[i] && far[i] && !outl[i]) {
+                outl[i] = 1;
+                n_good -= 1;
+            }
         }
     }
     /* every valid wheel off the prediction on the side the measured
