@@ -75,7 +75,7 @@ static void lateral_outputs(grip_est_t *est, grip_est_output_t *out, const est_c
     int i;
     for (i = 0; i < 4; ++i) {
         int axle = i >> 1;
-        grip_real_t cdi = axle ? s->cr : cd_o, sdi = axle ? s->sr : sd_o; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
+        grip_real_t cdi = axle ? s->cr : cd_o, sdi = axle ? s->sr : sd_o;
         /* the wheel kinematics of the tire evaluation (est_tires.c), written
          * out again rather than shared through a helper with out-parameters,
          * which cost 24 B of M0+ stack */

@@ -77,7 +77,7 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
 
     for (i = 0; i < 4; ++i) {
         int axle = i >> 1;
-        grip_real_t cdi = axle ? s->cr : s->cd, sdi = axle ? s->sr : s->sd; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
+        grip_real_t cdi = axle ? s->cr : s->cd, sdi = axle ? s->sr : s->sd;
         grip_real_t vcx = r_sub(s->vx, r_mul(s->r, est->yw[i]));
         grip_real_t vcy = r_add(s->vy, r_mul(s->r, est->xw[i]));
         grip_real_t vxw = r_add(r_mul(cdi, vcx), r_mul(sdi, vcy));
