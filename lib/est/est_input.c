@@ -147,7 +147,11 @@ void est_take_inputs(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *
                est->age[H_VS] == 0;
     /* the rear road-wheel angle: taken when given; required (its loss stops
      * the lateral observer like the steering's) with cfg.rear_steer */
-    rear_ok = take_input(est, in, GRIP_IN_REAR_STEER_ANGLE, H_REAR, RC(2.0 * EST_DELTA_R_MAX), &s->flags);
+    rear_ok = 0;
+    if (in->valid[GRIP_IN_REAR_STEER_ANGLE] || c->rear_steer || est->age[H_REAR] <= est->hold_steps) {
+        /* a car without rear steering skips the call (the M4F step budget) */
+        rear_ok = take_input(est, in, GRIP_IN_REAR_STEER_ANGLE, H_REAR, RC(2.0 * EST_DELTA_R_MAX), &s->flags);
+    }
     if (c->rear_steer && !rear_ok) {
         s->flags |= GRIP_EST_F_NO_REAR_STEER;
         s->steer_ok = 0u;

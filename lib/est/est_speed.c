@@ -97,7 +97,7 @@ void est_speed(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)
     }
     /* the far-steered wheels out of the reference while a wheel steered
      * less is valid (not outliers by speed: no lock / spin flag) */
-    if (n_near > 0) {
+    if (n_near > 0 && (far[0] || far[2])) {
         for (i = 0; i < 4; ++i) {
             if (ws_ok[i] && far[i] && !outl[i]) {
                 outl[i] = 1;
