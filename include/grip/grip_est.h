@@ -269,6 +269,10 @@ typedef struct {
     grip_real_t fy_dmu[4];      /* QL N d Fy / d mu of the step's tire evaluation (mu's secant) */
     grip_real_t mu_lin;         /* QS mu the step's tire evaluation used (before the updates) */
     grip_real_t mu_floor;       /* QS the step's friction in use, mu's lower bound and its secant's floor */
+    grip_real_t sec_inv_mu;     /* QS the step's mu's secant: 1 / mu, 1 / (mu - dmu), 1 / dmu, */
+    grip_real_t sec_inv_mu2;    /*    (mu - dmu) / mu (est_friction_floor: the same for the four */
+    grip_real_t sec_inv_dmu;    /*    wheels)                                                     */
+    grip_real_t sec_ratio;
     grip_real_t delta_prev;     /* QS rad road-wheel angle of the previous step */
     grip_real_t delta_o_d;      /* QS rad this step's outputs' road-wheel angle less the state's */
     int32_t delta_prev_ok;      /* delta_prev from a valid steering angle */
