@@ -77,7 +77,7 @@ static inline grip_real_t r_qs_to_ql(grip_real_t a) { return a; }
 static inline grip_real_t r_sqrt(grip_real_t a) { return (a > 0.0f) ? sqrtf(a) : 0.0f; }
 #if GRIP_FLOAT_KERNELS >= 1
 /* grip's polynomial kernels (grip_config.h, GRIP_FLOAT_KERNELS) */
-#include "f32_kernels.h"
+#include "f32_kernels.h" /* grip-deviation: MISRA-20.1 float build only, inside the kernel selection #if */
 static inline grip_real_t r_atan(grip_real_t a) { return grip_kf_atan(a); }
 static inline grip_real_t r_atan2(grip_real_t y, grip_real_t x) { return grip_kf_atan2(y, x); }
 #else

@@ -33,7 +33,7 @@
 #ifndef GRIP_F32_KERNELS_H
 #define GRIP_F32_KERNELS_H
 
-#include <math.h> /* grip-deviation: MISRA-20.1 float build only: fabsf, copysignf and the libm fallbacks */
+#include <math.h> /* fabsf, copysignf and the libm fallbacks (float build only) */
 #include <stdint.h>
 #include <string.h>
 #include "f32_kernels_coefs.h"
