@@ -16,7 +16,7 @@
  * compiled with -std=c99, whose default is -ffp-contract=off), so a kernel
  * gives the same bits on every IEEE-754 single-precision target.
  *
- * Accuracy, measured against double-precision libm by
+ * Accuracy, measured against the host's libm at twice this precision by
  * tests/unit/test_f32_kernels.c over the whole float domain (every float
  * for the one-argument functions, docs/numerics.md "Float kernels"):
  *   |k(x) - f(x)| <= bound * max(|f(x)|, FLT_MIN)

@@ -2,6 +2,7 @@
 #include <stddef.h>
 
 #include "check_internal.h"
+#include "arith.h"
 
 int check_fail(grip_check_detail_t *d, const char *part, int32_t index, const char *field, const char *rule)
 {
@@ -12,6 +13,17 @@ int check_fail(grip_check_detail_t *d, const char *part, int32_t index, const ch
         d->rule = rule;
     }
     return 0;
+}
+
+int check_ranges(const check_range_t *r, size_t n, grip_check_detail_t *d)
+{
+    size_t i;
+    for (i = 0; i < n; ++i) {
+        if (!(r_is_finite(r[i].v) && r[i].v >= r[i].lo && r[i].v <= r[i].hi)) {
+            return check_fail(d, "", -1, r[i].name, r[i].rule);
+        }
+    }
+    return 1;
 }
 
 void check_clear(grip_check_detail_t *d)

@@ -6,6 +6,7 @@
 #ifndef GRIP_CHECK_INTERNAL_H
 #define GRIP_CHECK_INTERNAL_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "grip/grip_types.h"
@@ -25,5 +26,21 @@ void check_clear(grip_check_detail_t *d);
 /* Sets the element of *d (d may be NULL) to part[index], keeping its field:
  * a nested check's detail seen from the struct that holds it. */
 void check_within(grip_check_detail_t *d, const char *part, int32_t index);
+
+/* A configuration value, its closed range and the rule's text (a constant
+ * string naming the range and unit). */
+typedef struct {
+    const char *name;
+    grip_real_t v;
+    grip_real_t lo;
+    grip_real_t hi;
+    const char *rule;
+} check_range_t;
+
+#define check_ranges GRIP_TYPED(grip_core_i_check_ranges)
+/* The n values of r in order: 1 when each is finite and within its range;
+ * else 0 with the first one that is not named in *d (d may be NULL; part ""
+ * and index -1: a field of the checked struct itself). */
+int check_ranges(const check_range_t *r, size_t n, grip_check_detail_t *d);
 
 #endif /* GRIP_CHECK_INTERNAL_H */

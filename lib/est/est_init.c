@@ -20,12 +20,6 @@ static int32_t r_to_int(grip_real_t a)
 #endif
 }
 
-/* finite and within [lo, hi] (a configuration value) */
-static int in_range(grip_real_t v, grip_real_t lo, grip_real_t hi)
-{
-    return r_is_finite(v) && v >= lo && v <= hi;
-}
-
 grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_params *tire)
 {
     if (cfg == NULL) {
@@ -118,21 +112,12 @@ static grip_real_t relax_length(const grip_est_tire_t *t, grip_real_t c_alpha, g
     return R_ZERO;
 }
 
-/* A configuration value, its range and the rule's text. */
-typedef struct {
-    const char *name;
-    grip_real_t v;
-    grip_real_t lo;
-    grip_real_t hi;
-    const char *rule;
-} est_range_t;
-
 /* The configuration's ranges (grip_est.h) in field order: the first value
  * outside its range named in *d (d may be NULL). */
 static grip_status_t check_config(const grip_est_config_t *c, grip_check_detail_t *d)
 {
     static const char *const TIRE = "tire";
-    const est_range_t r[] = {
+    const check_range_t r[] = {
         { "mass", c->mass, RCL(1.0), RCL(60000.0), "in [1, 60000] kg" },
         { "iz", c->iz, RCL(1.0), RCL(200000.0), "in [1, 200000] kg m^2" },
         { "lf", c->lf, RC(0.05), RC(10.0), "in [0.05, 10] m" },
@@ -145,7 +130,7 @@ static grip_status_t check_config(const grip_est_config_t *c, grip_check_detail_
         { "roll_split_front", c->roll_split_front, R_ZERO, R_ONE, "in [0, 1]" },
         { "roll_gradient", c->roll_gradient, R_ZERO, RC(0.05), "in [0, 0.05] rad/(m/s^2)" },
     };
-    const est_range_t r2[] = {
+    const check_range_t r2[] = {
         { "cla", c->cla, R_ZERO, RC(20.0), "in [0, 20] m^2" },
         { "aero_front", c->aero_front, R_ZERO, R_ONE, "in [0, 1]" },
         { "air_density", c->air_density, RC(0.5), RC(1.5), "in [0.5, 1.5] kg/m^3" },
@@ -157,13 +142,9 @@ static grip_status_t check_config(const grip_est_config_t *c, grip_check_detail_
         { "steer_lag", c->steer_lag, R_ZERO, RC(0.5), "in [0, 0.5] s" },
         { "steer_latency", c->steer_latency, R_ZERO, RC(0.1), "in [0, 0.1] s" },
     };
-    size_t i;
     int a;
-    for (i = 0; i < sizeof r / sizeof r[0]; ++i) {
-        if (!in_range(r[i].v, r[i].lo, r[i].hi)) {
-            (void)check_fail(d, "", -1, r[i].name, r[i].rule);
-            return GRIP_ERR_PARAM;
-        }
+    if (!check_ranges(r, sizeof r / sizeof r[0], d)) {
+        return GRIP_ERR_PARAM;
     }
     if (c->rate_hz < 50u || c->rate_hz > 2000u) {
         (void)check_fail(d, "", -1, "rate_hz", "in 50..2000 Hz");
@@ -177,11 +158,8 @@ static grip_status_t check_config(const grip_est_config_t *c, grip_check_detail_
         (void)check_fail(d, "", -1, "rear_steer", "0 or 1");
         return GRIP_ERR_PARAM;
     }
-    for (i = 0; i < sizeof r2 / sizeof r2[0]; ++i) {
-        if (!in_range(r2[i].v, r2[i].lo, r2[i].hi)) {
-            (void)check_fail(d, "", -1, r2[i].name, r2[i].rule);
-            return GRIP_ERR_PARAM;
-        }
+    if (!check_ranges(r2, sizeof r2 / sizeof r2[0], d)) {
+        return GRIP_ERR_PARAM;
     }
     for (a = 0; a < 2; ++a) {
         if (c->tire[a].kind != GRIP_EST_TIRE_MF) {

@@ -89,11 +89,6 @@ static int32_t steps_of(int32_t ms, uint32_t rate_hz)
     return (n < 1) ? 1 : n;
 }
 
-static int in_range(grip_real_t v, grip_real_t lo, grip_real_t hi)
-{
-    return r_is_finite(v) && v >= lo && v <= hi;
-}
-
 /* dt / tau = 1 / (tau rate), at most 1 */
 static grip_real_t lp_factor(grip_real_t tau, grip_real_t rate)
 {
@@ -152,18 +147,9 @@ grip_status_t grip_monitor_config_from_est(grip_monitor_config_t *cfg, const gri
     return s;
 }
 
-/* A configuration value, its range and the rule's text. */
-typedef struct {
-    const char *name;
-    grip_real_t v;
-    grip_real_t lo;
-    grip_real_t hi;
-    const char *rule;
-} mon_range_t;
-
 static grip_status_t check_config(const grip_monitor_config_t *c, grip_check_detail_t *d)
 {
-    const mon_range_t r[] = {
+    const check_range_t r[] = {
         { "lf", c->lf, RC(0.05), RC(10.0), "in [0.05, 10] m" },
         { "lr", c->lr, RC(0.05), RC(10.0), "in [0.05, 10] m" },
         { "track_f", c->track_f, RC(0.2), RC(4.0), "in [0.2, 4] m" },
@@ -172,12 +158,8 @@ static grip_status_t check_config(const grip_monitor_config_t *c, grip_check_det
         { "stab_factor_x100", c->stab_factor_x100, RC(-1.0), R_ONE, "in [-1, 1] (100 s^2/m^2)" },
         { "roll_gradient", c->roll_gradient, R_ZERO, RC(0.05), "in [0, 0.05] rad/(m/s^2)" },
     };
-    size_t i;
-    for (i = 0; i < sizeof r / sizeof r[0]; ++i) {
-        if (!in_range(r[i].v, r[i].lo, r[i].hi)) {
-            (void)check_fail(d, "", -1, r[i].name, r[i].rule);
-            return GRIP_ERR_PARAM;
-        }
+    if (!check_ranges(r, sizeof r / sizeof r[0], d)) {
+        return GRIP_ERR_PARAM;
     }
     if (c->driven < 1u || c->driven > 3u) {
         (void)check_fail(d, "", -1, "driven", "1 (front), 2 (rear) or 3 (both axles)");
