@@ -12,7 +12,8 @@ static int fittyp_known(int32_t fittyp)
     return (fittyp == 5) || (fittyp == 6) || (fittyp == 21) || (fittyp == 61) || (fittyp == 62);
 }
 
-int mf_params_usable(const grip_mf_params *p)
+/* options: the option bits the evaluation accepts. */
+static inline int mf_params_usable_body(const grip_mf_params *p, uint32_t options)
 {
     if (!fittyp_known(p->fittyp)) {
         return 0;
@@ -20,7 +21,7 @@ int mf_params_usable(const grip_mf_params *p)
     if ((p->tyreside != 1) && (p->tyreside != -1)) {
         return 0;
     }
-    if ((p->options & ~GRIP_MF_OPT_ALL) != 0u) {
+    if ((p->options & ~options) != 0u) {
         return 0;
     }
     /* The comparisons are false for NaN, so NaN is rejected too. */
@@ -44,12 +45,33 @@ int mf_params_usable(const grip_mf_params *p)
     return 1;
 }
 
+int mf_params_usable(const grip_mf_params *p)
+{
+    return mf_params_usable_body(p, GRIP_MF_OPT_ALL);
+}
+
+/* grip_mf_eval, grip_mf_eval_pure: the use modes (turn slip, no limits)
+ * are grip_mf_eval_ext's; a set that asks for them is refused. */
+int mf_params_usable_plain(const grip_mf_params *p)
+{
+    return mf_params_usable_body(p, GRIP_MF_OPT_ALL & ~(GRIP_MF_OPT_TURN_SLIP | GRIP_MF_OPT_NO_LIMITS));
+}
+
+int mf_turn_slip_usable(const grip_mf_params *p)
+{
+    return (p->phyp1 > R_ZERO) && (p->qdrp1 > R_ZERO) && (p->qdrp1 < RC(2.0));
+}
+
 grip_status_t grip_mf_check_params(const grip_mf_params *p)
 {
     if (p == NULL) {
         return GRIP_ERR_NULL;
     }
     if (!mf_params_usable(p)) {
+        return GRIP_ERR_PARAM;
+    }
+    /* a set that asks for turn slip must have its coefficients */
+    if (((p->options & GRIP_MF_OPT_TURN_SLIP) != 0u) && !mf_turn_slip_usable(p)) {
         return GRIP_ERR_PARAM;
     }
 #define MF_CHECK_FINITE(field, KEY, SECTION, FORMAT, DEFAULT, REQUIRED) /* grip-deviation: MISRA-20.7 X-macro: field is a member name, cannot be parenthesized */ \

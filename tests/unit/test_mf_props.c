@@ -676,7 +676,8 @@ static void test_invalid_params(void **state)
     symmetric_params(&p); p.unloaded_radius = to_qs(-0.3); expect_param_error(&p);
     symmetric_params(&p); p.lfzo = 0; expect_param_error(&p);
     symmetric_params(&p); p.tyreside = 0; expect_param_error(&p);
-    symmetric_params(&p); p.options = 1u << 7; expect_param_error(&p);
+    symmetric_params(&p); p.options = 1u << 9; expect_param_error(&p);
+    symmetric_params(&p); p.options = GRIP_MF_OPT_TURN_SLIP; expect_param_error(&p);   /* no turn-slip coefficients */
     symmetric_params(&p); p.lmux = to_qs(-1.0); expect_param_error(&p);
     symmetric_params(&p); p.lmuv = to_qs(1.0); p.longvl = 0; expect_param_error(&p);
     symmetric_params(&p); p.nompres = to_ql(-1.0); expect_param_error(&p);
@@ -733,7 +734,7 @@ static void test_nonfinite_inputs(void **state)
     for (field = 0; field < 6; field++) {
         for (b = 0; b < 3; b++) {
             for (c = 0; c < 2; c++) {
-                grip_mf_input in = { 0.1f, 0.1f, 0.0f, (float)FNOM, (float)PNOM, (float)V_TEST };
+                grip_mf_input in = { 0.1f, 0.1f, 0.0f, (float)FNOM, (float)PNOM, (float)V_TEST, 0.0f, 0.0f };
                 grip_mf_output out = { 1.0f, 1.0f, 1.0f };
                 grip_status_t st;
                 float *f = (field == 0) ? &in.kappa : (field == 1) ? &in.alpha : (field == 2) ? &in.gamma
