@@ -114,7 +114,7 @@ SUPPORT_SRCS := $(sort $(wildcard tests/support/*.c))
 UNIT_SRCS    := $(sort $(wildcard tests/unit/test_*.c))
 UNIT_BINS    := $(UNIT_SRCS:tests/unit/%.c=$(BUILD)/tests/%)
 
-.PHONY: target-test fuzz static all lib shlib progs tests test run-tests check run setup golden firmware firmware-image bench bench-image bench-host clean help install uninstall install-test
+.PHONY: target-test fuzz static all lib shlib progs tests test run-tests check run setup golden firmware firmware-image bench bench-image bench-host bench-io clean help install uninstall install-test
 
 all: lib progs tests
 
@@ -143,7 +143,8 @@ help:
 	@echo "make [ARITH=fixed]    build lib/ and the tests for one arithmetic"
 	@echo "make test             run the unit and golden tests for one build"
 	@echo "make firmware         cross-build Cortex-M4F (float) and M0+ (fixed)"
-	@echo "make bench            benchmarks: ns/call, callgrind, Cortex-M counts"
+	@echo "make bench            benchmarks: ns/call, callgrind, Cortex-M counts, bench-io"
+	@echo "make bench-io [BENCH_IO_ARGS='--baseline DIR']   grip-tire rows/s, grip-replay frames/s"
 	@echo "make install PREFIX=/usr/local [DESTDIR=]   headers, libgrip-float/-fixed (.a, .so),"
 	@echo "                      grip-tire, grip-replay, pkg-config, CMake package (docs/porting.md)"
 	@echo "make install TARGET=m4f|m0p PREFIX=...      add the Cortex-M library to that prefix"
@@ -263,6 +264,11 @@ bench: setup golden
 	@$(MAKE) --no-print-directory TARGET=m4f bench-image
 	@$(MAKE) --no-print-directory TARGET=m0p bench-image
 	@$(PYTOOLS) bench $(BENCH_ARGS)
+	@$(MAKE) --no-print-directory bench-io
+
+# Throughput of the host programs' readers (no thresholds: a report).
+bench-io: progs
+	@$(PY) tests/bench/bench_io.py --bin $(BUILD)/bin $(BENCH_IO_ARGS)
 
 # Install into $(DESTDIR)$(PREFIX) (docs/porting.md, "Installing"). The host
 # install builds both arithmetics (static and shared) and the float build's

@@ -55,8 +55,10 @@ step fuzz env FUZZ_TIME=10 sh tests/fuzz/run_fuzz.sh
 step static sh tests/static/run_static.sh
 # The real Linux CAN stack: a QEMU VM with vcan, canplayer and grip-replay -i vcan0.
 step vm sh tests/vm/run_vcan_test.sh
-step badinput sh tests/badinput/run_badinput.sh --only grip-replay
-step badinput_fixed sh tests/badinput/run_badinput.sh --only grip-replay --bin build/fixed-gcc/bin
+# The bad-input corpus: grip-replay, grip-tire and the Python tools (grip), then the C programs
+# of the fixed build.
+step badinput sh tests/badinput/run_badinput.sh
+step badinput_fixed sh tests/badinput/run_badinput.sh --only grip-replay,grip-tire --bin build/fixed-gcc/bin
 # the Python modules in two processes (CI has two cores; the step runs alone)
 step python env GRIP_TEST_JOBS=2 GRIP_TIRE_BIN=build/float-gcc/bin/grip-tire .venv/bin/python tests/python/run.py
 # The command-line program again, on the fixed build.

@@ -156,6 +156,17 @@ grip_status_t grip_brush_check_params(const grip_brush_params *p);
 grip_status_t grip_sakai_check_params(const grip_sakai_params *p);
 grip_status_t grip_neofiala_check_params(const grip_neofiala_params *p);
 
+#define grip_fiala_check_params_detail GRIP_TYPED(grip_fiala_check_params_detail)
+#define grip_brush_check_params_detail GRIP_TYPED(grip_brush_check_params_detail)
+#define grip_sakai_check_params_detail GRIP_TYPED(grip_sakai_check_params_detail)
+#define grip_neofiala_check_params_detail GRIP_TYPED(grip_neofiala_check_params_detail)
+/* The same checks, in the same order; on GRIP_ERR_PARAM *detail (may be
+ * NULL) names the first member that failed and the rule it breaks. */
+grip_status_t grip_fiala_check_params_detail(const grip_fiala_params *p, grip_check_detail_t *detail);
+grip_status_t grip_brush_check_params_detail(const grip_brush_params *p, grip_check_detail_t *detail);
+grip_status_t grip_sakai_check_params_detail(const grip_sakai_params *p, grip_check_detail_t *detail);
+grip_status_t grip_neofiala_check_params_detail(const grip_neofiala_params *p, grip_check_detail_t *detail);
+
 #define grip_fiala_eval GRIP_TYPED(grip_fiala_eval)
 /* FIALA: Fy and Mz for slip angle alpha [rad] at load fz [N]; fx = 0. */
 grip_status_t grip_fiala_eval(const grip_fiala_params *p, grip_real_t alpha, grip_real_t fz,

@@ -75,6 +75,12 @@ typedef struct {
                                 * the longitudinal mu update; 0 (default): it never does.
                                 * A speedometer signal reads a few per cent off the wheel
                                 * speeds, i.e. shows slip that is not there (RAV4 log). */
+    uint32_t rear_steer;       /* 1: the car steers its rear wheels; the input
+                                * GRIP_IN_REAR_STEER_ANGLE is then required (missing
+                                * beyond the hold time: GRIP_EST_F_NO_REAR_STEER, the
+                                * lateral observer stops as without the steering).
+                                * 0 (default): the rear angle is used when given, else 0.
+                                * Range |angle| <= 0.25 rad (beyond: F_STEER_LIMIT). */
     /* vehicle-level effects of the residual tool (docs/estimator.md); all 0 =
      * without them (grip_est_config_default) */
     grip_real_t cla;           /* QS m^2 aerodynamic downforce coefficient C_L A, [0, 20]:
@@ -160,6 +166,13 @@ typedef struct {
                                                        * for this sample's inputs; every output
                                                        * that depends on the lateral state is
                                                        * marked invalid (GRIP_MON_GATE_CLEARS) */
+#define GRIP_EST_F_RATE         ((uint32_t)1u << 17)  /* the sample's time t_us is not 1 / rate_hz after
+                                                       * the last one (beyond 25 %, or backwards): the
+                                                       * filter's per-step gains do not hold; V_BETA,
+                                                       * V_AXLE, the wheel, margin and mu bits not set,
+                                                       * grip_est_step returns GRIP_WARN_RATE. No check
+                                                       * while t_us is 0 or repeats.             */
+#define GRIP_EST_F_NO_REAR_STEER ((uint32_t)1u << 18) /* rear steering configured, its angle missing */
 
 typedef struct {
     grip_real_t vx;              /* QS m/s longitudinal speed of the CG          */
@@ -231,8 +244,9 @@ typedef struct {
     grip_real_t ax_off;         /* QS m/s^2 ax offset learned from the wheels (grade, accelerometer bias) */
     grip_real_t x[GRIP_EST_NX]; /* QS vy [m/s], r [rad/s], mu [-], gyro bias [0.001 rad/s] */
     grip_real_t p[GRIP_EST_NX][GRIP_EST_NX]; /* QS covariance in scaled units */
-    grip_real_t hold[5];        /* QS last valid steer, yaw, ax, ay, vehicle speed */
-    int32_t age[5];             /* steps since each was valid (saturating) */
+    grip_real_t hold[6];        /* QS last valid steer, yaw, ax, ay, vehicle speed, rear steer */
+    int32_t age[6];             /* steps since each was valid (saturating) */
+    int64_t t_prev;             /* us the last sample's time (rate check); 0: none */
     grip_real_t delta_f;        /* QS lagged road-wheel angle [rad] x 1024 (the per-step change of a
                                  * 0.5 s lag at 1 kHz survives Q15.16) */
     grip_real_t r_lin_f;        /* QS linear yaw-rate reference, low-passed (limit detection) */
@@ -255,6 +269,10 @@ typedef struct {
     grip_real_t fy_dmu[4];      /* QL N d Fy / d mu of the step's tire evaluation (mu's secant) */
     grip_real_t mu_lin;         /* QS mu the step's tire evaluation used (before the updates) */
     grip_real_t mu_floor;       /* QS the step's friction in use, mu's lower bound and its secant's floor */
+    grip_real_t sec_inv_mu;     /* QS the step's mu's secant: 1 / mu, 1 / (mu - dmu), 1 / dmu, */
+    grip_real_t sec_inv_mu2;    /*    (mu - dmu) / mu (est_friction_floor: the same for the four */
+    grip_real_t sec_inv_dmu;    /*    wheels)                                                     */
+    grip_real_t sec_ratio;
     grip_real_t delta_prev;     /* QS rad road-wheel angle of the previous step */
     grip_real_t delta_o_d;      /* QS rad this step's outputs' road-wheel angle less the state's */
     int32_t delta_prev_ok;      /* delta_prev from a valid steering angle */
@@ -281,6 +299,13 @@ grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_para
  * GRIP_ERR_NULL, GRIP_ERR_PARAM (est is then unusable: step returns
  * GRIP_ERR_STATE). */
 grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg);
+
+#define grip_est_init_detail GRIP_TYPED(grip_est_init_detail)
+/* grip_est_init; on GRIP_ERR_PARAM *detail (may be NULL) names what failed:
+ * a configuration member ("mass", "rate_hz"), or part "tire" with the
+ * axle's index and the parameter set's member ("fnomin") or "model.mf"
+ * when the set is valid but gives no usable tire at the static load. */
+grip_status_t grip_est_init_detail(grip_est_t *est, const grip_est_config_t *cfg, grip_check_detail_t *detail);
 
 /* Forgets the dynamic state (speed, observer, held inputs); keeps the
  * configuration. */

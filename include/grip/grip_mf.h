@@ -165,6 +165,7 @@ typedef struct {
 } grip_mf_output_ext;
 
 #define grip_mf_check_params GRIP_TYPED(grip_mf_check_params)
+#define grip_mf_check_params_detail GRIP_TYPED(grip_mf_check_params_detail)
 #define grip_mf_eval_pure GRIP_TYPED(grip_mf_eval_pure)
 #define grip_mf_eval GRIP_TYPED(grip_mf_eval)
 #define grip_mf_eval_ext GRIP_TYPED(grip_mf_eval_ext)
@@ -181,6 +182,11 @@ typedef struct {
  * non-finite coefficient that reaches an output is caught there and gives
  * zeros and GRIP_ERR_PARAM). */
 grip_status_t grip_mf_check_params(const grip_mf_params *p);
+
+/* The same checks, in the same order; on GRIP_ERR_PARAM *detail (may be
+ * NULL) names the first field that failed: its member name ("fnomin",
+ * "fittyp", "pky1": the .tir key in lower case) and the rule it breaks. */
+grip_status_t grip_mf_check_params_detail(const grip_mf_params *p, grip_check_detail_t *detail);
 
 /* Pure-slip forces and moment: out->fx = Fx0(kappa), out->fy = Fy0(alpha),
  * out->mz = Mz0(alpha), each at the given gamma, Fz, p and vx.

@@ -156,6 +156,12 @@ grip_status_t grip_monitor_config_from_est(grip_monitor_config_t *cfg, const gri
  * GRIP_ERR_STATE). */
 grip_status_t grip_monitor_init(grip_monitor_t *mon, const grip_monitor_config_t *cfg);
 
+#define grip_monitor_init_detail GRIP_TYPED(grip_monitor_init_detail)
+/* grip_monitor_init; on GRIP_ERR_PARAM *detail (may be NULL) names the
+ * first configuration member outside its range ("stab_factor_x100"). */
+grip_status_t grip_monitor_init_detail(grip_monitor_t *mon, const grip_monitor_config_t *cfg,
+                                       grip_check_detail_t *detail);
+
 /* Forgets the dynamic state (filters, counters, latches); keeps the
  * configuration. GRIP_ERR_NULL, GRIP_ERR_STATE. */
 grip_status_t grip_monitor_reset(grip_monitor_t *mon);

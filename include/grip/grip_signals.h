@@ -17,6 +17,8 @@
  *   vehicle speed              m/s      QS  (the car's own reference speed, optional)
  *   brake pressures FL..RR     Pa       QL  (optional)
  *   brake torques FL..RR       N m      QL  (optional, positive = braking)
+ *   rear road-wheel angle      rad      QS  (optional: rear-wheel steering, at the
+ *                                           road wheels, positive to the left)
  *
  * A value is meaningful only where valid[i] is 1; everywhere else it is
  * exactly zero and fault[i] says why (grip_sig_fault_t). An out-of-range,
@@ -47,7 +49,8 @@ typedef enum {
     GRIP_IN_BRAKE_TORQUE_FR = 14,
     GRIP_IN_BRAKE_TORQUE_RL = 15,
     GRIP_IN_BRAKE_TORQUE_RR = 16,
-    GRIP_IN_COUNT = 17
+    GRIP_IN_REAR_STEER_ANGLE = 17,
+    GRIP_IN_COUNT = 18
 } grip_input_id_t;
 
 /* Why an input is not valid in a sample. */

@@ -53,12 +53,25 @@ typedef float grip_real_t;
 typedef enum {
     GRIP_OK = 0,
     GRIP_WARN_CLAMPED = 1,      /* an input was outside its valid range and was clamped */
+    GRIP_WARN_RATE = 2,         /* the samples' times disagree with the configured step rate */
     GRIP_ERR_NULL = -1,         /* a required pointer was NULL */
     GRIP_ERR_PARAM = -2,        /* the parameter set is invalid or unsupported */
     GRIP_ERR_INPUT = -3,        /* an input is non-finite or physically impossible */
     GRIP_ERR_STATE = -4,        /* an instance was used before init or after a fatal error */
     GRIP_ERR_DOMAIN = -5        /* a math function was called outside its domain */
 } grip_status_t;
+
+/* Which field a parameter or configuration check rejected, for a message
+ * such as "tire[1].fnomin: in (0, 1e6] N". Filled by the *_detail
+ * functions (grip_mf_check_params_detail, grip_*_check_params_detail of
+ * grip_brush.h, grip_est_init_detail, grip_monitor_init_detail); every
+ * string is a constant of the library, never NULL. */
+typedef struct {
+    const char *part;   /* the member that holds the field, e.g. "tire"; "" for the struct itself */
+    int32_t index;      /* the element of part (axle 0 front, 1 rear), or -1                     */
+    const char *field;  /* the struct member that failed, e.g. "fnomin"; "" if none did          */
+    const char *rule;   /* the condition it breaks, e.g. "in (0, 1e6] N"; "" if none             */
+} grip_check_detail_t;
 
 #define grip_status_str GRIP_TYPED(grip_status_str)
 /* A short, constant, human-readable description of a status code. */

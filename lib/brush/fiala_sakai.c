@@ -8,33 +8,68 @@
 #include <stddef.h>
 
 #include "brush_internal.h"
+#include "../core/check_internal.h"
 
 /* ---- FIALA ----------------------------------------------------------- */
 
-static int fiala_params_ok(const grip_fiala_params *p)
+/* The checks of grip_fiala_check_params; the first failure named in *d
+ * (d may be NULL). */
+static int fiala_params_ok(const grip_fiala_params *p, grip_check_detail_t *d)
 {
-    if (!r_is_finite(p->ky) || !r_is_finite(p->mu) || !r_is_finite(p->l) || !r_is_finite(p->fz_min) ||
-        !r_is_finite(p->fz_max) || !r_is_finite(p->alpha_max)) {
-        return 0;
+    if (!r_is_finite(p->ky)) {
+        return check_fail(d, "", -1, "ky", "finite");
     }
-    if (!(p->ky > R_ZERO && p->mu > R_ZERO && p->mu <= RC(3.0) && p->l > R_ZERO && p->l <= RC(2.0))) {
-        return 0;
+    if (!r_is_finite(p->mu)) {
+        return check_fail(d, "", -1, "mu", "finite");
     }
-    if (!(p->fz_min > R_ZERO && p->fz_min <= p->fz_max && p->fz_max <= RCL(100000.0))) {
-        return 0;
+    if (!r_is_finite(p->l)) {
+        return check_fail(d, "", -1, "l", "finite");
+    }
+    if (!r_is_finite(p->fz_min)) {
+        return check_fail(d, "", -1, "fz_min", "finite");
+    }
+    if (!r_is_finite(p->fz_max)) {
+        return check_fail(d, "", -1, "fz_max", "finite");
+    }
+    if (!r_is_finite(p->alpha_max)) {
+        return check_fail(d, "", -1, "alpha_max", "finite");
+    }
+    if (!(p->ky > R_ZERO)) {
+        return check_fail(d, "", -1, "ky", "> 0 N/rad");
+    }
+    if (!(p->mu > R_ZERO && p->mu <= RC(3.0))) {
+        return check_fail(d, "", -1, "mu", "in (0, 3]");
+    }
+    if (!(p->l > R_ZERO && p->l <= RC(2.0))) {
+        return check_fail(d, "", -1, "l", "in (0, 2] m");
+    }
+    if (!(p->fz_min > R_ZERO)) {
+        return check_fail(d, "", -1, "fz_min", "> 0 N");
+    }
+    if (!(p->fz_min <= p->fz_max && p->fz_max <= RCL(100000.0))) {
+        return check_fail(d, "", -1, "fz_max", "in [fz_min, 1e5] N");
     }
     if (!(r_div(p->ky, r_mul(p->mu, p->fz_min)) <= RC(1000.0))) {
-        return 0;
+        return check_fail(d, "", -1, "ky", "ky / (mu fz_min) <= 1000");
     }
-    return p->alpha_max > R_ZERO && p->alpha_max <= RC(1.0);
+    if (!(p->alpha_max > R_ZERO && p->alpha_max <= RC(1.0))) {
+        return check_fail(d, "", -1, "alpha_max", "in (0, 1] rad");
+    }
+    return 1;
+}
+
+grip_status_t grip_fiala_check_params_detail(const grip_fiala_params *p, grip_check_detail_t *detail)
+{
+    check_clear(detail);
+    if (p == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    return fiala_params_ok(p, detail) ? GRIP_OK : GRIP_ERR_PARAM;
 }
 
 grip_status_t grip_fiala_check_params(const grip_fiala_params *p)
 {
-    if (p == NULL) {
-        return GRIP_ERR_NULL;
-    }
-    return fiala_params_ok(p) ? GRIP_OK : GRIP_ERR_PARAM;
+    return grip_fiala_check_params_detail(p, NULL);
 }
 
 grip_status_t grip_fiala_eval(const grip_fiala_params *p, grip_real_t alpha, grip_real_t fz,
@@ -57,7 +92,7 @@ grip_status_t grip_fiala_eval(const grip_fiala_params *p, grip_real_t alpha, gri
     if (!r_is_finite(alpha) || !r_is_finite(fz)) {
         return GRIP_ERR_INPUT;
     }
-    if (!fiala_params_ok(p)) {
+    if (!fiala_params_ok(p, NULL)) {
         return GRIP_ERR_PARAM;
     }
     if (!(fz > R_ZERO)) {
@@ -90,38 +125,85 @@ grip_status_t grip_fiala_eval(const grip_fiala_params *p, grip_real_t alpha, gri
 
 /* ---- Sakai ----------------------------------------------------------- */
 
-static int sakai_params_ok(const grip_sakai_params *p)
+/* The checks of grip_sakai_check_params; the first failure named in *d
+ * (d may be NULL). */
+static int sakai_params_ok(const grip_sakai_params *p, grip_check_detail_t *d)
 {
-    if (!r_is_finite(p->k) || !r_is_finite(p->g_y) || !r_is_finite(p->mu_s) || !r_is_finite(p->mu_d) ||
-        !r_is_finite(p->l) || !r_is_finite(p->fz_min) || !r_is_finite(p->fz_max) ||
-        !r_is_finite(p->alpha_max) || !r_is_finite(p->kappa_max)) {
-        return 0;
+    if (!r_is_finite(p->k)) {
+        return check_fail(d, "", -1, "k", "finite");
     }
-    if (!(p->k > R_ZERO && p->g_y > R_ZERO && p->l > R_ZERO && p->l <= RC(2.0))) {
-        return 0;
+    if (!r_is_finite(p->g_y)) {
+        return check_fail(d, "", -1, "g_y", "finite");
     }
-    if (!(p->mu_d > R_ZERO && p->mu_d <= p->mu_s && p->mu_s <= RC(3.0))) {
-        return 0;
+    if (!r_is_finite(p->mu_s)) {
+        return check_fail(d, "", -1, "mu_s", "finite");
     }
-    if (!(p->fz_min > R_ZERO && p->fz_min <= p->fz_max && p->fz_max <= RCL(100000.0))) {
-        return 0;
+    if (!r_is_finite(p->mu_d)) {
+        return check_fail(d, "", -1, "mu_d", "finite");
+    }
+    if (!r_is_finite(p->l)) {
+        return check_fail(d, "", -1, "l", "finite");
+    }
+    if (!r_is_finite(p->fz_min)) {
+        return check_fail(d, "", -1, "fz_min", "finite");
+    }
+    if (!r_is_finite(p->fz_max)) {
+        return check_fail(d, "", -1, "fz_max", "finite");
+    }
+    if (!r_is_finite(p->alpha_max)) {
+        return check_fail(d, "", -1, "alpha_max", "finite");
+    }
+    if (!r_is_finite(p->kappa_max)) {
+        return check_fail(d, "", -1, "kappa_max", "finite");
+    }
+    if (!(p->k > R_ZERO)) {
+        return check_fail(d, "", -1, "k", "> 0 N");
+    }
+    if (!(p->g_y > R_ZERO)) {
+        return check_fail(d, "", -1, "g_y", "> 0 N/m");
+    }
+    if (!(p->l > R_ZERO && p->l <= RC(2.0))) {
+        return check_fail(d, "", -1, "l", "in (0, 2] m");
+    }
+    if (!(p->mu_d > R_ZERO)) {
+        return check_fail(d, "", -1, "mu_d", "> 0");
+    }
+    if (!(p->mu_d <= p->mu_s && p->mu_s <= RC(3.0))) {
+        return check_fail(d, "", -1, "mu_s", "in [mu_d, 3]");
+    }
+    if (!(p->fz_min > R_ZERO)) {
+        return check_fail(d, "", -1, "fz_min", "> 0 N");
+    }
+    if (!(p->fz_min <= p->fz_max && p->fz_max <= RCL(100000.0))) {
+        return check_fail(d, "", -1, "fz_max", "in [fz_min, 1e5] N");
     }
     if (!(r_div(p->k, r_mul(p->mu_s, p->fz_min)) <= RC(1000.0))) {
-        return 0;
+        return check_fail(d, "", -1, "k", "k / (mu_s fz_min) <= 1000");
     }
     if (!(r_div(r_mul(p->mu_s, p->fz_max), r_mul(p->l, p->g_y)) <= RC(4.0))) {
-        return 0;
+        return check_fail(d, "", -1, "g_y", "mu_s fz_max / (l g_y) <= 4");
     }
-    return p->alpha_max > R_ZERO && p->alpha_max <= RC(1.0) && p->kappa_max > R_ZERO &&
-           p->kappa_max <= RC(10.0);
+    if (!(p->alpha_max > R_ZERO && p->alpha_max <= RC(1.0))) {
+        return check_fail(d, "", -1, "alpha_max", "in (0, 1] rad");
+    }
+    if (!(p->kappa_max > R_ZERO && p->kappa_max <= RC(10.0))) {
+        return check_fail(d, "", -1, "kappa_max", "in (0, 10]");
+    }
+    return 1;
+}
+
+grip_status_t grip_sakai_check_params_detail(const grip_sakai_params *p, grip_check_detail_t *detail)
+{
+    check_clear(detail);
+    if (p == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    return sakai_params_ok(p, detail) ? GRIP_OK : GRIP_ERR_PARAM;
 }
 
 grip_status_t grip_sakai_check_params(const grip_sakai_params *p)
 {
-    if (p == NULL) {
-        return GRIP_ERR_NULL;
-    }
-    return sakai_params_ok(p) ? GRIP_OK : GRIP_ERR_PARAM;
+    return grip_sakai_check_params_detail(p, NULL);
 }
 
 grip_status_t grip_sakai_eval(const grip_sakai_params *p, grip_real_t kappa, grip_real_t alpha,
@@ -140,7 +222,7 @@ grip_status_t grip_sakai_eval(const grip_sakai_params *p, grip_real_t kappa, gri
     if (!r_is_finite(kappa) || !r_is_finite(alpha) || !r_is_finite(fz)) {
         return GRIP_ERR_INPUT;
     }
-    if (!sakai_params_ok(p)) {
+    if (!sakai_params_ok(p, NULL)) {
         return GRIP_ERR_PARAM;
     }
     if (!(fz > R_ZERO)) {

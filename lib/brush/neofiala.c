@@ -8,6 +8,7 @@
 #include <stddef.h>
 
 #include "brush_internal.h"
+#include "../core/check_internal.h"
 
 #define KN RCL(1000.0)
 
@@ -43,70 +44,142 @@ static int nf_params_finite(const grip_neofiala_params *p)
 #endif
 }
 
-static int nf_params_ok(const grip_neofiala_params *p)
+/* The first field of p that is not finite (its name), or NULL. Only on
+ * the failure path of nf_params_ok: nf_params_finite is the fast test. */
+typedef struct {
+    const char *name;
+    grip_real_t v;
+} nf_field_t;
+
+static const char *nf_first_not_finite(const grip_neofiala_params *p)
+{
+    const nf_field_t f[] = {
+        { "l", p->l }, { "w", p->w }, { "kx", p->kx }, { "ky", p->ky }, { "mu_s", p->mu_s },
+        { "mu_d0", p->mu_d0 }, { "a_v", p->a_v }, { "q0", p->q0 }, { "c_q", p->c_q }, { "c_qm", p->c_qm },
+        { "c_xc", p->c_xc }, { "xi", p->xi }, { "eps", p->eps }, { "g_mz", p->g_mz }, { "a_x", p->a_x },
+        { "c_gamma", p->c_gamma }, { "h", p->h }, { "g_my", p->g_my }, { "fz_min", p->fz_min },
+        { "fz_max", p->fz_max }, { "alpha_max", p->alpha_max }, { "kappa_max", p->kappa_max },
+        { "gamma_max", p->gamma_max }, { "v_max", p->v_max },
+    };
+    size_t i;
+    for (i = 0; i < sizeof f / sizeof f[0]; ++i) {
+        if (!r_is_finite(f[i].v)) {
+            return f[i].name;
+        }
+    }
+    return "l";
+}
+
+/* The checks of grip_neofiala_check_params; the first failure named in *d
+ * (d may be NULL). */
+static int nf_params_ok(const grip_neofiala_params *p, grip_check_detail_t *d)
 {
     grip_real_t fmaxk;
     grip_real_t kmax;
     if (!nf_params_finite(p)) {
-        return 0;
+        return check_fail(d, "", -1, nf_first_not_finite(p), "finite");
     }
     if (p->n < GRIP_BRUSH_N_MIN || p->n > GRIP_BRUSH_N_MAX) {
-        return 0;
+        return check_fail(d, "", -1, "n", "in GRIP_BRUSH_N_MIN..GRIP_BRUSH_N_MAX");
     }
-    if (!(p->l > R_ZERO && p->l <= RC(2.0) && p->w > R_ZERO && p->w <= RC(2.0))) {
-        return 0;
+    if (!(p->l > R_ZERO && p->l <= RC(2.0))) {
+        return check_fail(d, "", -1, "l", "in (0, 2] m");
     }
-    if (!(p->kx > R_ZERO && p->ky > R_ZERO)) {
-        return 0;
+    if (!(p->w > R_ZERO && p->w <= RC(2.0))) {
+        return check_fail(d, "", -1, "w", "in (0, 2] m");
     }
-    if (!(p->mu_d0 > R_ZERO && p->mu_d0 <= p->mu_s && p->mu_s <= RC(3.0))) {
-        return 0;                                     /* mu_s < mu_d is an error */
+    if (!(p->kx > R_ZERO)) {
+        return check_fail(d, "", -1, "kx", "> 0 N");
+    }
+    if (!(p->ky > R_ZERO)) {
+        return check_fail(d, "", -1, "ky", "> 0 N/rad");
+    }
+    if (!(p->mu_d0 > R_ZERO)) {
+        return check_fail(d, "", -1, "mu_d0", "> 0");
+    }
+    if (!(p->mu_d0 <= p->mu_s && p->mu_s <= RC(3.0))) {
+        return check_fail(d, "", -1, "mu_s", "in [mu_d0, 3]");   /* mu_s < mu_d is an error */
     }
     if (!(p->a_v >= R_ZERO && p->a_v <= RC(1.0))) {
-        return 0;
+        return check_fail(d, "", -1, "a_v", "in [0, 1] s/m");
     }
-    if (!(p->fz_min > R_ZERO && p->fz_min <= p->fz_max && p->fz_max <= RCL(100000.0))) {
-        return 0;
+    if (!(p->fz_min > R_ZERO)) {
+        return check_fail(d, "", -1, "fz_min", "> 0 N");
+    }
+    if (!(p->fz_min <= p->fz_max && p->fz_max <= RCL(100000.0))) {
+        return check_fail(d, "", -1, "fz_max", "in [fz_min, 1e5] N");
     }
     kmax = r_max(p->kx, p->ky);
     if (!(r_div(kmax, r_mul(p->mu_s, p->fz_min)) <= RC(1000.0))) {
-        return 0;
+        return check_fail(d, "", -1, (p->kx >= p->ky) ? "kx" : "ky", "max(kx, ky) / (mu_s fz_min) <= 1000");
     }
-    if (!(p->alpha_max > R_ZERO && p->alpha_max <= RC(1.0) && p->gamma_max >= R_ZERO &&
-          p->gamma_max <= RC(0.35) && p->kappa_max > R_ZERO && p->kappa_max <= RC(10.0) &&
-          p->v_max > R_ZERO && p->v_max <= RC(150.0))) {
-        return 0;
+    if (!(p->alpha_max > R_ZERO && p->alpha_max <= RC(1.0))) {
+        return check_fail(d, "", -1, "alpha_max", "in (0, 1] rad");
+    }
+    if (!(p->gamma_max >= R_ZERO && p->gamma_max <= RC(0.35))) {
+        return check_fail(d, "", -1, "gamma_max", "in [0, 0.35] rad");
+    }
+    if (!(p->kappa_max > R_ZERO && p->kappa_max <= RC(10.0))) {
+        return check_fail(d, "", -1, "kappa_max", "in (0, 10]");
+    }
+    if (!(p->v_max > R_ZERO && p->v_max <= RC(150.0))) {
+        return check_fail(d, "", -1, "v_max", "in (0, 150] m/s");
     }
     fmaxk = r_mul(p->mu_s, r_div(p->fz_max, KN));    /* mu_s Fz_max [kN] */
-    if (!(r_abs(p->q0) <= RC(0.5) && r_mul(r_abs(p->c_q), fmaxk) <= RC(0.2) &&
-          r_mul(r_mul(r_abs(p->c_qm), fmaxk), p->l) <= RC(0.2) && r_mul(r_abs(p->c_xc), fmaxk) <= RC(0.1) &&
-          r_div(r_mul(r_abs(p->xi), fmaxk), p->l) <= RC(0.1))) {
-        return 0;
+    if (!(r_abs(p->q0) <= RC(0.5))) {
+        return check_fail(d, "", -1, "q0", "|q0| <= 0.5");
     }
-    if (!(p->eps >= R_ZERO && r_mul(r_mul(p->eps, p->l), r_div(p->ky, KN)) <= RC(1.5))) {
-        return 0;
+    if (!(r_mul(r_abs(p->c_q), fmaxk) <= RC(0.2))) {
+        return check_fail(d, "", -1, "c_q", "|c_q| mu_s fz_max <= 0.2 (fz_max in kN)");
+    }
+    if (!(r_mul(r_mul(r_abs(p->c_qm), fmaxk), p->l) <= RC(0.2))) {
+        return check_fail(d, "", -1, "c_qm", "|c_qm| mu_s fz_max l <= 0.2 (fz_max in kN)");
+    }
+    if (!(r_mul(r_abs(p->c_xc), fmaxk) <= RC(0.1))) {
+        return check_fail(d, "", -1, "c_xc", "|c_xc| mu_s fz_max <= 0.1 (fz_max in kN)");
+    }
+    if (!(r_div(r_mul(r_abs(p->xi), fmaxk), p->l) <= RC(0.1))) {
+        return check_fail(d, "", -1, "xi", "|xi| mu_s fz_max / l <= 0.1 (fz_max in kN)");
+    }
+    if (!(p->eps >= R_ZERO)) {
+        return check_fail(d, "", -1, "eps", ">= 0");
+    }
+    if (!(r_mul(r_mul(p->eps, p->l), r_div(p->ky, KN)) <= RC(1.5))) {
+        return check_fail(d, "", -1, "eps", "eps l ky <= 1.5 (ky in kN/rad)");
     }
     if (!(p->g_mz == R_ZERO || (p->g_mz > R_ZERO && r_div(r_mul(p->l, p->ky), p->g_mz) <= RC(1.5)))) {
-        return 0;
+        return check_fail(d, "", -1, "g_mz", "0, or > 0 with l ky / g_mz <= 1.5");
     }
     if (!(r_div(r_abs(p->a_x), r_mul(p->l, r_mul(p->mu_s, p->fz_min))) <= RC(0.1))) {
-        return 0;
+        return check_fail(d, "", -1, "a_x", "|a_x| / (l mu_s fz_min) <= 0.1");
     }
-    if (!(r_abs(p->c_gamma) <= RC(2.0) && p->h >= R_ZERO && p->g_my >= R_ZERO)) {
-        return 0;
+    if (!(r_abs(p->c_gamma) <= RC(2.0))) {
+        return check_fail(d, "", -1, "c_gamma", "|c_gamma| <= 2");
+    }
+    if (!(p->h >= R_ZERO)) {
+        return check_fail(d, "", -1, "h", ">= 0 m");
+    }
+    if (!(p->g_my >= R_ZERO)) {
+        return check_fail(d, "", -1, "g_my", ">= 0 N/rad");
     }
     if (!(r_mul(RC(4.0), r_mul(r_abs(camber_a(p)), p->gamma_max)) <= RC(0.5))) {
-        return 0;
+        return check_fail(d, "", -1, "g_my", "4 |A_gamma| gamma_max <= 0.5 (camber coupling, docs/brush-models.md)");
     }
     return 1;
 }
 
-grip_status_t grip_neofiala_check_params(const grip_neofiala_params *p)
+grip_status_t grip_neofiala_check_params_detail(const grip_neofiala_params *p, grip_check_detail_t *detail)
 {
+    check_clear(detail);
     if (p == NULL) {
         return GRIP_ERR_NULL;
     }
-    return nf_params_ok(p) ? GRIP_OK : GRIP_ERR_PARAM;
+    return nf_params_ok(p, detail) ? GRIP_OK : GRIP_ERR_PARAM;
+}
+
+grip_status_t grip_neofiala_check_params(const grip_neofiala_params *p)
+{
+    return grip_neofiala_check_params_detail(p, NULL);
 }
 
 #define NF_MAGIC 0x4e464941u   /* "NFIA" */
@@ -137,7 +210,7 @@ grip_status_t grip_neofiala_prepare(const grip_neofiala_params *p, grip_neofiala
     if (p == NULL) {
         return GRIP_ERR_NULL;
     }
-    if (!nf_params_ok(p)) {
+    if (!nf_params_ok(p, NULL)) {
         return GRIP_ERR_PARAM;
     }
     m->p = *p;
@@ -158,7 +231,7 @@ grip_status_t grip_neofiala_eval(const grip_neofiala_params *p, grip_real_t kapp
     if (p == NULL) {
         return GRIP_ERR_NULL;
     }
-    if (!nf_params_ok(p)) {
+    if (!nf_params_ok(p, NULL)) {
         return GRIP_ERR_PARAM;
     }
     nf_derive(p, &d);
@@ -279,40 +352,79 @@ static grip_status_t nf_eval(const grip_neofiala_params *p, const grip_neofiala_
 
 /* ---- brush model, pure longitudinal slip ------------------------------ */
 
-static int brush_params_ok(const grip_brush_params *p)
+/* The checks of grip_brush_check_params; the first failure named in *d
+ * (d may be NULL). */
+static int brush_params_ok(const grip_brush_params *p, grip_check_detail_t *d)
 {
-    if (!r_is_finite(p->kx) || !r_is_finite(p->mu_s) || !r_is_finite(p->mu_d0) || !r_is_finite(p->a_v) ||
-        !r_is_finite(p->fz_min) || !r_is_finite(p->fz_max) || !r_is_finite(p->kappa_max) ||
-        !r_is_finite(p->v_max)) {
-        return 0;
+    if (!r_is_finite(p->kx)) {
+        return check_fail(d, "", -1, "kx", "finite");
+    }
+    if (!r_is_finite(p->mu_s)) {
+        return check_fail(d, "", -1, "mu_s", "finite");
+    }
+    if (!r_is_finite(p->mu_d0)) {
+        return check_fail(d, "", -1, "mu_d0", "finite");
+    }
+    if (!r_is_finite(p->a_v)) {
+        return check_fail(d, "", -1, "a_v", "finite");
+    }
+    if (!r_is_finite(p->fz_min)) {
+        return check_fail(d, "", -1, "fz_min", "finite");
+    }
+    if (!r_is_finite(p->fz_max)) {
+        return check_fail(d, "", -1, "fz_max", "finite");
+    }
+    if (!r_is_finite(p->kappa_max)) {
+        return check_fail(d, "", -1, "kappa_max", "finite");
+    }
+    if (!r_is_finite(p->v_max)) {
+        return check_fail(d, "", -1, "v_max", "finite");
     }
     if (p->n < GRIP_BRUSH_N_MIN || p->n > GRIP_BRUSH_N_MAX) {
-        return 0;
+        return check_fail(d, "", -1, "n", "in GRIP_BRUSH_N_MIN..GRIP_BRUSH_N_MAX");
     }
-    if (!(p->kx > R_ZERO && p->mu_d0 > R_ZERO && p->mu_d0 <= p->mu_s && p->mu_s <= RC(3.0))) {
-        return 0;
+    if (!(p->kx > R_ZERO)) {
+        return check_fail(d, "", -1, "kx", "> 0 N");
+    }
+    if (!(p->mu_d0 > R_ZERO)) {
+        return check_fail(d, "", -1, "mu_d0", "> 0");
+    }
+    if (!(p->mu_d0 <= p->mu_s && p->mu_s <= RC(3.0))) {
+        return check_fail(d, "", -1, "mu_s", "in [mu_d0, 3]");
     }
     if (!(p->a_v >= R_ZERO && p->a_v <= RC(1.0))) {
-        return 0;
+        return check_fail(d, "", -1, "a_v", "in [0, 1] s/m");
     }
-    if (!(p->fz_min > R_ZERO && p->fz_min <= p->fz_max && p->fz_max <= RCL(100000.0))) {
-        return 0;
+    if (!(p->fz_min > R_ZERO)) {
+        return check_fail(d, "", -1, "fz_min", "> 0 N");
+    }
+    if (!(p->fz_min <= p->fz_max && p->fz_max <= RCL(100000.0))) {
+        return check_fail(d, "", -1, "fz_max", "in [fz_min, 1e5] N");
     }
     if (!(r_div(p->kx, r_mul(p->mu_s, p->fz_min)) <= RC(1000.0))) {
-        return 0;
+        return check_fail(d, "", -1, "kx", "kx / (mu_s fz_min) <= 1000");
     }
-    if (!(p->kappa_max > R_ZERO && p->kappa_max <= RC(10.0) && p->v_max > R_ZERO && p->v_max <= RC(150.0))) {
-        return 0;
+    if (!(p->kappa_max > R_ZERO && p->kappa_max <= RC(10.0))) {
+        return check_fail(d, "", -1, "kappa_max", "in (0, 10]");
+    }
+    if (!(p->v_max > R_ZERO && p->v_max <= RC(150.0))) {
+        return check_fail(d, "", -1, "v_max", "in (0, 150] m/s");
     }
     return 1;
 }
 
-grip_status_t grip_brush_check_params(const grip_brush_params *p)
+grip_status_t grip_brush_check_params_detail(const grip_brush_params *p, grip_check_detail_t *detail)
 {
+    check_clear(detail);
     if (p == NULL) {
         return GRIP_ERR_NULL;
     }
-    return brush_params_ok(p) ? GRIP_OK : GRIP_ERR_PARAM;
+    return brush_params_ok(p, detail) ? GRIP_OK : GRIP_ERR_PARAM;
+}
+
+grip_status_t grip_brush_check_params(const grip_brush_params *p)
+{
+    return grip_brush_check_params_detail(p, NULL);
 }
 
 /* Below this 1 - rh the sliding speed (2.86) uses 1 - rh = VS_EPS. */
@@ -336,7 +448,7 @@ grip_status_t grip_brush_eval(const grip_brush_params *p, grip_real_t kappa, gri
     if (!r_is_finite(kappa) || !r_is_finite(fz) || !r_is_finite(vx)) {
         return GRIP_ERR_INPUT;
     }
-    if (!brush_params_ok(p)) {
+    if (!brush_params_ok(p, NULL)) {
         return GRIP_ERR_PARAM;
     }
     if (!(fz > R_ZERO)) {

@@ -11,12 +11,13 @@ static const char *const NAMES[GRIP_IN_COUNT] = {
     "wheel_speed_fl", "wheel_speed_fr", "wheel_speed_rl", "wheel_speed_rr",
     "steer_angle", "yaw_rate", "ax", "ay", "vehicle_speed",
     "brake_pressure_fl", "brake_pressure_fr", "brake_pressure_rl", "brake_pressure_rr",
-    "brake_torque_fl", "brake_torque_fr", "brake_torque_rl", "brake_torque_rr"
+    "brake_torque_fl", "brake_torque_fr", "brake_torque_rl", "brake_torque_rr",
+    "rear_steer_angle"
 };
 
 static const char *const UNITS[GRIP_IN_COUNT] = {
     "m/s", "m/s", "m/s", "m/s", "rad", "rad/s", "m/s^2", "m/s^2", "m/s",
-    "Pa", "Pa", "Pa", "Pa", "N m", "N m", "N m", "N m"
+    "Pa", "Pa", "Pa", "Pa", "N m", "N m", "N m", "N m", "rad"
 };
 
 static const char *const FAULTS[GRIP_SIG_FAULT_COUNT] = {
@@ -35,7 +36,7 @@ const char *grip_input_unit(uint32_t input)
 
 int grip_input_is_ql(uint32_t input)
 {
-    return (input >= (uint32_t)GRIP_IN_BRAKE_PRESSURE_FL && input < (uint32_t)GRIP_IN_COUNT) ? 1 : 0;
+    return (input >= (uint32_t)GRIP_IN_BRAKE_PRESSURE_FL && input <= (uint32_t)GRIP_IN_BRAKE_TORQUE_RR) ? 1 : 0;
 }
 
 int32_t grip_input_find(const char *name, uint32_t len)

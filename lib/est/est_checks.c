@@ -41,7 +41,8 @@ static void misfit(grip_est_t *est, const est_ctx_t *s)
  * model. */
 static void lateral_validity(const grip_est_t *est, est_ctx_t *s)
 {
-    if (s->ay_ok && s->yaw_ok && !s->dead_reck && !est->misfit && ((s->flags & GRIP_EST_F_STEER_LIMIT) == 0u)) {
+    if (s->ay_ok && s->yaw_ok && s->ax_ok && !s->dead_reck && !est->misfit &&
+        ((s->flags & (GRIP_EST_F_STEER_LIMIT | GRIP_EST_F_RATE)) == 0u)) {
         s->valid |= GRIP_EST_V_BETA | GRIP_EST_V_AXLE;
     }
     if (!(s->valid & GRIP_EST_V_BETA)) {
@@ -71,7 +72,7 @@ static void confidence(const grip_est_t *est, est_ctx_t *s, grip_est_output_t *o
     } else {
         /* model consistent */
     }
-    if (out->mu_conf >= RC(0.5)) {
+    if (out->mu_conf >= RC(0.5) && s->ax_ok && ((s->flags & GRIP_EST_F_RATE) == 0u)) {
         s->valid |= GRIP_EST_V_MU;
     }
 }

@@ -99,7 +99,7 @@ void est_friction_tests(grip_est_t *est, est_ctx_t *s, const grip_est_output_t *
     grip_real_t l = r_add(c->lf, c->lr);
     grip_real_t av2 = r_mul(RC(0.01), r_mul(r_mul(est->k_us, vx), vx));
     grip_real_t den = r_max(r_mul(l, r_add(R_ONE, av2)), r_mul(RC(0.1), l));
-    grip_real_t r_lin = r_div(r_mul(vx, s->delta), den);
+    grip_real_t r_lin = r_div(r_mul(vx, r_sub(s->delta, s->delta_r)), den);
     grip_real_t a_tot = r_sqrt(r_add(r_sq(ax), r_sq(ay)));
     est->r_lin_f = r_add(est->r_lin_f, r_mul(r_min(r_div(R_ONE, r_mul(RC(EST_LIM_TAU), est->rate)), R_ONE),
                                              r_sub(r_lin, est->r_lin_f)));

@@ -8,6 +8,7 @@
 #include <stddef.h>
 
 #include "est_internal.h"
+#include "../core/check_internal.h"
 
 /* the nearest whole number (step counts from times) */
 static int32_t r_to_int(grip_real_t a)
@@ -43,6 +44,7 @@ grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_para
     cfg->roll_gradient = RC(0.0088);
     cfg->rate_hz = 100u;
     cfg->speed_ref_mu = 0u;
+    cfg->rear_steer = 0u;
     cfg->cla = R_ZERO;
     cfg->aero_front = RC(0.5);
     cfg->air_density = RC(1.2);
@@ -116,27 +118,82 @@ static grip_real_t relax_length(const grip_est_tire_t *t, grip_real_t c_alpha, g
     return R_ZERO;
 }
 
-static grip_status_t check_config(const grip_est_config_t *c)
+/* A configuration value, its range and the rule's text. */
+typedef struct {
+    const char *name;
+    grip_real_t v;
+    grip_real_t lo;
+    grip_real_t hi;
+    const char *rule;
+} est_range_t;
+
+/* The configuration's ranges (grip_est.h) in field order: the first value
+ * outside its range named in *d (d may be NULL). */
+static grip_status_t check_config(const grip_est_config_t *c, grip_check_detail_t *d)
 {
+    static const char *const TIRE = "tire";
+    const est_range_t r[] = {
+        { "mass", c->mass, RCL(1.0), RCL(60000.0), "in [1, 60000] kg" },
+        { "iz", c->iz, RCL(1.0), RCL(200000.0), "in [1, 200000] kg m^2" },
+        { "lf", c->lf, RC(0.05), RC(10.0), "in [0.05, 10] m" },
+        { "lr", c->lr, RC(0.05), RC(10.0), "in [0.05, 10] m" },
+        { "track_f", c->track_f, RC(0.2), RC(4.0), "in [0.2, 4] m" },
+        { "track_r", c->track_r, RC(0.2), RC(4.0), "in [0.2, 4] m" },
+        { "h_cg", c->h_cg, R_ZERO, RC(3.0), "in [0, 3] m" },
+        { "steer_ratio", c->steer_ratio, R_ONE, RC(100.0), "in [1, 100]" },
+        { "wheel_radius", c->wheel_radius, RC(0.05), RC(2.0), "in [0.05, 2] m" },
+        { "roll_split_front", c->roll_split_front, R_ZERO, R_ONE, "in [0, 1]" },
+        { "roll_gradient", c->roll_gradient, R_ZERO, RC(0.05), "in [0, 0.05] rad/(m/s^2)" },
+    };
+    const est_range_t r2[] = {
+        { "cla", c->cla, R_ZERO, RC(20.0), "in [0, 20] m^2" },
+        { "aero_front", c->aero_front, R_ZERO, R_ONE, "in [0, 1]" },
+        { "air_density", c->air_density, RC(0.5), RC(1.5), "in [0.5, 1.5] kg/m^3" },
+        { "cda", c->cda, R_ZERO, RC(5.0), "in [0, 5] m^2" },
+        { "crr", c->crr, R_ZERO, RC(0.05), "in [0, 0.05]" },
+        { "tan_bank", c->tan_bank, RC(-0.5), RC(0.5), "in [-0.5, 0.5]" },
+        { "tan_grade", c->tan_grade, RC(-0.5), RC(0.5), "in [-0.5, 0.5]" },
+        { "latency", c->latency, R_ZERO, RC(0.1), "in [0, 0.1] s" },
+        { "steer_lag", c->steer_lag, R_ZERO, RC(0.5), "in [0, 0.5] s" },
+        { "steer_latency", c->steer_latency, R_ZERO, RC(0.1), "in [0, 0.1] s" },
+    };
+    size_t i;
     int a;
-    if (!in_range(c->mass, RCL(1.0), RCL(60000.0)) || !in_range(c->iz, RCL(1.0), RCL(200000.0)) ||
-        !in_range(c->lf, RC(0.05), RC(10.0)) || !in_range(c->lr, RC(0.05), RC(10.0)) ||
-        !in_range(c->track_f, RC(0.2), RC(4.0)) || !in_range(c->track_r, RC(0.2), RC(4.0)) ||
-        !in_range(c->h_cg, R_ZERO, RC(3.0)) || !in_range(c->steer_ratio, R_ONE, RC(100.0)) ||
-        !in_range(c->wheel_radius, RC(0.05), RC(2.0)) ||
-        !in_range(c->roll_split_front, R_ZERO, R_ONE) || !in_range(c->roll_gradient, R_ZERO, RC(0.05)) || c->rate_hz < 50u || c->rate_hz > 2000u ||
-        c->speed_ref_mu > 1u || !in_range(c->cla, R_ZERO, RC(20.0)) || !in_range(c->aero_front, R_ZERO, R_ONE) ||
-        !in_range(c->air_density, RC(0.5), RC(1.5)) || !in_range(c->cda, R_ZERO, RC(5.0)) ||
-        !in_range(c->crr, R_ZERO, RC(0.05)) || !in_range(c->tan_bank, RC(-0.5), RC(0.5)) ||
-        !in_range(c->tan_grade, RC(-0.5), RC(0.5)) || !in_range(c->latency, R_ZERO, RC(0.1)) ||
-        !in_range(c->steer_lag, R_ZERO, RC(0.5)) || !in_range(c->steer_latency, R_ZERO, RC(0.1))) {
-        return GRIP_ERR_PARAM;
-    }
-    for (a = 0; a < 2; ++a) {
-        if (c->tire[a].kind != GRIP_EST_TIRE_MF || c->tire[a].model.mf == NULL) {
+    for (i = 0; i < sizeof r / sizeof r[0]; ++i) {
+        if (!in_range(r[i].v, r[i].lo, r[i].hi)) {
+            (void)check_fail(d, "", -1, r[i].name, r[i].rule);
             return GRIP_ERR_PARAM;
         }
-        if (grip_mf_check_params(c->tire[a].model.mf) != GRIP_OK) {
+    }
+    if (c->rate_hz < 50u || c->rate_hz > 2000u) {
+        (void)check_fail(d, "", -1, "rate_hz", "in 50..2000 Hz");
+        return GRIP_ERR_PARAM;
+    }
+    if (c->speed_ref_mu > 1u) {
+        (void)check_fail(d, "", -1, "speed_ref_mu", "0 or 1");
+        return GRIP_ERR_PARAM;
+    }
+    if (c->rear_steer > 1u) {
+        (void)check_fail(d, "", -1, "rear_steer", "0 or 1");
+        return GRIP_ERR_PARAM;
+    }
+    for (i = 0; i < sizeof r2 / sizeof r2[0]; ++i) {
+        if (!in_range(r2[i].v, r2[i].lo, r2[i].hi)) {
+            (void)check_fail(d, "", -1, r2[i].name, r2[i].rule);
+            return GRIP_ERR_PARAM;
+        }
+    }
+    for (a = 0; a < 2; ++a) {
+        if (c->tire[a].kind != GRIP_EST_TIRE_MF) {
+            (void)check_fail(d, TIRE, a, "kind", "GRIP_EST_TIRE_MF");
+            return GRIP_ERR_PARAM;
+        }
+        if (c->tire[a].model.mf == NULL) {
+            (void)check_fail(d, TIRE, a, "model.mf", "a parameter set, not NULL");
+            return GRIP_ERR_PARAM;
+        }
+        if (grip_mf_check_params_detail(c->tire[a].model.mf, d) != GRIP_OK) {
+            check_within(d, TIRE, a);
             return GRIP_ERR_PARAM;
         }
     }
@@ -166,7 +223,8 @@ grip_status_t grip_est_reset(grip_est_t *est)
     est->p[1][1] = RC(EST_P0_R);
     est->p[2][2] = RC(EST_P0_MU);
     est->p[3][3] = RC(EST_P0_B);
-    for (i = 0; i < 5; ++i) {
+    est->t_prev = 0;
+    for (i = 0; i < 6; ++i) {
         est->hold[i] = R_ZERO;
         est->age[i] = 1000000;
     }
@@ -205,14 +263,21 @@ grip_status_t grip_est_reset(grip_est_t *est)
 
 grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
 {
+    return grip_est_init_detail(est, cfg, NULL);
+}
+
+grip_status_t grip_est_init_detail(grip_est_t *est, const grip_est_config_t *cfg, grip_check_detail_t *detail)
+{
+    static const char *const AT_LOAD = "evaluates at the axle's static load (pure slip, 20 m/s)";
     grip_status_t st;
     grip_real_t l, m_g;
     int a, k;
+    check_clear(detail);
     if (est == NULL || cfg == NULL) {
         return GRIP_ERR_NULL;
     }
     est->magic = 0;
-    st = check_config(cfg);
+    st = check_config(cfg, detail);
     if (st != GRIP_OK) {
         return st;
     }
@@ -240,20 +305,24 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
         in.p = R_ZERO;
         in.vx = RC(20.0);
         if (tire_eval(&cfg->tire[a], &in, &o1) < 0) {
+            (void)check_fail(detail, "tire", a, "model.mf", AT_LOAD);
             return GRIP_ERR_PARAM;
         }
         in.alpha = RC(-0.01);
         if (tire_eval(&cfg->tire[a], &in, &o2) < 0) {
+            (void)check_fail(detail, "tire", a, "model.mf", AT_LOAD);
             return GRIP_ERR_PARAM;
         }
         est->c_alpha[a] = r_div_keep(r_sub(o2.fy, o1.fy), RC(0.02));
         in.alpha = R_ZERO;
         in.kappa = RC(0.01);
         if (tire_eval(&cfg->tire[a], &in, &o1) < 0) {
+            (void)check_fail(detail, "tire", a, "model.mf", AT_LOAD);
             return GRIP_ERR_PARAM;
         }
         in.kappa = RC(-0.01);
         if (tire_eval(&cfg->tire[a], &in, &o2) < 0) {
+            (void)check_fail(detail, "tire", a, "model.mf", AT_LOAD);
             return GRIP_ERR_PARAM;
         }
         est->c_kappa[a] = r_div_keep(r_sub(o1.fx, o2.fx), RC(0.02));
@@ -265,11 +334,21 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
         if (peak_friction(&cfg->tire[a], est->fz_static[a], 0, &best, &est->alpha_pk[a]) < 0 ||
             peak_friction(&cfg->tire[a], r_mul(RC(1.5), est->fz_static[a]), 0, &best2, &alpha2) < 0 ||
             peak_friction(&cfg->tire[a], est->fz_static[a], 1, &mux_pk, &est->kappa_pk[a]) < 0) {
+            (void)check_fail(detail, "tire", a, "model.mf", AT_LOAD);
             return GRIP_ERR_PARAM;
         }
         est->mu0[a] = best;
         est->mu0_k[a] = r_mul(RC(2.0), r_sub(best2, best));
-        if (est->c_alpha[a] <= R_ZERO || est->c_kappa[a] <= R_ZERO || best < RC(0.05)) {
+        if (est->c_alpha[a] <= R_ZERO) {
+            (void)check_fail(detail, "tire", a, "model.mf", "a cornering stiffness > 0 at the axle's static load");
+            return GRIP_ERR_PARAM;
+        }
+        if (est->c_kappa[a] <= R_ZERO) {
+            (void)check_fail(detail, "tire", a, "model.mf", "a slip stiffness > 0 at the axle's static load");
+            return GRIP_ERR_PARAM;
+        }
+        if (best < RC(0.05)) {
+            (void)check_fail(detail, "tire", a, "model.mf", "a peak lateral friction >= 0.05 at the axle's static load");
             return GRIP_ERR_PARAM;
         }
         est->sig_a[a] = relax_length(&cfg->tire[a], est->c_alpha[a], est->fz_static[a]);
@@ -280,6 +359,7 @@ grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg)
         for (k = 0; k <= GRIP_EST_SHAPE_N; ++k) {
             in.alpha = r_mul(est->alpha_pk[a], r_div(r_from_int(k), r_from_int(GRIP_EST_SHAPE_N)));
             if (tire_eval(&cfg->tire[a], &in, &o1) < 0) {
+                (void)check_fail(detail, "tire", a, "model.mf", AT_LOAD);
                 return GRIP_ERR_PARAM;
             }
             est->fy_shape[a][k] = r_abs(r_div(o1.fy, in.fz));

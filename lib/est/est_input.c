@@ -90,11 +90,54 @@ static void road_plane(grip_est_t *est, est_ctx_t *s)
     }
 }
 
+/* The step's period from the input times against 1 / rate_hz: F_RATE
+ * beyond EST_RATE_TOL of it, or with time going backwards. No check
+ * without times (t_us 0) or on a repeated time. */
+static void check_rate(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)
+{
+    int64_t t = in->t_us;
+    if (t == 0) {
+        est->t_prev = 0;
+        return;
+    }
+    if (est->t_prev != 0 && t != est->t_prev) {
+        int64_t d = t - est->t_prev;
+        int64_t per = (int64_t)(1000000u / est->cfg.rate_hz);
+        int64_t e = d - per;
+        if (d < 0 || (e < 0 ? -e : e) * EST_RATE_TOL_DIV > per) {
+            s->flags |= GRIP_EST_F_RATE;
+        }
+    }
+    est->t_prev = t;
+}
+
+/* The rear road-wheel angle (0 without one), its cosine and sine from
+ * their Taylor series: within EST_DELTA_R_MAX the error is below 5e-8 */
+static void rear_wheel_angle(grip_est_t *est, est_ctx_t *s, int rear_ok)
+{
+    grip_real_t d = rear_ok ? est->hold[H_REAR] : R_ZERO;
+    grip_real_t d2;
+    if (r_abs(d) > RC(EST_DELTA_R_MAX)) {
+        s->flags |= GRIP_EST_F_STEER_LIMIT;
+        d = sym_clamp(d, RC(EST_DELTA_R_MAX));
+    }
+    s->delta_r = d;
+    s->cr = R_ONE;
+    s->sr = R_ZERO;
+    if (d != R_ZERO) {
+        d2 = r_sq(d);
+        s->cr = r_add(R_ONE, r_mul(d2, r_add(RC(-0.5), r_mul(d2, RC(1.0 / 24.0)))));
+        s->sr = r_mul(d, r_add(R_ONE, r_mul(d2, r_add(RC(-1.0 / 6.0), r_mul(d2, RC(1.0 / 120.0))))));
+    }
+}
+
 void est_take_inputs(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)
 {
     const grip_est_config_t *c = &est->cfg;
+    int rear_ok;
     s->flags = 0u;
     s->valid = 0u;
+    check_rate(est, in, s);
     s->steer_ok = (uint8_t)take_input(est, in, GRIP_IN_STEER_ANGLE, H_STEER,
                                       r_mul(c->steer_ratio, RC(EST_DELTA_MAX * 2.0)), &s->flags);
     s->yaw_ok = (uint8_t)take_input(est, in, GRIP_IN_YAW_RATE, H_YAW, RC(EST_YAW_MAX), &s->flags);
@@ -102,6 +145,17 @@ void est_take_inputs(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *
     s->ay_ok = (uint8_t)take_input(est, in, GRIP_IN_AY, H_AY, RC(EST_ACC_MAX), &s->flags);
     s->vs_ok = take_input(est, in, GRIP_IN_VEHICLE_SPEED, H_VS, RC(EST_WS_MAX), &s->flags) &&
                est->age[H_VS] == 0;
+    /* the rear road-wheel angle: taken when given; required (its loss stops
+     * the lateral observer like the steering's) with cfg.rear_steer */
+    rear_ok = 0;
+    if (in->valid[GRIP_IN_REAR_STEER_ANGLE] || c->rear_steer || est->age[H_REAR] <= est->hold_steps) {
+        /* a car without rear steering skips the call (the M4F step budget) */
+        rear_ok = take_input(est, in, GRIP_IN_REAR_STEER_ANGLE, H_REAR, RC(2.0 * EST_DELTA_R_MAX), &s->flags);
+    }
+    if (c->rear_steer && !rear_ok) {
+        s->flags |= GRIP_EST_F_NO_REAR_STEER;
+        s->steer_ok = 0u;
+    }
     if (!s->steer_ok) {
         s->flags |= GRIP_EST_F_NO_STEER;
     }
@@ -115,6 +169,7 @@ void est_take_inputs(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *
         s->flags |= GRIP_EST_F_NO_AY;
     }
     road_wheel_angle(est, s);
+    rear_wheel_angle(est, s, rear_ok);
     /* yaw rate with the estimated gyro bias (state x[3]) removed */
     s->yaw = s->yaw_ok ? r_sub(est->hold[H_YAW], r_mul(RC(EST_S_B), est->x[3])) : R_ZERO;
     s->ax = s->ax_ok ? est->hold[H_AX] : R_ZERO;

@@ -29,7 +29,7 @@
 #endif
 
 /* slots of the held inputs (grip_est_t.hold, .age) */
-enum { H_STEER = 0, H_YAW = 1, H_AX = 2, H_AY = 3, H_VS = 4 };
+enum { H_STEER = 0, H_YAW = 1, H_AX = 2, H_AY = 3, H_VS = 4, H_REAR = 5 };
 
 /* One step's working values, handed from stage to stage (grip_est_step
  * owns it; each group is written by the stage named and read after it).
@@ -41,6 +41,8 @@ typedef struct {
     uint32_t valid;             /* GRIP_EST_V_* so far */
     grip_real_t delta;          /* QS rad road-wheel angle at the state's time */
     grip_real_t cd, sd;         /* QS its cosine and sine */
+    grip_real_t delta_r;        /* QS rad rear road-wheel angle (0 without rear steering) */
+    grip_real_t cr, sr;         /* QS its cosine and sine */
     grip_real_t yaw;            /* QS rad/s yaw rate less the gyro bias; 0 when missing */
     grip_real_t ax, ay;         /* QS m/s^2; ay less the body roll's gravity; 0 when missing */
     grip_real_t g_x, g_y;       /* QS m/s^2 gravity along the body axes on the road plane */
@@ -144,12 +146,22 @@ static inline grip_real_t relax_share(grip_real_t dist, grip_real_t sig)
  * the secant down to MU_MIN). Formed before the tire evaluations. */
 static inline void est_friction_floor(grip_est_t *est, const est_ctx_t *s)
 {
-    grip_real_t ax = s->ax, ay = s->ay;
+    grip_real_t ax = s->ax, ay = s->ay, mu = s->mu;
+    grip_real_t sig, dmu, mu2;
     est->mu_floor = (s->ax_ok && s->ay_ok) ? r_max(RC(EST_MU_MIN),
                                                    r_min(r_div(r_sqrt(r_add(r_sq(ax), r_sq(ay))),
                                                                r_mul(RC(EST_G), r_max(est->mu0[0], est->mu0[1]))),
                                                          RC(EST_MU_MAX)))
                                            : RC(EST_MU_MIN);
+    /* mu's secant (est_mu_secant): its span and the reciprocals are the
+     * same for the four wheels, formed once per step */
+    sig = r_mul(r_sqrt(est->p[2][2]), RC(EST_S_MU));
+    dmu = r_max(r_min(r_mul(RC(EST_SEC_K), sig), r_sub(mu, est->mu_floor)), RC(EST_SEC_MIN));
+    mu2 = r_sub(mu, dmu);
+    est->sec_inv_mu = r_div(R_ONE, mu);
+    est->sec_inv_mu2 = r_div(R_ONE, mu2);
+    est->sec_inv_dmu = r_div(R_ONE, dmu);
+    est->sec_ratio = r_mul(mu2, est->sec_inv_mu);
 }
 
 /* d Fy / d mu of one wheel (docs/estimator.md, "5. Friction"): the secant
@@ -159,19 +171,16 @@ static inline void est_friction_floor(grip_est_t *est, const est_ctx_t *s)
  * [0, fy / mu] like the tangent (F - alpha F') / mu. The tangent is 0 while
  * the model tire is linear, however far a lower mu would take it (the snow
  * onset: mu stayed at its prior while vy took the ay deficit). */
-static inline grip_real_t est_mu_secant(const grip_est_t *est, int axle, grip_real_t alpha, grip_real_t fy, grip_real_t mu)
+static inline grip_real_t est_mu_secant(const grip_est_t *est, int axle, grip_real_t alpha, grip_real_t fy)
 {
-    grip_real_t sig = r_mul(r_sqrt(est->p[2][2]), RC(EST_S_MU));
-    grip_real_t dmu = r_max(r_min(r_mul(RC(EST_SEC_K), sig), r_sub(mu, est->mu_floor)), RC(EST_SEC_MIN));
-    grip_real_t mu2 = r_sub(mu, dmu);
-    grip_real_t inv_mu = r_div(R_ONE, mu);
+    grip_real_t inv_mu = est->sec_inv_mu;
     grip_real_t f1 = r_table_lerp(est->fy_shape[axle], GRIP_EST_SHAPE_N,
                                   r_mul(r_mul(r_abs(alpha), inv_mu), est->inv_apk[axle]));
     grip_real_t q = R_ZERO;
     if (f1 > RC(EST_SHAPE_F_MIN)) {
         grip_real_t f2 = r_table_lerp(est->fy_shape[axle], GRIP_EST_SHAPE_N,
-                                      r_mul(r_mul(r_abs(alpha), r_div(R_ONE, mu2)), est->inv_apk[axle]));
-        q = r_mul(r_sub(R_ONE, r_mul(r_mul(mu2, inv_mu), r_div(f2, f1))), r_div(R_ONE, dmu));
+                                      r_mul(r_mul(r_abs(alpha), est->sec_inv_mu2), est->inv_apk[axle]));
+        q = r_mul(r_sub(R_ONE, r_mul(est->sec_ratio, r_div(f2, f1))), est->sec_inv_dmu);
         q = r_clamp(q, R_ZERO, inv_mu);
     }
     return r_mul(q, fy);

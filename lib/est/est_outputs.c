@@ -63,19 +63,19 @@ void est_balances(grip_est_t *est, const est_ctx_t *s)
  * predicted from the model's yaw moment: its correction stays in the lag,
  * else a model-vs-gyro fight drifts the lagged angles (docs/estimator.md,
  * "Tire relaxation"). */
-static void lateral_outputs(grip_est_t *est, grip_est_output_t *out, grip_real_t vx, grip_real_t cd,
-                            grip_real_t sd, grip_real_t vyd, grip_real_t racc, grip_real_t duv)
+static void lateral_outputs(grip_est_t *est, grip_est_output_t *out, const est_ctx_t *s, grip_real_t vx,
+                            grip_real_t vyd, grip_real_t racc, grip_real_t duv)
 {
     grip_real_t lat = est->cfg.latency;
     grip_real_t vy = sym_clamp(r_add(est->x[0], r_mul(lat, vyd)), r_add(r_mul(RC(EST_VY_K), r_abs(vx)), R_ONE));
     grip_real_t r = sym_clamp(r_add(est->x[1], r_mul(lat, racc)), RC(EST_YAW_MAX));
     /* the outputs' road-wheel angle (steering latency), to first order about
      * the state's (a few mrad) */
-    grip_real_t cd_o = r_sub(cd, r_mul(sd, est->delta_o_d)), sd_o = r_add(sd, r_mul(cd, est->delta_o_d));
+    grip_real_t cd_o = r_sub(s->cd, r_mul(s->sd, est->delta_o_d)), sd_o = r_add(s->sd, r_mul(s->cd, est->delta_o_d));
     int i;
     for (i = 0; i < 4; ++i) {
         int axle = i >> 1;
-        grip_real_t cdi = axle ? R_ONE : cd_o, sdi = axle ? R_ZERO : sd_o; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
+        grip_real_t cdi = axle ? s->cr : cd_o, sdi = axle ? s->sr : sd_o;
         /* the wheel kinematics of the tire evaluation (est_tires.c), written
          * out again rather than shared through a helper with out-parameters,
          * which cost 24 B of M0+ stack */
@@ -144,7 +144,7 @@ void est_outputs(grip_est_t *est, est_ctx_t *s, grip_est_output_t *out)
     grip_real_t mu = est->x[2];
     if (est->active) {
         out->vx = r_add(vx, r_mul(c->latency, vx_rate(est, s->ax, est->x[1], est->x[0], s->g_x)));
-        lateral_outputs(est, out, vx, s->cd, s->sd, r_sub(r_add(s->ay_ok ? s->ay : s->ay_m, s->g_y), r_mul(est->x[1], vx)),
+        lateral_outputs(est, out, s, vx, r_sub(r_add(s->ay_ok ? s->ay : s->ay_m, s->g_y), r_mul(est->x[1], vx)),
                         s->racc, r_sub(est->x[0], r_add(s->vy, s->dvy)));
     } else {
         out->vx = vx;
@@ -162,7 +162,7 @@ void est_outputs(grip_est_t *est, est_ctx_t *s, grip_est_output_t *out)
         grip_real_t l = r_add(c->lf, c->lr);
         grip_real_t av2 = r_mul(RC(0.01), r_mul(r_mul(est->k_us, vx), vx));
         grip_real_t den = r_max(r_mul(l, r_add(R_ONE, av2)), r_mul(RC(0.1), l));
-        grip_real_t rr = r_div(r_mul(vx, delta), den);
+        grip_real_t rr = r_div(r_mul(vx, r_sub(delta, s->delta_r)), den);
         grip_real_t lim = r_div(r_mul(r_mul(mu, r_min(est->mu0[0], est->mu0[1])), RC(EST_G)), vx);
         out->yaw_rate_ref = sym_clamp(rr, lim);
         s->valid |= GRIP_EST_V_YAW_REF;

@@ -41,11 +41,23 @@ void est_speed(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)
     int ws_ok[4];
     grip_real_t vmin = RC(1000.0), vmax = RC(-1000.0), vsum = R_ZERO, v_ref = R_ZERO;
     grip_real_t r_now = est->active ? est->x[1] : s->yaw;
-    grip_real_t vy_now = est->active ? est->x[0] : R_ZERO;
+    /* vy: the filter's; without it the kinematic value of a rear axle
+     * rolling without lateral slip (low speed: vy - r lr = vx tan delta_r) */
+    grip_real_t vy_now = est->active ? est->x[0]
+                                     : r_add(r_mul(r_now, est->cfg.lr), r_div(r_mul(est->vx, s->sr), s->cr));
     grip_real_t vx_pred = r_add(est->vx, r_div(vx_rate(est, ax, r_now, vy_now, s->g_x), rate));
     grip_real_t k = R_ZERO;
     grip_real_t vcs[4];
     int outl[4], n_good = 0;
+    /* a wheel steered beyond WS_STEER_MAX tells vx only through the
+     * estimated vy: it enters the reference only when no wheel steered less
+     * gives one (est_tuning.h) */
+    int far[4];
+    int n_near = 0;
+    far[0] = r_abs(s->sd) > RC(EST_WS_STEER_MAX); /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
+    far[1] = far[0];
+    far[2] = r_abs(s->sr) > RC(EST_WS_STEER_MAX); /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
+    far[3] = far[2];
     for (i = 0; i < 4; ++i) {
         grip_real_t v = in->value[GRIP_IN_WHEEL_SPEED_FL + i];
         ws_ok[i] = in->valid[GRIP_IN_WHEEL_SPEED_FL + i] && r_is_finite(v) && r_abs(v) < RC(EST_WS_MAX);
@@ -55,8 +67,11 @@ void est_speed(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)
         outl[i] = 0;
         vcs[i] = R_ZERO;
         if (ws_ok[i]) {
-            /* speed of the CG the wheel indicates (yaw-corrected, steered) */
-            grip_real_t vc = (i < 2) ? r_div_keep(v, cd) : v;
+            /* speed of the CG the wheel indicates: the wheel turns at its
+             * centre's speed along its heading, ws = (vx - r y) cos d +
+             * (vy + r x) sin d, solved for vx */
+            grip_real_t cdi = (i < 2) ? cd : s->cr, sdi = (i < 2) ? s->sd : s->sr; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
+            grip_real_t vc = r_div_keep(r_sub(v, r_mul(r_add(vy_now, r_mul(r_now, est->xw[i])), sdi)), cdi);
             vc = r_add(vc, r_mul(r_now, est->yw[i]));
             vcs[i] = vc;
             n_ws += 1;
@@ -70,11 +85,24 @@ void est_speed(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)
                     outl[i] = 1;
                 }
             }
+            if (!far[i]) {
+                n_near += 1;
+            }
             if (!outl[i]) {
                 n_good += 1;
             }
         } else {
             wheels_ok = 0;
+        }
+    }
+    /* the far-steered wheels out of the reference while a wheel steered
+     * less is valid (not outliers by speed: no lock / spin flag) */
+    if (n_near > 0 && (far[0] || far[2])) {
+        for (i = 0; i < 4; ++i) {
+            if (ws_ok[i] && far[i] && !outl[i]) {
+                outl[i] = 1;
+                n_good -= 1;
+            }
         }
     }
     /* every valid wheel off the prediction on the side the measured

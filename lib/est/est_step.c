@@ -76,5 +76,5 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     est_outputs(est, &s, out);
     out->valid = s.valid;
     out->flags = s.flags;
-    return GRIP_OK;
+    return ((s.flags & GRIP_EST_F_RATE) != 0u) ? GRIP_WARN_RATE : GRIP_OK;
 }

@@ -77,7 +77,7 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
 
     for (i = 0; i < 4; ++i) {
         int axle = i >> 1;
-        grip_real_t cdi = axle ? R_ONE : s->cd, sdi = axle ? R_ZERO : s->sd;
+        grip_real_t cdi = axle ? s->cr : s->cd, sdi = axle ? s->sr : s->sd;
         grip_real_t vcx = r_sub(s->vx, r_mul(s->r, est->yw[i]));
         grip_real_t vcy = r_add(s->vy, r_mul(s->r, est->xw[i]));
         grip_real_t vxw = r_add(r_mul(cdi, vcx), r_mul(sdi, vcy));
@@ -170,7 +170,7 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
         dady = r_div(r_mul(c2, cdi), den);                    /* d alpha / d vy  [s/m] */
         dadr = r_div(r_mul(c2, lever), den);                  /* d alpha / d r   [s]   */
         dfda = r_neg(r_mul(g, ca));                           /* d Fy / d alpha  [N/rad] */
-        dfdmu = est_mu_secant(est, axle, alpha, out->fy[i], s->mu);   /* d Fy / d mu [N] */
+        dfdmu = est_mu_secant(est, axle, alpha, out->fy[i]);   /* d Fy / d mu [N] */
         est->fy_dmu[i] = dfdmu; /* the output forces move along it with the updates' mu */
         {
             grip_real_t dfy_dvy = r_mul(dady, dfda);

@@ -25,6 +25,16 @@
                               *        Beyond it F_STEER_LIMIT and no ay update (fitted to
                               *        the clamped angle, a straight road at lock took vy to
                               *        2.3 m/s, past both axles' peaks)                     */
+#define EST_DELTA_R_MAX 0.25 /* rad   rear road-wheel angle limit (production rear steering
+                              *        turns <= ~10 deg); cos and sin by their Taylor series,
+                              *        error < 5e-8 within it; beyond it F_STEER_LIMIT      */
+#define EST_WS_STEER_MAX 0.2 /* rad   a wheel steered beyond this enters the speed reference
+                              *        only when no wheel steered less gives one: its speed
+                              *        carries (vy + r x) sin(delta), i.e. the estimated vy
+                              *        (a wrong vy at full lock took vx 8 -> 2.8 m/s)       */
+#define EST_RATE_TOL_DIV 4   /* -      a step period off 1 / rate_hz by more than 1 / 4 of
+                              *        it is F_RATE (a CAN sampler's jitter is far below;
+                              *        25 Hz data replayed at 100 Hz is far above)          */
 #define EST_WS_MAX   120.0   /* m/s    wheel-speed and vehicle-speed range (432 km/h); also
                               *        bounds vx                                            */
 #define EST_YAW_MAX  2.5     /* rad/s  gyro range used (143 deg/s); also bounds the yaw-rate

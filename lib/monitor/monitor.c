@@ -13,6 +13,7 @@
 #include <stddef.h>
 #include "grip/grip_monitor.h"
 #include "arith.h"
+#include "../core/check_internal.h"
 
 #define MON_MAGIC 0x4d4f4e31u   /* "MON1" */
 #define MON_BIG 1000000
@@ -123,7 +124,7 @@ grip_status_t grip_monitor_config_default(grip_monitor_config_t *cfg)
     return GRIP_OK;
 }
 
-static grip_status_t check_config(const grip_monitor_config_t *c);
+static grip_status_t check_config(const grip_monitor_config_t *c, grip_check_detail_t *d);
 
 grip_status_t grip_monitor_config_from_est(grip_monitor_config_t *cfg, const grip_est_t *est, uint32_t driven)
 {
@@ -144,20 +145,46 @@ grip_status_t grip_monitor_config_from_est(grip_monitor_config_t *cfg, const gri
     c.roll_gradient = est->cfg.roll_gradient;
     c.driven = driven;
     c.rate_hz = est->cfg.rate_hz;
-    s = check_config(&c);
+    s = check_config(&c, NULL);
     if (s == GRIP_OK) {
         *cfg = c;
     }
     return s;
 }
 
-static grip_status_t check_config(const grip_monitor_config_t *c)
+/* A configuration value, its range and the rule's text. */
+typedef struct {
+    const char *name;
+    grip_real_t v;
+    grip_real_t lo;
+    grip_real_t hi;
+    const char *rule;
+} mon_range_t;
+
+static grip_status_t check_config(const grip_monitor_config_t *c, grip_check_detail_t *d)
 {
-    if (!in_range(c->lf, RC(0.05), RC(10.0)) || !in_range(c->lr, RC(0.05), RC(10.0)) ||
-        !in_range(c->track_f, RC(0.2), RC(4.0)) || !in_range(c->track_r, RC(0.2), RC(4.0)) ||
-        !in_range(c->steer_ratio, R_ONE, RC(100.0)) || !in_range(c->stab_factor_x100, RC(-1.0), R_ONE) ||
-        !in_range(c->roll_gradient, R_ZERO, RC(0.05)) || c->driven < 1u || c->driven > 3u ||
-        c->rate_hz < 50u || c->rate_hz > 2000u) {
+    const mon_range_t r[] = {
+        { "lf", c->lf, RC(0.05), RC(10.0), "in [0.05, 10] m" },
+        { "lr", c->lr, RC(0.05), RC(10.0), "in [0.05, 10] m" },
+        { "track_f", c->track_f, RC(0.2), RC(4.0), "in [0.2, 4] m" },
+        { "track_r", c->track_r, RC(0.2), RC(4.0), "in [0.2, 4] m" },
+        { "steer_ratio", c->steer_ratio, R_ONE, RC(100.0), "in [1, 100]" },
+        { "stab_factor_x100", c->stab_factor_x100, RC(-1.0), R_ONE, "in [-1, 1] (100 s^2/m^2)" },
+        { "roll_gradient", c->roll_gradient, R_ZERO, RC(0.05), "in [0, 0.05] rad/(m/s^2)" },
+    };
+    size_t i;
+    for (i = 0; i < sizeof r / sizeof r[0]; ++i) {
+        if (!in_range(r[i].v, r[i].lo, r[i].hi)) {
+            (void)check_fail(d, "", -1, r[i].name, r[i].rule);
+            return GRIP_ERR_PARAM;
+        }
+    }
+    if (c->driven < 1u || c->driven > 3u) {
+        (void)check_fail(d, "", -1, "driven", "1 (front), 2 (rear) or 3 (both axles)");
+        return GRIP_ERR_PARAM;
+    }
+    if (c->rate_hz < 50u || c->rate_hz > 2000u) {
+        (void)check_fail(d, "", -1, "rate_hz", "in 50..2000 Hz");
         return GRIP_ERR_PARAM;
     }
     return GRIP_OK;
@@ -214,12 +241,19 @@ grip_status_t grip_monitor_reset(grip_monitor_t *mon)
 
 grip_status_t grip_monitor_init(grip_monitor_t *mon, const grip_monitor_config_t *cfg)
 {
+    return grip_monitor_init_detail(mon, cfg, NULL);
+}
+
+grip_status_t grip_monitor_init_detail(grip_monitor_t *mon, const grip_monitor_config_t *cfg,
+                                       grip_check_detail_t *detail)
+{
     int s;
+    check_clear(detail);
     if (mon == NULL || cfg == NULL) {
         return GRIP_ERR_NULL;
     }
     mon->magic = 0u;
-    if (check_config(cfg) != GRIP_OK) {
+    if (check_config(cfg, detail) != GRIP_OK) {
         return GRIP_ERR_PARAM;
     }
     mon->cfg = *cfg;

@@ -208,13 +208,13 @@ static void trim(char **s, char **e)
     }
 }
 
-static grip_status_t check(const grip_brush_tool *t)
+static grip_status_t check(const grip_brush_tool *t, grip_check_detail_t *d)
 {
     switch (t->kind) {
-    case GRIP_BRUSH_KIND_FIALA: return grip_fiala_check_params(&t->fiala);
-    case GRIP_BRUSH_KIND_BRUSH: return grip_brush_check_params(&t->brush);
-    case GRIP_BRUSH_KIND_SAKAI: return grip_sakai_check_params(&t->sakai);
-    case GRIP_BRUSH_KIND_NEOFIALA: return grip_neofiala_check_params(&t->neofiala);
+    case GRIP_BRUSH_KIND_FIALA: return grip_fiala_check_params_detail(&t->fiala, d);
+    case GRIP_BRUSH_KIND_BRUSH: return grip_brush_check_params_detail(&t->brush, d);
+    case GRIP_BRUSH_KIND_SAKAI: return grip_sakai_check_params_detail(&t->sakai, d);
+    case GRIP_BRUSH_KIND_NEOFIALA: return grip_neofiala_check_params_detail(&t->neofiala, d);
     default: return GRIP_ERR_STATE;
     }
 }
@@ -317,9 +317,9 @@ int grip_brush_params_parse(const char *text, const char *name, const char *expe
             FAIL("%s:%lu: %s: unknown key for model %s", name, lineno, ks, md->name);
         }
         if (seen[i]) {
-            FAIL("%s:%lu: %s: given twice", name, lineno, ks);
+            FAIL("%s:%lu: %s: given twice (first on line %d)", name, lineno, ks, seen[i]);
         }
-        seen[i] = 1;
+        seen[i] = (int)lineno;
         {
             char *end = NULL;
             double v;
@@ -338,10 +338,19 @@ int grip_brush_params_parse(const char *text, const char *name, const char *expe
         FAIL("%s:0: no 'model = ...' entry", name);
     }
     {
-        grip_status_t st = check(t);
+        grip_check_detail_t d;
+        grip_status_t st = check(t, &d);
         if (st != GRIP_OK) {
-            FAIL("%s:0: the library rejects the parameter set: status %d (%s); valid ranges: "
-                 "docs/brush-models.md", name, (int)st, grip_status_str(st));
+            /* the line of the field the library names (0: its default) */
+            int line = 0;
+            for (i = 0; i < md->nfields; ++i) {
+                if (strcmp(md->fields[i].key, d.field) == 0) {
+                    line = seen[i];
+                }
+            }
+            FAIL("%s:%d: %s: the library rejects the parameter set: %s must be %s%s (status %d, %s); valid "
+                 "ranges: docs/brush-models.md", name, line, d.field[0] ? d.field : "-", d.field[0] ? d.field : "it",
+                 d.rule, line ? "" : " (its default)", (int)st, grip_status_str(st));
         }
     }
     if (t->kind == GRIP_BRUSH_KIND_NEOFIALA && grip_neofiala_prepare(&t->neofiala, &t->nf_model) != GRIP_OK) {
@@ -381,6 +390,18 @@ int grip_brush_params_read(const char *path, const char *expect_model, grip_brus
     }
     buf[n] = '\0';
     fclose(f);
+    {
+        /* text only: a NUL would end the C string and hide the rest */
+        long at;
+        unsigned long line = 1;
+        for (at = 0; at < n && buf[at] != '\0'; at++) {
+            line += (buf[at] == '\n');
+        }
+        if (at < n) {
+            free(buf);
+            FAIL("%s:%lu: NUL byte at byte offset %ld: not a text parameter file", path, line, at);
+        }
+    }
     rc = grip_brush_params_parse(buf, path, expect_model, t, err, errlen);
     free(buf);
     return rc;

@@ -223,22 +223,27 @@ int csv_read_line(csv_reader *r, char *err, size_t errlen)
     int c;
     int too_long = 0;
     r->line_offset = r->offset;
+    r->error = 0;
+    r->partial = 0;
     errno = 0;
-    while ((c = getc(r->file)) != EOF) {
+    while ((c = getc_unlocked(r->file)) != EOF) {
         r->offset++;
         if (c == '\n') {
             break;
         }
         if (n >= r->max) {
             too_long = 1;
+            r->partial = 1;
             break;
         }
         r->line[n++] = (char)c;
         if (c == 0 || (c < 0x20 && c != '\t' && c != '\r') || c == 0x7F) {
+            r->partial = 1;
             break;   /* not text in any encoding: report it without reading on */
         }
     }
     if (c == EOF && ferror(r->file)) {
+        r->error = CSV_ERR_READ;
         snprintf(err, errlen, "%s: read error after line %lu: %s", r->path, r->lineno, strerror(errno ? errno : EIO));
         return -1;
     }
@@ -269,9 +274,11 @@ int csv_read_line(csv_reader *r, char *err, size_t errlen)
         }
         snprintf(err, errlen, "%s:%lu: %s at byte offset %llu (byte %lu of the line): not text", r->path, r->lineno,
                  text, r->line_offset + (unsigned long long)i, (unsigned long)i + 1ul);
+        r->error = CSV_ERR_TEXT;
         return -1;
     }
     if (too_long) {
+        r->error = CSV_ERR_LONG;
         snprintf(err, errlen, "%s:%lu: line longer than %lu bytes (line starts at byte offset %llu)", r->path,
                  r->lineno, (unsigned long)r->max, r->line_offset);
         return -1;
@@ -286,6 +293,34 @@ int csv_read_line(csv_reader *r, char *err, size_t errlen)
     }
     r->len = n;
     return 1;
+}
+
+int csv_skip_line(csv_reader *r, char *err, size_t errlen)
+{
+    unsigned long long n = r->offset - r->line_offset;   /* bytes of the line read so far */
+    int c;
+    if (!r->partial) {
+        return 0;
+    }
+    r->partial = 0;
+    while ((c = getc_unlocked(r->file)) != EOF) {
+        r->offset++;
+        if (c == '\n') {
+            return 0;
+        }
+        if (++n > r->max) {
+            snprintf(err, errlen, "%s:%lu: line longer than %lu bytes (line starts at byte offset %llu)", r->path,
+                     r->lineno, (unsigned long)r->max, r->line_offset);
+            r->error = CSV_ERR_LONG;
+            return -1;
+        }
+    }
+    if (ferror(r->file)) {
+        snprintf(err, errlen, "%s: read error after line %lu: %s", r->path, r->lineno, strerror(errno ? errno : EIO));
+        r->error = CSV_ERR_READ;
+        return -1;
+    }
+    return 0;
 }
 
 /* ---- nearest name ------------------------------------------------------------ */

@@ -49,7 +49,14 @@ typedef struct {
     unsigned long lineno;             /* its number, from 1 */
     unsigned long long offset;        /* bytes read so far */
     unsigned long long line_offset;   /* file offset of its first byte */
+    int error;                        /* after -1: CSV_ERR_* */
+    int partial;                      /* after -1: the line was not read to its end */
 } csv_reader;
+
+/* csv_reader.error after csv_read_line returned -1. */
+#define CSV_ERR_READ 1    /* the file could not be read */
+#define CSV_ERR_TEXT 2    /* a byte that is not text (NUL, control, not UTF-8) */
+#define CSV_ERR_LONG 3    /* a line longer than max */
 
 /* Opens path ("-" = standard input). buf holds at least max + 1 bytes and
  * stays the caller's. 0, or -1 with "cannot open PATH: reason" in err. */
@@ -58,6 +65,12 @@ int csv_reader_open(csv_reader *r, const char *path, char *buf, size_t max, int 
 /* 1: the next line is in r->line / r->len; 0: end of file; -1: error, the
  * message ("PATH:LINE: ...") in err. */
 int csv_read_line(csv_reader *r, char *err, size_t errlen);
+
+/* After a CSV_ERR_TEXT line that was not read to its end (r->partial):
+ * reads on to its '\n' (or the end), so the next csv_read_line starts on
+ * the next line. 0, or -1 (err: "line longer than") if the line holds more
+ * than r->max bytes in all: an endless line (/dev/zero) is not read on. */
+int csv_skip_line(csv_reader *r, char *err, size_t errlen);
 
 void csv_reader_close(csv_reader *r);
 

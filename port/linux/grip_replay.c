@@ -66,6 +66,7 @@ typedef struct {
     long long time_offset_us;
     unsigned long max_frames;
     const char *est_tir;       /* --estimate: tire of both axles; NULL = inputs only */
+    const char *est_tir_rear;  /* --estimate-rear: the rear axle's tire instead; NULL = as front */
     const char *vehicle;       /* --vehicle: configuration preset */
     const char *vehicle_file;  /* --vehicle-file: key = value overrides of the preset */
     const char *csv_in;        /* --csv: estimator inputs from a CSV file instead of CAN */
@@ -77,6 +78,7 @@ typedef struct {
     int all_inputs;
     int quiet;
     int want_fd;
+    unsigned tir_flags;        /* --strict, --no-range-check: GRIP_TIR_* of the .tir reader */
 } options;
 
 typedef struct {
@@ -99,6 +101,7 @@ typedef struct {
     /* the estimator, when --estimate is given */
     int est_on;
     grip_mf_params tire;
+    grip_mf_params tire_rear;  /* --estimate-rear: the rear axle's tire */
     grip_est_t est;
     grip_est_output_t est_out;
     grip_status_t est_status;
@@ -375,42 +378,11 @@ static int vehicle_file(const char *path, grip_est_config_t *cfg)
     return 0;
 }
 
-/* The .tir reader (tir_reader.c) reads whole lines of any length; a file
- * that is not a .tir (a device, a sparse file, a log given by mistake)
- * would be held in memory line by line. This pass bounds it first: lines
- * of at most TIR_LINE_MAX bytes, at most TIR_SIZE_MAX bytes in all (the
- * bundled .tir files have lines of 139 bytes and 27 kB). */
-#define TIR_LINE_MAX 4096
-#define TIR_SIZE_MAX (4L << 20)
-
-static int tir_precheck(const char *path)
+/* A warning of the .tir reader ("FILE:LINE: KEY: what"). */
+static void print_tir_warning(void *ctx, const char *message)
 {
-    FILE *f = fopen(path, "rb");
-    unsigned long line = 1;
-    long total = 0;
-    long len = 0;
-    int c;
-    if (f == NULL) {
-        return 0;   /* the reader says why */
-    }
-    while ((c = getc(f)) != EOF) {
-        if (++total > TIR_SIZE_MAX) {
-            fprintf(stderr, "grip-replay: %s: larger than %ld bytes: not a .tir file\n", path, TIR_SIZE_MAX);
-            fclose(f);
-            return -1;
-        }
-        if (c == '\n') {
-            line++;
-            len = 0;
-        } else if (++len > TIR_LINE_MAX) {
-            fprintf(stderr, "grip-replay: %s:%lu: line longer than %d bytes (at byte offset %ld): not a .tir file\n",
-                    path, line, TIR_LINE_MAX, total - len);
-            fclose(f);
-            return -1;
-        }
-    }
-    fclose(f);
-    return 0;
+    (void)ctx;
+    fprintf(stderr, "grip-replay: warning: %s\n", message);
 }
 
 /* Called once per estimator step with the time-aligned input sample, before
@@ -459,6 +431,11 @@ static void usage(FILE *f)
             "      --idle-exit S      live: stop once no frame came for S seconds (after the first)\n"
             "  -e, --estimate TIR     run the estimator each step (tire .tir on both axles) and\n"
             "                         append its outputs to every row\n"
+            "      --estimate-rear TIR  the rear axle's tire (-e's then on the front axle only)\n"
+            "      --strict           .tir: every warning is an error (an unknown key, a key in\n"
+            "                         another section, an empty value)\n"
+            "      --no-range-check   .tir: accept coefficients outside their plausible ranges\n");
+    fprintf(f,
             "      --vehicle NAME     estimator vehicle: rav4 (default), av21 or generic\n"
             "      --vehicle-file F   override vehicle values: lines `key = value` (SI): mass iz lf lr\n"
             "                         track track_f track_r h_cg steer_ratio wheel_radius\n"
@@ -518,8 +495,9 @@ static const struct {
     { "", "--all-inputs", SC_ANY },   { "", "--units", SC_ANY },          { "", "--dump", SC_CAN },
     { "-i", "--interface", SC_LIVE }, { "", "--fd", SC_LIVE },            { "-d", "--duration", SC_LIVE },
     { "-n", "--frames", SC_CAN },     { "", "--idle-exit", SC_LIVE },     { "-e", "--estimate", SC_ANY },
-    { "", "--vehicle", SC_EST },      { "", "--vehicle-file", SC_EST },   { "", "--csv", SC_CSV },
+    { "", "--estimate-rear", SC_EST }, { "", "--vehicle", SC_EST },      { "", "--vehicle-file", SC_EST },   { "", "--csv", SC_CSV },
     { "", "--ignore-columns", SC_CSV }, { "-q", "--quiet", SC_ANY },
+    { "", "--strict", SC_EST },       { "", "--no-range-check", SC_EST },
 };
 #define N_OPTS (sizeof OPTS / sizeof OPTS[0])
 
@@ -578,6 +556,12 @@ static int parse_args(int argc, char **argv, options *o)
         } else if (strcmp(a, "--fd") == 0) {
             o->want_fd = 1;
             takes = 0;
+        } else if (strcmp(a, "--strict") == 0) {
+            o->tir_flags |= GRIP_TIR_STRICT;
+            takes = 0;
+        } else if (strcmp(a, "--no-range-check") == 0) {
+            o->tir_flags |= GRIP_TIR_NO_RANGE_CHECK;
+            takes = 0;
         } else if (a[0] == '-' && a[1] != '\0' && v == NULL) {
             fprintf(stderr, "grip-replay: option %s needs a value\n", a);
             return -1;
@@ -591,6 +575,8 @@ static int parse_args(int argc, char **argv, options *o)
             o->iface = v;
         } else if (IS("-e", "--estimate")) {
             o->est_tir = v;
+        } else if (strcmp(a, "--estimate-rear") == 0) {
+            o->est_tir_rear = v;
         } else if (strcmp(a, "--vehicle") == 0) {
             o->vehicle = v;
         } else if (strcmp(a, "--vehicle-file") == 0) {
@@ -1888,28 +1874,55 @@ estimator:
                     o.step_ms, hz, rate_hz, 100.0 * fabs(hz - rate_hz) / hz);
             return EXIT_USAGE;
         }
-        if (tir_precheck(o.est_tir) != 0) {
-            return EXIT_USAGE;
-        }
-        if (grip_tir_read(o.est_tir, &r.tire, err, sizeof err) != 0) {
-            fprintf(stderr, "grip-replay: %s\n", err);
-            return EXIT_USAGE;
+        {
+            /* bounded (4 MiB, 4096-byte lines: /dev/zero and a 1 GiB file end
+             * at once) and validated; warnings name the file, line and key */
+            grip_tir_options to;
+            grip_tir_options_init(&to);
+            to.flags = o.tir_flags;
+            to.warn = print_tir_warning;
+            if (grip_tir_read_opts(o.est_tir, &to, &r.tire, err, sizeof err) != 0) {
+                fprintf(stderr, "grip-replay: %s\n", err);
+                return EXIT_USAGE;
+            }
         }
         if (vehicle_config(o.vehicle, &r.tire, rate_hz, &ecfg) != 0) {
             fprintf(stderr, "grip-replay: unknown --vehicle '%s' (rav4, av21, generic)\n", o.vehicle);
             return EXIT_USAGE;
         }
+        if (o.est_tir_rear != NULL) {
+            grip_tir_options to;
+            grip_tir_options_init(&to);
+            to.flags = o.tir_flags;
+            to.warn = print_tir_warning;
+            if (grip_tir_read_opts(o.est_tir_rear, &to, &r.tire_rear, err, sizeof err) != 0) {
+                fprintf(stderr, "grip-replay: %s\n", err);
+                return EXIT_USAGE;
+            }
+            ecfg.tire[1].kind = GRIP_EST_TIRE_MF;
+            ecfg.tire[1].model.mf = &r.tire_rear;
+        }
         if (o.vehicle_file != NULL && vehicle_file(o.vehicle_file, &ecfg) != 0) {
             return EXIT_USAGE;
         }
         r.mass_si = real_to_si(ecfg.mass, 1);
-        st = grip_est_init(&r.est, &ecfg);
-        if (st != GRIP_OK) {
-            fprintf(stderr, "grip-replay: the estimator rejects the vehicle (%s%s%s) with tire %s at %d Hz: %s "
-                    "(grip_est_init's ranges: include/grip/grip_est.h)\n", o.vehicle ? o.vehicle : "rav4",
-                    o.vehicle_file ? " + " : "", o.vehicle_file ? o.vehicle_file : "", o.est_tir, rate_hz,
-                    grip_status_str(st));
-            return EXIT_USAGE;
+        {
+            grip_check_detail_t d;
+            char what[96];
+            st = grip_est_init_detail(&r.est, &ecfg, &d);
+            if (st != GRIP_OK) {
+                if (d.part[0] != '\0') {
+                    snprintf(what, sizeof what, "%s[%d] (%s axle).%s", d.part, (int)d.index,
+                             d.index == 0 ? "front" : "rear", d.field);
+                } else {
+                    snprintf(what, sizeof what, "%s", d.field[0] ? d.field : "-");
+                }
+                fprintf(stderr, "grip-replay: the estimator rejects the vehicle (%s%s%s) with tire %s at %d Hz: "
+                        "%s must be %s (%s; grip_est_init's ranges: include/grip/grip_est.h)\n",
+                        o.vehicle ? o.vehicle : "rav4", o.vehicle_file ? " + " : "",
+                        o.vehicle_file ? o.vehicle_file : "", o.est_tir, rate_hz, what, d.rule, grip_status_str(st));
+                return EXIT_USAGE;
+            }
         }
         r.est_on = 1;
     }

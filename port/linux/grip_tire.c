@@ -47,6 +47,11 @@
 /* Status written for a row that could not be read (not a grip_status_t). */
 #define ROW_MALFORMED (-100)
 
+/* Longest input line, bytes (without the line end): rows are read into a
+ * fixed buffer, so memory does not grow with the input (/dev/zero, a 1 GiB
+ * file without a line end). */
+#define TIRE_LINE_MAX 65536
+
 /* Model inputs and outputs, in this order: the six every model needs,
  * then the Magic Formula's turn slip and wheel spin (optional columns, 0
  * when absent). */
@@ -111,6 +116,7 @@ typedef struct {
     int status_column;
     int dump_params;
     const char *prefix;
+    unsigned tir_flags;    /* GRIP_TIR_STRICT, GRIP_TIR_NO_RANGE_CHECK */
 } cli_options;
 
 /* Everything a model keeps between rows. */
@@ -138,8 +144,16 @@ typedef struct {
 
 /* ---- Magic Formula ------------------------------------------------ */
 
+/* A warning of the .tir reader ("FILE:LINE: KEY: what"). */
+static void print_warning(void *ctx, const char *message)
+{
+    (void)ctx;
+    fprintf(stderr, "grip-tire: warning: %s\n", message);
+}
+
 static int mf_setup(const cli_options *o, model_ctx *m, char *err, size_t errlen)
 {
+    static grip_tir_values vals;   /* the file's values and their lines */
     grip_status_t st;
     if (o->tir == NULL) {
         snprintf(err, errlen, "model 'mf' needs a property file: --tir FILE");
@@ -151,8 +165,12 @@ static int mf_setup(const cli_options *o, model_ctx *m, char *err, size_t errlen
      * library mirrors the characteristics when the two differ. */
     {
         grip_tir_options to;
+        grip_tir_options_init(&to);
         to.side = o->side;
-        if (grip_tir_read_opts(o->tir, &to, &m->u.mf, err, errlen) != 0) {
+        to.flags = o->tir_flags | (o->pure ? GRIP_TIR_PURE_SLIP : 0u);
+        to.warn = print_warning;
+        if (grip_tir_parse(o->tir, &to, &vals, err, errlen) != 0 ||
+            grip_tir_convert(o->tir, &vals, &m->u.mf, err, errlen) != 0) {
             return -1;
         }
     }
@@ -179,11 +197,23 @@ static int mf_setup(const cli_options *o, model_ctx *m, char *err, size_t errlen
             return -1;
         }
     }
-    st = grip_mf_check_params(&m->u.mf);
-    if (st != GRIP_OK) {
-        snprintf(err, errlen, "%s: the library rejects the parameter set: status %d (%s)", o->tir,
-                 (int)st, grip_status_str(st));
-        return -1;
+    {
+        grip_check_detail_t d;
+        st = grip_mf_check_params_detail(&m->u.mf, &d);
+        if (st != GRIP_OK) {
+            /* the struct member is the .tir key in lower case */
+            char key[64];
+            size_t k;
+            for (k = 0; d.field[k] != '\0' && k + 1 < sizeof key; k++) {
+                key[k] = (char)((d.field[k] >= 'a' && d.field[k] <= 'z') ? d.field[k] - 'a' + 'A' : d.field[k]);
+            }
+            key[k] = '\0';
+            k = (size_t)grip_tir_coef_index(key);
+            snprintf(err, errlen, "%s:%lu: %s: the library rejects the parameter set: %s must be %s (status %d, %s)",
+                     o->tir, (grip_tir_coef_index(key) >= 0) ? vals.line[k] : 0ul, key[0] ? key : "-",
+                     key[0] ? key : "it", d.rule, (int)st, grip_status_str(st));
+            return -1;
+        }
     }
     return 0;
 }
@@ -314,7 +344,8 @@ static void usage(FILE *f)
             "usage: grip-tire [--model NAME] [--tir FILE] [--pure] [--side left|right]\n"
             "                 [--sae] [--kappa-braking] [--mz52-svyk-camber] [--outputs LIST]\n"
             "                 [--use-mode NNN] [--turn-slip] [--ts-camber]\n"
-            "                 [--no-status] [--prefix STR] [--dump-params] < in.csv > out.csv\n"
+            "                 [--no-status] [--prefix STR] [--dump-params] [--strict]\n"
+            "                 [--no-range-check] < in.csv > out.csv\n"
             "\n"
             "Reads CSV with the columns kappa,alpha,gamma,fz,p,vx (SI, rad; any order;\n"
             "other columns passed through) and appends fx,fy,mz,status. Build: %s.\n"
@@ -354,6 +385,10 @@ static void usage(FILE *f)
             "  --prefix STR      prefix of the appended column names (e.g. model_)\n"
             "  --dump-params     print the loaded parameters (SI, as stored in this\n"
             "                    build) as KEY = value lines and exit\n"
+            "  --strict          .tir: every warning is an error (an unknown key, a key\n"
+            "                    in another section, an empty value)\n"
+            "  --no-range-check  .tir: accept coefficients outside their plausible ranges\n"
+            "                    (docs/tools.md); the hard checks stay\n"
             "\n"
             "exit status: 0 all rows evaluated; 1 some rows malformed or rejected\n"
             "(status < 0); 2 usage; 3 parameters not loaded; 4 header; 5 I/O error\n");
@@ -469,6 +504,10 @@ static int parse_args(int argc, char **argv, cli_options *o)
             o->status_column = 0;
         } else if (strcmp(a, "--dump-params") == 0) {
             o->dump_params = 1;
+        } else if (strcmp(a, "--strict") == 0) {
+            o->tir_flags |= GRIP_TIR_STRICT;
+        } else if (strcmp(a, "--no-range-check") == 0) {
+            o->tir_flags |= GRIP_TIR_NO_RANGE_CHECK;
         } else if (strcmp(a, "--prefix") == 0 && i + 1 < argc) {
             o->prefix = argv[++i];
         } else {
@@ -681,19 +720,34 @@ write:
     return status;
 }
 
+/* A row that could not be read at all: its input fields and outputs empty,
+ * status ROW_MALFORMED. */
+static void write_empty_row(const cli_options *o, const header_map *h, FILE *out)
+{
+    int i;
+    for (i = 1; i < h->ncols; i++) {
+        fputc(',', out);
+    }
+    for (i = 0; i < N_OUT + o->n_ext; i++) {
+        fputc(',', out);
+    }
+    if (o->status_column) {
+        fprintf(out, ",%d", ROW_MALFORMED);
+    }
+    fputc('\n', out);
+}
+
 int main(int argc, char **argv)
 {
     cli_options o;
     const tire_model *model = NULL;
     static model_ctx m;
+    static char linebuf[TIRE_LINE_MAX + 1];
+    static char workbuf[TIRE_LINE_MAX + 1];
     char err[1024];
+    char rerr[512];
+    csv_reader rd;
     header_map h;
-    char *line = NULL;
-    size_t cap = 0;
-    char *work = NULL;
-    size_t worklen = 0;
-    ssize_t got;
-    unsigned long lineno = 0;
     run_stats rs;
     size_t i;
     int k;
@@ -740,23 +794,28 @@ int main(int argc, char **argv)
     }
 
     /* header: the first line that is not blank */
+    if (csv_reader_open(&rd, "-", linebuf, TIRE_LINE_MAX, 1, rerr, sizeof rerr) != 0) {
+        fprintf(stderr, "grip-tire: %s\n", rerr);
+        return EXIT_IO;
+    }
     for (;;) {
-        got = getline(&line, &cap, stdin);
-        if (got == -1) {
+        int rc = csv_read_line(&rd, rerr, sizeof rerr);
+        if (rc == 0) {
             fprintf(stderr, "grip-tire: <stdin>: no header line (empty input)\n");
-            free(line);
             return EXIT_HEADER;
         }
-        lineno++;
-        if (csv_chomp(line) > 0) {
+        if (rc < 0) {
+            fprintf(stderr, "grip-tire: %s (the header)\n", rerr);
+            return (rd.error == CSV_ERR_READ) ? EXIT_IO : EXIT_HEADER;
+        }
+        if (rd.len > 0) {
             break;
         }
     }
-    if (read_header(line, &o, &h) != 0) {
-        free(line);
+    if (read_header(rd.line, &o, &h) != 0) {
         return EXIT_HEADER;
     }
-    fputs(line, stdout);
+    fputs(rd.line, stdout);
     for (k = 0; k < N_OUT; k++) {
         fprintf(stdout, ",%s%s", o.prefix, OUT_NAMES[k]);
     }
@@ -771,26 +830,38 @@ int main(int argc, char **argv)
     fputc('\n', stdout);
 
     memset(&rs, 0, sizeof rs);
-    while ((got = getline(&line, &cap, stdin)) != -1) {
-        size_t n;
+    for (;;) {
         int st;
-        lineno++;
-        n = csv_chomp(line);
-        if (n == 0) {
+        int rc = csv_read_line(&rd, rerr, sizeof rerr);
+        if (rc == 0) {
+            break;
+        }
+        if (rc < 0 && rd.error == CSV_ERR_TEXT) {
+            /* a row with a byte that is not text: reported with its line and
+             * byte offset, written as a row of empty fields (status -100) so
+             * that output row n is still input row n; then on to its end */
+            {
+                int pre = snprintf(NULL, 0, "%s:%lu: ", rd.path, rd.lineno);
+                const char *what = (pre > 0 && (size_t)pre < strlen(rerr)) ? rerr + pre : rerr;
+                fprintf(stderr, "grip-tire: %s:%lu: malformed row: %s\n", rd.path, rd.lineno, what);
+            }
+            write_empty_row(&o, &h, stdout);
+            rs.rows++;
+            rs.malformed++;
+            if (csv_skip_line(&rd, rerr, sizeof rerr) != 0) {
+                rc = -1;
+            } else {
+                continue;
+            }
+        }
+        if (rc < 0) {
+            fprintf(stderr, "grip-tire: %s\n", rerr);
+            return (rd.error == CSV_ERR_READ) ? EXIT_IO : EXIT_HEADER;
+        }
+        if (rd.len == 0) {
             continue;   /* blank line: not a row */
         }
-        if (worklen < n + 1) {
-            char *w = realloc(work, n + 1);
-            if (w == NULL) {
-                fprintf(stderr, "grip-tire: out of memory\n");
-                free(work);
-                free(line);
-                return EXIT_IO;
-            }
-            work = w;
-            worklen = n + 1;
-        }
-        st = process_row(model, &m, &o, &h, line, lineno, work, worklen, stdout);
+        st = process_row(model, &m, &o, &h, rd.line, rd.lineno, workbuf, sizeof workbuf, stdout);
         rs.rows++;
         if (st == ROW_MALFORMED) {
             rs.malformed++;
@@ -800,14 +871,6 @@ int main(int argc, char **argv)
             rs.warnings++;
         }
     }
-    if (ferror(stdin)) {
-        fprintf(stderr, "grip-tire: <stdin>:%lu: read error: %s\n", lineno, strerror(errno));
-        free(work);
-        free(line);
-        return EXIT_IO;
-    }
-    free(work);
-    free(line);
     if (fflush(stdout) != 0 || ferror(stdout)) {
         fprintf(stderr, "grip-tire: writing the output failed: %s\n", strerror(errno));
         return EXIT_IO;

@@ -1,19 +1,26 @@
 /*
  * tir_reader.c - host-side .tir reader (see tir_reader.h and docs/tools.md).
  *
- * The file is read line by line (LF or CRLF). A line is one of:
+ * The file is read whole first, at most GRIP_TIR_SIZE_MAX bytes, and its
+ * bytes checked (no NUL, no line longer than GRIP_TIR_LINE_MAX); then line
+ * by line (LF or CRLF). A line is one of:
  *   blank, or a comment starting with '$' or '!' (after optional blanks);
  *   [SECTION]            a section header (optionally followed by a comment);
  *   {text}               a table column header (ignored);
  *   KEY = value          value: a number, a quoted string ('..' or ".."),
- *                        or a bare word; '$' or '!' starts an inline comment;
+ *                        a bare word, or nothing (an empty value); '$' or
+ *                        '!' starts an inline comment;
  *   numbers only         a row of a table section such as [SHAPE] (ignored).
  * Anything else is an error. Coefficients of GRIP_MF_COEFFICIENTS are taken
- * only from their own section; other keys are ignored. The [UNITS] section
+ * only from their own section; the keys of tir_rules.h are known and not
+ * read; any other key of a known section is a warning. The [UNITS] section
  * may stand anywhere: the conversion to SI is applied after the whole file
- * is read.
+ * is read. The order of the checks is that of
+ * tools/grip_tools/reference/tir.py, so both readers report the same first
+ * error and the same warnings.
  */
 #include "tir_reader.h"
+#include "tir_rules.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -23,6 +30,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 /* ------------------------------------------------------------------ */
 /* The coefficient table, generated from the one list.                 */
@@ -115,7 +123,7 @@ static const unit_name MASS_UNITS[] = {
     { "kg", 1.0 }, { "kilogram", 1.0 }, { "kilograms", 1.0 },
     { "gram", 1e-3 }, { "grams", 1e-3 }, { "g", 1e-3 },
     { "tonne", 1e3 }, { "tonnes", 1e3 },
-    { "pound_mass", 0.45359237 }, { "lbm", 0.45359237 },
+    { "lb", 0.45359237 }, { "lbs", 0.45359237 }, { "pound_mass", 0.45359237 }, { "lbm", 0.45359237 },
     { NULL, 0.0 }
 };
 static const unit_name TIME_UNITS[] = {
@@ -155,11 +163,15 @@ typedef struct {
     const char *path;
     char *err;
     size_t errlen;
+    unsigned flags;            /* GRIP_TIR_* */
+    grip_tir_warn_fn warn;     /* NULL: stderr */
+    void *warn_ctx;
+    unsigned *nwarn;           /* counts the warnings given, or NULL */
 } err_ctx;
 
 static int fail(const err_ctx *e, unsigned long line, const char *key, const char *fmt, ...)
 {
-    char what[256];
+    char what[512];
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(what, sizeof what, fmt, ap);
@@ -169,6 +181,32 @@ static int fail(const err_ctx *e, unsigned long line, const char *key, const cha
                  (key != NULL && key[0] != '\0') ? key : "-", what);
     }
     return -1;
+}
+
+/* A warning "FILE:LINE: KEY: what" to the caller's function (default:
+ * "warning: ..." on stderr); under GRIP_TIR_STRICT the error
+ * "FILE:LINE: KEY: what (refused: strict mode)" instead. 0 or -1. */
+static int warn(const err_ctx *e, unsigned long line, const char *key, const char *fmt, ...)
+{
+    char what[384];
+    char msg[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(what, sizeof what, fmt, ap);
+    va_end(ap);
+    if ((e->flags & GRIP_TIR_STRICT) != 0u) {
+        return fail(e, line, key, "%s (refused: strict mode)", what);
+    }
+    snprintf(msg, sizeof msg, "%s:%lu: %s: %s", e->path, line, (key != NULL && key[0] != '\0') ? key : "-", what);
+    if (e->warn != NULL) {
+        e->warn(e->warn_ctx, msg);
+    } else {
+        fprintf(stderr, "warning: %s\n", msg);
+    }
+    if (e->nwarn != NULL) {
+        (*e->nwarn)++;
+    }
+    return 0;
 }
 
 static int ieq(const char *a, const char *b)
@@ -487,24 +525,104 @@ static void first_key(const char *s, char *word, size_t len)
     word[kn] = '\0';
 }
 
-static int parse_text(FILE *f, tir_text *t, const err_ctx *e)
+/* Reads the whole file, at most GRIP_TIR_SIZE_MAX bytes, into a buffer of
+ * its own (*buf, *len; freed by the caller, also on error) and checks its
+ * bytes line by line first: no NUL byte, no line longer than
+ * GRIP_TIR_LINE_MAX. A device or a huge file (/dev/zero, a sparse 1 GiB
+ * file) therefore ends after at most GRIP_TIR_SIZE_MAX + 1 bytes. */
+static int read_bounded(FILE *f, char **buf, size_t *len, const err_ctx *e)
 {
-    char *buf = NULL;
+    struct stat st;
     size_t cap = 0;
-    ssize_t got;
+    size_t n = 0;
+    size_t lim;
+    size_t i;
+    size_t start = 0;
+    unsigned long line = 1;
+    const size_t most = (size_t)GRIP_TIR_SIZE_MAX + 1u;
+    char *b = NULL;
+    *buf = NULL;
+    *len = 0;
+    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
+        return fail(e, 0, NULL, "cannot open: %s", strerror(EISDIR));
+    }
+    if (fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode) && st.st_size > (off_t)GRIP_TIR_SIZE_MAX) {
+        return fail(e, 0, NULL, "larger than %ld bytes: not a .tir file", GRIP_TIR_SIZE_MAX);
+    }
+    errno = 0;
+    for (;;) {
+        size_t got;
+        if (n == cap) {
+            size_t ncap = (cap == 0) ? 65536u : 2u * cap;
+            char *nb;
+            if (ncap > most) {
+                ncap = most;
+            }
+            if (ncap == cap) {
+                break;      /* GRIP_TIR_SIZE_MAX + 1 bytes read: too large */
+            }
+            nb = realloc(b, ncap + 1u);
+            if (nb == NULL) {
+                *buf = b;
+                return fail(e, 0, NULL, "out of memory");
+            }
+            b = nb;
+            cap = ncap;
+        }
+        got = fread(b + n, 1, cap - n, f);
+        n += got;
+        if (n < cap) {
+            if (ferror(f)) {
+                *buf = b;
+                return fail(e, line, NULL, "read error: %s", strerror(errno != 0 ? errno : EIO));
+            }
+            break;          /* end of file */
+        }
+    }
+    *buf = b;
+    *len = n;
+    lim = (n > (size_t)GRIP_TIR_SIZE_MAX) ? (size_t)GRIP_TIR_SIZE_MAX : n;
+    for (i = 0; i < lim; i++) {
+        char c = b[i];
+        if (c == '\n') {
+            line++;
+            start = i + 1u;
+            continue;
+        }
+        if (c == '\0') {
+            return fail(e, line, NULL, "NUL byte at byte offset %lu (byte %lu of the line): not a text .tir file",
+                        (unsigned long)i, (unsigned long)(i - start + 1u));
+        }
+        if (i - start >= (size_t)GRIP_TIR_LINE_MAX) {
+            return fail(e, line, NULL, "line longer than %d bytes (at byte offset %lu): not a .tir file",
+                        GRIP_TIR_LINE_MAX, (unsigned long)start);
+        }
+    }
+    if (n > (size_t)GRIP_TIR_SIZE_MAX) {
+        return fail(e, 0, NULL, "larger than %ld bytes: not a .tir file", GRIP_TIR_SIZE_MAX);
+    }
+    return 0;
+}
+
+/* Parses the checked bytes b[0..n) line by line (LF or CRLF). */
+static int parse_text(const char *b, size_t n, tir_text *t, const err_ctx *e)
+{
+    char buf[GRIP_TIR_LINE_MAX + 1];
     char section[128] = "";
     int in_section = 0;
     unsigned long lineno = 0;
+    unsigned long rows = 0;
+    size_t pos = 0;
     int rc = 0;
 
-    errno = 0;
-    while ((got = getline(&buf, &cap, f)) != -1) {
+    while (pos < n) {
         char *s;
+        const char *nl = memchr(b + pos, '\n', n - pos);
+        size_t len = (nl != NULL) ? (size_t)(nl - (b + pos)) : n - pos;
         lineno++;
-        if (memchr(buf, '\0', (size_t)got) != NULL) {
-            rc = fail(e, lineno, NULL, "binary data (NUL byte): not a text .tir file");
-            break;
-        }
+        memcpy(buf, b + pos, len);   /* len <= GRIP_TIR_LINE_MAX: read_bounded */
+        buf[len] = '\0';
+        pos += len + 1u;
         rtrim(buf);
         s = buf;
         if (lineno == 1 && (unsigned char)s[0] == 0xEF && (unsigned char)s[1] == 0xBB &&
@@ -519,36 +637,42 @@ static int parse_text(FILE *f, tir_text *t, const err_ctx *e)
             char *close = strchr(s, ']');
             char name[128];
             char *nm;
-            size_t n;
+            size_t k;
             const section_rec *prev;
             if (close == NULL || close == s + 1 || !rest_is_empty(close + 1)) {
-                rc = fail(e, lineno, NULL, "malformed section header '%s'", s);
+                rc = fail(e, lineno, NULL, "malformed section header '%.60s'", s);
                 break;
             }
-            n = (size_t)(close - (s + 1));
-            if (n >= sizeof name) {
-                rc = fail(e, lineno, NULL, "malformed section header '%s'", s);
+            k = (size_t)(close - (s + 1));
+            if (k >= sizeof name) {
+                rc = fail(e, lineno, NULL, "malformed section header '%.60s'", s);
                 break;
             }
-            memcpy(name, s + 1, n);
-            name[n] = '\0';
+            memcpy(name, s + 1, k);
+            name[k] = '\0';
             rtrim(name);
             nm = skip_ws(name);
             if (*nm == '\0') {
-                rc = fail(e, lineno, NULL, "malformed section header '%s'", s);
+                rc = fail(e, lineno, NULL, "malformed section header '%.60s'", s);
                 break;
             }
-            for (n = 0; nm[n] != '\0'; n++) {
-                section[n] = (char)toupper((unsigned char)nm[n]);
+            for (k = 0; nm[k] != '\0'; k++) {
+                section[k] = (char)toupper((unsigned char)nm[k]);
             }
-            section[n] = '\0';
+            section[k] = '\0';
             /* a section may appear twice (some exporters repeat table
              * sections): its keys are merged, a repeated key is an error;
              * the first header's line is the section's line */
             prev = find_section(t, section);
-            if (prev == NULL && add_section(t, section, lineno) != 0) {
-                rc = fail(e, lineno, NULL, "out of memory");
-                break;
+            if (prev == NULL) {
+                if (t->ns >= (size_t)GRIP_TIR_SECTIONS_MAX) {
+                    rc = fail(e, lineno, NULL, "more than %d sections: not a .tir file", GRIP_TIR_SECTIONS_MAX);
+                    break;
+                }
+                if (add_section(t, section, lineno) != 0) {
+                    rc = fail(e, lineno, NULL, "out of memory");
+                    break;
+                }
             }
             in_section = 1;
             continue;
@@ -581,6 +705,10 @@ static int parse_text(FILE *f, tir_text *t, const err_ctx *e)
                 rc = fail(e, lineno, t->e[i].key, "duplicate key (first on line %lu)", t->e[i].line);
                 break;
             }
+            if (t->n >= (size_t)GRIP_TIR_KEYS_MAX) {
+                rc = fail(e, lineno, NULL, "more than %d keys: not a .tir file", GRIP_TIR_KEYS_MAX);
+                break;
+            }
             if (add_entry(t, section, key, value, quoted, lineno) != 0) {
                 rc = fail(e, lineno, key, "out of memory");
                 break;
@@ -592,16 +720,16 @@ static int parse_text(FILE *f, tir_text *t, const err_ctx *e)
                 rc = fail(e, lineno, NULL, "table row outside any [SECTION]");
                 break;
             }
+            if (++rows > (unsigned long)GRIP_TIR_ROWS_MAX) {
+                rc = fail(e, lineno, NULL, "more than %d table rows: not a .tir file", GRIP_TIR_ROWS_MAX);
+                break;
+            }
             continue;
         }
         rc = fail(e, lineno, NULL, "cannot read line '%.60s' (expected KEY = value)", s);
         break;
     }
-    if (rc == 0 && ferror(f)) {
-        rc = fail(e, lineno, NULL, "read error: %s", strerror(errno != 0 ? errno : EIO));
-    }
     t->nlines = lineno;
-    free(buf);
     return rc;
 }
 
@@ -619,9 +747,19 @@ static const struct {
 #define LIMIT_QS 32767.0
 #define LIMIT_QL 8.3e6
 
-static int is_supported_fittyp(double v)
+/* FITTYP values of MF-Tyre and MFeval and the version grip evaluates:
+ * 5 (MF-Tyre 5.0), 6 (MF 5.2 / PAC2002), 21 (MF-Tyre 5.2), 52 (MF 5.2, as
+ * later MF-Tool exports write it; stored as 21), 61, 62 (MF 6.1, 6.2).
+ * 0 if unsupported. */
+static int32_t fittyp_model(double v)
 {
-    return v == 5.0 || v == 6.0 || v == 21.0 || v == 61.0 || v == 62.0;
+    if (v == 5.0 || v == 6.0 || v == 21.0 || v == 61.0 || v == 62.0) {
+        return (int32_t)v;
+    }
+    if (v == 52.0) {
+        return 21;
+    }
+    return 0;
 }
 
 /* A value with blanks around it removed, upper case, into buf. */
@@ -639,6 +777,308 @@ static void clean_upper(const char *raw, char *buf, size_t len)
         n--;
     }
     buf[n] = '\0';
+}
+
+/* `KEY =` with nothing after it (a quoted '' is a value: a string). */
+static int is_empty(const entry *x)
+{
+    return !x->quoted && x->raw[0] == '\0';
+}
+
+/* ---- the tables of tir_rules.h ----------------------------------------- */
+
+#define X_SECTION(name) #name,
+static const char *const KNOWN_SECTIONS[] = { GRIP_TIR_SECTIONS(X_SECTION) };
+#undef X_SECTION
+
+#define X_READKEY(section, key) { #section, #key },
+static const struct {
+    const char *section;
+    const char *key;
+} READ_KEYS[] = { GRIP_TIR_READ_KEYS(X_READKEY) };
+#undef X_READKEY
+
+#define X_KNOWN(key) #key,
+static const char *const KNOWN_KEYS[] = { GRIP_TIR_KNOWN_KEYS(X_KNOWN) };
+#undef X_KNOWN
+
+typedef enum { RK_VAL, RK_VAL0, RK_ABS } range_kind;
+
+#define X_RANGE(pattern, kind, lo, hi, what) { pattern, RK_##kind, lo, hi, what },
+static const struct {
+    const char *pattern;
+    range_kind kind;
+    double lo;
+    double hi;
+    const char *what;
+} RANGES[] = { GRIP_TIR_RANGES(X_RANGE) };
+#undef X_RANGE
+
+#define N_OF(a) (sizeof(a) / sizeof((a)[0]))
+
+static int section_known(const char *name)
+{
+    size_t i;
+    for (i = 0; i < N_OF(KNOWN_SECTIONS); i++) {
+        if (strcmp(KNOWN_SECTIONS[i], name) == 0) {
+            return 1;
+        }
+    }
+    for (i = 0; i < GRIP_TIR_NCOEF; i++) {
+        if (strcmp(COEFS[i].section, name) == 0) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* The section grip reads KEY from, or NULL if grip does not read it. */
+static const char *read_section(const char *key)
+{
+    size_t i;
+    for (i = 0; i < GRIP_TIR_NCOEF; i++) {
+        if (strcmp(COEFS[i].key, key) == 0) {
+            return COEFS[i].section;
+        }
+    }
+    for (i = 0; i < N_OF(READ_KEYS); i++) {
+        if (strcmp(READ_KEYS[i].key, key) == 0) {
+            return READ_KEYS[i].section;
+        }
+    }
+    return NULL;
+}
+
+static int key_known(const char *key)
+{
+    size_t i;
+    for (i = 0; i < N_OF(KNOWN_KEYS); i++) {
+        if (strcmp(KNOWN_KEYS[i], key) == 0) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* Levenshtein distance of two keys shorter than 64 characters (else 99). */
+static int edit_distance(const char *a, const char *b)
+{
+    int row[64];
+    size_t na = strlen(a);
+    size_t nb = strlen(b);
+    size_t i;
+    size_t j;
+    if (na >= 64 || nb >= 64) {
+        return 99;
+    }
+    for (j = 0; j <= nb; j++) {
+        row[j] = (int)j;
+    }
+    for (i = 1; i <= na; i++) {
+        int diag = row[0];
+        row[0] = (int)i;
+        for (j = 1; j <= nb; j++) {
+            int up = row[j];
+            int best = diag + (a[i - 1] != b[j - 1]);
+            if (up + 1 < best) {
+                best = up + 1;
+            }
+            if (row[j - 1] + 1 < best) {
+                best = row[j - 1] + 1;
+            }
+            diag = up;
+            row[j] = best;
+        }
+    }
+    return row[nb];
+}
+
+/* The nearest key grip knows (distance <= 2, KEY of 4 or more
+ * characters; the first of equals in table order), or NULL. */
+static const char *nearest_key(const char *key)
+{
+    const char *best = NULL;
+    int bd = 3;
+    size_t i;
+    if (strlen(key) < 4) {
+        return NULL;
+    }
+    for (i = 0; i < GRIP_TIR_NCOEF; i++) {
+        int d = edit_distance(key, COEFS[i].key);
+        if (d < bd) {
+            bd = d;
+            best = COEFS[i].key;
+        }
+    }
+    for (i = 0; i < N_OF(READ_KEYS); i++) {
+        int d = edit_distance(key, READ_KEYS[i].key);
+        if (d < bd) {
+            bd = d;
+            best = READ_KEYS[i].key;
+        }
+    }
+    for (i = 0; i < N_OF(KNOWN_KEYS); i++) {
+        int d = edit_distance(key, KNOWN_KEYS[i]);
+        if (d < bd) {
+            bd = d;
+            best = KNOWN_KEYS[i];
+        }
+    }
+    return best;
+}
+
+/* Every key in file order: one grip reads but in another section, or one
+ * no MF-Tyre file has in a known section, is a warning (an error under
+ * GRIP_TIR_STRICT). Keys of unknown (vendor) sections are not checked,
+ * except for keys grip reads. */
+static int check_keys(const tir_text *t, const err_ctx *e)
+{
+    size_t i;
+    for (i = 0; i < t->n; i++) {
+        const entry *x = &t->e[i];
+        const char *own = read_section(x->key);
+        int known_section = section_known(x->section);
+        int rc = 0;
+        if (own != NULL) {
+            if (strcmp(own, x->section) != 0 && !key_known(x->key)) {
+                rc = warn(e, x->line, x->key, "grip reads %s from [%s], not from %s[%s]: this value is ignored",
+                          x->key, own, known_section ? "" : "the unknown section ", x->section);
+            }
+        } else if (known_section && !key_known(x->key)) {
+            const char *near = nearest_key(x->key);
+            if (near != NULL) {
+                rc = warn(e, x->line, x->key, "unknown key in [%s]: ignored (did you mean %s?)", x->section, near);
+            } else {
+                rc = warn(e, x->line, x->key, "unknown key in [%s]: ignored", x->section);
+            }
+        }
+        if (rc != 0) {
+            return rc;
+        }
+    }
+    return 0;
+}
+
+/* USE_MODE (MF-Tyre): units digit the slip calculation (0 Fz only, 1 Fx/My,
+ * 2 Fy/Mx/Mz, 3 uncombined, 4 combined, 5 combined + turn slip), tens digit
+ * the dynamics (0 steady state, 1 and 2 relaxation, 3 rigid ring), hundreds
+ * digit the road contact (0..5); MF-Tyre 5.x: negative = mirrored. grip
+ * evaluates the steady-state Magic Formula at the contact point, so the
+ * dynamics and contact digits do not change what it computes (relaxation
+ * is lib/relax, applied by the caller); of the slip digits it implements 4
+ * (grip_mf_eval) and, for a caller that evaluates pure slip, 3
+ * (grip_mf_eval_pure). */
+static int check_use_mode(const entry *x, grip_tir_values *out, const err_ctx *e)
+{
+    double v;
+    int32_t m;
+    int slip;
+    if (x->quoted || parse_number(x->raw, &v) != 0 || v != floor(v)) {
+        return fail(e, x->line, "USE_MODE", "value '%s' is not an integer", x->raw);
+    }
+    if (v < 0.0) {
+        return fail(e, x->line, "USE_MODE",
+                    "%s: a negative USE_MODE mirrors the tyre (MF-Tyre 5.x); grip mounts a tyre by TYRESIDE "
+                    "and the side option (--side): write USE_MODE = %g and give the side", x->raw, -v);
+    }
+    if (v > 999.0) {
+        return fail(e, x->line, "USE_MODE", "%s is not a USE_MODE of MF-Tyre (at most three digits)", x->raw);
+    }
+    m = (int32_t)v;
+    if (m / 100 > 5) {
+        return fail(e, x->line, "USE_MODE", "%d: hundreds digit %d is not a road contact of MF-Tyre (0..5)",
+                    (int)m, (int)(m / 100));
+    }
+    if ((m / 10) % 10 > 3) {
+        return fail(e, x->line, "USE_MODE",
+                    "%d: tens digit %d is not a dynamics mode of MF-Tyre (0 steady state, 1 and 2 relaxation, "
+                    "3 rigid ring)", (int)m, (int)((m / 10) % 10));
+    }
+    slip = (int)(m % 10);
+    switch (slip) {
+    case 0:
+        return fail(e, x->line, "USE_MODE", "%d asks for Fz only, no Magic Formula forces; grip evaluates Fx, Fy "
+                    "and Mz (USE_MODE units digit 4)", (int)m);
+    case 1:
+    case 2:
+        return fail(e, x->line, "USE_MODE", "%d asks for %s only; grip evaluates Fx, Fy and Mz together "
+                    "(USE_MODE units digit 4)", (int)m, slip == 1 ? "Fx and My" : "Fy, Mx and Mz");
+    case 3:
+        if ((e->flags & GRIP_TIR_PURE_SLIP) == 0u) {
+            return fail(e, x->line, "USE_MODE", "%d asks for uncombined forces (pure slip); this evaluation is "
+                        "combined slip (USE_MODE units digit 4): evaluate pure slip (grip-tire --pure, "
+                        "grip_mf_eval_pure) or write USE_MODE = %d", (int)m, (int)(m + 1));
+        }
+        break;
+    case 4:
+        break;
+    case 5:
+        return fail(e, x->line, "USE_MODE", "%d asks for combined slip with turn slip; grip takes turn slip per "
+                    "call, not from the file (grip_mf_eval_ext with GRIP_MF_USE_TURN_SLIP, grip-tire --turn-slip): "
+                    "write USE_MODE = %d and ask for it there", (int)m, (int)(m - 1));
+    default:
+        return fail(e, x->line, "USE_MODE", "%d: units digit %d is not a slip calculation of MF-Tyre (0..5)",
+                    (int)m, slip);
+    }
+    out->use_mode = m;
+    out->use_mode_line = x->line;
+    return 0;
+}
+
+/* The plausibility range of coefficient i: index into RANGES or -1. */
+static int range_of(int i)
+{
+    size_t r;
+    for (r = 0; r < N_OF(RANGES); r++) {
+        const char *p = RANGES[r].pattern;
+        size_t n = strlen(p);
+        if ((n > 0 && p[n - 1] == '*') ? strncmp(p, COEFS[i].key, n - 1) == 0 : strcmp(p, COEFS[i].key) == 0) {
+            return (int)r;
+        }
+    }
+    return -1;
+}
+
+static int check_ranges(const grip_tir_values *out, const err_ctx *e)
+{
+    int i;
+    for (i = 0; i < GRIP_TIR_NCOEF; i++) {
+        int r;
+        double v = out->v[i];
+        double lo;
+        double hi;
+        int ok;
+        char range[96];
+        if (out->line[i] == 0) {
+            continue;   /* a default */
+        }
+        r = range_of(i);
+        if (r < 0) {
+            continue;
+        }
+        lo = RANGES[r].lo;
+        hi = RANGES[r].hi;
+        switch (RANGES[r].kind) {
+        case RK_VAL0:
+            ok = (v == 0.0) || (v >= lo && v <= hi);
+            snprintf(range, sizeof range, "0 or [%g, %g]", lo, hi);
+            break;
+        case RK_ABS:
+            ok = fabs(v) >= lo && fabs(v) <= hi;
+            snprintf(range, sizeof range, "|v| in [%g, %g]", lo, hi);
+            break;
+        default:
+            ok = v >= lo && v <= hi;
+            snprintf(range, sizeof range, "[%g, %g]", lo, hi);
+            break;
+        }
+        if (!ok) {
+            return fail(e, out->line[i], COEFS[i].key,
+                        "value %g (SI) is outside the plausible range %s (%s); --no-range-check accepts it",
+                        v, range, RANGES[r].what);
+        }
+    }
+    return 0;
 }
 
 #define IDX(field) GRIP_TIR_I_##field
@@ -683,10 +1123,23 @@ static int validate(const tir_text *t, const grip_tir_options *opts, grip_tir_va
     int q;
     int i;
 
+    memset(out, 0, sizeof *out);
+
+    /* keys grip does not know, or reads from another section */
+    if (check_keys(t, e) != 0) {
+        return -1;
+    }
+
     /* units */
     for (q = 0; q < Q_COUNT; q++) {
         unit[q] = 1.0;
         x = find_entry(t, "UNITS", QUANTITIES[q].key);
+        if (x != NULL && is_empty(x)) {
+            if (warn(e, x->line, QUANTITIES[q].key, "empty value: read as the SI unit") != 0) {
+                return -1;
+            }
+            x = NULL;
+        }
         if (x != NULL) {
             const unit_name *u;
             char name[64];
@@ -697,12 +1150,13 @@ static int validate(const tir_text *t, const grip_tir_options *opts, grip_tir_va
                 }
             }
             if (u->name == NULL) {
-                return fail(e, x->line, QUANTITIES[q].key, "unit '%s' cannot be converted to SI", x->raw);
+                return fail(e, x->line, QUANTITIES[q].key, "unit '%.60s' cannot be converted to SI", x->raw);
             }
             unit[q] = u->factor;
         }
     }
-    if (find_entry(t, "UNITS", "PRESSURE") == NULL) {
+    x = find_entry(t, "UNITS", "PRESSURE");
+    if (x == NULL || is_empty(x)) {
         unit[Q_PRESSURE] = unit[Q_FORCE] / (unit[Q_LENGTH] * unit[Q_LENGTH]);
     }
     factor[DIM_NONE] = 1.0;
@@ -714,18 +1168,25 @@ static int validate(const tir_text *t, const grip_tir_options *opts, grip_tir_va
     factor[DIM_STIFFNESS] = unit[Q_FORCE] / unit[Q_LENGTH];
 
     /* FITTYP */
-    memset(out, 0, sizeof *out);
     x = find_entry(t, "MODEL", "FITTYP");
+    if (x != NULL && is_empty(x)) {
+        if (warn(e, x->line, "FITTYP", "empty value: read as not given") != 0) {
+            return -1;
+        }
+        x = NULL;
+    }
     if (x != NULL) {
         double v;
         if (x->quoted || parse_number(x->raw, &v) != 0) {
-            return fail(e, x->line, "FITTYP", "value '%s' is not a number", x->raw);
+            return fail(e, x->line, "FITTYP", "value '%.60s' is not a number", x->raw);
         }
-        if (!is_supported_fittyp(v)) {
+        out->fittyp = fittyp_model(v);
+        if (out->fittyp == 0) {
             return fail(e, x->line, "FITTYP",
-                        "unsupported Magic Formula version %s (supported: 5, 6, 21, 61, 62)", x->raw);
+                        "unsupported Magic Formula version %.60s (supported: 5, 6, 21, 52 = MF 5.x / PAC2002; "
+                        "61, 62 = MF 6.1, 6.2)", x->raw);
         }
-        out->fittyp = (int32_t)v;
+        out->fittyp_file = (int32_t)v;
     } else {
         const entry *fmt = find_entry(t, "MODEL", "PROPERTY_FILE_FORMAT");
         int guess = 0;
@@ -743,6 +1204,21 @@ static int validate(const tir_text *t, const grip_tir_options *opts, grip_tir_va
                         "that names the version: PAC2002, MF_05, MF_52, MF_61, MF_62)");
         }
         out->fittyp = guess;
+        out->fittyp_file = 0;
+    }
+
+    /* USE_MODE */
+    x = find_entry(t, "MODEL", "USE_MODE");
+    if (x != NULL && is_empty(x)) {
+        if (warn(e, x->line, "USE_MODE", "empty value: read as not given") != 0) {
+            return -1;
+        }
+        x = NULL;
+    }
+    out->use_mode = -1;
+    out->use_mode_line = 0;
+    if (x != NULL && check_use_mode(x, out, e) != 0) {
+        return -1;
     }
 
     /* TYRESIDE */
@@ -756,7 +1232,7 @@ static int validate(const tir_text *t, const grip_tir_options *opts, grip_tir_va
                    strcmp(word, "SYMMETRIC") == 0 || word[0] == '\0') {
             out->tyreside = 1;
         } else {
-            return fail(e, x->line, "TYRESIDE", "unknown tyre side '%s' (LEFT, RIGHT, UNKNOWN)", x->raw);
+            return fail(e, x->line, "TYRESIDE", "unknown tyre side '%.60s' (LEFT, RIGHT, UNKNOWN)", x->raw);
         }
     }
     /* the mounting side: as fitted unless the caller names one */
@@ -773,6 +1249,15 @@ static int validate(const tir_text *t, const grip_tir_options *opts, grip_tir_va
         double v;
         double xsi;
         x = find_entry(t, COEFS[i].section, COEFS[i].key);
+        if (x != NULL && is_empty(x)) {
+            if (COEFS[i].required) {
+                return fail(e, x->line, COEFS[i].key, "empty value for a required key");
+            }
+            if (warn(e, x->line, COEFS[i].key, "empty value: the default %g is used", COEFS[i].def) != 0) {
+                return -1;
+            }
+            x = NULL;
+        }
         if (x == NULL) {
             if (COEFS[i].required) {
                 return fail(e, missing_line(t, COEFS[i].section), COEFS[i].key,
@@ -783,7 +1268,7 @@ static int validate(const tir_text *t, const grip_tir_options *opts, grip_tir_va
             continue;
         }
         if (x->quoted || parse_number(x->raw, &v) != 0) {
-            return fail(e, x->line, COEFS[i].key, "value '%s' is not a number", x->raw);
+            return fail(e, x->line, COEFS[i].key, "value '%.60s' is not a number", x->raw);
         }
         xsi = v * factor[dimension_of(COEFS[i].key)];
         if (!isfinite(xsi)) {
@@ -828,6 +1313,11 @@ static int validate(const tir_text *t, const grip_tir_options *opts, grip_tir_va
                         out->v[i], ql ? "QL" : "QS", ql ? "Q23.8" : "Q15.16", lim);
         }
     }
+
+    /* plausibility (tir_rules.h) */
+    if ((e->flags & GRIP_TIR_NO_RANGE_CHECK) == 0u && check_ranges(out, e) != 0) {
+        return -1;
+    }
     return 0;
 }
 
@@ -837,11 +1327,18 @@ int grip_tir_parse(const char *path, const grip_tir_options *opts,
     err_ctx e;
     tir_text text;
     grip_tir_values t;
+    unsigned nwarn = 0;
+    char *buf = NULL;
+    size_t len = 0;
     FILE *f;
     int rc;
     e.path = (path != NULL) ? path : "(null)";
     e.err = err;
     e.errlen = errlen;
+    e.flags = (opts != NULL) ? opts->flags : 0u;
+    e.warn = (opts != NULL) ? opts->warn : NULL;
+    e.warn_ctx = (opts != NULL) ? opts->warn_ctx : NULL;
+    e.nwarn = &nwarn;
     if (path == NULL || out == NULL) {
         return fail(&e, 0, NULL, "no file or no output given");
     }
@@ -849,16 +1346,23 @@ int grip_tir_parse(const char *path, const grip_tir_options *opts,
         opts->side != GRIP_TIR_SIDE_RIGHT) {
         return fail(&e, 0, "TYRESIDE", "invalid side option %d", (int)opts->side);
     }
+    if ((e.flags & ~(unsigned)GRIP_TIR_FLAGS_ALL) != 0u) {
+        return fail(&e, 0, NULL, "unknown option flags 0x%x", e.flags & ~(unsigned)GRIP_TIR_FLAGS_ALL);
+    }
     f = fopen(path, "rb");
     if (f == NULL) {
         return fail(&e, 0, NULL, "cannot open: %s", strerror(errno));
     }
     memset(&text, 0, sizeof text);
-    rc = parse_text(f, &text, &e);
+    rc = read_bounded(f, &buf, &len, &e);
     fclose(f);
-    if (rc == 0 && text.nlines == 0) {
+    if (rc == 0 && len == 0) {
         rc = fail(&e, 0, NULL, "empty file");
     }
+    if (rc == 0) {
+        rc = parse_text(buf, len, &text, &e);
+    }
+    free(buf);
     if (rc == 0) {
         rc = validate(&text, opts, &t, &e);
     }
@@ -866,6 +1370,7 @@ int grip_tir_parse(const char *path, const grip_tir_options *opts,
     if (rc != 0) {
         return -1;
     }
+    t.nwarnings = nwarn;
     *out = t;
     return 0;
 }
@@ -936,6 +1441,14 @@ int grip_tir_read_opts(const char *path, const grip_tir_options *opts,
         return -1;
     }
     return grip_tir_convert(path, &t, out, err, errlen);
+}
+
+void grip_tir_options_init(grip_tir_options *o)
+{
+    if (o != NULL) {
+        memset(o, 0, sizeof *o);
+        o->side = GRIP_TIR_SIDE_FILE;
+    }
 }
 
 int grip_tir_read(const char *path, grip_mf_params *out, char *err, size_t errlen)

@@ -124,6 +124,45 @@ def main():
     write("long_line.csv", [head] + csv_rows(2) + [csv_rows(3)[2] + "," + "9" * 9000])
     write("cr_only.csv", ["\r".join([head] + csv_rows(3))])
     write("good.csv", [head] + csv_rows(30))
+    # ---- grip-tire: CSV rows on standard input
+    th = "kappa,alpha,gamma,fz,p,vx"
+    row = "0,0.01,0,4000,0,10"
+    write("tire_good.csv", [th, row, row])
+    write("tire_missing_col.csv", ["kappa,alpha,gamma,fz,p", "0,0.01,0,4000,0"])
+    write("tire_dup_col.csv", [th + ",alpha", row + ",0.02"])
+    write("tire_out_collision.csv", [th + ",fx", row + ",1"])
+    write("tire_text_cell.csv", [th, row, "0,abc,0,4000,0,10"])
+    write("tire_short_row.csv", [th, row, "0,0.01,0"])
+    write("tire_quote.csv", [th + ",note", row + ',"open'])
+    write("tire_empty.csv", [])
+    # ---- .tir files the library rejects after the reader accepted them,
+    # and brush-model parameter files (grip-tire --model ... --params)
+    with open(os.path.join(HERE, "..", "data", "tir", "minimal.tir")) as f:
+        minimal = f.read().splitlines()
+    write("lib_fnomin.tir", [l.replace("FNOMIN = 4000", "FNOMIN = 2000000") for l in minimal])
+    write("lib_lmuv.tir", [l.replace("FITTYP = 61          $ Magic Formula 6.1", "FITTYP = 61\nLONGVL = 0.1")
+                           for l in minimal] + ["[SCALING_COEFFICIENTS]", "LMUV = 0.5"])
+    write("brush_mu.txt", ["model = fiala", "mu = 4"])
+    write("brush_mu_order.txt", ["model = sakai", "mu_s = 0.5", "mu_d = 0.9"])
+    write("brush_default_fz.txt", ["model = neofiala", "fz_min = 20000"])
+    write("veh_mass.veh", ["mass = 0.5"])
+    write("veh_steer.veh", ["steer_ratio = 200"])
+    # ---- measured-data CSV for the Python tools (grip fit-mf, grip analyze)
+    fy = ["fz[N],alpha[rad],gamma[rad],fy[N]"] + [f"{fz},{a / 100:.3f},0,{-fz * a / 20:.1f}"
+                                                 for fz in (2000, 4000, 6000) for a in range(-20, 21, 2)]
+    write("fit_good.csv", fy)
+    write("fit_nan.csv", fy[:4] + ["4000,nan,0,100"] + fy[5:])
+    write("fit_kn.csv", [fy[0]] + [f"{fz},{a / 100:.3f},0,{-fz * a * 50:.1f}" for fz in (2, 4, 6)
+                                   for a in range(-20, 21, 2)])
+    write("fit_degrees.csv", [l.replace(",0.200,", ",20.0,") for l in fy])
+    write("fit_typo.csv", [fy[0].replace("alpha[rad]", "alpah")] + fy[1:])
+    write("fit_negative_load.csv", [l.replace("2000,", "-2000,") for l in fy])
+    write("fit_three_rows.csv", fy[:4])
+    write("fit_header_only.csv", fy[:1])
+    t = ["t[s],alpha[rad],fz[N],fy[N]"] + [f"{i * 0.01:.2f},0.01,4000,-500" for i in range(50)]
+    write("an_good.csv", t)
+    write("an_time_back.csv", t[:10] + ["0.05,0.01,4000,-500"] + t[11:])
+    write("an_no_output.csv", ["t[s],alpha[rad],fz[N]", "0,0.01,4000", "0.01,0.01,4000"])
 
 
 if __name__ == "__main__":

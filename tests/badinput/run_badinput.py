@@ -9,7 +9,9 @@ expected code (never 0) and its standard error holds every expected word
 --bin: the directory of grip-replay and grip-tire (default
 build/float-gcc/bin). --no-mem: skip (TAP SKIP) the cases run under the
 64 MiB address-space limit, for sanitizer builds (ASan reserves far more
-address space than that). Cases marked `todo=...` are known failures: printed as
+address space than that). --only grip runs the Python tools' cases (the
+`grip` command, `python -m grip_tools` of this clone), which do not depend
+on a build. Cases marked `todo=...` are known failures: printed as
 `not ok ... # TODO ...` (TAP: expected to fail) and not counted in the exit
 status; one that passes is reported as `ok ... # TODO ...`, so the mark can
 be removed.
@@ -19,13 +21,15 @@ cases.tsv, one case a line, tab-separated, '#' comments:
 ARGS are the program's arguments (split at blanks). Placeholders:
     {in:NAME}   tests/badinput/inputs/NAME (make_inputs.py writes them)
     {gen:NAME}  a file GENERATED[NAME] makes in a temporary directory
+    {fix:NAME}  tests/data/tir/NAME (the .tir reader's fixtures)
     {tir} {log} {sigtab}   the bundled tire, RAV4 log and RAV4 signal table
     {tmp}       the temporary directory
 OPTIONS, comma-separated ('-' for none):
     mem         run under an address-space limit of 64 MiB (RLIMIT_AS)
     stdin=ARG   standard input from ARG (a placeholder or a path)
     gone=ARG    ARG must not exist afterwards (an incomplete output removed)
-    prog=NAME   the program (default grip-replay)
+    prog=NAME   the program (default grip-replay): grip-replay, grip-tire (in
+                --bin) or grip (the Python tools: python -m grip_tools)
     todo=TEXT   a known failure (TAP TODO)
 WORDS: ' | '-separated strings that must all appear in standard error.
 """
@@ -68,6 +72,16 @@ GENERATED = {
     "surrogate_utf8.csv": _csv(1, b"0.01,20,20,20,20,0.01,0.002,0.1,0.3,\xed\xa0\x80", extra_col=True),
     "escape.csv": _csv(3, b"0.03,20,20,20,20,0.01,\x1b[0m,0.1,0.3"),
     "tire_nul_row.csv": b"kappa,alpha,gamma,fz,p,vx\n0,0.01,0,4000,0,10\n\0,0.02,0,4000,0,10\n0,0.03,0,4000,0,10\n",
+    "tire_nul_mid.csv": b"kappa,alpha,gamma,fz,p,vx\n0,0.0\x001,0,4000,0,10\n0,0.03,0,4000,0,10\n",
+    "tire_control.csv": b"kappa,alpha,gamma,fz,p,vx\n0,\x01.01,0,4000,0,10\n",
+    "tire_bad_utf8.csv": b"kappa,alpha,gamma,fz,p,vx,note\n0,0.01,0,4000,0,10,caf\xff\n",
+    "tire_escape.csv": b"kappa,alpha,gamma,fz,p,vx\n0,0.01,0,\x1b[0m4000,0,10\n",
+    "tire_nul_header.csv": b"kappa\0,alpha,gamma,fz,p,vx\n0,0.01,0,4000,0,10\n",
+    "tire_zeros.csv": b"kappa,alpha,gamma,fz,p,vx\n" + b"\0" * 100000,
+    "tire_long_row.csv": b"kappa,alpha,gamma,fz,p,vx\n0,0.01,0,4000,0,10\n0,0.01,0,4000,0,10" + b"0" * 70000 + b"\n",
+    "brush_nul.txt": b"model = fiala\nmu = 0.\x009\n",
+    "many_keys.tir": b"[MODEL]\n" + b"".join(b"K%d = 1\n" % k for k in range(5000)),
+    "many_rows.tir": b"[SHAPE]\n" + b"1.0 0.5\n" * 5000,
     "nul.sigtab": b"grip-can-table 1 rav4\nmsg KINEMATICS 0x24 8 12000\0 none 0 0 0 intel\n",
     "nul.veh": b"mass = 1600\niz = 26\x0000\n",
     "big_noline.bin": b"A" * (4 << 20),
@@ -135,6 +149,8 @@ class Env:
                 v = os.path.join(HERE, "inputs", key[3:])
             elif key.startswith("gen:"):
                 v = self.gen(key[4:])
+            elif key.startswith("fix:"):
+                v = os.path.join(ROOT, "tests", "data", "tir", key[4:])
             elif key == "tir":
                 v = os.path.join(ROOT, "tests", "data", "mfeval-tir", "PacejkaBook_Defaults.tir")
             elif key == "log":
@@ -153,8 +169,16 @@ def limit_memory():
     resource.setrlimit(resource.RLIMIT_AS, (MEM_LIMIT, MEM_LIMIT))
 
 
+def command(prog, bindir):
+    """The argv prefix of a case's program."""
+    if prog == "grip":
+        py = os.path.join(ROOT, ".venv", "bin", "python")
+        return [py if os.path.exists(py) else sys.executable, "-m", "grip_tools"]
+    return [os.path.join(bindir, prog)]
+
+
 def run_case(c, env, bindir):
-    prog = os.path.join(bindir, c["opts"].get("prog", "grip-replay"))
+    prog = command(c["opts"].get("prog", "grip-replay"), bindir)
     args = [env.expand(a) for a in c["args"]]
     stdin = subprocess.DEVNULL
     if "stdin" in c["opts"]:
@@ -162,8 +186,10 @@ def run_case(c, env, bindir):
     gone = env.expand(c["opts"]["gone"]) if "gone" in c["opts"] else None
     t0 = time.monotonic()
     try:
-        p = subprocess.run([prog] + args, stdin=stdin, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                           timeout=TIMEOUT, preexec_fn=limit_memory if "mem" in c["opts"] else None)
+        env_vars = dict(os.environ, PYTHONPATH=os.path.join(ROOT, "tools"), PYTHONDONTWRITEBYTECODE="1")
+        p = subprocess.run(prog + args, stdin=stdin, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                           timeout=TIMEOUT, preexec_fn=limit_memory if "mem" in c["opts"] else None, env=env_vars,
+                           cwd=env.tmp)
         rc, err = p.returncode, p.stderr.decode("utf-8", "replace")
     except subprocess.TimeoutExpired as e:
         rc, err = "timeout", (e.stderr or b"").decode("utf-8", "replace")
@@ -189,21 +215,23 @@ def run_case(c, env, bindir):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--bin", default=os.path.join(ROOT, "build", "float-gcc", "bin"))
-    ap.add_argument("--only", help="only the cases of this program (grip-replay or grip-tire)")
+    ap.add_argument("--only", help="only the cases of these programs (comma-separated: grip-replay, grip-tire, grip)")
     ap.add_argument("--cases", default=os.path.join(HERE, "cases.tsv"))
     ap.add_argument("--no-mem", action="store_true", help="skip the memory-limited cases (sanitizer builds)")
     ap.add_argument("ids", nargs="*")
     a = ap.parse_args(argv)
+    a.bin = os.path.abspath(a.bin)      # the cases run in a temporary directory
     cases = read_cases(a.cases)
     ids = [c["id"] for c in cases]
     dup = {i for i in ids if ids.count(i) > 1}
     if dup:
         raise SystemExit(f"{a.cases}: duplicate case ids {sorted(dup)}")
     if a.only:
-        cases = [c for c in cases if c["opts"].get("prog", "grip-replay") == a.only]
+        only = set(a.only.split(","))
+        cases = [c for c in cases if c["opts"].get("prog", "grip-replay") in only]
     if a.ids:
         cases = [c for c in cases if c["id"] in a.ids]
-    for prog in sorted({c["opts"].get("prog", "grip-replay") for c in cases}):
+    for prog in sorted({c["opts"].get("prog", "grip-replay") for c in cases} - {"grip"}):
         if not os.path.exists(os.path.join(a.bin, prog)):
             raise SystemExit(f"{os.path.join(a.bin, prog)} not built (make progs)")
     print(f"1..{len(cases)}")

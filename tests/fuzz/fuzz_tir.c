@@ -2,7 +2,9 @@
  * fuzz_tir.c - the .tir reader (port/linux/tir_reader.c).
  *
  * Input: a whole .tir file (written to a per-process temporary file, since
- * the reader takes a path). Both tyre-side options are tried.
+ * the reader takes a path). Both tyre-side options are tried, the first
+ * with warnings (checked for their form), the second in strict mode
+ * without the plausibility ranges.
  * Properties: no crash or sanitizer report; on failure an error message of
  * the documented form "FILE:LINE: ..." and the output struct untouched; on
  * success the set passes grip_mf_check_params (the reader validates at
@@ -17,6 +19,14 @@
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 static char path[64];
+
+/* A warning has the form of an error: "FILE:LINE: KEY: what". */
+static void check_warning(void *ctx, const char *message)
+{
+    const char *file = ctx;
+    FZ_CHECK(strncmp(message, file, strlen(file)) == 0 && message[strlen(file)] == ':', "warning form: %s",
+             message);
+}
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
@@ -45,7 +55,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         char err[512];
         int rc;
         int k;
+        grip_tir_options_init(&opt);
         opt.side = side ? GRIP_TIR_SIDE_RIGHT : GRIP_TIR_SIDE_FILE;
+        /* plain (warnings checked for their form), then strict without the ranges */
+        opt.flags = side ? (GRIP_TIR_STRICT | GRIP_TIR_NO_RANGE_CHECK) : 0u;
+        opt.warn = check_warning;
+        opt.warn_ctx = (void *)path;
         memset(&p, 0xA5, sizeof p);
         before = p;
         err[0] = '\0';

@@ -7,7 +7,7 @@
 
 #include <stdio.h>
 
-#define GOLDEN_MAX_FIELDS 64
+#define GOLDEN_MAX_FIELDS 96
 
 typedef struct {
     FILE *file;

@@ -54,8 +54,8 @@ BRUSH_MODELS = [
     ('neofiala', 'l w kx ky mu_s mu_d0 a_v n q0 c_q c_qm c_xc xi eps g_mz a_x c_gamma h g_my fz_min fz_max '
      'alpha_max kappa_max gamma_max v_max', 'SSLLSSSISSSSSSLLSSLLLSSSS', 'SSSLS'),
 ]
-EST_NIN = 17
-EST_QL_FIRST = 9      # inputs 9..16 (brake pressures, torques) are QL
+EST_NIN = 18
+EST_QL = range(9, 17)   # inputs 9..16 (brake pressures, torques) are QL; 17 (rear steer) QS
 # QL (1) / QS (0) of the grip_mf_thermal_params fields, in struct order (= the P row)
 THERMAL_QL = [1, 0, 1, 1, 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 0,
               1, 0, 0, 0, 0, 0]
@@ -266,7 +266,7 @@ def main():
             v = [float(x) for x in s[1:1 + EST_NIN]]
             mask = int(float(s[1 + EST_NIN]))
             for fx in (True, False):
-                es[fx].append([t_us, mask, i] + [est_word(x, 8 if j >= EST_QL_FIRST else 16, fx)
+                es[fx].append([t_us, mask, i] + [est_word(x, 8 if j in EST_QL else 16, fx)
                                                  for j, x in enumerate(v)])
         est_meta.append((q, name, rate, est_first, len(es[True]) - est_first, cfg_mask, cfg_v))
 

@@ -178,14 +178,23 @@ static void test_errors(void **s)
     expect_error("model = sakai\n", "fiala", "t.txt:1: model: the file describes 'sakai', not 'fiala'");
     expect_error("model = fiala\nky\n", NULL, "t.txt:2: expected 'key = value'");
     expect_error("model = brush\nn = 4.5\n", NULL, "t.txt:2: n:");
-    expect_error("model = brush\nn = 9\n", NULL, "t.txt:0: the library rejects the parameter set");
-    expect_error("model = neofiala\nmu_s = 0.5\nmu_d0 = 0.9\n", NULL, "rejects the parameter set");
-    expect_error("model = neofiala\nl = 0\n", NULL, "rejects the parameter set");
-    expect_error("model = neofiala\nw = -0.1\n", NULL, "rejects the parameter set");
+    /* the library's check names the field (grip_*_check_params_detail), the
+     * reader its line (0 with "(its default)" when the file does not give it) */
+    expect_error("model = brush\nn = 9\n", NULL, "t.txt:2: n: the library rejects the parameter set: n must be in "
+                 "GRIP_BRUSH_N_MIN..GRIP_BRUSH_N_MAX (status -2");
+    expect_error("model = neofiala\nmu_s = 0.5\nmu_d0 = 0.9\n", NULL, "t.txt:2: mu_s: the library rejects the "
+                 "parameter set: mu_s must be in [mu_d0, 3]");
+    expect_error("model = neofiala\nl = 0\n", NULL, "t.txt:2: l: the library rejects the parameter set: l must be in (0, 2] m");
+    expect_error("model = neofiala\nw = -0.1\n", NULL, "t.txt:2: w: the library rejects");
+    expect_error("model = fiala\nfz_min = 20000\n", NULL, "t.txt:0: fz_max: the library rejects the parameter set: "
+                 "fz_max must be in [fz_min, 1e5] N (its default)");
+    expect_error("model = sakai\ng_y = 100\n", NULL, "t.txt:2: g_y: the library rejects the parameter set: g_y must be "
+                 "mu_s fz_max / (l g_y) <= 4");
 #if GRIP_ARITH_FIXED
     expect_error("model = neofiala\nky = 1e12\n", NULL, "t.txt:2: ky: 1e+12 is not representable in the fixed build");
 #else
-    expect_error("model = neofiala\nky = 1e12\n", NULL, "rejects the parameter set");
+    expect_error("model = neofiala\nky = 1e12\n", NULL, "t.txt:2: ky: the library rejects the parameter set: ky must be "
+                 "max(kx, ky) / (mu_s fz_min) <= 1000");
     expect_error("model = neofiala\nky = 1e39\n", NULL, "t.txt:2: ky: 1e+39 is not representable in the float build");
 #endif
     {

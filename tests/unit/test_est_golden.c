@@ -71,8 +71,8 @@ static double from_ql(grip_real_t v) { return (double)v; }
 /* column layout of est_*.txt (golden/est.py) */
 #define C_T 0
 #define C_IN 1
-#define C_MASK 18
-#define C_OUT 19
+#define C_MASK (C_IN + GRIP_IN_COUNT)
+#define C_OUT (C_MASK + 1)
 enum {
     O_VX = 0, O_VY, O_BETA, O_YAW, O_YAWREF, O_YAWBIAS, O_DELTA, O_MU, O_MUCONF,
     O_FZ = 9, O_KAPPA = 13, O_ALPHA = 17, O_FX = 21, O_FY = 25, O_MZ = 29, O_UTIL = 33,
@@ -89,7 +89,7 @@ typedef struct {
     const char *file;
     double dt;
     int optional;
-    int aero_bank;   /* 1: the AERO_BANK configuration of tools/grip_tools/golden/est.py */
+    int aero_bank;   /* 1: the AERO_BANK configuration of tools/grip_tools/golden/est.py; 2: rear_steer = 1 */
 } seq_t;
 
 static void run_sequence(const seq_t *sq)
@@ -115,7 +115,7 @@ static void run_sequence(const seq_t *sq)
     }
     assert_int_equal(grip_est_config_default(&cfg, tp), GRIP_OK);
     cfg.rate_hz = (uint32_t)lround(1.0 / sq->dt);
-    if (sq->aero_bank) {
+    if (sq->aero_bank == 1) {
         cfg.cla = to_qs(2.5);
         cfg.aero_front = to_qs(0.42);
         cfg.air_density = to_qs(1.2);
@@ -126,6 +126,9 @@ static void run_sequence(const seq_t *sq)
         cfg.latency = to_qs(0.02);
         cfg.steer_lag = to_qs(0.1);
         cfg.steer_latency = to_qs(0.01);
+    }
+    if (sq->aero_bank == 2) {
+        cfg.rear_steer = 1u;
     }
     assert_int_equal(grip_est_init(&est, &cfg), GRIP_OK);
     grip_debug_saturation_reset();
@@ -152,12 +155,14 @@ static void run_sequence(const seq_t *sq)
         in.step = (uint32_t)rows;
         for (i = 0; i < GRIP_IN_COUNT; ++i) {
             double v = golden_num(&g, C_IN + i);
-            in.value[i] = (i >= GRIP_IN_BRAKE_PRESSURE_FL) ? to_ql(v) : to_qs(v);
+            in.value[i] = grip_input_is_ql((uint32_t)i) ? to_ql(v) : to_qs(v);
             in.valid[i] = (uint8_t)((m >> i) & 1u);
             in.fault[i] = in.valid[i] ? GRIP_SIG_OK : GRIP_SIG_MISSING;
         }
-        assert_int_equal(grip_est_step(&est, &in, &out), GRIP_OK);
 #define W(k) golden_num(&g, C_OUT + (k))
+        /* a step whose time is off the configured rate warns (F_RATE) */
+        assert_int_equal(grip_est_step(&est, &in, &out),
+                         (((unsigned long)W(O_FLAGS) & GRIP_EST_F_RATE) != 0u) ? GRIP_WARN_RATE : GRIP_OK);
         err_add(&e_vx, from_qs(out.vx), W(O_VX), golden_num(&g, C_T), 0, 0);
         err_add(&e_beta, from_qs(out.beta), W(O_BETA), golden_num(&g, C_T), 0, 0);
         err_add(&e_yaw, from_qs(out.yaw_rate), W(O_YAW), golden_num(&g, C_T), 0, 0);
@@ -216,6 +221,7 @@ static const seq_t seqs[] = {
     { "est_sim_sine_dwell.txt", 0.01, 1, 0 },
     { "est_aero_bank_100hz.txt", 0.01, 0, 1 },
     { "est_steer_offset_100hz.txt", 0.01, 0, 0 },
+    { "est_rear_steer_100hz.txt", 0.01, 0, 2 },
 };
 
 static void test_bicycle_100hz(void **state) { (void)state; run_sequence(&seqs[0]); }
@@ -224,6 +230,7 @@ static void test_faults_100hz(void **state) { (void)state; run_sequence(&seqs[2]
 static void test_sim_sine_dwell(void **state) { (void)state; run_sequence(&seqs[3]); }
 static void test_aero_bank_100hz(void **state) { (void)state; run_sequence(&seqs[4]); }
 static void test_steer_offset_100hz(void **state) { (void)state; run_sequence(&seqs[5]); }
+static void test_rear_steer_100hz(void **state) { (void)state; run_sequence(&seqs[6]); }
 
 int main(void)
 {
@@ -234,6 +241,7 @@ int main(void)
         cmocka_unit_test(test_sim_sine_dwell),
         cmocka_unit_test(test_aero_bank_100hz),
         cmocka_unit_test(test_steer_offset_100hz),
+        cmocka_unit_test(test_rear_steer_100hz),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -70,18 +70,18 @@ static double from_qs(grip_real_t v) { return (double)v; }
 /* column layout of monitor_*.txt (golden/monitor.py) */
 #define C_T 0
 #define C_IN 1
-#define C_MASK 18
-#define C_EVX 19
-#define C_EBETA 20
-#define C_ESTEER 21
-#define C_EVALID 22
-#define C_CODE 23
-#define C_FAULTY 32
-#define C_DROPPED 33
-#define C_DET 34
-#define C_RES 35
-#define C_DEGR 44
-#define C_COUNT 45
+#define C_MASK (C_IN + GRIP_IN_COUNT)
+#define C_EVX (C_MASK + 1)
+#define C_EBETA (C_MASK + 2)
+#define C_ESTEER (C_MASK + 3)
+#define C_EVALID (C_MASK + 4)
+#define C_CODE (C_MASK + 5)
+#define C_FAULTY (C_MASK + 14)
+#define C_DROPPED (C_MASK + 15)
+#define C_DET (C_MASK + 16)
+#define C_RES (C_MASK + 17)
+#define C_DEGR (C_MASK + 26)
+#define C_COUNT (C_MASK + 27)
 
 typedef struct {
     const char *file;
@@ -119,7 +119,7 @@ static void run_sequence(const seq_t *sq)
         in.step = (uint32_t)rows;
         for (i = 0; i < GRIP_IN_COUNT; ++i) {
             double v = golden_num(&g, C_IN + i);
-            in.value[i] = (i >= GRIP_IN_BRAKE_PRESSURE_FL) ? to_ql(v) : to_qs(v);
+            in.value[i] = grip_input_is_ql((uint32_t)i) ? to_ql(v) : to_qs(v);
             in.valid[i] = (uint8_t)((m >> i) & 1u);
             in.fault[i] = in.valid[i] ? GRIP_SIG_OK : GRIP_SIG_MISSING;
         }

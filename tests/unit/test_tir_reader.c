@@ -18,6 +18,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include <cmocka.h>
 
 #include "grip/grip_mf.h"
@@ -177,6 +178,7 @@ static void test_minimal_and_side_option(void **state)
     grip_mf_params p;
     grip_tir_options o;
     (void)state;
+    grip_tir_options_init(&o);
     assert_int_equal(grip_tir_read(FIX "minimal.tir", &p, err, sizeof err), 0);
     assert_int_equal(p.fittyp, 61);
     assert_int_equal(p.tyreside, -1);
@@ -267,6 +269,22 @@ static const bad_case BAD[] = {
     { "duplicate.tir", "QCZ1", "QCZ1 = 1.2", "duplicate" },
     { "garbage_line.tir", "-", "PKX1 21.687", "expected KEY = value" },
     { "trailing_text.tir", "PDX1", "PDX1 = 1.0 2.0", "after the value" },
+    /* the validation layer: plausibility, FITTYP, USE_MODE, empty values, bounds */
+    { "range_pdy1.tir", "PDY1", "PDY1 = 30000", "outside the plausible range |v| in [0.05, 10]" },
+    { "range_pcy1_zero.tir", "PCY1", "PCY1 = 0", "outside the plausible range [0.1, 5]" },
+    { "range_radius_mm.tir", "UNLOADED_RADIUS", "UNLOADED_RADIUS = 313.5", "--no-range-check" },
+    { "range_fnomin_kn.tir", "FNOMIN", "FNOMIN = 4", "[20, 1e+06]" },
+    { "range_alpmax_deg.tir", "ALPMIN", "ALPMIN = -30", "slip angle range [rad]" },
+    { "fittyp_51.tir", "FITTYP", "FITTYP = 51", "unsupported Magic Formula version 51" },
+    { "use_mode_turnslip.tir", "USE_MODE", "USE_MODE = 125", "turn slip per call" },
+    { "use_mode_negative.tir", "USE_MODE", "USE_MODE = -14", "mirrors the tyre" },
+    { "use_mode_fy_only.tir", "USE_MODE", "USE_MODE = 12", "Fy, Mx and Mz only" },
+    { "use_mode_uncombined.tir", "USE_MODE", "USE_MODE = 13", "uncombined forces" },
+    { "use_mode_digit.tir", "USE_MODE", "USE_MODE = 148", "tens digit 4" },
+    { "use_mode_text.tir", "USE_MODE", "USE_MODE = 'combined'", "not an integer" },
+    { "empty_required.tir", "FNOMIN", "FNOMIN =", "empty value for a required key" },
+    { "long_line.tir", "-", "$ xxxx", "line longer than 4096 bytes" },
+    { "nul_byte.tir", "-", "PKX1 = 21", "NUL byte at byte offset" },
 };
 
 static void test_error_classes(void **state)
@@ -327,6 +345,166 @@ static void test_unreadable_file(void **state)
     assert_int_equal(grip_tir_read(FIX "minimal.tir", NULL, err, sizeof err), -1);
 }
 
+/* ---- warnings, strict mode, overrides, bounds --------------------------- */
+
+typedef struct {
+    int n;
+    char last[512];
+} warn_log;
+
+static void collect(void *ctx, const char *message)
+{
+    warn_log *w = ctx;
+    w->n++;
+    snprintf(w->last, sizeof w->last, "%s", message);
+}
+
+static void test_warnings_and_strict(void **state)
+{
+    static const struct {
+        const char *file;
+        int n;
+        const char *last;   /* words of the last warning */
+    } W[] = {
+        { "warn_unknown_key.tir", 2, "PKX9: unknown key in [LONGITUDINAL_COEFFICIENTS]: ignored (did you mean PKX1?)" },
+        { "warn_misplaced.tir", 3, "LENGTH: grip reads LENGTH from [UNITS], not from the unknown section [HEADER]" },
+        { "warn_empty.tir", 4, "ASPECT_RATIO: empty value: the default 0.6 is used" },
+    };
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof W / sizeof W[0]; i++) {
+        char path[256];
+        char err[512];
+        grip_tir_options o;
+        grip_tir_values v;
+        grip_mf_params p;
+        grip_mf_params ref;
+        warn_log log;
+        memset(&log, 0, sizeof log);
+        snprintf(path, sizeof path, FIX "%s", W[i].file);
+        grip_tir_options_init(&o);
+        o.warn = collect;
+        o.warn_ctx = &log;
+        if (grip_tir_parse(path, &o, &v, err, sizeof err) != 0) {
+            fail_msg("%s: %s", W[i].file, err);
+        }
+        print_message("# %s: %d warnings, last: %s\n", W[i].file, log.n, log.last);
+        assert_int_equal(log.n, W[i].n);
+        assert_int_equal((int)v.nwarnings, W[i].n);
+        assert_non_null(strstr(log.last, W[i].last));
+        assert_non_null(strstr(log.last, path));
+        /* the values are those of minimal.tir: what is warned about is ignored */
+        assert_int_equal(grip_tir_read_opts(path, &o, &p, err, sizeof err), 0);
+        assert_int_equal(grip_tir_read(FIX "minimal.tir", &ref, err, sizeof err), 0);
+        assert_memory_equal(&p, &ref, sizeof p);
+        /* strict: the first warning is the error, the output untouched */
+        o.flags = GRIP_TIR_STRICT;
+        memset(&p, 0x3C, sizeof p);
+        ref = p;
+        assert_int_equal(grip_tir_read_opts(path, &o, &p, err, sizeof err), -1);
+        print_message("# strict: %s\n", err);
+        assert_non_null(strstr(err, "(refused: strict mode)"));
+        assert_memory_equal(&p, &ref, sizeof p);
+    }
+}
+
+static void test_overrides_and_use_mode(void **state)
+{
+    char err[512];
+    grip_tir_options o;
+    grip_tir_values v;
+    (void)state;
+    grip_tir_options_init(&o);
+    assert_int_equal(o.side, GRIP_TIR_SIDE_FILE);
+    assert_int_equal(o.flags, 0u);
+    /* --no-range-check: read as given */
+    assert_int_equal(grip_tir_parse(FIX "range_pdy1.tir", &o, &v, err, sizeof err), -1);
+    o.flags = GRIP_TIR_NO_RANGE_CHECK;
+    assert_int_equal(grip_tir_parse(FIX "range_pdy1.tir", &o, &v, err, sizeof err), 0);
+    assert_true(v.v[grip_tir_coef_index("PDY1")] == 30000.0);
+    /* the hard checks stay */
+    assert_int_equal(grip_tir_parse(FIX "fnomin_zero.tir", &o, &v, err, sizeof err), -1);
+    /* USE_MODE 13 for a pure-slip caller */
+    o.flags = 0u;
+    assert_int_equal(grip_tir_parse(FIX "use_mode_uncombined.tir", &o, &v, err, sizeof err), -1);
+    o.flags = GRIP_TIR_PURE_SLIP;
+    assert_int_equal(grip_tir_parse(FIX "use_mode_uncombined.tir", &o, &v, err, sizeof err), 0);
+    assert_int_equal(v.use_mode, 13);
+    assert_true(v.use_mode_line > 0);
+    o.flags = 0u;
+    assert_int_equal(grip_tir_parse(FIX "use_mode_ok.tir", &o, &v, err, sizeof err), 0);
+    assert_int_equal(v.use_mode, 124);
+    assert_int_equal(grip_tir_parse(FIX "minimal.tir", &o, &v, err, sizeof err), 0);
+    assert_int_equal(v.use_mode, -1);
+    assert_int_equal((int)v.use_mode_line, 0);
+    assert_int_equal(v.fittyp_file, 61);
+    /* FITTYP 52: MF 5.2, evaluated as 21 */
+    assert_int_equal(grip_tir_parse(FIX "fittyp_52.tir", &o, &v, err, sizeof err), 0);
+    assert_int_equal(v.fittyp, 21);
+    assert_int_equal(v.fittyp_file, 52);
+    /* unknown flag bits */
+    o.flags = 0x80u;
+    assert_int_equal(grip_tir_parse(FIX "minimal.tir", &o, &v, err, sizeof err), -1);
+    assert_non_null(strstr(err, "unknown option flags"));
+}
+
+static void test_shared_files_strict(void **state)
+{
+    size_t i;
+    (void)state;
+    for (i = 0; i < N_SHARED; i++) {
+        char path[1024];
+        char err[512];
+        grip_tir_options o;
+        grip_mf_params p;
+        grip_mf_params q;
+        snprintf(path, sizeof path, "%s/%s", shared_dir(), SHARED_TIR[i]);
+        grip_tir_options_init(&o);
+        o.flags = GRIP_TIR_STRICT;
+        if (grip_tir_read_opts(path, &o, &p, err, sizeof err) != 0) {
+            fail_msg("strict: %s", err);
+        }
+        /* the checks do not change a value */
+        o.flags = GRIP_TIR_NO_RANGE_CHECK;
+        assert_int_equal(grip_tir_read_opts(path, &o, &q, err, sizeof err), 0);
+        assert_memory_equal(&p, &q, sizeof p);
+    }
+}
+
+/* /dev/zero, a 1 GiB sparse file, a file over 4 MiB: each ends with an
+ * error after a bounded read (the memory limit itself: tests/badinput). */
+static void test_bounded_reads(void **state)
+{
+    char err[512];
+    grip_mf_params p;
+    char path[] = "/tmp/grip_tir_testXXXXXX";
+    int fd;
+    FILE *f;
+    long k;
+    (void)state;
+    assert_int_equal(grip_tir_read("/dev/zero", &p, err, sizeof err), -1);
+    print_message("# %s\n", err);
+    assert_non_null(strstr(err, "/dev/zero:1: -: NUL byte at byte offset 0"));
+    fd = mkstemp(path);
+    assert_true(fd >= 0);
+    assert_int_equal(ftruncate(fd, 1L << 30), 0);
+    close(fd);
+    assert_int_equal(grip_tir_read(path, &p, err, sizeof err), -1);
+    print_message("# %s\n", err);
+    assert_non_null(strstr(err, ":0: -: larger than 4194304 bytes: not a .tir file"));
+    f = fopen(path, "wb");
+    assert_non_null(f);
+    fputs("[MODEL]\n", f);
+    for (k = 0; k < 5000; k++) {
+        fprintf(f, "K%ld = 1\n", k);
+    }
+    fclose(f);
+    assert_int_equal(grip_tir_read(path, &p, err, sizeof err), -1);
+    print_message("# %s\n", err);
+    assert_non_null(strstr(err, ":4098: -: more than 4096 keys"));
+    remove(path);
+}
+
 /* ---- the C reader agrees with the Python emitter ---------------------------- */
 
 static void test_matches_emitted_params(void **state)
@@ -346,6 +524,7 @@ static void test_matches_emitted_params(void **state)
         double worst = 0.0;
         const char *worst_key = "-";
         grip_tir_options left;
+        grip_tir_options_init(&left);
         left.side = GRIP_TIR_SIDE_LEFT;   /* the golden parameter sets mount every tyre left */
         if (grip_tir_read_opts(tt->tir_path, &left, &p, err, sizeof err) != 0) {
             fail_msg("%s: %s", tt->name, err);
@@ -385,6 +564,10 @@ int main(void)
         cmocka_unit_test(test_crlf_and_pressure_unit),
         cmocka_unit_test(test_error_classes),
         cmocka_unit_test(test_unreadable_file),
+        cmocka_unit_test(test_warnings_and_strict),
+        cmocka_unit_test(test_overrides_and_use_mode),
+        cmocka_unit_test(test_shared_files_strict),
+        cmocka_unit_test(test_bounded_reads),
         cmocka_unit_test(test_matches_emitted_params),
     };
     return cmocka_run_group_tests_name("tir_reader_" GRIP_ARITH_NAME, tests, NULL, NULL);

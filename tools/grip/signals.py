@@ -27,7 +27,7 @@ from grip._core import backend
 
 INPUTS = ("wheel_speed_fl", "wheel_speed_fr", "wheel_speed_rl", "wheel_speed_rr", "steer_angle", "yaw_rate",
           "ax", "ay", "vehicle_speed", "brake_pressure_fl", "brake_pressure_fr", "brake_pressure_rl",
-          "brake_pressure_rr", "brake_torque_fl", "brake_torque_fr", "brake_torque_rl", "brake_torque_rr")
+          "brake_pressure_rr", "brake_torque_fl", "brake_torque_fr", "brake_torque_rl", "brake_torque_rr", "rear_steer_angle")
 FAULTS = ("ok", "unmapped", "missing", "stale", "range", "fault")   # grip_sig_fault_t
 OK, UNMAPPED, MISSING, STALE, RANGE, FAULT = range(6)
 

@@ -14,6 +14,7 @@ COMMANDS = {
     # tire engineer: evaluate, fit, convert, close the loop
     "tir2c": ("grip_tools.reference.tir", "emit a grip_mf_params C definition from a .tir file"),
     "fit-mf": ("grip_tools.fit.mf", "identify Magic Formula coefficients from measured sweeps"),
+    "axle-stiffness": ("grip_tools.fit.axle_stiffness", "rear-axle .tir whose cornering stiffness gives the car's understeer gradient (or a ramp's)"),
     "fit-brush": ("grip_tools.fit.brush", "fit Neo-FIALA to Magic Formula curves (G275 demo) or to sweeps"),
     "mf89": ("grip_tools.reference.mf89", "1989-style lateral Magic Formula: constraint report of a coefficient set"),
     "brush-verify": ("grip_tools.reference.brush", "brush models: closed forms vs quadrature, every n (--write-table: lib/brush/brush_table.h)"),
@@ -45,18 +46,27 @@ did not converge), 2 usage (bad option, a file that cannot be opened),
 
 
 def data_error_types():
-    """Exception classes of the readers that mean 'bad input data'. Imported
-    here so that every reader's error is reported the same way."""
-    from grip_tools.reference.tir import TirError
-    from grip_tools.reference.brush import ParamError
-    from grip_tools.can.dbc import MapError
-    return (DataError, TirError, ParamError, MapError)
+    """Exception classes of the readers that mean 'bad input data', so that
+    every reader's error is reported the same way. Only from modules already
+    loaded (an error of a module that was never imported cannot have been
+    raised): reporting a .tir error must not import numpy, so it works under
+    a small memory limit too."""
+    types = [DataError]
+    for module, name in (("grip_tools.reference.tir", "TirError"), ("grip_tools.reference.brush", "ParamError"),
+                         ("grip_tools.can.dbc", "MapError")):
+        m = sys.modules.get(module)
+        if m is not None and hasattr(m, name):
+            types.append(getattr(m, name))
+    return tuple(types)
 
 
 def run_command(name, argv):
     """Run one command; user errors end as one line on stderr and an exit
     code (EXIT_HELP), programming errors keep their traceback."""
     prog = f"grip {name}"
+    from grip_tools.reference import tir      # .tir warnings name the command, as its errors do
+    old_handler = tir.set_warning_handler(lambda w: print(f"{prog}: warning: {w}", file=sys.stderr))
+    old_policy = dict(tir.POLICY)
     try:
         module = importlib.import_module(COMMANDS[name][0])
         return module.main(argv) or 0
@@ -77,6 +87,9 @@ def run_command(name, argv):
             print(f"{prog}: {e}", file=sys.stderr)
             return EXIT_DATA
         raise
+    finally:
+        tir.set_warning_handler(old_handler)
+        tir.POLICY.update(old_policy)
 
 
 def usage(out):

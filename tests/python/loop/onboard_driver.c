@@ -19,8 +19,9 @@
  *          PKY6/PVY3 or PPX1/PPY1/PPX3/PPY3).
  * relax:   grip_relax (sigma_kappa = sigma_alpha = SIGMA, v_min 0.5 m/s), its
  *          kappa', alpha' fed into grip_mf_eval. Row i > 0 steps from t[i-1]
- *          to t[i] with the inputs of row i-1 held and the speed of row i
- *          (the tool's relax_ref.lag_series).
+ *          to t[i] with the inputs and the speed of row i, the output of the
+ *          step feeding row i's forces (the tool's grammar.relax_series:
+ *          sigma -> 0 is the base model).
  * thermal: grip_mf_thermal state (parameters from THERMAL: "name value" lines
  *          in the order of grip_mf_thermal_params, SI) driven by V = vx /
  *          cos(alpha), alpha_seed = -alpha, S = -kappa, T_R = t0; the forces
@@ -170,7 +171,7 @@ int main(int argc, char **argv)
         for (i = 0; i < n; i++) {
             grip_status_t sr = GRIP_OK;
             if (i > 0) {
-                sr = grip_relax_step(&rs, QS(rows[i - 1][1]), QS(rows[i - 1][2]), QS(rows[i][4]),
+                sr = grip_relax_step(&rs, QS(rows[i][1]), QS(rows[i][2]), QS(rows[i][4]),
                                      QS(rows[i][0] - rows[i - 1][0]), &kt, &at);
             }
             st = mf_at(&p, FROM_QS(kt), FROM_QS(at), rows[i][3], rows[i][4], &fx, &fy);

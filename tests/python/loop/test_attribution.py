@@ -1,7 +1,12 @@
 """Residual analysis / effect attribution (tools/grip_tools/loop) on
 undeclared-effect data sets (tools/grip_tools/loop/datasets.py): the tool is NOT
 told which effect is present; it must name it, halve the held-out error,
-and invent nothing on a data set without a hidden effect."""
+and invent nothing on a data set without a hidden effect.
+
+Named: the chosen candidate is a named form or a grammar pair (target,
+driver) of the effect's family (ACCEPT): the grammar may find the hidden
+effect's own form (the camber set's Fy + gamma Fz is svy~gamma exactly)
+where a named form only approximates it."""
 import os
 import tempfile
 import unittest
@@ -14,8 +19,27 @@ from grip_tools.loop import attribution, effects, io, report
 from grip_tools.loop.effects import TireModel
 from grip_tools.loop.io import Dataset
 
-EXPECT = {"thermal": "thermal", "relaxation": "relaxation", "slip_velocity": "slip_velocity_friction",
-          "load": "load_sensitivity", "bank": "road_bank"}
+FRICTION = ("mu", "mux", "muy", "mu2", "grip")
+LOAD = ("dfz", "dfz2")
+# name or (target, driver) of the hidden effect's family
+ACCEPT = {"thermal": {"thermal"} | {(t, d) for t in FRICTION for d in ("state:energy", "state2:energy")},
+          "relaxation": {"relaxation", "relaxation2"},
+          "slip_velocity": {"slip_velocity_friction"} | {(t, "vs") for t in FRICTION},
+          "load": {"load_sensitivity"} | {(t, d) for t in FRICTION for d in LOAD},
+          "bank": {"road_bank"},
+          "camber": {"camber", ("svy", "gamma"), ("svy", "gamma2"), ("kyc", "const")},
+          "pressure": {"inflation_pressure"} | {(t, d) for t in FRICTION + ("k", "k2", "kc", "kc2")
+                                                for d in ("dpi", "dpi2")}}
+
+
+def named_as(c, kind):
+    return c is not None and (c.name in ACCEPT[kind] or tuple(c.family) in ACCEPT[kind])
+
+
+def coefficient(c, suffix):
+    """the fitted coefficients of a grammar pair whose name ends with suffix
+    (e.g. '*dfz': the linear load term of every friction column)"""
+    return [v for k, v in c.params.items() if k.endswith(suffix)]
 
 
 def make_gp(kind, seed=3, noise=0.005):
@@ -71,7 +95,7 @@ class UndeclaredEffects(unittest.TestCase):
         self.assertIsNotNone(c, f"{kind}: {attribution.verdict(res)}")
         print(f"\n  {kind}: named {c.name}, score {c.score:.3f}, "
               + ", ".join(f"{o} held-out RMS {res.base_ho_rms[o]:.1f} -> {c.ho_rms[o]:.1f} N" for o in ds.outputs))
-        self.assertEqual(c.name, EXPECT[kind])
+        self.assertTrue(named_as(c, kind), f"{kind}: {c.name}")
         self.assertLessEqual(c.score, 0.5)
         # the most affected output's held-out RMS at least halves too
         o = max(ds.outputs, key=lambda q: res.base_ho_rms[q])
@@ -80,22 +104,35 @@ class UndeclaredEffects(unittest.TestCase):
 
     def test_thermal(self):
         c = self._check("thermal")
-        self.assertLess(c.params["a_mu_per_K"], 0.0)    # hot tyre: less grip
+        # the named form (lib/mf_thermal's state) is fitted beside the grammar
+        # whenever an energy state is among the best screened pairs
+        th = next(d for d in self.results["thermal"][2].ranked if d.name == "thermal")
+        self.assertLess(th.params["a_mu_per_K"], 0.0)    # hot tyre: less grip
         # truth (datasets.make): a/W = -0.007/600, b/W = -0.004/600, kappa = 0.03 1/s; the tool fixes W = 1500
-        self.assertAlmostEqual(c.params["a_mu_per_K"] / 1500.0, -0.007 / 600.0, delta=0.2 * 0.007 / 600.0)
-        self.assertAlmostEqual(c.params["kappa_per_s"], 0.03, delta=0.01)
+        self.assertAlmostEqual(th.params["a_mu_per_K"] / 1500.0, -0.007 / 600.0, delta=0.2 * 0.007 / 600.0)
+        self.assertAlmostEqual(th.params["kappa_per_s"], 0.03, delta=0.01)
 
     def test_relaxation(self):
         c = self._check("relaxation")
-        self.assertTrue(0.2 < c.params["sigma_m"] < 1.0, c.params)   # truth 0.6 m (alpha), 0.3 m (kappa)
+        # truth 0.6 m (alpha), 0.3 m (kappa): one length, or both
+        if c.name == "relaxation2":
+            self.assertAlmostEqual(c.params["sigma_alpha_m"], 0.6, delta=0.1)
+            self.assertAlmostEqual(c.params["sigma_kappa_m"], 0.3, delta=0.1)
+        else:
+            self.assertTrue(0.2 < c.params["sigma_m"] < 1.0, c.params)
 
     def test_slip_velocity(self):
         c = self._check("slip_velocity")
-        self.assertGreater(c.params["lmuv"], 0.0)          # the .tir LMUV (friction falls with Vs)
+        if c.name == "slip_velocity_friction":
+            self.assertGreater(c.params["lmuv"], 0.0)          # the .tir LMUV (friction falls with Vs)
+        else:
+            self.assertTrue(all(v < 0 for v in coefficient(c, "*vs")), c.params)
 
     def test_load(self):
         c = self._check("load")
-        self.assertLess(c.params["c_dfz"], 0.0)
+        # friction falls with load: the linear term of every friction column
+        lin = [c.params["c_dfz"]] if c.name == "load_sensitivity" else coefficient(c, "*dfz")
+        self.assertTrue(lin and all(v < 0 for v in lin), c.params)
 
     def test_bank(self):
         c = self._check("bank")
@@ -108,7 +145,10 @@ class UndeclaredEffects(unittest.TestCase):
         self.assertIn("no effect", attribution.verdict(res))
 
     def test_report_and_update(self):
-        ds, _, res = self.results["load"]
+        # the named form's .tir update (PDY2/PDX2): the named effects only
+        ds, _, _ = self.results["load"]
+        res = attribution.analyse(self.model, ds, use_grammar=False)
+        self.assertEqual(res.chosen.name, "load_sensitivity")
         with tempfile.TemporaryDirectory() as d:
             path, upd = report.write(res, ds, self.model, d)
             with open(path) as f:
@@ -137,13 +177,12 @@ class UndeclaredCamberPressure(unittest.TestCase):
             cls.results[kind] = (ds, truth, attribution.analyse(cls.model, ds))
 
     def _check(self, kind):
-        exp = {"camber": "camber", "pressure": "inflation_pressure"}
         ds, truth, res = self.results[kind]
         c = res.chosen
         self.assertIsNotNone(c, f"{kind}: {attribution.verdict(res)}")
         print(f"\n  {kind}: named {c.name}, score {c.score:.3f}, "
               + ", ".join(f"{o} held-out RMS {res.base_ho_rms[o]:.1f} -> {c.ho_rms[o]:.1f} N" for o in ds.outputs))
-        self.assertEqual(c.name, exp[kind])
+        self.assertTrue(named_as(c, kind), f"{kind}: {c.name}")
         self.assertLessEqual(c.score, 0.5)
         o = max(ds.outputs, key=lambda q: res.base_ho_rms[q])
         self.assertLessEqual(c.ho_rms[o], 0.5 * res.base_ho_rms[o])
@@ -151,16 +190,32 @@ class UndeclaredCamberPressure(unittest.TestCase):
 
     def test_camber(self):
         c = self._check("camber")
-        # truth: Fy += 1.0 gamma Fz; the tool's PKY6, PVY3 += c adds about c gamma Fz
-        self.assertAlmostEqual(c.params["c_gamma"], 1.0, delta=0.15)
+        # truth: Fy += 1.0 gamma Fz: svy~gamma is that term; the named form's
+        # PKY6, PVY3 += c adds about c gamma Fz
+        if c.name == "camber":
+            self.assertAlmostEqual(c.params["c_gamma"], 1.0, delta=0.15)
+        elif c.family == ("svy", "gamma"):
+            self.assertAlmostEqual(c.params["m*gamma"], 1.0, delta=0.05)
+        named = next(d for d in self.results["camber"][2].ranked if d.name == "camber")
+        self.assertAlmostEqual(named.params["c_gamma"], 1.0, delta=0.15)
 
     def test_pressure(self):
         c = self._check("pressure")
-        # truth: LMU, LK x (1 - 0.3 dpi); the tool's PP*1, PP*3 += c is that to first order
-        self.assertAlmostEqual(c.params["c_dp"], -0.3, delta=0.1)
+        # truth: LMU, LK x (1 - 0.3 dpi): grip~dpi is that term; the named
+        # form's PP*1, PP*3 += c is it to first order
+        if c.name == "inflation_pressure":
+            self.assertAlmostEqual(c.params["c_dp"], -0.3, delta=0.1)
+        elif c.family == ("grip", "dpi"):
+            self.assertAlmostEqual(c.params["mu*dpi"], -0.3, delta=0.05)
+            self.assertAlmostEqual(c.params["k*dpi"], -0.3, delta=0.05)
+        named = next(d for d in self.results["pressure"][2].ranked if d.name == "inflation_pressure")
+        self.assertAlmostEqual(named.params["c_dp"], -0.3, delta=0.1)
 
     def test_report_and_update(self):
-        ds, _, res = self.results["camber"]
+        # the named form's .tir update (PKY6/PVY3): the named effects only
+        ds, _, _ = self.results["camber"]
+        res = attribution.analyse(self.model, ds, use_grammar=False)
+        self.assertEqual(res.chosen.name, "camber")
         with tempfile.TemporaryDirectory() as d:
             _, upd = report.write(res, ds, self.model, d)
             from grip_tools.reference import tir
@@ -207,7 +262,8 @@ def make_front_axle(kind, seed=5, noise=0.005, tau=0.25, dx=0.6):
     ch = dict(ch, alpha=alpha_data, fy=fy + noise * np.max(np.abs(fy)) * rng.standard_normal(n))
     units = {"t": "s", "alpha": "rad", "kappa": "-", "gamma": "rad", "fz": "N", "vx": "m/s", "fy": "N",
              "delta": "rad", "r": "rad/s"}
-    return Dataset(t, ch, units, ["fy"], {"axle": "front", "generator": "test_residual.make_front_axle"})
+    return Dataset(t, ch, units, ["fy"], {"axle": "front", "generator": "test_residual.make_front_axle",
+                                          "derived": ("fy", "fz", "alpha")})
 
 
 class UndeclaredKinematics(unittest.TestCase):

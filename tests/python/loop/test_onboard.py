@@ -8,7 +8,7 @@ build/<variant>/libgrip.a and libgrip_port.a for each built variant
 (float-gcc, fixed-gcc; a variant not built is skipped) — runs it:
 
   slip_velocity_friction  updated .tir with LMUV -> grip_mf_eval
-  relaxation              grip_relax (sigma) -> grip_mf_eval
+  relaxation              grip_relax (sigma), stepped with the current row -> grip_mf_eval
   thermal                 grip_mf_thermal state (grip_mf_thermal_params from
                           update.json) + grip_mf_eval with LMUX/LMUY, LKX/LKY
                           scaled by the state's temperature
@@ -36,8 +36,8 @@ import unittest
 import numpy as np
 
 from grip_tools.loop import datasets
-from grip_tools.reference import mf_thermal, relax as relax_ref
-from grip_tools.loop import attribution, effects, report
+from grip_tools.reference import mf_thermal
+from grip_tools.loop import attribution, effects, grammar, report
 from grip_tools.loop.effects import TireModel
 from .test_attribution import make_gp
 from grip_tools.paths import REPO_ROOT
@@ -186,8 +186,8 @@ class OnboardMatchesTool(unittest.TestCase):
         ds, x, prm = self.fit(e, "relaxation")
         tool = e.predict(self.model, ds, x)
         sigma = report.effect_update(e.name, prm, self.model)["grip_relax_params"]["sigma_alpha"]
-        kt = relax_ref.lag_series(ds.ch["kappa"], ds.ch["vx"], ds.t, sigma)
-        at = relax_ref.lag_series(ds.ch["alpha"], ds.ch["vx"], ds.t, sigma)
+        kt = grammar.relax_series(ds.ch["kappa"], ds.ch["vx"], ds.t, sigma)
+        at = grammar.relax_series(ds.ch["alpha"], ds.ch["vx"], ds.t, sigma)
         # slip sensitivities of the MF at the relaxed slips (central differences)
         h = 1e-5
         d = {}
@@ -204,8 +204,11 @@ class OnboardMatchesTool(unittest.TestCase):
             ek, ea = np.abs(cols[:, 0] - kt), np.abs(cols[:, 1] - at)
             dt = np.diff(ds.t, prepend=ds.t[0] - (ds.t[1] - ds.t[0]))
             if v.startswith("fixed"):
-                bk = 2e-4 + 5.6e-6 / dt * np.abs(np.concatenate([[0.0], ds.ch["kappa"][:-1]]) - kt)
-                ba = 2e-4 + 5.6e-6 / dt * np.abs(np.concatenate([[0.0], ds.ch["alpha"][:-1]]) - at)
+                # the step's input is the current row, its state the previous output
+                kp = np.concatenate([[kt[0]], kt[:-1]])
+                ap = np.concatenate([[at[0]], at[:-1]])
+                bk = 2e-4 + 5.6e-6 / dt * np.abs(ds.ch["kappa"] - kp)
+                ba = 2e-4 + 5.6e-6 / dt * np.abs(ds.ch["alpha"] - ap)
                 bk, ba = np.maximum(bk, 2e-4), np.maximum(ba, 2e-4)
             else:
                 bk = 1e-4 * np.maximum(np.abs(kt), 0.01) + 1e-7

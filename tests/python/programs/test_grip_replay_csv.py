@@ -147,6 +147,29 @@ class CsvModeTests(unittest.TestCase):
         self.assertLess(float(np.nanmax(np.abs(ay_m - approx)[axle_ok])), 0.3)
         print(f"\n  grip-replay --csv {arith}: max |C - est_ref|: " + ", ".join(report))
 
+    def test_rear_axle_tire(self):
+        # --estimate-rear: the rear axle's own tire (a stiffer copy written
+        # by grip axle-stiffness for an understeer gradient of 0.003
+        # rad/(m/s^2)) against the reference with that tire on the rear
+        from grip_tools.fit import axle_stiffness
+        from grip_tools.reference import tir
+        rear = os.path.join(self.tmp.name, "rear.tir")
+        self.assertEqual(axle_stiffness.main(["--tir", TIR, "--mass", "1450", "--lf", "1.1", "--lr", "1.6",
+                                              "--understeer-gradient", "0.003", "-o", rear]), 0)
+        rc, out, err = run(self.binary("float"), ["-e", TIR, "--estimate-rear", rear, "--vehicle", "generic",
+                                                  "--csv", self.path])
+        self.assertEqual(rc, 0, err)
+        rows = read_out(out)
+        ref = est_ref.run(est_ref.config(golden_est.tire_params(), tir.load_params(rear)), self.value, self.valid)
+        beta = col(rows, "beta")
+        r = np.array([o["beta"] for o in ref])
+        err_rear = float(np.max(np.abs(beta - r)))
+        same = np.array([o["beta"] for o in self.ref])
+        print(f"\n  grip-replay --estimate-rear: max |beta - est_ref| {err_rear:.2e} rad; "
+              f"the rear tire moves beta by up to {float(np.max(np.abs(r - same))):.4f} rad")
+        self.assertLessEqual(err_rear, TOL["float"]["beta"] + 1e-6 * float(np.max(np.abs(r))))
+        self.assertGreater(float(np.max(np.abs(r - same))), 100 * TOL["float"]["beta"])
+
     def test_float(self):
         self.check_build("float")
 

@@ -90,34 +90,87 @@ class TirReaderAgreesWithPython(unittest.TestCase):
     every file to the same values and reject every bad fixture with the
     same message."""
 
+    GOOD = ("minimal.tir", "units.tir", "crlf_bar.tir", "fittyp_from_format.tir", "fittyp_52.tir", "use_mode_ok.tir")
+
+    def fixtures(self):
+        """(valid, with warnings, refused) fixtures of tests/data/tir."""
+        every = sorted(glob.glob(os.path.join(FIXTURES, "*.tir")))
+        good = [f for f in every if os.path.basename(f) in self.GOOD]
+        warn = [f for f in every if os.path.basename(f).startswith("warn_")]
+        bad = [f for f in every if f not in good and f not in warn]
+        return good, warn, bad
+
     def test_values_equal(self):
         arith = build_arith()
-        files = shared_tirs() + [os.path.join(FIXTURES, f) for f in
-                                 ("minimal.tir", "units.tir", "crlf_bar.tir", "fittyp_from_format.tir")]
-        self.assertGreaterEqual(len(files), 14, "shared .tir files not found")
-        for path in files:
-            t = tir.read_tir(path)
-            got = dump(path)
-            self.assertEqual(int(got["FITTYP"]), t.fittyp, path)
-            self.assertEqual(int(got["TYRESIDE"]), t.tyreside, path)
-            differ = [c.key for c in tir.coefficients()
-                      if got[c.key] != stored(t.values[c.key], c.fmt, arith)]
-            self.assertEqual(differ, [], f"{path}: C and Python disagree on {differ[:5]}")
+        good, warn, _ = self.fixtures()
+        files = shared_tirs() + good + warn
+        self.assertGreaterEqual(len(files), 19, "shared .tir files not found")
+        quiet = tir.set_warning_handler(lambda w: None)
+        try:
+            for path in files:
+                t = tir.read_tir(path)
+                got = dump(path)
+                self.assertEqual(int(got["FITTYP"]), t.fittyp, path)
+                self.assertEqual(int(got["TYRESIDE"]), t.tyreside, path)
+                differ = [c.key for c in tir.coefficients()
+                          if got[c.key] != stored(t.values[c.key], c.fmt, arith)]
+                self.assertEqual(differ, [], f"{path}: C and Python disagree on {differ[:5]}")
+        finally:
+            tir.set_warning_handler(quiet)
         print(f"\n# {len(files)} files: C reader == tir.py on all "
               f"{len(tir.coefficients())} coefficients ({arith} build)")
 
-    def test_error_messages_equal(self):
-        bad = sorted(f for f in glob.glob(os.path.join(FIXTURES, "*.tir"))
-                     if os.path.basename(f) not in ("minimal.tir", "units.tir", "crlf_bar.tir",
-                                                    "fittyp_from_format.tir"))
-        self.assertGreaterEqual(len(bad), 15)
-        for path in bad + [os.path.join(FIXTURES, "no_such_file.tir")]:
-            with self.assertRaises(tir.TirError, msg=path) as cm:
-                tir.read_tir(path)
-            rc, out, err = run(["--tir", path, "--dump-params"])
-            self.assertEqual(rc, 3, f"{path}: exit {rc}")
-            self.assertEqual(out, "")
-            self.assertEqual(err.strip(), f"grip-tire: {cm.exception}", path)
+    def python_messages(self, path, **kw):
+        """tir.py's warnings and error, as grip-tire prints them."""
+        lines = []
+        old = tir.set_warning_handler(lambda w: lines.append(f"grip-tire: warning: {w}"))
+        try:
+            tir.read_tir(path, **kw)
+            ok = True
+        except tir.TirError as e:
+            lines.append(f"grip-tire: {e}")
+            ok = False
+        finally:
+            tir.set_warning_handler(old)
+        return ok, lines
+
+    def test_messages_equal(self):
+        """Every fixture, plain and --strict: the same warnings and the same
+        error, word for word (and exit 3 exactly when tir.py refuses)."""
+        good, warn, bad = self.fixtures()
+        self.assertGreaterEqual(len(bad), 31)
+        self.assertGreaterEqual(len(warn), 3)
+        n = 0
+        for path in good + warn + bad + [os.path.join(FIXTURES, "no_such_file.tir")]:
+            for strict in (False, True):
+                ok, want = self.python_messages(path, strict=strict)
+                rc, out, err = run(["--tir", path, "--dump-params"] + (["--strict"] if strict else []))
+                self.assertEqual(rc, 0 if ok else 3, f"{path} strict={strict}: exit {rc}: {err}")
+                if not ok:
+                    self.assertEqual(out, "")
+                self.assertEqual(err.strip().splitlines(), want, f"{path} strict={strict}")
+                n += 1
+            if path in bad:
+                self.assertFalse(self.python_messages(path)[0], path)
+            if path in warn:
+                self.assertTrue(self.python_messages(path)[1], f"{path}: no warning")
+                self.assertFalse(self.python_messages(path, strict=True)[0], f"{path}: accepted under --strict")
+        print(f"\n# {n} reads (plain and --strict): C reader and tir.py give the same warnings and errors")
+
+    def test_overrides(self):
+        """--no-range-check reads a value outside its plausible range as
+        given; --pure accepts USE_MODE 13 (uncombined forces)."""
+        path = os.path.join(FIXTURES, "range_pdy1.tir")
+        self.assertEqual(run(["--tir", path, "--dump-params"])[0], 3)
+        rc, out, err = run(["--tir", path, "--dump-params", "--no-range-check"])
+        self.assertEqual(rc, 0, err)
+        self.assertIn("PDY1 = 30000\n", out)
+        self.assertEqual(tir.read_tir(path, range_check=False).values["PDY1"], 30000.0)
+        path = os.path.join(FIXTURES, "use_mode_uncombined.tir")
+        self.assertEqual(run(["--tir", path, "--dump-params"])[0], 3)
+        rc, out, err = run(["--tir", path, "--dump-params", "--pure"])
+        self.assertEqual(rc, 0, err)
+        self.assertEqual(tir.read_tir(path, pure_slip=True).use_mode, 13)
 
 
 @unittest.skipUnless(os.path.exists(BIN), f"grip-tire not built ({BIN}); set GRIP_TIRE_BIN or build it")

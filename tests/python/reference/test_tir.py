@@ -135,6 +135,7 @@ class Units(unittest.TestCase):
             text = f.read()
         text = text.replace("FORCE = 'newton'", "FORCE = 'kN'").replace("NOMPRES = 220000", "NOMPRES = 220")
         text = text.replace("VERTICAL_STIFFNESS = 209651", "VERTICAL_STIFFNESS = 209.651")
+        text = text.replace("FNOMIN = 4000", "FNOMIN = 4")      # 4 MN would be outside its range
         t = tir.validate(tir.parse_text(text, "mem.tir"))
         self.assertAlmostEqual(t.values["NOMPRES"], 220000.0)   # kN/m^2 = kPa
 
@@ -273,6 +274,178 @@ class Emitter(unittest.TestCase):
             self.assertEqual(r.returncode, 2)
             self.assertIn("does not exist", r.stderr)
             self.assertNotIn("Traceback", r.stderr)
+
+
+FIXTURES = os.path.join(ROOT, "tests", "data", "tir")
+
+
+def quiet_read(path, **kw):
+    """read_tir with the warnings collected instead of printed: (Tir, [str])."""
+    got = []
+    old = tir.set_warning_handler(lambda w: got.append(str(w)))
+    try:
+        return tir.read_tir(path, **kw), got
+    finally:
+        tir.set_warning_handler(old)
+
+
+class Validation(unittest.TestCase):
+    """The validation layer (port/linux/tir_rules.h): unknown keys, empty
+    values, FITTYP and USE_MODE as MF-Tyre and MFeval define them,
+    plausibility ranges, bounds. The C reader gives the same messages
+    (tests/python/programs/test_grip_tire.py compares them)."""
+
+    def real_files(self):
+        return shared_files() + sorted(glob.glob(os.path.join(ROOT, "docs", "estimator", "**", "*.tir"),
+                                                 recursive=True))
+
+    def test_every_real_file_passes_strict_with_no_warning(self):
+        files = self.real_files()
+        self.assertGreaterEqual(len(files), 14)
+        for path in files:
+            t, warns = quiet_read(path)
+            self.assertEqual(warns, [], path)
+            u = tir.read_tir(path, strict=True)
+            v = tir.read_tir(path, range_check=False)
+            # the checks never change a value read from a valid file
+            self.assertEqual(t.values, u.values, path)
+            self.assertEqual(t.values, v.values, path)
+
+    def test_rules_cover_every_coefficient(self):
+        r = tir.rules()
+        self.assertEqual((r.line_max, r.size_max, r.keys_max, r.rows_max), (4096, 4 << 20, 4096, 4096))
+        missing = [c.key for c in tir.coefficients() if tir.range_of(c.key) is None]
+        self.assertEqual(missing, [], "coefficients without a plausibility range in tir_rules.h")
+        for c in tir.coefficients():        # the defaults are plausible (a default is never checked)
+            _, kind, lo, hi, _ = tir.range_of(c.key)
+            ok = tir._in_range(c.default, kind, lo, hi) or (c.required and c.default == 0.0)
+            self.assertTrue(ok, f"{c.key}: default {c.default} outside {kind} [{lo}, {hi}]")
+
+    def test_issue_examples_refused(self):
+        for name, key, words in (("range_pdy1.tir", "PDY1", "|v| in [0.05, 10]"),
+                                 ("range_pcy1_zero.tir", "PCY1", "[0.1, 5]"),
+                                 ("range_radius_mm.tir", "UNLOADED_RADIUS", "[0.01, 3]"),
+                                 ("range_fnomin_kn.tir", "FNOMIN", "[20, 1e+06]"),
+                                 ("range_alpmax_deg.tir", "ALPMIN", "[-3.2, 3.2]")):
+            with self.subTest(name=name):
+                path = os.path.join(FIXTURES, name)
+                with self.assertRaises(tir.TirError) as cm:
+                    tir.read_tir(path)
+                self.assertEqual(cm.exception.key, key)
+                self.assertIn("outside the plausible range " + words, cm.exception.message)
+                self.assertIn("--no-range-check", cm.exception.message)
+                tir.read_tir(path, range_check=False)       # the override reads it as given
+
+    def test_unknown_and_misplaced_keys(self):
+        t, warns = quiet_read(os.path.join(FIXTURES, "warn_unknown_key.tir"))
+        self.assertEqual(len(warns), 2)
+        self.assertIn(":29: RBX1X: unknown key in [LONGITUDINAL_COEFFICIENTS]: ignored (did you mean RBX1?)",
+                      warns[0])
+        self.assertEqual(t.values["RBX1"], 0.0)          # ignored, not guessed
+        with self.assertRaises(tir.TirError) as cm:
+            quiet_read(os.path.join(FIXTURES, "warn_unknown_key.tir"), strict=True)
+        self.assertEqual((cm.exception.line, cm.exception.key), (29, "RBX1X"))
+        self.assertIn("(refused: strict mode)", cm.exception.message)
+        t, warns = quiet_read(os.path.join(FIXTURES, "warn_misplaced.tir"))
+        self.assertEqual([w.split(": ", 2)[1] for w in warns], ["WIDTH", "QSX1", "LENGTH"])
+        self.assertIn("not from the unknown section [OVERTURNING_COEFFICENTS]", warns[1])
+        self.assertEqual(t.values["WIDTH"], 0.0)
+        self.assertEqual(t.units["LENGTH"], 1.0)        # LENGTH = 'mm' in [HEADER] is not read
+        self.assertEqual(tir.nearest_key("PDY11"), "PDY1")
+        self.assertIsNone(tir.nearest_key("XYZ"))
+        self.assertIsNone(tir.nearest_key("COMPLETELY_DIFFERENT"))
+
+    def test_empty_values(self):
+        t, warns = quiet_read(os.path.join(FIXTURES, "warn_empty.tir"))
+        self.assertEqual(len(warns), 4)
+        self.assertTrue(all("empty value" in w for w in warns))
+        self.assertEqual(t.values["WIDTH"], 0.0)
+        self.assertEqual(t.values["ASPECT_RATIO"], 0.6)   # the documented default
+        self.assertIsNone(t.use_mode)
+        text = "[MODEL]\nFITTYP =\nPROPERTY_FILE_FORMAT = 'MF_61'\n" + \
+               open(os.path.join(FIXTURES, "minimal.tir")).read().split("[DIMENSION]", 1)[1].join(["[DIMENSION]", ""])
+        old = tir.set_warning_handler(lambda w: None)
+        try:
+            t = tir.validate(tir.parse_text(text, "mem.tir"), strict=False)
+        finally:
+            tir.set_warning_handler(old)
+        self.assertEqual((t.fittyp, len(t.warnings)), (61, 1))
+        with self.assertRaises(tir.TirError) as cm:
+            tir.read_tir(os.path.join(FIXTURES, "empty_required.tir"))
+        self.assertIn("empty value for a required key", cm.exception.message)
+
+    def test_fittyp_values(self):
+        t = tir.read_tir(os.path.join(FIXTURES, "fittyp_52.tir"))
+        self.assertEqual((t.fittyp, t.fittyp_file), (21, 52))
+        self.assertEqual(t.params()["fittyp"], 21)
+        with self.assertRaises(tir.TirError) as cm:
+            tir.read_tir(os.path.join(FIXTURES, "fittyp_51.tir"))
+        self.assertIn("supported: 5, 6, 21, 52", cm.exception.message)
+        self.assertEqual(set(tir.FILE_FITTYP.values()), set(tir.SUPPORTED_FITTYP))
+
+    def test_use_mode(self):
+        for name, words in (("use_mode_turnslip.tir", "turn slip per call"), ("use_mode_negative.tir", "mirrors the tyre"),
+                            ("use_mode_fy_only.tir", "Fy, Mx and Mz only"), ("use_mode_digit.tir", "tens digit 4"),
+                            ("use_mode_uncombined.tir", "uncombined forces"), ("use_mode_text.tir", "not an integer")):
+            with self.subTest(name=name):
+                with self.assertRaises(tir.TirError) as cm:
+                    tir.read_tir(os.path.join(FIXTURES, name))
+                self.assertEqual(cm.exception.key, "USE_MODE")
+                self.assertIn(words, cm.exception.message)
+        t = tir.read_tir(os.path.join(FIXTURES, "use_mode_uncombined.tir"), pure_slip=True)
+        self.assertEqual(t.use_mode, 13)
+        t = tir.read_tir(os.path.join(FIXTURES, "use_mode_ok.tir"))
+        self.assertEqual((t.use_mode, t.params()["tir_use_mode"]), (124, 124))
+        uses = {tir.read_tir(p).use_mode for p in shared_files()}
+        self.assertEqual(uses, {4, 14, 114, 124})
+
+    def test_bounds(self):
+        with tempfile.TemporaryDirectory() as d:
+            big = os.path.join(d, "sparse.tir")
+            with open(big, "wb") as f:
+                f.truncate(1 << 30)
+            with self.assertRaises(tir.TirError) as cm:
+                tir.read_tir(big)
+            self.assertEqual(cm.exception.line, 0)
+            self.assertIn("larger than 4194304 bytes", cm.exception.message)
+            with self.assertRaises(tir.TirError) as cm:
+                tir.read_tir("/dev/zero")
+            self.assertEqual(str(cm.exception),
+                             "/dev/zero:1: -: NUL byte at byte offset 0 (byte 1 of the line): not a text .tir file")
+            keys = os.path.join(d, "keys.tir")
+            with open(keys, "w") as f:
+                f.write("[MODEL]\n" + "".join(f"K{k} = 1\n" for k in range(5000)))
+            with self.assertRaises(tir.TirError) as cm:
+                tir.read_tir(keys)
+            self.assertEqual(cm.exception.line, 4098)
+            self.assertIn("more than 4096 keys", cm.exception.message)
+            rows = os.path.join(d, "rows.tir")
+            with open(rows, "w") as f:
+                f.write("[SHAPE]\n" + "1 2\n" * 5000)
+            with self.assertRaises(tir.TirError) as cm:
+                tir.read_tir(rows)
+            self.assertIn("more than 4096 table rows", cm.exception.message)
+        with self.assertRaises(tir.TirError) as cm:
+            tir.read_tir(os.path.join(FIXTURES, "long_line.tir"))
+        self.assertIn("line longer than 4096 bytes (at byte offset", cm.exception.message)
+
+    def test_cli_options(self):
+        path = os.path.join(FIXTURES, "range_pdy1.tir")
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "t.c")
+            r = run_cli(path, "--name", "t", "-o", out)
+            self.assertEqual(r.returncode, 3)
+            self.assertIn("outside the plausible range", r.stderr)
+            r = run_cli(path, "--name", "t", "-o", out, "--no-range-check")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertIn("GRIP_QS(30000.0)", open(out).read())
+            warn = os.path.join(FIXTURES, "warn_unknown_key.tir")
+            r = run_cli(warn, "--name", "t", "-o", out)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertIn("grip tir2c: warning: " + warn + ":29: RBX1X: unknown key", r.stderr)
+            r = run_cli(warn, "--name", "t", "-o", out, "--strict")
+            self.assertEqual(r.returncode, 3)
+            self.assertIn("(refused: strict mode)", r.stderr)
 
 
 if __name__ == "__main__":

@@ -54,6 +54,7 @@ INPUTS = [
     ("brake_pressure_rl", "Pa", 8), ("brake_pressure_rr", "Pa", 8),
     ("brake_torque_fl", "N m", 8), ("brake_torque_fr", "N m", 8),
     ("brake_torque_rl", "N m", 8), ("brake_torque_rr", "N m", 8),
+    ("rear_steer_angle", "rad", 16),
 ]
 INPUT_INDEX = {name: i for i, (name, _, _) in enumerate(INPUTS)}
 
@@ -131,8 +132,8 @@ class MapText:
         self.path = path
         try:
             with open(path, encoding="utf-8") as f:
-                self.lines = f.read().split("\n")
-        except OSError:
+                self.lines = f.read(MAX_MAP_BYTES + 1).split("\n")
+        except (OSError, UnicodeDecodeError):
             self.lines = []
 
     @staticmethod
@@ -274,12 +275,24 @@ def load_dbc(paths):
     return dbcfile.load(paths)
 
 
+# A map file is a few kB; a larger file or a device is not one.
+MAX_MAP_BYTES = 1 << 20
+
+
 def load_map(path):
     try:
         with open(path, "rb") as f:
-            m = tomllib.load(f)
+            data = f.read(MAX_MAP_BYTES + 1)
+        if len(data) > MAX_MAP_BYTES:
+            raise MapError(path, None, "map", f"larger than {MAX_MAP_BYTES} bytes: not a map file")
+        z = data.find(b"\0")
+        if z >= 0:
+            raise MapError(path, data.count(b"\n", 0, z) + 1, "map", f"NUL byte at byte offset {z}: not a map file")
+        m = tomllib.loads(data.decode("utf-8"))
     except OSError as e:
         raise MapError(path, None, "map", f"cannot read map file: {e.strerror}") from e
+    except UnicodeDecodeError as e:
+        raise MapError(path, None, "map", f"not UTF-8 text (byte offset {e.start})") from e
     except tomllib.TOMLDecodeError as e:
         ln = re.search(r"line (\d+)", str(e))
         raise MapError(path, int(ln.group(1)) if ln else None, "toml", f"not valid TOML: {e}") from e

@@ -149,16 +149,28 @@ def _frac(text):
     return Fraction(text)
 
 
+# The largest DBC of opendbc is 0.8 MB; a reader holds a file and its lines
+# (about 20 bytes a line more), so 2 MiB keeps it well under 64 MiB.
+MAX_DBC_BYTES = 2 << 20
+
+
 def _read_text(path):
     with open(path, "rb") as f:
-        raw = f.read()
+        raw = f.read(MAX_DBC_BYTES + 1)
+    if len(raw) > MAX_DBC_BYTES:
+        raise DataError(path, None, "dbc", f"larger than {MAX_DBC_BYTES} bytes: not a DBC file this reader takes")
     try:
         return raw.decode("utf-8")
     except UnicodeDecodeError:
         return raw.decode("cp1252", errors="replace")
 
 
-def _statements(text):
+# The longest statement (a `;` statement over several lines: a comment, a
+# value table); real ones are a few kB.
+MAX_STATEMENT_BYTES = 1 << 16
+
+
+def _statements(text, path="-"):
     """(keyword, line, text) of every top-level statement. One-line
     statements end at the line's end; the others at their `;` (outside
     strings) or, when that is missing, before the next line that starts
@@ -196,6 +208,7 @@ def _statements(text):
         # a `;` statement, possibly spanning lines (strings may hold newlines)
         start = i
         buf = []
+        size = 0
         in_str = False
         done = False
         while i < n and not done:
@@ -227,6 +240,10 @@ def _statements(text):
                 j += 1
             if not done:
                 buf.append(cur)
+                size += len(cur) + 1
+                if size > MAX_STATEMENT_BYTES:
+                    raise DataError(path, start + 1, kw or "-", f"statement longer than {MAX_STATEMENT_BYTES} bytes "
+                                                                "(a missing ';'?)")
             i += 1
         yield kw, start + 1, "\n".join(buf).strip()
 
@@ -273,7 +290,7 @@ def _parse_file(db, path, root, seen, depth=0):
     pending_vt = []
     cycle = {"defined": False, "default": None, "values": {}}
     file_msgs = []
-    for kw, line, stmt in _statements(text):
+    for kw, line, stmt in _statements(text, path):
         if kw == "BO_":
             m = BO_RE.match(stmt)
             if not m:

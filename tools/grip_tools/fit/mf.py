@@ -677,6 +677,7 @@ EXIT_NOT_CONVERGED = 4
 
 
 def main(argv=None):
+    from grip_tools.reference import tir
     ap = argparse.ArgumentParser(prog="grip fit-mf", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog="exit status: 0 fitted; 1 fitted, a seed constraint violated; 2 usage; "
@@ -685,6 +686,7 @@ def main(argv=None):
     ap.add_argument("csv", nargs="?", help="measured sweeps (CSV with a header)")
     ap.add_argument("--model", choices=("mf89", "fx", "fy", "mz"), default="mf89")
     ap.add_argument("--tir", help="MF groups: start from (and keep the other coefficients of) this file")
+    tir.add_reader_options(ap)
     ap.add_argument("--fittyp", type=int, default=61, help="MF groups without --tir: 5/6/21 or 61/62")
     ap.add_argument("--side", choices=("fitted", "left", "right"), default="fitted",
                     help="MF groups with --tir: where that tyre is mounted (default as fitted: measured data "
@@ -706,6 +708,7 @@ def main(argv=None):
     ap.add_argument("--noise", type=float, default=0.0, help="--synthetic: noise std [N or N m]")
     ap.add_argument("--seed", type=int, default=0)
     args = ap.parse_args(argv)
+    tir.apply_reader_options(args)
 
     if args.synthetic:
         if args.model == "mf89":

@@ -28,7 +28,7 @@ import numpy as np
 CSV_INPUTS = ("wheel_speed_fl", "wheel_speed_fr", "wheel_speed_rl", "wheel_speed_rr", "steer_angle",
               "yaw_rate", "ax", "ay", "vehicle_speed", "brake_pressure_fl", "brake_pressure_fr",
               "brake_pressure_rl", "brake_pressure_rr", "brake_torque_fl", "brake_torque_fr",
-              "brake_torque_rl", "brake_torque_rr")
+              "brake_torque_rl", "brake_torque_rr", "rear_steer_angle")
 # the estimator's output columns (grip-replay -e, after the inputs)
 EST_COLS = ("est_status", "est_valid", "est_flags", "vx", "beta", "yaw_rate", "yaw_rate_ref", "delta", "mu",
             "mu_conf", "fy_front", "fy_rear", "util_front", "util_rear", "fy_margin_front", "yaw_rate_bias",

@@ -32,12 +32,17 @@ Input sequences (the C test replays exactly the same rows):
                   starts, and Q15.16 takes that decision a step later than
                   the float64 reference; at 0.24 the nearest step is 0.005
                   from the threshold
+  rear_steer_100hz the internal generator at 9 m/s with twice the steering,
+                  the rear wheels steered at -0.3 x the front road-wheel angle
+                  (opposite phase, as production rear steering does at low
+                  speed), the rear angle given as the input
+                  rear_steer_angle and cfg rear_steer = 1
   sim_sine_dwell  the reference vehicle simulator (grip_tools.sim) when
                   present: sine with dwell on a wet road, its sensor models
                   (noise, delay, quantization); skipped if the simulator is
                   not importable
 
-Each row: time, 17 input values, the valid mask (bit i = input i valid),
+Each row: time, 18 input values, the valid mask (bit i = input i valid),
 then the reference outputs (columns in the header). Configuration: the
 passenger car of est_ref.config / grip_est_config_default with the
 PacejkaBook_Defaults.tir tire on both axles.
@@ -67,11 +72,13 @@ def tire_params():
 # internal generator: single-track model with Magic Formula axle forces
 
 def bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED, v0=22.0, steer_gain=1.0,
-                   brake_demand=3.0):
+                   brake_demand=3.0, rear_gain=0.0):
     """A nonlinear single-track run (steer steps, slalom, braking in a turn).
     mu_road: (mu of the first half, mu of the second half), as a scale of the
     tire's friction (LMUX, LMUY); steer_gain scales the steering-wheel angle,
-    brake_demand [m/s^2] the braking in the turn. Returns time, value (N, 17), valid (N, 17)
+    brake_demand [m/s^2] the braking in the turn, rear_gain the rear
+    road-wheel angle as a share of the front one (negative: opposite phase;
+    0: no rear steering, the input not given). Returns time, value (N, 18), valid (N, 18)
     and the truth dict (vx, vy, r, mu)."""
     P0 = tire_params()
     cfg = est_ref.config(P0)
@@ -114,8 +121,9 @@ def bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED, v0=22.
         swa *= steer_gain
         brake = brake_demand if (ph > 4.5 and ph < 5.5) else 0.0      # m/s^2 deceleration demand
         delta = swa / cfg["steer_ratio"]
+        dr_ = rear_gain * delta
         af = math.atan2(vy + lf * r, vx) - delta
-        ar = math.atan2(vy - lr * r, vx)
+        ar = math.atan2(vy - lr * r, vx) - dr_
         if a_lag is None:
             a_lag = [af, ar]
         for i, a in enumerate((af, ar)):
@@ -126,15 +134,17 @@ def bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED, v0=22.
         o = est_ref.mf.evaluate(P, np.zeros(2), np.array(a_lag), 0.0, np.array([fzf, fzr]), None, vx)
         fyf, fyr = 2 * o["fy"][0], 2 * o["fy"][1]
         ax = -brake * min(1.0, mu)
-        vyd = (fyf * math.cos(delta) + fyr) / m - r * vx
-        rd = (lf * fyf * math.cos(delta) - lr * fyr) / iz
+        vyd = (fyf * math.cos(delta) + fyr * math.cos(dr_)) / m - r * vx
+        rd = (lf * fyf * math.cos(delta) - lr * fyr * math.cos(dr_)) / iz
         ay = vyd + r * vx
         truth["vx"][k], truth["vy"][k], truth["r"][k], truth["mu"][k] = vx, vy, r, mu
         tf, tr = cfg["track_f"], cfg["track_r"]
         slip = -0.02 * brake / 3.0
         wsf = [(vx - r * tf / 2) * math.cos(delta) + (vy + lf * r) * math.sin(delta),
                (vx + r * tf / 2) * math.cos(delta) + (vy + lf * r) * math.sin(delta)]
-        ws = [wsf[0] * (1 + slip), wsf[1] * (1 + slip), (vx - r * tr / 2) * (1 + slip), (vx + r * tr / 2) * (1 + slip)]
+        wsr = [(vx - r * tr / 2) * math.cos(dr_) + (vy - lr * r) * math.sin(dr_),
+               (vx + r * tr / 2) * math.cos(dr_) + (vy - lr * r) * math.sin(dr_)]
+        ws = [wsf[0] * (1 + slip), wsf[1] * (1 + slip), wsr[0] * (1 + slip), wsr[1] * (1 + slip)]
         for i in range(4):
             value[k, i] = ws[i] + rng.normal(0, 0.01)
         value[k, est_ref.STEER] = swa + rng.normal(0, 0.001)
@@ -142,6 +152,9 @@ def bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED, v0=22.
         value[k, est_ref.AX] = ax + rng.normal(0, 0.03)
         value[k, est_ref.AY] = ay + rng.normal(0, 0.03)
         valid[k, :8] = 1
+        if rear_gain != 0.0:
+            value[k, est_ref.REAR_STEER] = dr_ + rng.normal(0, 0.0002)
+            valid[k, est_ref.REAR_STEER] = 1
         vx = max(vx + (ax + r * vy) * dt, 0.0)
         vy += vyd * dt
         r += rd * dt
@@ -186,7 +199,19 @@ def inject_faults(t, value, valid):
     ok[span(0.80, 0.90), est_ref.VSPEED] = 1
     v[span(0.80, 0.90), est_ref.AX] = 0.0
     v[span(0.92, 0.94), est_ref.STEER] = 30.0                   # steering at lock
+    ok[span(0.46, 0.49), est_ref.AX] = 0                        # ax lost 3 %: beta, mu not valid
+    v[span(0.46, 0.49), est_ref.AX] = 0.0
     return v, ok
+
+
+def inject_time_faults(t):
+    """Sample times of the faults sequence: one step 1.5 periods late and
+    one repeated time at 96 % of the run (F_RATE, then the check resumes)."""
+    t = t.copy()
+    k = int(0.96 * len(t))
+    t[k] += 0.5 * (t[1] - t[0])
+    t[k + 5] = t[k + 4]
+    return t
 
 
 def sim_inputs():
@@ -232,12 +257,13 @@ AERO_BANK = dict(cla=2.5, aero_front=0.42, air_density=1.2, cda=0.62, crr=0.01, 
                  latency=0.02, steer_lag=0.1, steer_latency=0.01)
 STEER_OFFSET = dict(steer_gain=0.4, offset=0.24, span=(4.3, 5.0))  # [-], [rad] steering wheel, [s]
 AERO_BANK_V0 = 26.0           # [m/s]
+REAR_STEER_V0, REAR_STEER_GAIN = 9.0, -0.3   # [m/s], rear angle / front angle
 AERO_BANK_LOCK = (4.6, 4.9)   # [s] rear-left wheel locked while braking (the locked-wheel ax update)
 
 
 def write_sequence(outdir, name, dt, t, value, valid, note, **cfg_kw):
     cfg = est_ref.config(tire_params(), rate_hz=int(round(1.0 / dt)), **cfg_kw)
-    outs = est_ref.run(cfg, value, valid)
+    outs = est_ref.run(cfg, value, valid, t)
     in_cols = ["t"] + [f"in{i}" for i in range(est_ref.N_IN)] + ["valid_mask"]
     text = header("grip_tools.golden.est", est_ref.Estimator, SEED, in_cols + out_columns(),
                   {"sequence": name, "dt": dt, "tire": TIRE, "vehicle": "est_ref.config (passenger)",
@@ -271,7 +297,8 @@ def write_golden(outdir):
     write_sequence(outdir, "bicycle_1khz", 0.001, t, v, ok, "internal generator, mu 0.6")
     t, v, ok, _ = bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED + 1)
     fv, fok = inject_faults(t, v, ok)
-    write_sequence(outdir, "faults_100hz", 0.01, t, fv, fok, "internal generator with injected faults")
+    write_sequence(outdir, "faults_100hz", 0.01, inject_time_faults(t), fv, fok,
+                   "internal generator with injected faults")
     # 26 m/s: at 28 and 30 m/s the
     # estimator's open-loop stretch (vy unobservable with every tire at the
     # model's limit) ends in a recovery cascade that amplifies last-bit
@@ -283,6 +310,11 @@ def write_golden(outdir):
     t, v, ok = steer_offset_inputs()
     write_sequence(outdir, "steer_offset_100hz", 0.01, t, v, ok,
                    "internal generator, mu 1.0, 40 % steering, steering offset 4.3-5.0 s (understeer bound withdrawn)")
+    t, v, ok, _ = bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED + 3, v0=REAR_STEER_V0,
+                                 steer_gain=2.0, brake_demand=1.0, rear_gain=REAR_STEER_GAIN)
+    write_sequence(outdir, "rear_steer_100hz", 0.01, t, v, ok,
+                   "internal generator at 9 m/s, rear wheels steered opposite to the front (0.3 x), rear_steer = 1",
+                   rear_steer=1)
     sim = sim_inputs()
     path = os.path.join(outdir, "est_sim_sine_dwell.txt")
     if sim is not None:

@@ -20,7 +20,7 @@ Input sequences (the C test replays exactly the same rows):
                    a frozen steering angle, ay noise and NaN / out-of-range
                    values with the valid flag set
 
-Each row: time, 17 input values, the valid mask (bit i = input i valid),
+Each row: time, 18 input values, the valid mask (bit i = input i valid),
 est_vx, est_beta, est_steer_char, est_valid (the fields of the previous
 estimator output the monitor reads; est_valid 0 = no estimator output
 given), then the reference outputs: code[0..8], faulty mask,

@@ -71,7 +71,7 @@ def axle_data(raw):
               "fz": fz, "vx": vx, "fy": fy / 2, "delta": delta, "r": r}
         units = {"t": "s", "alpha": "rad", "kappa": "-", "gamma": "rad", "fz": "N", "vx": "m/s",
                  "fy": "N", "delta": "rad", "r": "rad/s"}
-        out[name] = Dataset(t, ch, units, ["fy"], {"axle": name})
+        out[name] = Dataset(t, ch, units, ["fy"], {"axle": name, "derived": ("fy", "fz", "alpha")})
     return out
 
 

@@ -112,7 +112,10 @@ def make(kind, seed=1, noise=0.005):
         ds_ch[o] = out[o] + noise * peak * rng.standard_normal(n)
     units = {"t": "s", "alpha": "rad", "kappa": "-", "gamma": "rad", "fz": "N", "vx": "m/s",
              "fx": "N", "fy": "N"}
-    return Dataset(t, ds_ch, units, ["fx", "fy"], {"generator": "datasets.make", "seed": seed}), truth
+    # road-test data: Fy from the vehicle's motion (m ay, hence the bank set), Fz
+    # from a load model: both are derived channels (effects.derived)
+    return Dataset(t, ds_ch, units, ["fx", "fy"], {"generator": "datasets.make", "seed": seed,
+                                                   "derived": ("fy", "fz")}), truth
 
 
 # ---------------------------------------------------------------------------

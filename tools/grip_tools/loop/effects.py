@@ -17,10 +17,13 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from grip_tools.reference import mf
-from grip_tools.reference.relax import lag_series
-from grip_tools.loop.candidates import lowpass, slip_speed
+from grip_tools.loop.grammar import relax_series
 
 G = 9.81
+# Magic Formula scaling factors `over` may multiply (arrays broadcast in mf.evaluate)
+SCALING = ("lmux", "lmuy", "lkx", "lky", "lcx", "lcy", "lex", "ley", "ltr", "lres", "lkyc", "lkzc",
+           "lhx", "lhy", "lvx", "lvy", "lxal", "lyka", "lvyka", "ls")
+FIT_ROWS = 4000     # training rows an effect's least-squares fit evaluates at most (evenly strided)
 
 
 class TireModel:
@@ -38,11 +41,13 @@ class TireModel:
         n = len(ch["alpha"])
         z = np.zeros(n)
         P = dict(self.params)
-        for k in ("lmuy", "lmux", "lky", "lkx"):
-            if k in over:
-                P[k] = P.get(k, 1.0) * over[k]
+        for k, v in over.items():             # scaling factors: multiply the set's own
+            if k in SCALING:
+                P[k] = P.get(k, 1.0) * v
         if "lmuv" in over:                     # absolute: the .tir LMUV of the updated set
             P["lmuv"] = over["lmuv"]
+        for k, v in over.get("cmul", {}).items():   # coefficients x (arrays broadcast)
+            P[k] = P[k] * v
         for k, v in over.get("coef", {}).items():   # absolute: coefficients of the updated .tir
             if k not in P:
                 raise KeyError(f"unknown MF coefficient {k!r}")
@@ -55,6 +60,41 @@ class TireModel:
         return {k: out[k] for k in ("fx", "fy", "mz")}
 
 
+class RowModel:
+    """A TireModel evaluated on some rows only: predict() slices the record's
+    arrays (channels and array-valued overrides) to `rows`, evaluates the
+    model there and returns whole-record arrays (zero elsewhere), so that an
+    effect's own whole-record arithmetic keeps working while its fit costs
+    len(rows) evaluations."""
+
+    def __init__(self, model, rows, n):
+        self._m, self.rows, self.n = model, rows, n
+
+    def __getattr__(self, name):
+        return getattr(self._m, name)
+
+    def _cut(self, d):
+        return {k: (self._cut(v) if isinstance(v, dict) else
+                    v[self.rows] if isinstance(v, np.ndarray) and v.shape == (self.n,) else v)
+                for k, v in d.items()}
+
+    def predict(self, ch, over=None):
+        out = self._m.predict(self._cut(ch), self._cut(over or {}))
+        full = {}
+        for k, v in out.items():
+            a = np.zeros(self.n)
+            a[self.rows] = v
+            full[k] = a
+        return full
+
+
+def fit_rows(mask, limit=FIT_ROWS):
+    idx = np.flatnonzero(mask)
+    if len(idx) > limit:
+        idx = idx[np.linspace(0, len(idx) - 1, limit).round().astype(int)]
+    return idx
+
+
 class Effect:
     name = "?"
     level = "tire"          # "tire": needs a TireModel; "vehicle": a model listing it in
@@ -64,6 +104,8 @@ class Effect:
     lo = ()
     hi = ()
     onboard = ""
+    families = ()           # grammar (target, driver) pairs this named form competes with
+    rows_ok = True          # the fit may evaluate a stride of the training rows (RowModel)
 
     def applicable(self, ds):
         return True, ""
@@ -72,8 +114,14 @@ class Effect:
         raise NotImplementedError
 
     def fit(self, model, ds, mask, scale):
-        """least squares of the scaled residual on mask; returns params."""
+        """least squares of the scaled residual on mask (a stride of at most
+        FIT_ROWS of its rows for a tyre model); returns params."""
         outs = ds.outputs
+        if self.rows_ok and isinstance(model, TireModel) and mask.sum() > FIT_ROWS:
+            rows = fit_rows(mask)
+            model = RowModel(model, rows, len(ds))
+            mask = np.zeros(len(ds), bool)
+            mask[rows] = True
 
         def resid(x):
             pr = self.predict(model, ds, x)
@@ -87,6 +135,10 @@ class Effect:
 
     def starts(self):
         return [np.array(self.x0, dtype=float)]
+
+    def hint(self, screened):
+        """Called with the grammar's screened pairs (best first) before fit:
+        a named form may take its start from them."""
 
     def n_params(self, ds):
         return len(self.pnames)
@@ -192,6 +244,7 @@ class Thermal(Effect):
     identifiable. T0 = T_R = 25 degC (or the t_road channel as T_R)."""
     name = "thermal"
     pnames = ("a_mu_per_K", "b_k_per_K", "kappa_per_s")
+    families = (("grip", "state:energy"), ("mu", "state:energy"), ("k", "state:energy"))
     x0 = (-0.002, -0.002, 0.05)
     lo = (-0.2, -0.2, 0.001)
     hi = (0.2, 0.2, 5.0)
@@ -211,23 +264,37 @@ class Thermal(Effect):
         fk = np.maximum(1.0 + x[1] * dT, 0.05)
         return model.predict(ds.ch, {"lmuy": fd, "lmux": fd, "lky": fk, "lkx": fk})
 
+    _kappa0 = None
+
+    def hint(self, screened):
+        for sc in screened:
+            if sc.spec.driver.name == "state:energy" and sc.spec.target.name in ("grip", "mu", "k"):
+                self._kappa0 = min(max(1.0 / float(sc.p[0]), self.lo[2]), self.hi[2])
+                return
+
     def starts(self):
+        if self._kappa0 is not None:
+            return [np.array([-0.002, -0.002, self._kappa0])]
         return [np.array([-0.002, -0.002, k]) for k in (0.02, 0.2)]
 
 
 class Relaxation(Effect):
+    """alpha and kappa through lib/relax's first-order relaxation, stepped
+    with the current sample (grammar.relax_series): sigma -> 0 is the base
+    model itself. The grammar's lag:relax~const is the same term."""
     name = "relaxation"
     pnames = ("sigma_m",)
     x0 = (0.3,)
     lo = (0.0,)
     hi = (5.0,)
-    onboard = "lib/relax (grip_relax.h): sigma_alpha = sigma_kappa = sigma"
+    onboard = "lib/relax (grip_relax.h): sigma_alpha = sigma_kappa = sigma, stepped with the current sample"
+    families = (("lag:relax", "const"),)
 
     def predict(self, model, ds, x):
         s = float(x[0])
-        over = {"alpha": lag_series(ds.ch["alpha"], ds.ch["vx"], ds.t, s)}
+        over = {"alpha": relax_series(ds.ch["alpha"], ds.ch["vx"], ds.t, s)}
         if "kappa" in ds.ch:
-            over["kappa"] = lag_series(ds.ch["kappa"], ds.ch["vx"], ds.t, s)
+            over["kappa"] = relax_series(ds.ch["kappa"], ds.ch["vx"], ds.t, s)
         return model.predict(ds.ch, over)
 
     def starts(self):
@@ -307,6 +374,7 @@ class SlipVelocity(Effect):
     representable)."""
     name = "slip_velocity_friction"
     pnames = ("lmuv",)
+    families = tuple((t, d) for d in ("vs", "vs2") for t in ("mu", "mux", "muy", "grip"))
     x0 = (0.0,)
     lo = (0.0,)
     hi = (50.0,)
@@ -320,7 +388,10 @@ class SlipVelocity(Effect):
 
 
 class LoadSensitivity(Effect):
+    """LMUX = LMUY = 1 + c dfz, dfz = (Fz - FNOMIN) / FNOMIN: the grammar's
+    mu~dfz, written as PDY2 += c PDY1, PDX2 += c PDX1."""
     name = "load_sensitivity"
+    families = (("mu", "dfz"),)
     pnames = ("c_dfz",)
     x0 = (0.0,)
     lo = (-2.0,)
@@ -355,6 +426,7 @@ class Camber(Effect):
     lo = (-5.0,)
     hi = (5.0,)
     keys = ("pky6", "pvy3")
+    families = (("kyc", "const"), ("svy", "gamma"), ("in:gamma", "const"))
     onboard = "lib/mf: .tir PKY6 += c, PVY3 += c (MF 6.x camber stiffness and camber thrust), grip_mf_params"
 
     def applicable(self, ds):
@@ -385,6 +457,7 @@ class Pressure(Effect):
     lo = (-2.0,)
     hi = (2.0,)
     keys = ("ppx1", "ppy1", "ppx3", "ppy3")
+    families = (("grip", "dpi"), ("k", "dpi"), ("mu", "dpi"), ("in:p", "dpi"))
     onboard = "lib/mf: .tir PPX1, PPY1, PPX3, PPY3 += c (MF 6.x), grip_mf_params; p is an input"
 
     def applicable(self, ds):
@@ -397,6 +470,16 @@ class Pressure(Effect):
         return model.predict(ds.ch, {"coef": self.coefficients(model.params, x)})
 
 
+def derived(ds, name):
+    """True when channel `name` of ds was derived from vehicle motion (a load
+    model, m ay, kinematics) rather than measured at the tyre: ds.meta
+    ['derived'] lists them (grip analyze --derived; loop/av21.py). Effects
+    of the vehicle on a derived channel (downforce in a modelled load, road
+    bank in a force from m ay) apply only there: a rig or a wheel-force
+    transducer measures Fz and Fy with them included."""
+    return name in ds.meta.get("derived", ())
+
+
 class AeroLoad(Effect):
     name = "aero_load"
     pnames = ("c_v2_N_s2_m2",)
@@ -406,6 +489,8 @@ class AeroLoad(Effect):
     onboard = "vehicle configuration (downforce coefficient in the load model), not a tire parameter"
 
     def applicable(self, ds):
+        if not derived(ds, "fz"):
+            return False, "Fz is measured (not derived from a load model): a downforce is in it already"
         return (_varies(ds, "vx", 0.5), "speed constant")
 
     def predict(self, model, ds, x):
@@ -415,12 +500,15 @@ class AeroLoad(Effect):
 class Bank(Effect):
     name = "road_bank"
     pnames = ("sin_bank",)
+    families = (("svy", "const"),)
     x0 = (0.0,)
     lo = (-0.3,)
     hi = (0.3,)
     onboard = "no tyre term; at vehicle level grip_est_config_t.tan_bank / tan_grade (lib/est)"
 
     def applicable(self, ds):
+        if not derived(ds, "fy"):
+            return False, "Fy is measured at the tyre (not derived from m ay): no road bank in it"
         return ("fy" in ds.outputs and _varies(ds, "fz", 1.0), "needs fy and varying fz")
 
     def predict(self, model, ds, x):
@@ -432,6 +520,7 @@ class Bank(Effect):
 class Bias(Effect):
     name = "sensor_bias"
     level = "any"
+    families = (("out:offset", "const"),)
     onboard = "lib/calib grip_calib_config_t.offset (vehicle level: yaw rate, ay)"
 
     def n_params(self, ds):
@@ -451,6 +540,7 @@ class Bias(Effect):
 class Scale(Effect):
     name = "sensor_scale"
     level = "any"
+    families = (("out:scale", "const"),)
     onboard = "lib/calib grip_calib_config_t.gain = 1 / (1 + s) (vehicle level: yaw rate, ay)"
 
     def n_params(self, ds):
@@ -474,6 +564,8 @@ class Scale(Effect):
 class Delay(Effect):
     name = "sensor_delay"
     level = "any"
+    rows_ok = False
+    families = (("out:delay", "const"),)
     pnames = ("delay_s",)
     x0 = (0.0,)
     lo = (-0.5,)
@@ -617,6 +709,15 @@ class VThermal(VehicleEffect):
                 best = (x, c)
         x, _ = gauss_newton(resid, best[0], self.steps, self.lo, self.hi, 2, np.ones(3, bool))
         return x
+
+
+def tyre_specials():
+    """The named tyre-level forms the grammar does not generate exactly (or
+    whose onboard form differs from the grammar's): run beside it by
+    attribution.analyse, those with `families` only when one of them is among
+    the best screened grammar pairs. Relaxation, load sensitivity and the
+    sensor bias / scale / delay are grammar instances (grammar.ALIASES)."""
+    return [Thermal(), SlipVelocity(), Camber(), Pressure(), AeroLoad(), Bank(), SteerLag(), MeasuringPoint()]
 
 
 def all_effects():

@@ -70,6 +70,31 @@ def onboard_config(name, params, model, dt=None):
     return out
 
 
+def grammar_update(effect, params, model):
+    """update.json entries of a grammar candidate: "grammar" (target, driver,
+    the states' source normalisation u_ref, what each parameter is) for
+    `grip analyze apply`, and "tir_update" when the change is a .tir value
+    (a scaling factor with a constant driver)."""
+    from grip_tools.loop import grammar
+    sp = effect.spec
+    g = {"target": sp.target.name, "driver": sp.driver.name, "description": sp.description(),
+         "modulation": "m_j = sum_c theta_jc g_c (module grip_tools.loop.grammar)"}
+    if isinstance(sp.driver, grammar.StateDriver) and effect.u_ref:
+        g["u_ref"] = {sp.driver.source: float(effect.u_ref[sp.driver.source])}
+        g["state"] = ("x_i = x_{i-1} + (1 - exp(-dt/tau)) (u_i/u_ref - x_{i-1}), x_0 = 0, tau = tau_heat_s "
+                      "while u_i/u_ref > x_{i-1}, else tau_rec_s")
+    upd = {"grammar": g}
+    P = getattr(model, "params", None)
+    if P is not None and sp.driver.name == "const" and isinstance(sp.target, grammar.ScaleTarget):
+        vals = list(params.values())
+        tir = {}
+        for (_, lams), th in zip(sp.target.groups, vals):
+            for lam in lams:
+                tir[lam.upper()] = float(P.get(lam, 1.0)) * max(1.0 + float(th), grammar.LAMBDA_MIN)
+        upd["tir_update"] = tir
+    return upd
+
+
 def effect_update(name, params, model, dt=None):
     """Where the fitted parameters go onboard (JSON-able): .tir keys for
     MF coefficients (load sensitivity PDY2/PDX2, LMUV, camber PKY6/PVY3,
@@ -103,9 +128,10 @@ def effect_update(name, params, model, dt=None):
     return upd
 
 
-def write_tir(base_path, updates, out_path):
+def write_tir(base_path, updates, out_path, note="grip_tools analyze"):
     """Copy of the .tir file base_path with KEY = value lines replaced (or
-    added to [SCALING_COEFFICIENTS] when absent); line endings kept."""
+    added to [SCALING_COEFFICIENTS] when absent); line endings kept; the
+    changed lines say they were written by `note`."""
     with open(base_path, newline="") as f:
         lines = f.readlines()
     todo = {k.upper(): v for k, v in updates.items()}
@@ -114,26 +140,37 @@ def write_tir(base_path, updates, out_path):
         key = ln.split("=", 1)[0].strip().upper() if "=" in ln and not ln.lstrip().startswith(("$", "!")) else None
         if key in todo:
             eol = "\r\n" if ln.endswith("\r\n") else "\n"
-            out.append(f"{key:<26s}= {float(todo.pop(key))!r:<18} $ updated by grip_tools analyze{eol}")
+            out.append(f"{key:<26s}= {float(todo.pop(key))!r:<18} $ updated by {note}{eol}")
         else:
             out.append(ln)
     if todo:
         idx = next(i for i, ln in enumerate(out) if ln.strip().upper().startswith("[SCALING_COEFFICIENTS]"))
         eol = "\r\n" if out[idx].endswith("\r\n") else "\n"
         for k, v in todo.items():
-            out.insert(idx + 1, f"{k:<26s}= {float(v)!r:<18} $ added by grip_tools analyze{eol}")
+            out.insert(idx + 1, f"{k:<26s}= {float(v)!r:<18} $ added by {note}{eol}")
     with open(out_path, "w", newline="") as f:
         f.writelines(out)
     return out_path
 
 
 def updated_params(res, model, ds=None):
-    """JSON-able update: the chosen effect, its parameters, and where they go."""
+    """JSON-able update: the chosen effect, its parameters, and where they go;
+    without one, the non-parametric correction when it was useful."""
+    from grip_tools.loop import grammar
     if res.chosen is None:
-        return {"effect": None, "base": model.name}
+        upd = {"effect": None, "base": model.name}
+        k = getattr(res, "correction", None)
+        if k is not None and k.useful:
+            upd["correction"] = k.as_dict()
+        return upd
     c = res.chosen
     upd = {"effect": c.name, "params": c.params, "onboard": c.onboard, "base": model.name}
+    if c.description:
+        upd["description"] = c.description
     dt = float(np.median(np.diff(ds.t))) if ds is not None and len(ds.t) > 1 else None
+    e = getattr(res, "effect", None)
+    if isinstance(e, grammar.GrammarEffect):
+        upd.update(grammar_update(e, c.params, model))
     upd.update(effect_update(c.name, c.params, model, dt))
     return upd
 
@@ -194,13 +231,39 @@ def write(res, ds, model, outdir, title="Residual analysis", prefix=""):
         a = res.chosen.ho_rms[o] if res.chosen else res.base_ho_rms[o]
         m = res.chosen.ho_max[o] if res.chosen else res.base_ho_max[o]
         L.append(f"| {o} | {res.base_ho_rms[o]:.4g} | {a:.4g} | {res.base_ho_max[o]:.4g} | {m:.4g} |")
-    L += ["", "## Ranking (penalised held-out score, 1.0 = baseline)", "",
-          "| effect | k | score | penalised | accepted | parameters | onboard |", "|---|---|---|---|---|---|---|"]
-    for c in res.ranked:
-        L.append(f"| {c.name} | {c.k} | {c.score:.3f} | {c.penalised:.3f} | {'yes' if c.accepted else 'no'} | "
-                 + ", ".join(f"{k}={v:.4g}" for k, v in c.params.items()) + f" | {c.onboard} |")
+    if res.search:
+        sr = res.search
+        L += ["", "## Search", "",
+              f"Grammar: {sr.get('pairs', 0)} (target x driver) pairs screened with a linear fit "
+              f"({sr.get('wall_screen_s', 0.0):.1f} s), the best {sr.get('refined', 0)} refined with the full "
+              f"model ({sr.get('wall_refine_s', 0.0):.1f} s), named forms {sr.get('wall_named_s', 0.0):.1f} s; "
+              f"analysis {sr.get('wall_s', 0.0):.1f} s wall. Criterion: held-out BIC, IC = N_eff ln(S/S_0) + k ln N_eff, "
+              f"N_eff = {sr.get('n_eff', 0.0):.0f}; accepted when IC < 0 and the score is at most "
+              f"{1 - attribution.MIN_GAIN:.2f}.", "",
+              "Best screened pairs (linear held-out score): "
+              + ", ".join(f"{n} {s:.3f}" for n, s, _ in sr.get("screen_top", [])[:12]) + "."]
+        L += ["", "## Ranking (held-out BIC relative to the base model; score 1.0 = baseline)", "",
+              "| effect | kind | k | score | IC | accepted | parameters | what |", "|---|---|---|---|---|---|---|---|"]
+        for c in res.ranked:
+            L.append(f"| {c.name} | {c.kind} | {c.k} | {c.score:.3f} | {c.ic:.1f} | {'yes' if c.accepted else 'no'} | "
+                     + ", ".join(f"{k}={v:.4g}" for k, v in c.params.items())
+                     + f" | {c.description or c.onboard} |")
+    else:
+        L += ["", "## Ranking (penalised held-out score, 1.0 = baseline)", "",
+              "| effect | k | score | penalised | accepted | parameters | onboard |", "|---|---|---|---|---|---|---|"]
+        for c in res.ranked:
+            L.append(f"| {c.name} | {c.k} | {c.score:.3f} | {c.penalised:.3f} | {'yes' if c.accepted else 'no'} | "
+                     + ", ".join(f"{k}={v:.4g}" for k, v in c.params.items()) + f" | {c.onboard} |")
     for n, why in res.skipped:
-        L.append(f"| {n} | - | - | - | skipped | {why} | |")
+        L.append(f"| {n} | - | - | - | - | skipped | {why} | |" if res.search else
+                 f"| {n} | - | - | - | skipped | {why} | |")
+    k = getattr(res, "correction", None)
+    if k is not None:
+        L += ["", "## Non-parametric correction (no physical effect identified)", "",
+              k.summary() + ".", "",
+              "It is a smooth function of the two channels most correlated with the residual, fitted to the "
+              "residual (loop/correction.py); it names no effect and does not extrapolate beyond the "
+              "training range of its channels." + (" update.json carries it." if k.useful else "")]
     L += ["", "## Evidence: residual dependence (baseline residual)", ""]
     for o in ds.outputs:
         L.append(f"- {o}: lag-1 autocorrelation {res.structure[o]:.2f}; strongest: "

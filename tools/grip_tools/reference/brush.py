@@ -283,9 +283,22 @@ def parse_params(text, path="<text>"):
     return model, p
 
 
+# The readers' bound (port/linux/brush_params.c): parameter files are a few
+# hundred bytes; a larger file, a device or binary data is refused.
+MAX_FILE_BYTES = 1000000
+
+
 def read_params(path):
-    with open(path) as f:
-        return parse_params(f.read(), path)
+    """parse_params of a file: at most MAX_FILE_BYTES of text (no NUL)."""
+    with open(path, "rb") as f:
+        data = f.read(MAX_FILE_BYTES + 1)
+    if len(data) > MAX_FILE_BYTES:
+        raise ParamError(f"{path}:0: cannot read (or larger than 1 MB)")
+    z = data.find(b"\0")
+    if z >= 0:
+        line = data.count(b"\n", 0, z) + 1
+        raise ParamError(f"{path}:{line}: NUL byte at byte offset {z}: not a text parameter file")
+    return parse_params(data.decode("utf-8", "replace"), path)
 
 
 # ---------------------------------------------------------------------------

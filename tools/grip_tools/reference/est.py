@@ -39,7 +39,7 @@ lib/est/est_tuning.h tabulates the C ones.
 
 Use:
     est = Estimator(config(tire_params))        # passenger car, 100 Hz
-    out = est.step(value, valid)                 # value[17], valid[17] per grip_signals.h
+    out = est.step(value, valid)                 # value[18], valid[18] per grip_signals.h
 """
 import math
 
@@ -50,7 +50,8 @@ from grip_tools.reference import mf
 # grip_input_id_t
 WS = (0, 1, 2, 3)
 STEER, YAW, AX, AY, VSPEED = 4, 5, 6, 7, 8
-N_IN = 17
+REAR_STEER = 17
+N_IN = 18
 
 # validity and flag bits (grip_est.h)
 V_VX, V_BETA, V_YAW, V_YAW_REF, V_FZ = 1, 2, 4, 8, 16
@@ -61,6 +62,8 @@ F_SATURATED, F_STEER_LIMIT, F_WHEEL_LOCK, F_WHEEL_SPIN = 256, 512, 1024, 2048
 F_EXCITED, F_TIRE_ERROR, F_RESET = 4096, 8192, 16384
 F_MODEL_MISFIT = 1 << 15
 F_INPUT_DEGRADED = 1 << 16   # set by grip_monitor_gate (monitor_ref.gate), not by the estimator
+F_RATE = 1 << 17             # the step's period (input times) disagrees with rate_hz
+F_NO_REAR_STEER = 1 << 18    # rear steering configured, its angle missing beyond the hold time
 
 
 def V_WHEEL(i):
@@ -78,6 +81,13 @@ BIG = 1000000           # step counters saturate here
 # -- input conditioning (est_input.c)
 HOLD_T = 0.05
 DELTA_MAX, WS_MAX, YAW_MAX, ACC_MAX = 0.7, 120.0, 2.5, 15.0
+# rear road-wheel angle range [rad]: production rear steering turns the
+# rear wheels by at most ~10 deg; within 0.25 rad the C takes cos and sin
+# from their Taylor series (error below 5e-8)
+DELTA_R_MAX = 0.25
+# a step period (input time stamps) off 1 / rate_hz by more than RATE_TOL
+# of it: F_RATE, the filter's per-step gains do not hold for that step
+RATE_TOL = 0.25
 # the steering latency's alignment (STEER_ALIGN): off only to measure what
 # it does (SteeringLatencyTests)
 STEER_ALIGN = True
@@ -95,6 +105,11 @@ SPREAD_REL, SPREAD_ABS = 0.01, 0.1
 # AX_OFF_MAX [m/s^2]. Every wheel locked or spinning while |ax| >= DR_AX:
 # dead reckoning on ax, V_VX kept for DR_T [s]; without wheels for NOWHEEL_T
 K_SLIP, K_OFF, AX_OFF_MAX = 0.2, 1.0, 1.5
+# a wheel steered beyond WS_STEER_MAX [rad] tells vx only through the
+# estimated vy (its speed carries (vy + r x) sin(delta)): it enters the
+# speed reference only when no wheel steered less gives one (a wrong vy at
+# full lock took vx from 8 to 2.8 m/s through the front wheels)
+WS_STEER_MAX = 0.2
 DR_AX, DR_T = 0.5, 2.0
 NOWHEEL_T = 0.5
 
@@ -239,7 +254,7 @@ def config(tire_front, tire_rear=None, rate_hz=100, **kw):
              steer_ratio=15.5, wheel_radius=0.30, roll_split_front=0.60, roll_gradient=0.0088,
              rate_hz=int(rate_hz),
              dt=1.0 / int(rate_hz),
-             speed_ref_mu=0,
+             speed_ref_mu=0, rear_steer=0,
              cla=0.0, aero_front=0.5, air_density=1.2, cda=0.0, crr=0.0, tan_bank=0.0, tan_grade=0.0,
              tire=(tire_front, tire_rear if tire_rear is not None else tire_front))
     c.update(kw)
@@ -450,8 +465,9 @@ class Estimator:
         self.psi = 0.0
         self.x = np.array([0.0, 0.0, MU_INIT, 0.0])
         self.P = np.diag(P0).astype(float)
-        self.hold = [0.0] * 5
-        self.age = [BIG] * 5
+        self.hold = [0.0] * 6
+        self.age = [BIG] * 6
+        self.t_prev = None           # previous step's input time [us] (rate check)
         self.no_wheel_steps = BIG
         self.dr_steps = 0
         self.ax_off = 0.0
@@ -478,9 +494,11 @@ class Estimator:
         self.rlx_init = False        # alpha_t set since the observer started
 
     # ---- est_step.c: the stages in their order ------------------------------
-    def step(self, value, valid):
-        """One input sample (value[17], valid[17]) in, the output dict out."""
+    def step(self, value, valid, t_us=None):
+        """One input sample (value[18], valid[18], its time t_us: optional,
+        the rate check) in, the output dict out."""
         s = StepData(self.cfg)
+        self.check_rate(s, t_us)
         self.condition_inputs(s, value, valid)
         self.estimate_speed(s, value, valid)
         self.switch_lateral_filter(s)
@@ -523,7 +541,7 @@ class Estimator:
         (beyond: F_SATURATED); True while the held value is at most
         HOLD_T old."""
         ok = False
-        if valid[idx]:
+        if idx < len(valid) and valid[idx]:   # older 17-input arrays: no rear angle
             v = float(value[idx])
             if math.isfinite(v):
                 if abs(v) < lim:
@@ -535,6 +553,20 @@ class Estimator:
         if not ok and self.age[slot] < BIG:
             self.age[slot] += 1
         return self.age[slot] <= self.hold_steps
+
+    def check_rate(self, s, t_us):
+        """est_input.c: the step's period from the input times against
+        1 / rate_hz (F_RATE beyond RATE_TOL of it, or time going backwards);
+        no check without times (t_us None or 0, or equal to the last)."""
+        if t_us is None or t_us == 0:
+            self.t_prev = None
+            return
+        if self.t_prev is not None and t_us != self.t_prev:
+            d = t_us - self.t_prev
+            per = 1000000 // self.cfg["rate_hz"]
+            if d < 0 or abs(d - per) * 4 > per:
+                s.flags |= F_RATE
+        self.t_prev = t_us
 
     def condition_inputs(self, s, value, valid):
         """est_input.c: the inputs the stages work with. Takes the steering
@@ -555,6 +587,12 @@ class Estimator:
         ax_ok = self._take(value, valid, AX, 2, ACC_MAX, s)
         ay_ok = self._take(value, valid, AY, 3, ACC_MAX, s)
         vs_ok = self._take(value, valid, VSPEED, 4, WS_MAX, s) and self.age[4] == 0
+        # the rear road-wheel angle: taken when given; required (its loss
+        # stops the lateral filter like the steering's) with rear_steer
+        rear_ok = self._take(value, valid, REAR_STEER, 5, 2.0 * DELTA_R_MAX, s)
+        if c.get("rear_steer", 0) and not rear_ok:
+            s.flags |= F_NO_REAR_STEER
+            steer_ok = False
         if not steer_ok:
             s.flags |= F_NO_STEER
         if not yaw_ok:
@@ -609,6 +647,11 @@ class Estimator:
                 self.psi += 2.0 * math.pi
         s.steer_ok, s.yaw_ok, s.ax_ok, s.ay_ok, s.vs_ok = steer_ok, yaw_ok, ax_ok, ay_ok, vs_ok
         s.delta, s.cd, s.sd, s.cd_o, s.sd_o = delta, cd, sd, cd_o, sd_o
+        delta_r = self.hold[5] if rear_ok else 0.0
+        if abs(delta_r) > DELTA_R_MAX:
+            s.flags |= F_STEER_LIMIT
+            delta_r = _clamp(delta_r, -DELTA_R_MAX, DELTA_R_MAX)
+        s.delta_r, s.cr, s.sr = delta_r, math.cos(delta_r), math.sin(delta_r)
         s.yaw, s.ax, s.ay, s.g_x, s.g_y = yaw, ax, ay, g_x, g_y
 
     # ---- est_speed.c: longitudinal speed ------------------------------------
@@ -627,7 +670,9 @@ class Estimator:
         dt = c["dt"]
         cd, yaw, ax, ax_ok, vs_ok, g_x, yw = s.cd, s.yaw, s.ax, s.ax_ok, s.vs_ok, s.g_x, s.yw
         r_now = self.x[1] if self.active else yaw
-        vy_now = self.x[0] if self.active else 0.0
+        # vy: the filter's; without it the kinematic value of a rear axle
+        # rolling without lateral slip (low speed: vy - r lr = vx tan delta_r)
+        vy_now = self.x[0] if self.active else r_now * c["lr"] + self.vx * s.sr / s.cr
         vx_pred = self.vx + self._vx_rate(ax, r_now, vy_now, g_x) * dt
         ws, ws_ok = [0.0] * 4, [False] * 4
         n_ws, vmin, vmax, vsum = 0, 1000.0, -1000.0, 0.0
@@ -635,6 +680,11 @@ class Estimator:
         wheels_ok = True
         vcs, outl = [0.0] * 4, [False] * 4
         n_good = 0
+        # the axles' wheels steered beyond WS_STEER_MAX, and whether any
+        # valid wheel is not
+        far = [abs(s.sd) > WS_STEER_MAX] * 2 + [abs(s.sr) > WS_STEER_MAX] * 2
+        near_ok = any(bool(valid[i]) and math.isfinite(float(value[i])) and abs(float(value[i])) < WS_MAX
+                      and not far[i] for i in range(4))
         for i in range(4):
             v = float(value[i])
             ws_ok[i] = bool(valid[i]) and math.isfinite(v) and abs(v) < WS_MAX
@@ -642,8 +692,10 @@ class Estimator:
                 s.flags |= F_SATURATED
             ws[i] = v if ws_ok[i] else 0.0
             if ws_ok[i]:
-                vc = ws[i] / cd if i < 2 else ws[i]
-                vc = vc + r_now * yw[i]
+                # the wheel turns at its centre's speed along its heading:
+                # ws = (vx - r y) cos d + (vy + r x) sin d; solved for vx
+                cdi, sdi = (cd, s.sd) if i < 2 else (s.cr, s.sr)
+                vc = (ws[i] - (vy_now + r_now * s.xw[i]) * sdi) / cdi + r_now * yw[i]
                 vcs[i] = vc
                 n_ws += 1
                 if vx_pred > V_ON:
@@ -653,6 +705,8 @@ class Estimator:
                     if vc > (1.0 + WHEEL_DEV) * vx_pred + 0.5:
                         spin = True
                         outl[i] = True
+                if far[i] and near_ok:
+                    outl[i] = True      # not an outlier by speed: no lock / spin flag
                 if not outl[i]:
                     n_good += 1
             else:
@@ -974,8 +1028,8 @@ class Estimator:
         vx, ws, ws_ok, fz, mu, cd, sd, vy, r = s.vx, s.ws, s.ws_ok, s.fz, s.mu, s.cd, s.sd, s.vy, s.r
         dt = c["dt"]
         m = c["mass"]
-        cdi = np.array([cd, cd, 1.0, 1.0])
-        sdi = np.array([sd, sd, 0.0, 0.0])
+        cdi = np.array([cd, cd, s.cr, s.cr])
+        sdi = np.array([sd, sd, s.sr, s.sr])
         xa, ya = np.array(s.xw), np.array(s.yw)
         vxw, vyw = _wheel_velocity(vx, vy, r, xa, ya, cdi, sdi)
         den = np.maximum(np.abs(vxw), V_OFF)
@@ -1121,7 +1175,7 @@ class Estimator:
         excited = (vx >= V_EXC and s.umax >= EXC_U and s.ay_ok and s.ax_ok and abs(ax) + abs(ay) >= EXC_A)
         # friction-limit test, independent of the mu estimate: the yaw rate
         # leaves the lagged linear reference by LIM_REL and LIM_ABS for LIM_T
-        r_lin = self._yaw_rate_linear(vx, s.delta)
+        r_lin = self._yaw_rate_linear(vx, s.delta - s.delta_r)
         self.r_lin_f += min(dt / LIM_TAU, 1.0) * (r_lin - self.r_lin_f)
         # both limit tests need speed, the inertial inputs and acceleration
         lim_ok = vx >= V_EXC and s.yaw_ok and s.ax_ok and s.ay_ok and s.a_tot >= LIM_A
@@ -1326,7 +1380,7 @@ class Estimator:
         # yaw-rate reference: steady-state bicycle, limited to what the road
         # can carry: |r| <= mu mu0 g / vx
         if (s.vbits & V_VX) and s.steer_ok and vx >= V_ON:
-            rr = self._yaw_rate_linear(vx, delta)
+            rr = self._yaw_rate_linear(vx, delta - s.delta_r)
             lim = mu * min(self.mu0) * G / vx
             o["yaw_rate_ref"] = _clamp(rr, -lim, lim)
             s.vbits |= V_YAW_REF
@@ -1360,8 +1414,8 @@ class Estimator:
         vyd = (ay if ay_ok else s.ay_m) + s.g_y - float(self.x[1]) * vx
         vy_o = _clamp(float(self.x[0]) + lat * vyd, -lim, lim)
         r_o = _clamp(float(self.x[1]) + lat * s.racc, -YAW_MAX, YAW_MAX)
-        cdi_o = np.array([cd_o, cd_o, 1.0, 1.0])
-        sdi_o = np.array([sd_o, sd_o, 0.0, 0.0])
+        cdi_o = np.array([cd_o, cd_o, s.cr, s.cr])
+        sdi_o = np.array([sd_o, sd_o, s.sr, s.sr])
         vxw, vyw = _wheel_velocity(vx, vy_o, r_o, s.xa, s.ya, cdi_o, sdi_o)
         den_o = np.maximum(np.abs(vxw), V_OFF)
         t_o = vyw / den_o
@@ -1441,8 +1495,12 @@ class Estimator:
             # and a tire model that does not fit the car (misfit) does not
             # give a sideslip to stand behind either, nor does a steering angle
             # beyond the rack's travel (no ay update: dead reckoning as well).
-            # The per-wheel outputs come from the same model
-            if s.ay_ok and s.yaw_ok and not s.dead_reck and not self.misfit and s.steer_in_range:
+            # The per-wheel outputs come from the same model. ax is required
+            # too: the wheel loads (load transfer), vx through braking and the
+            # slip ratios rest on it; and a step period off the configured
+            # rate (F_RATE) breaks the filter's per-step gains
+            if (s.ay_ok and s.yaw_ok and s.ax_ok and not s.dead_reck and not self.misfit
+                    and s.steer_in_range and not (s.flags & F_RATE)):
                 s.vbits |= V_BETA | V_AXLE
             if not (s.vbits & V_BETA):
                 s.vbits &= ~(V_WHEEL(0) | V_WHEEL(1) | V_WHEEL(2) | V_WHEEL(3))
@@ -1460,7 +1518,7 @@ class Estimator:
             # confidence in mu while the evidence builds up (the check is
             # low-passed over 2 s and would declare the misfit late)
             o["mu_conf"] = min(o["mu_conf"], CONF_MISFIT)
-        if o["mu_conf"] >= 0.5:
+        if o["mu_conf"] >= 0.5 and s.ax_ok and not (s.flags & F_RATE):
             s.vbits |= V_MU
 
 
@@ -1504,7 +1562,11 @@ def inputs_from_sensors(cols, bar_to_pa=1e5):
     return t, value, valid
 
 
-def run(cfg, value, valid):
-    """Runs a whole sequence; returns the list of output dicts."""
+def run(cfg, value, valid, t=None):
+    """Runs a whole sequence (t [s]: the samples' times for the rate check,
+    as grip_input_sample_t.t_us; None: unchecked); returns the list of
+    output dicts."""
     est = Estimator(cfg)
-    return [est.step(value[k], valid[k]) for k in range(len(value))]
+    if t is None:
+        return [est.step(value[k], valid[k]) for k in range(len(value))]
+    return [est.step(value[k], valid[k], int(round(float(t[k]) * 1e6))) for k in range(len(value))]

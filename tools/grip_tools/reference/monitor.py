@@ -52,7 +52,7 @@ import numpy as np
 
 # grip_input_id_t
 STEER, YAW, AX, AY, VSPEED = 4, 5, 6, 7, 8
-N_IN = 17
+N_IN = 18
 N_MON = 9            # monitored inputs 0..8
 NAMES = ("ws_fl", "ws_fr", "ws_rl", "ws_rr", "steer", "yaw", "ax", "ay", "vspeed")
 G = 9.80665

@@ -4,34 +4,47 @@ The coefficients grip uses (key, section, fixed-point format, default,
 required flag) are read from include/grip/grip_mf_coefs.h, the one list the C
 struct, the C host reader and this module share. Nothing here repeats it.
 
+The rules that are data (the MF-Tyre keys grip knows but does not read,
+the plausibility range of every coefficient family, the bounds of the
+reader) are port/linux/tir_rules.h, the table the C reader compiles; this
+module reads it, so both readers apply the same rules in the same order and
+report the same first error and the same warnings.
+
 File grammar (one line at a time, LF or CRLF):
   blank line, or a comment starting with '$' or '!' (after optional blanks)
   [SECTION]            section header (a comment may follow)
   {text}               column names of a table section (kept as text)
   KEY = value          value: number (Fortran 'D' exponents accepted), quoted
-                       string ('..' or ".."), or a bare word; '$' or '!'
-                       starts an inline comment
+                       string ('..' or ".."), a bare word, or nothing (an
+                       empty value); '$' or '!' starts an inline comment
   numbers only         a row of a table section such as [SHAPE] or
                        [DEFLECTION_LOAD_CURVE] (kept in Tir.tables)
 Anything else is an error. Every error is a TirError naming file, line and
-key: "FILE:LINE: KEY: message".
+key: "FILE:LINE: KEY: message"; every warning (a TirWarning: an unknown
+key, a coefficient in another section, an empty value) has the same form.
+Bounds: 4 MiB a file, 4096 bytes a line, 4096 keys, 4096 table rows.
 
 Command line:
   grip tir2c FILE.tir --name NAME -o OUT.c [--header OUT.h]
-                                 [--side left|right]
+                                 [--side left|right] [--strict] [--no-range-check]
 """
 import argparse
 import math
 import os
 import re
+import stat
 import sys
 import tempfile
 
 from grip_tools.errors import DataError
 from grip_tools.paths import REPO_ROOT
 COEFS_HEADER = os.path.join(REPO_ROOT, "include", "grip", "grip_mf_coefs.h")
+RULES_HEADER = os.path.join(REPO_ROOT, "port", "linux", "tir_rules.h")
 
+# The FITTYP values grip evaluates (Tir.fittyp); 52 in a file (MF 5.2, as
+# later MF-Tool exports write it) is read as 21 (Tir.fittyp_file keeps 52).
 SUPPORTED_FITTYP = (5, 6, 21, 61, 62)
+FILE_FITTYP = {5: 5, 6: 6, 21: 21, 52: 21, 61: 61, 62: 62}
 MF5_FITTYP = (5, 6, 21)
 MF6_FITTYP = (61, 62)
 
@@ -53,6 +66,60 @@ class TirError(DataError):
     @property
     def key(self):
         return self.field
+
+
+class TirWarning:
+    """Something a reader reads past: str() 'FILE:LINE: KEY: message'
+    (.file, .line, .key, .message). Under strict reading it is a TirError."""
+
+    def __init__(self, file, line, key, message):
+        self.file, self.line, self.key, self.message = file, line, key, message
+
+    def __str__(self):
+        return f"{self.file}:{self.line}: {self.key or '-'}: {self.message}"
+
+    def __repr__(self):
+        return f"TirWarning({str(self)!r})"
+
+
+def _print_warning(w):
+    print(f"warning: {w}", file=sys.stderr)
+
+
+# How read_tir reads when its caller does not say (the tools' --strict and
+# --no-range-check set these), and where warnings go (the grip command
+# prefixes them with its name).
+POLICY = {"strict": False, "range_check": True}
+_WARNING_HANDLER = [_print_warning]
+
+
+def set_policy(strict=None, range_check=None):
+    """The defaults of read_tir for this process (None: unchanged)."""
+    if strict is not None:
+        POLICY["strict"] = bool(strict)
+    if range_check is not None:
+        POLICY["range_check"] = bool(range_check)
+
+
+def set_warning_handler(fn):
+    """fn(TirWarning) receives every warning (default: 'warning: ...' on
+    stderr); returns the previous handler."""
+    old = _WARNING_HANDLER[0]
+    _WARNING_HANDLER[0] = fn
+    return old
+
+
+def add_reader_options(ap):
+    """--strict and --no-range-check for a command that reads .tir files."""
+    ap.add_argument("--strict", action="store_true",
+                    help=".tir: every warning is an error (an unknown key, a key in another section, an empty value)")
+    ap.add_argument("--no-range-check", action="store_true",
+                    help=".tir: accept coefficients outside their plausible ranges (docs/tools.md); the hard checks stay")
+
+
+def apply_reader_options(args):
+    """Sets the policy from add_reader_options' options."""
+    set_policy(strict=getattr(args, "strict", False), range_check=not getattr(args, "no_range_check", False))
 
 
 # ---------------------------------------------------------------------------
@@ -98,6 +165,90 @@ def coefficients(header=COEFS_HEADER):
     if header == COEFS_HEADER:
         _COEFS = out
     return out
+
+
+# ---------------------------------------------------------------------------
+# The rules of port/linux/tir_rules.h.
+
+class Rules:
+    __slots__ = ("line_max", "size_max", "keys_max", "rows_max", "sections_max", "sections", "read_keys",
+                 "known_keys", "ranges")
+
+
+_RULES = None
+_DEFINE_RE = re.compile(r"#define\s+GRIP_TIR_(LINE_MAX|SIZE_MAX|KEYS_MAX|ROWS_MAX|SECTIONS_MAX)\s+(\d+)L?\b")
+_RANGE_RE = re.compile(r'X\(\s*"([A-Z0-9_]+\*?)"\s*,\s*(VAL0|VAL|ABS)\s*,\s*([-+0-9.eE]+)\s*,\s*([-+0-9.eE]+)\s*,'
+                       r'\s*"([^"]*)"\s*\)')
+
+
+def _macro_body(text, name):
+    start = text.find(f"#define {name}(X)")
+    if start < 0:
+        raise RuntimeError(f"{RULES_HEADER}: {name} not found")
+    body = []
+    for line in text[start:].splitlines():
+        body.append(line)
+        if not line.rstrip().endswith("\\"):
+            break
+    return "\n".join(body)[len(f"#define {name}(X)"):]
+
+
+def rules():
+    """The tables and bounds of tir_rules.h (a Rules)."""
+    global _RULES
+    if _RULES is not None:
+        return _RULES
+    with open(RULES_HEADER) as f:
+        text = f.read()
+    r = Rules()
+    defs = dict((m.group(1), int(m.group(2))) for m in _DEFINE_RE.finditer(text))
+    r.line_max, r.size_max, r.keys_max = defs["LINE_MAX"], defs["SIZE_MAX"], defs["KEYS_MAX"]
+    r.rows_max, r.sections_max = defs["ROWS_MAX"], defs["SECTIONS_MAX"]
+    r.sections = re.findall(r"X\((\w+)\)", _macro_body(text, "GRIP_TIR_SECTIONS"))
+    r.read_keys = re.findall(r"X\((\w+),\s*(\w+)\)", _macro_body(text, "GRIP_TIR_READ_KEYS"))
+    r.known_keys = re.findall(r"X\((\w+)\)", _macro_body(text, "GRIP_TIR_KNOWN_KEYS"))
+    r.ranges = [(m.group(1), m.group(2), float(m.group(3)), float(m.group(4)), m.group(5))
+                for m in _RANGE_RE.finditer(_macro_body(text, "GRIP_TIR_RANGES"))]
+    if not (r.sections and r.read_keys and r.known_keys and r.ranges):
+        raise RuntimeError(f"{RULES_HEADER}: a table is empty")
+    _RULES = r
+    return r
+
+
+def range_of(key):
+    """(pattern, kind, lo, hi, what) of the plausibility range of KEY, or None."""
+    for rg in rules().ranges:
+        pat = rg[0]
+        if (key.startswith(pat[:-1]) if pat.endswith("*") else key == pat):
+            return rg
+    return None
+
+
+def _edit_distance(a, b):
+    if len(a) >= 64 or len(b) >= 64:
+        return 99
+    row = list(range(len(b) + 1))
+    for i in range(1, len(a) + 1):
+        diag, row[0] = row[0], i
+        for j in range(1, len(b) + 1):
+            up = row[j]
+            row[j] = min(diag + (a[i - 1] != b[j - 1]), up + 1, row[j - 1] + 1)
+            diag = up
+    return row[len(b)]
+
+
+def nearest_key(key):
+    """The nearest key grip knows (edit distance <= 2, KEY of 4 or more
+    characters, the first of equals in table order) or None."""
+    if len(key) < 4:
+        return None
+    best, bd = None, 3
+    r = rules()
+    for cand in [c.key for c in coefficients()] + [k for _, k in r.read_keys] + r.known_keys:
+        d = _edit_distance(key, cand)
+        if d < bd:
+            best, bd = cand, d
+    return best
 
 
 # ---------------------------------------------------------------------------
@@ -161,7 +312,7 @@ _NUM_RE = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eEdD][+-]?\d+)?$")
 
 def parse_number(word):
     """float of a strict decimal number (Fortran D exponents allowed) or None."""
-    if not _NUM_RE.match(word):
+    if len(word) >= 128 or not _NUM_RE.match(word):
         return None
     try:
         v = float(word.replace("d", "e").replace("D", "e"))
@@ -188,9 +339,13 @@ class Tir:
     sections: {SECTION: {KEY: Entry}} (upper-case names, every section kept)
     section_line: {SECTION: line of its header}
     tables: {SECTION: {"header": str or None, "rows": [[float, ...], ...]}}
+    entries: [(SECTION, Entry)] every KEY = value line in file order
     values: {KEY: float} SI value of every grip coefficient (defaults filled)
     lines: {KEY: line} (0: default used)
-    fittyp, tyreside (+1 LEFT/unknown, -1 RIGHT), units {QUANTITY: factor}
+    fittyp (the version evaluated), fittyp_file (FITTYP as written, None if
+    not given: 52 is read as 21), tyreside (+1 LEFT/unknown, -1 RIGHT),
+    units {QUANTITY: factor}, use_mode (the file's USE_MODE, None if not
+    given) and use_mode_line, warnings [TirWarning]
     """
 
     def __init__(self, path):
@@ -198,13 +353,18 @@ class Tir:
         self.sections = {}
         self.section_line = {}
         self.tables = {}
+        self.entries = []
         self.values = {}
         self.lines = {}
         self.fittyp = None
+        self.fittyp_file = None
         self.fittyp_inferred = False
         self.tyreside = 1
         self.tyreside_name = None
         self.units = {}
+        self.use_mode = None
+        self.use_mode_line = 0
+        self.warnings = []
         self.nlines = 0
 
     # convenience
@@ -226,6 +386,9 @@ class Tir:
         p["tyreside"] = self.tyreside
         p["options"] = mount_options(side, self.tyreside)
         p["path"] = self.path
+        # the file's USE_MODE (None: not given); grip_mf_params has no field
+        # for it: the reader accepts only what the evaluation implements
+        p["tir_use_mode"] = self.use_mode
         return p
 
 
@@ -306,18 +469,33 @@ def _table_row(s):
     return None if any(v is None for v in vals) else vals
 
 
+def _lines(text):
+    """The lines of text (split at LF, a last empty line dropped), one at a
+    time: a 4 MiB file of short lines is never held as a list."""
+    pos, n = 0, len(text)
+    while pos < n:
+        nl = text.find("\n", pos)
+        if nl < 0:
+            yield text[pos:]
+            return
+        yield text[pos:nl]
+        pos = nl + 1
+
+
 def parse_text(text, path="<text>"):
     """Parse (no validation): a Tir with sections and tables filled."""
+    r = rules()
     t = Tir(path)
-    if text.startswith("\ufeff"):
-        text = text[1:]
-    lines = text.split("\n")
-    if lines and lines[-1] == "":
-        lines.pop()
     section = None
-    for n, raw in enumerate(lines, start=1):
+    n = 0
+    rows = 0
+    for n, raw in enumerate(_lines(text), start=1):
         if "\0" in raw:
             raise TirError(path, n, None, "binary data (NUL byte): not a text .tir file")
+        if len(raw) > r.line_max:
+            raise TirError(path, n, None, f"line longer than {r.line_max} characters: not a .tir file")
+        if n == 1 and raw.startswith("\ufeff"):
+            raw = raw[1:]        # UTF-8 byte order mark
         s = raw.rstrip("\r\n \t\f\v").lstrip(" \t\f\v")
         if not s or s[0] in "$!":
             continue
@@ -325,13 +503,16 @@ def parse_text(text, path="<text>"):
             close = s.find("]")
             name = s[1:close].strip() if close > 0 else ""
             after = s[close + 1:].strip() if close > 0 else "x"
-            if close < 0 or not name or (after and after[0] not in "$!"):
-                raise TirError(path, n, None, f"malformed section header '{s}'")
+            if close < 0 or not name or close - 1 >= 128 or (after and after[0] not in "$!"):
+                raise TirError(path, n, None, f"malformed section header '{s[:60]}'")
             section = name.upper()
             # a section may appear twice (some exporters repeat table
             # sections): its keys are merged, a repeated key is an error
-            t.section_line.setdefault(section, n)
-            t.sections.setdefault(section, {})
+            if section not in t.sections:
+                if len(t.sections) >= r.sections_max:
+                    raise TirError(path, n, None, f"more than {r.sections_max} sections: not a .tir file")
+                t.section_line[section] = n
+                t.sections[section] = {}
             continue
         if s[0] == "{":
             if section is not None:
@@ -341,7 +522,7 @@ def parse_text(text, path="<text>"):
             res, why = _split_assignment(s)
             m = _KEY_RE.match(s)
             if res is None:
-                raise TirError(path, n, m.group(0) if m else None, why)
+                raise TirError(path, n, m.group(0)[:63] if m else None, why)
             key, value, quoted = res
             if section is None:
                 raise TirError(path, n, key, "key outside any [SECTION]")
@@ -349,16 +530,22 @@ def parse_text(text, path="<text>"):
             sec = t.sections[section]
             if key in sec:
                 raise TirError(path, n, key, f"duplicate key (first on line {sec[key].line})")
+            if len(t.entries) >= r.keys_max:
+                raise TirError(path, n, None, f"more than {r.keys_max} keys: not a .tir file")
             sec[key] = Entry(key, value, quoted, n)
+            t.entries.append((section, sec[key]))
             continue
         row = _table_row(s)
         if row is not None:
             if section is None:
                 raise TirError(path, n, None, "table row outside any [SECTION]")
+            rows += 1
+            if rows > r.rows_max:
+                raise TirError(path, n, None, f"more than {r.rows_max} table rows: not a .tir file")
             t.tables.setdefault(section, {"header": None, "rows": []})["rows"].append(row)
             continue
         raise TirError(path, n, None, f"cannot read line '{s[:60]}' (expected KEY = value)")
-    t.nlines = len(lines)
+    t.nlines = n
     if t.nlines == 0:
         raise TirError(path, 0, None, "empty file")
     return t
@@ -368,22 +555,139 @@ def _missing_line(t, section):
     return t.section_line.get(section, t.nlines)
 
 
-def validate(t):
-    """Units, FITTYP, TYRESIDE, coefficients, physical sense, fixed-point
-    range. Fills t.values/t.lines/t.fittyp/t.tyreside; raises TirError."""
+def _check_keys(t, warn):
+    """Every key in file order: one grip reads but in another section, or one
+    no MF-Tyre file has in a known section, is a warning. Keys of unknown
+    (vendor) sections are not checked, except for keys grip reads."""
+    r = rules()
+    own_section = {c.key: c.section for c in reversed(coefficients())}
+    for sec, key in r.read_keys:
+        own_section.setdefault(key, sec)
+    known_sections = set(r.sections) | {c.section for c in coefficients()}
+    known_keys = set(r.known_keys)
+    for section, e in t.entries:
+        own = own_section.get(e.key)
+        known_section = section in known_sections
+        if own is not None:
+            if own != section and e.key not in known_keys:
+                warn(e.line, e.key, f"grip reads {e.key} from [{own}], not from "
+                                    f"{'' if known_section else 'the unknown section '}[{section}]: "
+                                    "this value is ignored")
+        elif known_section and e.key not in known_keys:
+            near = nearest_key(e.key)
+            warn(e.line, e.key, f"unknown key in [{section}]: ignored" + (f" (did you mean {near}?)" if near else ""))
+
+
+def _is_empty(e):
+    """`KEY =` with nothing after it (a quoted '' is a value: a string)."""
+    return not e.quoted and e.raw == ""
+
+
+def _check_use_mode(t, e, pure_slip):
+    """USE_MODE (MF-Tyre): units digit the slip calculation (0 Fz only, 1
+    Fx/My, 2 Fy/Mx/Mz, 3 uncombined, 4 combined, 5 combined + turn slip),
+    tens digit the dynamics (0 steady state, 1 and 2 relaxation, 3 rigid
+    ring), hundreds digit the road contact (0..5); MF-Tyre 5.x: negative =
+    mirrored. grip evaluates the steady-state Magic Formula at the contact
+    point, so the dynamics and contact digits do not change what it computes
+    (relaxation is grip_relax, applied by the caller); of the slip digits it
+    implements 4 (combined slip) and, for a caller that evaluates pure slip,
+    3. Everything else is refused with the reason."""
     path = t.path
+    v = e.number
+    if v is None or v != math.floor(v):
+        raise TirError(path, e.line, "USE_MODE", f"value '{e.raw}' is not an integer")
+    if v < 0:
+        raise TirError(path, e.line, "USE_MODE",
+                       f"{e.raw}: a negative USE_MODE mirrors the tyre (MF-Tyre 5.x); grip mounts a tyre by "
+                       f"TYRESIDE and the side option (--side): write USE_MODE = {-v:g} and give the side")
+    if v > 999:
+        raise TirError(path, e.line, "USE_MODE", f"{e.raw} is not a USE_MODE of MF-Tyre (at most three digits)")
+    m = int(v)
+    if m // 100 > 5:
+        raise TirError(path, e.line, "USE_MODE",
+                       f"{m}: hundreds digit {m // 100} is not a road contact of MF-Tyre (0..5)")
+    if (m // 10) % 10 > 3:
+        raise TirError(path, e.line, "USE_MODE",
+                       f"{m}: tens digit {(m // 10) % 10} is not a dynamics mode of MF-Tyre (0 steady state, "
+                       "1 and 2 relaxation, 3 rigid ring)")
+    slip = m % 10
+    if slip == 0:
+        raise TirError(path, e.line, "USE_MODE", f"{m} asks for Fz only, no Magic Formula forces; grip evaluates "
+                                                 "Fx, Fy and Mz (USE_MODE units digit 4)")
+    if slip in (1, 2):
+        raise TirError(path, e.line, "USE_MODE",
+                       f"{m} asks for {'Fx and My' if slip == 1 else 'Fy, Mx and Mz'} only; grip evaluates Fx, Fy "
+                       "and Mz together (USE_MODE units digit 4)")
+    if slip == 3 and not pure_slip:
+        raise TirError(path, e.line, "USE_MODE",
+                       f"{m} asks for uncombined forces (pure slip); this evaluation is combined slip (USE_MODE "
+                       f"units digit 4): evaluate pure slip (grip-tire --pure, grip_mf_eval_pure) or write "
+                       f"USE_MODE = {m + 1}")
+    if slip == 5:
+        raise TirError(path, e.line, "USE_MODE",
+                       f"{m} asks for combined slip with turn slip; grip takes turn slip per call, not from the "
+                       f"file (grip_mf_eval_ext with GRIP_MF_USE_TURN_SLIP, grip-tire --turn-slip): write "
+                       f"USE_MODE = {m - 1} and ask for it there")
+    if slip > 5:
+        raise TirError(path, e.line, "USE_MODE", f"{m}: units digit {slip} is not a slip calculation of MF-Tyre (0..5)")
+    t.use_mode = m
+    t.use_mode_line = e.line
+
+
+def _range_text(kind, lo, hi):
+    if kind == "VAL0":
+        return f"0 or [{lo:g}, {hi:g}]"
+    if kind == "ABS":
+        return f"|v| in [{lo:g}, {hi:g}]"
+    return f"[{lo:g}, {hi:g}]"
+
+
+def _in_range(v, kind, lo, hi):
+    if kind == "VAL0":
+        return v == 0.0 or lo <= v <= hi
+    if kind == "ABS":
+        return lo <= abs(v) <= hi
+    return lo <= v <= hi
+
+
+def validate(t, strict=None, range_check=None, pure_slip=False):
+    """Keys, units, FITTYP, USE_MODE, TYRESIDE, coefficients, physical sense,
+    fixed-point range, plausibility (in this order, the C reader's).
+    Fills t.values/t.lines/t.fittyp/t.tyreside/t.use_mode/t.warnings;
+    raises TirError. strict: every warning is an error; range_check: the
+    plausibility ranges of tir_rules.h (None: POLICY); pure_slip: the caller
+    evaluates pure slip (USE_MODE units digit 3 accepted)."""
+    path = t.path
+    strict = POLICY["strict"] if strict is None else strict
+    range_check = POLICY["range_check"] if range_check is None else range_check
+    t.warnings = []
+
+    def warn(line, key, message):
+        if strict:
+            raise TirError(path, line, key, f"{message} (refused: strict mode)")
+        w = TirWarning(path, line, key, message)
+        t.warnings.append(w)
+        _WARNING_HANDLER[0](w)
+
+    # keys grip does not know, or reads from another section
+    _check_keys(t, warn)
+
     # units
     t.units = {q: 1.0 for q in QUANTITIES}
     units = t.sections.get("UNITS", {})
     for q, table in QUANTITIES.items():
         e = units.get(q)
+        if e is not None and _is_empty(e):
+            warn(e.line, q, "empty value: read as the SI unit")
+            e = None
         if e is None:
             continue
         f = table.get(e.raw.strip().lower())
         if f is None:
-            raise TirError(path, e.line, q, f"unit '{e.raw}' cannot be converted to SI")
+            raise TirError(path, e.line, q, f"unit '{e.raw[:60]}' cannot be converted to SI")
         t.units[q] = f
-    if "PRESSURE" not in units:
+    if "PRESSURE" not in units or _is_empty(units["PRESSURE"]):
         t.units["PRESSURE"] = t.units["FORCE"] / t.units["LENGTH"] ** 2
     factor = {"length": t.units["LENGTH"], "force": t.units["FORCE"], "angle": t.units["ANGLE"],
               "pressure": t.units["PRESSURE"], "speed": t.units["LENGTH"] / t.units["TIME"],
@@ -392,14 +696,19 @@ def validate(t):
     # FITTYP
     model = t.sections.get("MODEL", {})
     e = model.get("FITTYP")
+    if e is not None and _is_empty(e):
+        warn(e.line, "FITTYP", "empty value: read as not given")
+        e = None
     if e is not None:
         v = e.number
         if v is None:
-            raise TirError(path, e.line, "FITTYP", f"value '{e.raw}' is not a number")
-        if v not in SUPPORTED_FITTYP:
+            raise TirError(path, e.line, "FITTYP", f"value '{e.raw[:60]}' is not a number")
+        if v not in FILE_FITTYP:
             raise TirError(path, e.line, "FITTYP",
-                           f"unsupported Magic Formula version {e.raw} (supported: 5, 6, 21, 61, 62)")
-        t.fittyp = int(v)
+                           f"unsupported Magic Formula version {e.raw[:60]} (supported: 5, 6, 21, 52 = MF 5.x / "
+                           "PAC2002; 61, 62 = MF 6.1, 6.2)")
+        t.fittyp = FILE_FITTYP[int(v)]
+        t.fittyp_file = int(v)
     else:
         fmt = model.get("PROPERTY_FILE_FORMAT")
         guess = FITTYP_FROM_FORMAT.get(fmt.raw.strip().upper()) if fmt is not None else None
@@ -410,6 +719,14 @@ def validate(t):
         t.fittyp = guess
         t.fittyp_inferred = True
 
+    # USE_MODE
+    e = model.get("USE_MODE")
+    if e is not None and _is_empty(e):
+        warn(e.line, "USE_MODE", "empty value: read as not given")
+        e = None
+    if e is not None:
+        _check_use_mode(t, e, pure_slip)
+
     # TYRESIDE
     e = model.get("TYRESIDE")
     if e is not None:
@@ -419,12 +736,17 @@ def validate(t):
         elif name in ("LEFT", "UNKNOWN", "SYMMETRIC", ""):
             t.tyreside = 1
         else:
-            raise TirError(path, e.line, "TYRESIDE", f"unknown tyre side '{e.raw}' (LEFT, RIGHT, UNKNOWN)")
+            raise TirError(path, e.line, "TYRESIDE", f"unknown tyre side '{e.raw[:60]}' (LEFT, RIGHT, UNKNOWN)")
         t.tyreside_name = name
 
     # coefficients
     for c in coefficients():
         e = t.sections.get(c.section, {}).get(c.key)
+        if e is not None and _is_empty(e):
+            if c.required:
+                raise TirError(path, e.line, c.key, "empty value for a required key")
+            warn(e.line, c.key, f"empty value: the default {c.default:g} is used")
+            e = None
         if e is None:
             if c.required:
                 raise TirError(path, _missing_line(t, c.section), c.key,
@@ -434,7 +756,7 @@ def validate(t):
             continue
         v = e.number
         if v is None:
-            raise TirError(path, e.line, c.key, f"value '{e.raw}' is not a number")
+            raise TirError(path, e.line, c.key, f"value '{e.raw[:60]}' is not a number")
         dim = DIMENSIONS.get(c.key)
         x = v * factor[dim] if dim else v
         if not math.isfinite(x):
@@ -443,11 +765,11 @@ def validate(t):
         t.lines[c.key] = e.line
 
     # physical sense
-    for key, strict in POSITIVE.items():
+    for key, strict_pos in POSITIVE.items():
         v = t.values[key]
-        if (strict and not v > 0.0) or (not strict and not v >= 0.0):
+        if (strict_pos and not v > 0.0) or (not strict_pos and not v >= 0.0):
             raise TirError(path, t.lines[key] or _missing_line(t, _section_of(key)), key,
-                           f"value {v:g} must be {'> 0' if strict else '>= 0'}")
+                           f"value {v:g} must be {'> 0' if strict_pos else '>= 0'}")
     for lo, hi in RANGES:
         if t.lines[lo] and t.lines[hi] and not t.values[lo] < t.values[hi]:
             raise TirError(path, t.lines[hi], hi,
@@ -465,6 +787,21 @@ def validate(t):
             raise TirError(path, t.lines[c.key] or _missing_line(t, c.section), c.key,
                            f"value {v:g} (SI) does not fit the fixed-point format {c.fmt} = {what} "
                            f"(|v| < {lim:g})")
+
+    # plausibility (port/linux/tir_rules.h), of the values the file gives
+    if range_check:
+        for c in coefficients():
+            if not t.lines[c.key]:
+                continue
+            rg = range_of(c.key)
+            if rg is None:
+                continue
+            _, kind, lo, hi, what = rg
+            v = t.values[c.key]
+            if not _in_range(v, kind, lo, hi):
+                raise TirError(path, t.lines[c.key], c.key,
+                               f"value {v:g} (SI) is outside the plausible range {_range_text(kind, lo, hi)} "
+                               f"({what}); --no-range-check accepts it")
     return t
 
 
@@ -475,18 +812,57 @@ def _section_of(key):
     return None
 
 
-def read_tir(path):
-    """Read and validate a .tir file: a Tir (raises TirError)."""
+def _check_bytes(data, path):
+    """The C reader's first pass over at most GRIP_TIR_SIZE_MAX + 1 bytes:
+    line by line, no NUL byte, no line longer than GRIP_TIR_LINE_MAX; then
+    the size."""
+    r = rules()
+    lim = min(len(data), r.size_max)
+    pos, line = 0, 1
+    while pos < lim:
+        nl = data.find(b"\n", pos, lim)
+        end = lim if nl < 0 else nl
+        z = data.find(b"\0", pos, end)
+        if 0 <= z <= pos + r.line_max:
+            raise TirError(path, line, None, f"NUL byte at byte offset {z} (byte {z - pos + 1} of the line): "
+                                             "not a text .tir file")
+        if end - pos > r.line_max:
+            raise TirError(path, line, None, f"line longer than {r.line_max} bytes (at byte offset {pos}): "
+                                             "not a .tir file")
+        if nl < 0:
+            break
+        pos, line = nl + 1, line + 1
+    if len(data) > r.size_max:
+        raise TirError(path, 0, None, f"larger than {r.size_max} bytes: not a .tir file")
+
+
+def read_tir(path, strict=None, range_check=None, pure_slip=False):
+    """Read and validate a .tir file: a Tir (raises TirError). At most
+    GRIP_TIR_SIZE_MAX bytes are read, whatever the file (a device, a huge
+    sparse file). strict, range_check, pure_slip: as validate()."""
+    r = rules()
     try:
         with open(path, "rb") as f:
-            data = f.read()
+            st = os.fstat(f.fileno())
+            if stat.S_ISREG(st.st_mode) and st.st_size > r.size_max:
+                raise TirError(path, 0, None, f"larger than {r.size_max} bytes: not a .tir file")
+            data = f.read(r.size_max + 1)
     except OSError as ex:
+        if ex.errno is not None and ex.filename is None:
+            raise TirError(path, 1, None, f"read error: {ex.strerror}") from None
         raise TirError(path, 0, None, f"cannot open: {ex.strerror}") from None
+    _check_bytes(data, path)
+    if not data:
+        raise TirError(path, 0, None, "empty file")
+    bom = "\ufeff" if data.startswith(b"\xef\xbb\xbf") else ""   # skipped on line 1, as in C
+    body = data[len(bom) * 3:]
+    del data
     try:
-        text = data.decode("utf-8")
+        text = bom + body.decode("utf-8")
     except UnicodeDecodeError:
-        text = data.decode("latin-1")
-    return validate(parse_text(text, path))
+        text = bom + body.decode("latin-1")
+    del body
+    return validate(parse_text(text, path), strict, range_check, pure_slip)
 
 
 def load_params(path, side=None):
@@ -576,7 +952,9 @@ def main(argv=None):
     ap.add_argument("--side", choices=SIDES, default="fitted",
                     help="where the tyre is mounted (default: as fitted, never mirrored); left or right "
                          "mirrors a file fitted for the other side (GRIP_MF_OPT_RIGHT_SIDE in .options)")
+    add_reader_options(ap)
     args = ap.parse_args(argv)
+    apply_reader_options(args)
     if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", args.name) or args.name in C_RESERVED \
             or re.match(r"_[A-Z_]", args.name):
         ap.error(f"--name '{args.name}' is not a usable C identifier (a letter or '_' first, no C keyword, "
