@@ -71,10 +71,7 @@ typedef struct {
 #define GRIP_MF_PHIT_MAX       100.0      /* |phit| [1/m] (path radius 1 cm; turn slip only)  */
 #define GRIP_MF_OMEGA_MAX      3000.0     /* |omega| [rad/s]                                  */
 
-/* Operating point of one tyre (ISO-W unless GRIP_MF_OPT_SAE / _KAPPA_BRAKE).
- * Zero-initialize it: phit and omega are read by grip_mf_eval_ext, where 0
- * means "no turn slip" and "estimate the spin"; grip_mf_eval and
- * grip_mf_eval_pure never read them. */
+/* Operating point of one tyre (ISO-W unless GRIP_MF_OPT_SAE / _KAPPA_BRAKE). */
 typedef struct {
     grip_real_t kappa;   /* QS  longitudinal slip [-], -1 = locked wheel        */
     grip_real_t alpha;   /* QS  slip angle [rad]                                */
@@ -83,12 +80,19 @@ typedef struct {
     grip_real_t p;       /* QL  inflation pressure [Pa]; <= 0: INFLPRES, or     */
                          /*     NOMPRES if INFLPRES = 0; ignored by MF 5.2      */
     grip_real_t vx;      /* QS  longitudinal speed of the contact centre [m/s]  */
+} grip_mf_input;
+
+/* The wheel's rotations, MFeval's input columns 5 and 8: inputs of
+ * grip_mf_eval_ext_spin only (a struct of their own, so that the
+ * grip_mf_input of every evaluation, four on the estimator's stack per
+ * step, does not grow). */
+typedef struct {
     grip_real_t phit;    /* QS  turn slip [1/m], MFeval's: yaw rate of the      */
                          /*     wheel = -phit Vc (ISO z up); used with turn slip*/
     grip_real_t omega;   /* QS  wheel spin [rad/s], > 0 rolling forward; 0:     */
-                         /*     MFeval's estimate (1 + kappa) |vx| / Re. Read   */
-                         /*     by grip_mf_eval_ext (Re, Omega, Rl and the spin) */
-} grip_mf_input;
+                         /*     MFeval's estimate (1 + kappa) |vx| / Re (Re,    */
+                         /*     Omega, Rl, rho, Cz and the spin of turn slip)   */
+} grip_mf_spin;
 
 /* Forces and moment at the contact centre. */
 typedef struct {
@@ -169,6 +173,7 @@ typedef struct {
 #define grip_mf_eval_pure GRIP_TYPED(grip_mf_eval_pure)
 #define grip_mf_eval GRIP_TYPED(grip_mf_eval)
 #define grip_mf_eval_ext GRIP_TYPED(grip_mf_eval_ext)
+#define grip_mf_eval_ext_spin GRIP_TYPED(grip_mf_eval_ext_spin)
 #define grip_mf_ext_supported GRIP_TYPED(grip_mf_ext_supported)
 
 /* Validates a parameter set: GRIP_OK, GRIP_ERR_NULL or GRIP_ERR_PARAM:
@@ -206,13 +211,15 @@ grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, gri
 /* grip_mf_eval's Fx, Fy, Mz and the channels requested in `outputs`
  * (GRIP_MF_EXT_* bits), from the same evaluation, in the use modes of the
  * set switched by the GRIP_MF_USE_* bits of `outputs` (turn slip, with
- * in->phit and in->omega; no limits). The status is that of grip_mf_eval
+ * spin->phit and spin->omega; no limits). spin may be NULL: phit = 0 and
+ * omega = 0 (the spin estimated); grip_mf_eval_ext is
+ * grip_mf_eval_ext_spin with spin NULL. The status is that of grip_mf_eval
  * (an unknown bit in `outputs`, both bits of a GRIP_MF_USE_ pair, a NaN or
- * infinite in->omega, or in->phit with turn slip, is GRIP_ERR_INPUT; turn
- * slip on a set without its coefficients GRIP_ERR_PARAM; on every error
- * all outputs are zero and valid is 0). A non-zero in->omega is the
- * wheel's spin of Re, Omega, Rl, rho, Cz and of the turn slip (MFeval's
- * input column 8); 0: estimated. out->valid holds the bits of
+ * infinite omega, or phit with turn slip, is GRIP_ERR_INPUT; turn slip on
+ * a set without its coefficients GRIP_ERR_PARAM; on every error all
+ * outputs are zero and valid is 0). A non-zero omega is the wheel's spin
+ * of Re, Omega, Rl, rho, Cz and of the turn slip (MFeval's input column
+ * 8); 0: estimated. out->valid holds the bits of
  * the requested channels that were computed; a requested channel whose bit
  * is clear is zero and must not be used: its parameters are missing from
  * the set (see grip_mf_ext_supported), its equation has no solution at this
@@ -220,6 +227,8 @@ grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, gri
  * does not fit its format. Fz <= 0: forces, moments, mu, Kxk, Kya, t, rho,
  * Cz and the contact length are zero; Re, Omega, Rl are those of the
  * unloaded wheel. Pure function, no loops with a data-dependent count. */
+grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input *in, const grip_mf_spin *spin,
+                                    uint32_t outputs, grip_mf_output_ext *out);
 grip_status_t grip_mf_eval_ext(const grip_mf_params *p, const grip_mf_input *in, uint32_t outputs,
                                grip_mf_output_ext *out);
 

@@ -16,7 +16,7 @@
  *
  * The use modes (MFeval's useMode: no limits, 2xx; turn slip, xx2, with
  * the zeta factors of Pacejka 4.3.3, "4.77" ... below, in the forms of
- * MFeval's Solver) are evaluated for grip_mf_eval_ext only (mf_eval_core).
+ * MFeval's Solver) are evaluated for grip_mf_eval_ext only (mf_eval_core_use).
  * The blocks the evaluations share are written once, as always-inline
  * bodies with a constant `ext` and a turn-slip context `ts`, and compiled
  * twice: the plain variants (ext = 0, ts = NULL, called by grip_mf_eval
@@ -288,7 +288,7 @@ static MF_ALWAYS_INLINE grip_real_t mf_gyk_body(const grip_mf_params *p, const m
     return mf_div_lim(mf_cos_curve(byk, p->rcy1, eyk, ks), mf_cos_curve(byk, p->rcy1, eyk, shyk), MF_LIM_G);
 }
 
-/* The plain (grip_mf_eval, grip_mf_eval_pure) and extended (mf_eval_core)
+/* The plain (grip_mf_eval, grip_mf_eval_pure) and extended (mf_eval_core_use)
  * variants of the blocks above: separate functions with frames of their
  * own, as the blocks were before the use modes (the _x ones kept out of
  * line: GCC inlined some into the extended evaluation, whose frame then
@@ -615,8 +615,8 @@ static grip_real_t mf_cos_atan_ratio(grip_real_t num, grip_real_t den)
  * phit is a rate about z: it changes sign in SAE and in the mirror image,
  * as alpha does; |Vx| is used throughout (a given Omega changes sign with
  * Vx < 0). Returns 1 when phit or omega was clamped to the domain. */
-static MF_NOINLINE int mf_ts_begin(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode,
-                                   const mf_op *op, const mf_io *io, mf_ts *ts)
+static MF_NOINLINE int mf_ts_begin(const grip_mf_params *p, const grip_mf_input *in, const grip_mf_spin *spin,
+                                   uint32_t mode, const mf_op *op, const mf_io *io, mf_ts *ts)
 {
     int clamped = 0;
     int ignored = 0;     /* kappa, alpha, gamma, vx: mf_prepare reported them */
@@ -629,8 +629,8 @@ static MF_NOINLINE int mf_ts_begin(const grip_mf_params *p, const grip_mf_input 
     grip_real_t gam = mf_clamp_sym(io->mirror ? r_neg(in->gamma) : in->gamma, RC(GRIP_MF_GAMMA_MAX), &ignored);
     grip_real_t vx = mf_clamp_sym(in->vx, RC(GRIP_MF_VX_MAX), &ignored);
     grip_real_t avx = r_abs(vx);
-    grip_real_t pt = mf_clamp_sym(in->phit, RC(GRIP_MF_PHIT_MAX), &clamped);
-    grip_real_t om = mf_clamp_sym(in->omega, RC(GRIP_MF_OMEGA_MAX), &clamped);
+    grip_real_t pt = mf_clamp_sym(spin->phit, RC(GRIP_MF_PHIT_MAX), &clamped);
+    grip_real_t om = mf_clamp_sym(spin->omega, RC(GRIP_MF_OMEGA_MAX), &clamped);
     grip_real_t q;
     grip_real_t u;
     grip_real_t ared;
@@ -784,14 +784,14 @@ static MF_NOINLINE void mf_pure_rest_x(const grip_mf_params *p, mf_pure *s, cons
 }
 
 static MF_ALWAYS_INLINE grip_status_t mf_pure_begin_x(const grip_mf_params *p, const grip_mf_input *in,
-                                                      uint32_t mode, grip_real_t emax, grip_mf_output *out,
-                                                      mf_pure *s, mf_ts *ts)
+                                                      const grip_mf_spin *spin, uint32_t mode, grip_real_t emax,
+                                                      grip_mf_output *out, mf_pure *s, mf_ts *ts)
 {
     grip_status_t st = mf_begin_x(p, in, mode, ts, out, s);
     if ((st < 0) || s->io.zero) {
         return st;
     }
-    if ((ts != NULL) && mf_ts_begin(p, in, mode, &s->op, &s->io, ts)) {
+    if ((ts != NULL) && mf_ts_begin(p, in, spin, mode, &s->op, &s->io, ts)) {
         st = GRIP_WARN_CLAMPED;
     }
     mf_pure_rest_x(p, s, ts, emax);
@@ -867,8 +867,9 @@ static grip_real_t mf_alpha_eq(const mf_op *op, grip_real_t a, grip_real_t kxk, 
  * extended outputs (mf_core); ext (a constant in each caller): with the use
  * modes of `mode` (the _x variants); re: Re / R0 for turn slip's estimate
  * of Omega (mf_ts_radius). Inlined into its callers. */
-static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode,
-                                                  grip_real_t re, grip_mf_output *out, mf_core *x, int ext)
+static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const grip_mf_input *in,
+                                                  const grip_mf_spin *spin, uint32_t mode, grip_real_t re,
+                                                  grip_mf_output *out, mf_core *x, int ext)
 {
     mf_pure s;
     mf_ts ts = { R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, 0 };
@@ -889,7 +890,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
     grip_status_t st;
     const mf_op *op = &s.op;
     ts.re = re;
-    st = ext ? mf_pure_begin_x(p, in, mode, emax, out, &s, tsp) : mf_pure_begin(p, in, out, &s);
+    st = ext ? mf_pure_begin_x(p, in, spin, mode, emax, out, &s, tsp) : mf_pure_begin(p, in, out, &s);
     if ((x != NULL) && (st >= 0)) {
         x->op.mode = mode;
         x->op.fz_ql = s.op.fz_ql;
@@ -1007,23 +1008,22 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
 
 grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out)
 {
-    return mf_combined(p, in, 0u, R_ZERO, out, NULL, 0);
+    return mf_combined(p, in, NULL, 0u, R_ZERO, out, NULL, 0);
 }
 
-/* The two variants of mf_eval_core as functions of their own, kept out of
- * line: inlined into one function their frames would add up on the
- * deepest stack path of grip_mf_eval_ext (tests/firmware/check.sh). */
-
-static MF_NOINLINE grip_status_t mf_core_plain(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode,
-                                               grip_mf_output *out, mf_core *x)
+/* The two variants of the extended evaluation, functions of their own
+ * (inlined into one function their frames would add up on the deepest
+ * stack path of grip_mf_eval_ext, tests/firmware/check.sh). */
+grip_status_t mf_eval_core(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode, grip_mf_output *out,
+                           mf_core *x)
 {
-    return mf_combined(p, in, mode, R_ZERO, out, x, 0);
+    return mf_combined(p, in, NULL, mode, R_ZERO, out, x, 0);
 }
 
-static MF_NOINLINE grip_status_t mf_core_use(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode,
-                                             grip_real_t re, grip_mf_output *out, mf_core *x)
+grip_status_t mf_eval_core_use(const grip_mf_params *p, const grip_mf_input *in, const grip_mf_spin *spin,
+                               uint32_t mode, grip_real_t re, grip_mf_output *out, mf_core *x)
 {
-    return mf_combined(p, in, mode, re, out, x, 1);
+    return mf_combined(p, in, spin, mode, re, out, x, 1);
 }
 
 grip_real_t mf_ts_radius(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode)
@@ -1041,16 +1041,5 @@ grip_real_t mf_ts_radius(const grip_mf_params *p, const grip_mf_input *in, uint3
         mf52 = 1;
     }
     fz = r_min(fz, r_mul(RC(GRIP_MF_FZ_MAX_REL), p->fnomin));
-    return mf_rolling_radius(p, kap, vx, r_div(fz, p->fnomin), mf_dpi(p, in->p, mf52, &ignored), R_ZERO);
-}
-
-grip_status_t mf_eval_core(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode, grip_real_t re,
-                           grip_mf_output *out, mf_core *x)
-{
-    /* without a use mode in the set or the call: the plain variant, the
-     * cost of before the use modes (p is not NULL here) */
-    if (((mode | p->options) & (GRIP_MF_OPT_TURN_SLIP | GRIP_MF_OPT_NO_LIMITS)) == 0u) {
-        return mf_core_plain(p, in, mode, out, x);
-    }
-    return mf_core_use(p, in, mode, re, out, x);
+    return mf_rolling_radius(p, kap, vx, r_div(fz, p->fnomin), mf_dpi(p, in->p, mf52, &ignored));
 }

@@ -142,8 +142,10 @@ typedef struct {
  * likewise) or, when that is far (b > a^3), a + b^(1/3) (f >= 0 there).
  * Three steps reach 1e-13 relative for a in [0.3, 1.5], b in [0, 30]
  * (the domain's worst, vx = 300 m/s, kappa = 1.5, Q_V1 = 7e-4: b = 1.4);
- * the last step must be below MF_RE_TOL. No root when b < -4 a^3 / 27. */
-static void ext_radius(ext_ctx *e)
+ * the last step must be below MF_RE_TOL. No root when b < -4 a^3 / 27.
+ * Forced inline: with a second caller (mf_rolling_radius) GCC made it a
+ * call, +150 x86 instructions per grip_mf_eval_ext. */
+static MF_ALWAYS_INLINE void ext_radius(ext_ctx *e)
 {
     const grip_mf_params *p = e->p;
     int i;
@@ -229,7 +231,7 @@ static void ext_radius(ext_ctx *e)
 static const ext_ctx EXT_CTX_ZERO;
 
 grip_real_t mf_rolling_radius(const grip_mf_params *p, grip_real_t kap, grip_real_t vx, grip_real_t fz,
-                              grip_real_t dpi, grip_real_t omega)
+                              grip_real_t dpi)
 {
     ext_ctx e = EXT_CTX_ZERO;
     int ok = 1;
@@ -237,7 +239,7 @@ grip_real_t mf_rolling_radius(const grip_mf_params *p, grip_real_t kap, grip_rea
     e.kap = kap;
     e.vx = vx;
     e.fz = fz;
-    e.omega = omega;
+    e.omega = R_ZERO;
     e.r = R_ZERO;
     e.czp = mf_times_ql(r_add(R_ONE, r_mul(p->pfz1, dpi)), p->vertical_stiffness, &ok);
     e.r0czp = mf_times_ql(p->unloaded_radius, e.czp, &ok);
@@ -808,7 +810,8 @@ static inline void ext_finite(grip_real_t *v, uint32_t bit, uint32_t outputs, ui
 
 /* The inputs as the model saw them, before the low-speed scaling: the
  * conventions and clamps of mf_prepare (mf_eval.c) for kappa, gamma, vx. */
-static int ext_inputs(const grip_mf_params *p, const grip_mf_input *in, const mf_io *io, ext_ctx *e)
+static int ext_inputs(const grip_mf_params *p, const grip_mf_input *in, const grip_mf_spin *spin, const mf_io *io,
+                      ext_ctx *e)
 {
     int clamped = 0;
     int om_clamped = 0;
@@ -817,12 +820,21 @@ static int ext_inputs(const grip_mf_params *p, const grip_mf_input *in, const mf
     e->kap = mf_clamp_sym(kap, RC(GRIP_MF_KAPPA_MAX), &clamped);
     e->gam = mf_clamp_sym(gam, RC(GRIP_MF_GAMMA_MAX), &clamped);
     e->vx = mf_clamp_sym(in->vx, RC(GRIP_MF_VX_MAX), &clamped);
-    e->omega = mf_clamp_sym(in->omega, RC(GRIP_MF_OMEGA_MAX), &om_clamped);
+    e->omega = mf_clamp_sym(spin->omega, RC(GRIP_MF_OMEGA_MAX), &om_clamped);
     return om_clamped;   /* the others were reported by mf_prepare */
 }
 
+/* no turn slip, the spin estimated: grip_mf_eval_ext's */
+static const grip_mf_spin SPIN_ZERO;
+
 grip_status_t grip_mf_eval_ext(const grip_mf_params *p, const grip_mf_input *in, uint32_t outputs,
                                grip_mf_output_ext *out)
+{
+    return grip_mf_eval_ext_spin(p, in, NULL, outputs, out);
+}
+
+grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input *in, const grip_mf_spin *spin,
+                                    uint32_t outputs, grip_mf_output_ext *out)
 {
     mf_core c;
     ext_ctx e;
@@ -849,16 +861,26 @@ grip_status_t grip_mf_eval_ext(const grip_mf_params *p, const grip_mf_input *in,
         ((outputs & (GRIP_MF_USE_LIMITS | GRIP_MF_USE_NO_LIMITS)) == (GRIP_MF_USE_LIMITS | GRIP_MF_USE_NO_LIMITS))) {
         return GRIP_ERR_INPUT;
     }
+    if (spin == NULL) {
+        spin = &SPIN_ZERO;
+    }
     mode = mf_mode_use(p->options, outputs);
     outputs &= GRIP_MF_EXT_ALL;
     /* the spin and the turn slip (float build: NaN and infinities) */
-    if (!r_is_finite(in->omega) || (((mode & GRIP_MF_OPT_TURN_SLIP) != 0u) && !r_is_finite(in->phit))) {
+    if (!r_is_finite(spin->omega) || (((mode & GRIP_MF_OPT_TURN_SLIP) != 0u) && !r_is_finite(spin->phit))) {
         return GRIP_ERR_INPUT;
     }
-    st = mf_eval_core(p, in, mode,
-                      (((mode & GRIP_MF_OPT_TURN_SLIP) != 0u) && (in->omega == R_ZERO)) ? mf_ts_radius(p, in, mode)
-                                                                                     : R_ZERO,
-                      &base, &c);
+    if (((mode | p->options) & (GRIP_MF_OPT_TURN_SLIP | GRIP_MF_OPT_NO_LIMITS)) == 0u) {
+        /* no use mode in the set or the call: the plain variant, the cost
+         * of before the use modes */
+        st = mf_eval_core(p, in, mode, &base, &c);
+    } else {
+        st = mf_eval_core_use(p, in, spin, mode,
+                              (((mode & GRIP_MF_OPT_TURN_SLIP) != 0u) && (spin->omega == R_ZERO))
+                                  ? mf_ts_radius(p, in, mode)
+                                  : R_ZERO,
+                              &base, &c);
+    }
     out->fx = base.fx;
     out->fy = base.fy;
     out->mz = base.mz;
@@ -868,7 +890,7 @@ grip_status_t grip_mf_eval_ext(const grip_mf_params *p, const grip_mf_input *in,
 
     e.p = p;
     e.c = &c;
-    if (ext_inputs(p, in, &c.io, &e) && (st == GRIP_OK)) {
+    if (ext_inputs(p, in, spin, &c.io, &e) && (st == GRIP_OK)) {
         st = GRIP_WARN_CLAMPED;
     }
     e.loaded = c.io.zero ? 0 : 1;

@@ -19,8 +19,8 @@
 #include "arith.h"
 #include "grip/grip_mf.h"
 
-/* Forces the inlining of the combined evaluation into grip_mf_eval and
- * into mf_eval_core: each keeps one frame (no wrapper frame under
+/* Forces the inlining of the combined evaluation into grip_mf_eval,
+ * mf_eval_core and mf_eval_core_use: each keeps one frame (no wrapper frame under
  * grip_mf_eval, whose worst-case stack the estimator's step adds to, and
  * the capture of the intermediates compiles away from grip_mf_eval); and
  * of the blocks and small helpers that the plain and the extended variants
@@ -36,7 +36,7 @@
 #endif
 
 /* Keeps a function out of line (its frame apart from its caller's: see
- * mf_eval_core). */
+ * mf_eval_core_use). */
 #if defined(__GNUC__)
 #define MF_NOINLINE __attribute__((noinline))
 #else
@@ -192,10 +192,10 @@ int mf_turn_slip_usable(const grip_mf_params *p);
 
 /* Re / R0 of MFeval's calculateRe at the operating point (kappa, vx as the
  * model takes them before the low-speed scaling, Fz / FNOMIN, dpi): the
- * fixed point with Omega = (1 + kappa) vx / Re, or with Omega = omega when
- * omega != 0. 0 when it cannot be formed (no VERTICAL_STIFFNESS, no root). */
+ * fixed point with Omega = (1 + kappa) vx / Re (the spin not given). 0 when
+ * it cannot be formed (no VERTICAL_STIFFNESS, no root). */
 grip_real_t mf_rolling_radius(const grip_mf_params *p, grip_real_t kap, grip_real_t vx, grip_real_t fz,
-                              grip_real_t dpi, grip_real_t omega);
+                              grip_real_t dpi);
 
 /* mu_x (4.E13) at dfz, dpi, the camber of mu_x and LMUX*. */
 static MF_ALWAYS_INLINE grip_real_t mf_mux(const grip_mf_params *p, grip_real_t dfz, grip_real_t dpi, grip_real_t gmux,
@@ -238,15 +238,23 @@ typedef struct {
 /* grip_mf_eval with the use modes of `mode` (GRIP_MF_OPT_* bits, turn slip
  * included), and also the intermediates the extended outputs need into
  * *x (x->op and x->io whenever the status is not an error, also for
- * Fz <= 0, when the op holds Fz = 0; the rest only for Fz > 0). re: with
- * turn slip and no given Omega, mf_ts_radius(p, in, mode); else 0. */
-grip_status_t mf_eval_core(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode, grip_real_t re,
-                           grip_mf_output *out, mf_core *x);
+ * Fz <= 0, when the op holds Fz = 0; the rest only for Fz > 0), in two
+ * variants the caller picks: mf_eval_core when neither mode nor the set
+ * has a use mode (turn slip, no limits; the combined evaluation of
+ * grip_mf_eval, bit for bit), mf_eval_core_use otherwise. The caller
+ * calls them directly (no dispatching function between: its frame would
+ * add to grip_mf_eval_ext's deepest stack path). spin: the turn slip and
+ * the spin (not NULL); re: with turn slip and no given Omega,
+ * mf_ts_radius(p, in, mode); else 0. */
+grip_status_t mf_eval_core(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode, grip_mf_output *out,
+                           mf_core *x);
+grip_status_t mf_eval_core_use(const grip_mf_params *p, const grip_mf_input *in, const grip_mf_spin *spin,
+                               uint32_t mode, grip_real_t re, grip_mf_output *out, mf_core *x);
 
 /* Re / R0 at kappa, Vx, Fz and the pressure as mf_prepare takes them (with
  * the sign conventions of mode): the rolling radius of turn slip's estimate
  * of Omega (the spin from camber), 0 when it cannot be formed. The caller
- * of mf_eval_core forms it before the evaluation, not within it, so that
+ * of mf_eval_core_use forms it before the evaluation, not within it, so that
  * the iteration's stack does not add to the evaluation's frame (the
  * firmware's stack budget). The inputs are checked by the evaluation (a
  * result of refused inputs is not used). */

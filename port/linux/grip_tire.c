@@ -244,6 +244,7 @@ static grip_status_t mf_eval_ext_row(const model_ctx *m, const cli_options *o, c
                                      grip_real_t out[N_OUT], double ext[], int ok[])
 {
     grip_mf_input x;
+    grip_mf_spin s;
     grip_mf_output_ext y;
     grip_status_t st;
     uint32_t mask = 0u;
@@ -254,12 +255,12 @@ static grip_status_t mf_eval_ext_row(const model_ctx *m, const cli_options *o, c
     x.fz = in[IN_FZ];
     x.p = in[IN_P];
     x.vx = in[IN_VX];
-    x.phit = in[IN_PHIT];
-    x.omega = in[IN_OMEGA];
+    s.phit = in[IN_PHIT];
+    s.omega = in[IN_OMEGA];
     for (i = 0; i < o->n_ext; i++) {
         mask |= EXT_CHANNELS[o->ext[i]].bit;
     }
-    st = grip_mf_eval_ext(&m->u.mf, &x, mask, &y);
+    st = grip_mf_eval_ext_spin(&m->u.mf, &x, &s, mask, &y);
     out[OUT_FX] = y.fx;
     out[OUT_FY] = y.fy;
     out[OUT_MZ] = y.mz;

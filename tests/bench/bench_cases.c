@@ -48,8 +48,8 @@ static const grip_mf_params *mf61;
 static const grip_mf_params *mf52;
 static const grip_mf_params *mf62;
 static grip_mf_input mf_in[BENCH_INPUTS];
-static grip_mf_input mf_ts_in[BENCH_INPUTS];   /* mf_in with a turn slip, spin estimated */
-static grip_mf_input mf_tsw_in[BENCH_INPUTS];  /* ... with the spin given */
+static grip_mf_spin mf_ts_in[BENCH_INPUTS];    /* a turn slip for mf_in, spin estimated */
+static grip_mf_spin mf_tsw_in[BENCH_INPUTS];   /* ... with the spin given */
 static volatile grip_real_t mf_sink;
 
 static const grip_mf_params *tire_named(const char *name)
@@ -126,7 +126,7 @@ static void mf_setup(void)
         mf_in[i].fz = load[(i + i / 4) % 4];
         mf_in[i].p = R_ZERO;
         mf_in[i].vx = RC(20.0);
-        mf_ts_in[i] = mf_in[i];
+        mf_ts_in[i].omega = R_ZERO;
         mf_ts_in[i].phit = (i % 4 == 0) ? R_ZERO : ((i % 4 == 1) ? RC(0.5) : ((i % 4 == 2) ? RC(-1.0) : RC(2.0)));
         mf_tsw_in[i] = mf_ts_in[i];
         mf_tsw_in[i].omega = r_mul(r_add(R_ONE, mf_in[i].kappa), RC(20.0 / 0.3865));   /* (1 + kappa) vx / Re */
@@ -195,14 +195,14 @@ static void b_mf61_ext_forces(int i)
 static void b_mf61_ext_turn_slip(int i)
 {
     grip_mf_output_ext out;
-    (void)grip_mf_eval_ext(mf61, &mf_ts_in[i], GRIP_MF_USE_TURN_SLIP, &out);
+    (void)grip_mf_eval_ext_spin(mf61, &mf_in[i], &mf_ts_in[i], GRIP_MF_USE_TURN_SLIP, &out);
     mf_sink = out.mz;
 }
 
 static void b_mf61_ext_turn_slip_omega(int i)
 {
     grip_mf_output_ext out;
-    (void)grip_mf_eval_ext(mf61, &mf_tsw_in[i], GRIP_MF_USE_TURN_SLIP, &out);
+    (void)grip_mf_eval_ext_spin(mf61, &mf_in[i], &mf_tsw_in[i], GRIP_MF_USE_TURN_SLIP, &out);
     mf_sink = out.mz;
 }
 

@@ -152,6 +152,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     fz_reader r = { data, size };
     grip_mf_params p;
     grip_mf_input in;
+    grip_mf_spin sp;
+    const grip_mf_spin *spp;
     grip_mf_output o1;
     grip_mf_output o2;
     grip_mf_output_ext oe;
@@ -182,9 +184,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     in.fz = fz_real(&r, FZ_QL);
     in.p = fz_real(&r, FZ_QL);
     in.vx = fz_real(&r, FZ_QS);
-    in.phit = fz_real(&r, FZ_QS);
-    in.omega = fz_real(&r, FZ_QS);
+    sp.phit = fz_real(&r, FZ_QS);
+    sp.omega = fz_real(&r, FZ_QS);
     flags = fz_u8(&r);
+    /* flag 16: grip_mf_eval_ext, without the spin (phit, omega 0) */
+    spp = ((flags & 16u) != 0u) ? NULL : &sp;
+    if (spp == NULL) {
+        sp.phit = 0;
+        sp.omega = 0;
+    }
     req = fz_u32(&r);
     p.options |= ((flags & 1u) ? GRIP_MF_OPT_NO_LIMITS : 0u) | ((flags & 2u) ? GRIP_MF_OPT_TS_CAMBER : 0u) |
                  ((flags & 4u) ? (1u << 9) : 0u);
@@ -216,7 +224,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
              (GRIP_MF_USE_TURN_SLIP | GRIP_MF_USE_NO_TURN_SLIP)) ||
             ((req & (GRIP_MF_USE_LIMITS | GRIP_MF_USE_NO_LIMITS)) == (GRIP_MF_USE_LIMITS | GRIP_MF_USE_NO_LIMITS))) {
             want_ext = GRIP_ERR_INPUT;
-        } else if (!fz_finite(in.omega) || (ts && !fz_finite(in.phit))) {
+        } else if (!fz_finite(sp.omega) || (ts && !fz_finite(sp.phit))) {
             want_ext = GRIP_ERR_INPUT;
         } else if (ts && !ts_usable(&p)) {
             want_ext = GRIP_ERR_PARAM;
@@ -232,7 +240,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     memset(&oe, 0x5A, sizeof oe);
     s1 = grip_mf_eval_pure(&p, &in, &o1);
     s2 = grip_mf_eval(&p, &in, &o2);
-    s3 = grip_mf_eval_ext(&p, &in, req, &oe);
+    s3 = (spp == NULL) ? grip_mf_eval_ext(&p, &in, req, &oe) : grip_mf_eval_ext_spin(&p, &in, spp, req, &oe);
     check_out("pure", s1, &o1, pristine, finite_in, &p, &in, want_plain);
     check_out("combined", s2, &o2, pristine, finite_in, &p, &in, want_plain);
     /* in mode 111 grip_mf_eval_ext's forces are grip_mf_eval's */

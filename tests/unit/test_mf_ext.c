@@ -412,6 +412,7 @@ static int check_modes(const grip_test_tire *t)
         int ts = (m & GRIP_MF_OPT_TURN_SLIP) != 0u;
         grip_mf_params q = *p;
         grip_mf_input in;
+        grip_mf_spin sp;
         grip_mf_output_ext out;
         grip_mf_output_ext out2;
         grip_mf_output plain;
@@ -432,9 +433,9 @@ static int check_modes(const grip_test_tire *t)
         in.fz = to_ql(r->x[3]);
         in.p = to_ql(r->x[4]);
         in.vx = to_qs(r->x[5]);
-        in.phit = to_qs(r->x[6]);
-        in.omega = to_qs(r->x[7]);
-        s1 = grip_mf_eval_ext(&q, &in, use, &out);
+        sp.phit = to_qs(r->x[6]);
+        sp.omega = to_qs(r->x[7]);
+        s1 = grip_mf_eval_ext_spin(&q, &in, &sp, use, &out);
         if (s1 != GRIP_OK) {
             if (bad_status < 3) {
                 printf("# %s mode %s row %d: status %d\n", t->name, MODE_NAME[mi], i, (int)s1);
@@ -443,7 +444,7 @@ static int check_modes(const grip_test_tire *t)
         }
         /* the same through the set's options */
         q.options |= m;
-        s2 = grip_mf_eval_ext(&q, &in, GRIP_MF_EXT_ALL, &out2);
+        s2 = grip_mf_eval_ext_spin(&q, &in, &sp, GRIP_MF_EXT_ALL, &out2);
         if (s2 != s1 || memcmp(&out, &out2, sizeof out) != 0) {
             bad_same++;
         }

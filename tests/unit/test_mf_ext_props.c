@@ -78,7 +78,7 @@ static double val(const grip_mf_output_ext *o, int j)
 static grip_mf_input mk(double kappa, double alpha, double gamma, double fz, double p, double vx)
 {
     grip_mf_input in;
-    memset(&in, 0, sizeof in);   /* phit, omega: 0 */
+    memset(&in, 0, sizeof in);
     in.kappa = to_qs(kappa);
     in.alpha = to_qs(alpha);
     in.gamma = to_qs(gamma);
@@ -480,27 +480,28 @@ static void test_use_mode_arguments(void **state)
     grip_mf_output_ext o;
     grip_mf_output_ext o2;
     grip_mf_output b;
+    grip_mf_spin sp = { 0 };
     (void)state;
-    in.phit = to_qs(1.0);
+    sp.phit = to_qs(1.0);
     memset(&o, 0x5a, sizeof o);
-    assert_int_equal(grip_mf_eval_ext(p, &in, GRIP_MF_EXT_ALL | GRIP_MF_USE_TURN_SLIP | GRIP_MF_USE_NO_TURN_SLIP, &o),
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, GRIP_MF_EXT_ALL | GRIP_MF_USE_TURN_SLIP | GRIP_MF_USE_NO_TURN_SLIP, &o),
                      GRIP_ERR_INPUT);
     assert_true(o.valid == 0u && o.fx == 0 && o.fy == 0 && o.mz == 0 && o.re == 0);
-    assert_int_equal(grip_mf_eval_ext(p, &in, GRIP_MF_USE_LIMITS | GRIP_MF_USE_NO_LIMITS, &o), GRIP_ERR_INPUT);
-    assert_int_equal(grip_mf_eval_ext(p, &in, 1u << 23, &o), GRIP_ERR_INPUT);
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, GRIP_MF_USE_LIMITS | GRIP_MF_USE_NO_LIMITS, &o), GRIP_ERR_INPUT);
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, 1u << 23, &o), GRIP_ERR_INPUT);
     memset(&o, 0x5a, sizeof o);
-    assert_int_equal(grip_mf_eval_ext(p52, &in, GRIP_MF_EXT_ALL | GRIP_MF_USE_TURN_SLIP, &o), GRIP_ERR_PARAM);
+    assert_int_equal(grip_mf_eval_ext_spin(p52, &in, &sp, GRIP_MF_EXT_ALL | GRIP_MF_USE_TURN_SLIP, &o), GRIP_ERR_PARAM);
     assert_true(o.valid == 0u && o.fx == 0 && o.fy == 0 && o.mz == 0);
     /* per set: refused by the evaluations without turn slip */
     q.options |= GRIP_MF_OPT_TURN_SLIP;
     assert_int_equal(grip_mf_check_params(&q), GRIP_OK);
     assert_int_equal(grip_mf_eval(&q, &in, &b), GRIP_ERR_PARAM);
     assert_int_equal(grip_mf_eval_pure(&q, &in, &b), GRIP_ERR_PARAM);
-    assert_int_equal(grip_mf_eval_ext(&q, &in, GRIP_MF_EXT_ALL, &o), GRIP_OK);
-    assert_int_equal(grip_mf_eval_ext(p, &in, GRIP_MF_EXT_ALL | GRIP_MF_USE_TURN_SLIP, &o2), GRIP_OK);
+    assert_int_equal(grip_mf_eval_ext_spin(&q, &in, &sp, GRIP_MF_EXT_ALL, &o), GRIP_OK);
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, GRIP_MF_EXT_ALL | GRIP_MF_USE_TURN_SLIP, &o2), GRIP_OK);
     assert_memory_equal(&o, &o2, sizeof o);
     /* ... and switched off per call: the set's own model */
-    assert_int_equal(grip_mf_eval_ext(&q, &in, GRIP_MF_EXT_ALL | GRIP_MF_USE_NO_TURN_SLIP, &o), GRIP_OK);
+    assert_int_equal(grip_mf_eval_ext_spin(&q, &in, &sp, GRIP_MF_EXT_ALL | GRIP_MF_USE_NO_TURN_SLIP, &o), GRIP_OK);
     assert_int_equal(grip_mf_eval(p, &in, &b), GRIP_OK);
     assert_true(o.fx == b.fx && o.fy == b.fy && o.mz == b.mz);
     q = *p52;
@@ -512,17 +513,17 @@ static void test_use_mode_arguments(void **state)
     assert_int_equal(grip_mf_check_params(&q), GRIP_OK);
     assert_int_equal(grip_mf_eval(&q, &in, &b), GRIP_ERR_PARAM);
     assert_int_equal(grip_mf_eval_pure(&q, &in, &b), GRIP_ERR_PARAM);
-    assert_int_equal(grip_mf_eval_ext(&q, &in, GRIP_MF_EXT_ALL, &o), GRIP_OK);
-    assert_int_equal(grip_mf_eval_ext(p, &in, GRIP_MF_EXT_ALL | GRIP_MF_USE_NO_LIMITS, &o2), GRIP_OK);
+    assert_int_equal(grip_mf_eval_ext_spin(&q, &in, &sp, GRIP_MF_EXT_ALL, &o), GRIP_OK);
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, GRIP_MF_EXT_ALL | GRIP_MF_USE_NO_LIMITS, &o2), GRIP_OK);
     assert_memory_equal(&o, &o2, sizeof o);
 #if !GRIP_ARITH_FIXED
-    in.phit = NAN;
-    assert_int_equal(grip_mf_eval_ext(p, &in, GRIP_MF_EXT_ALL, &o), GRIP_OK);   /* phit not read */
-    assert_int_equal(grip_mf_eval_ext(p, &in, GRIP_MF_EXT_ALL | GRIP_MF_USE_TURN_SLIP, &o), GRIP_ERR_INPUT);
+    sp.phit = NAN;
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, GRIP_MF_EXT_ALL, &o), GRIP_OK);   /* phit not read */
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, GRIP_MF_EXT_ALL | GRIP_MF_USE_TURN_SLIP, &o), GRIP_ERR_INPUT);
     assert_int_equal(o.valid, 0u);
-    in.phit = 0.0f;
-    in.omega = INFINITY;
-    assert_int_equal(grip_mf_eval_ext(p, &in, GRIP_MF_EXT_RE, &o), GRIP_ERR_INPUT);
+    sp.phit = 0.0f;
+    sp.omega = INFINITY;
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, GRIP_MF_EXT_RE, &o), GRIP_ERR_INPUT);
 #endif
 }
 
@@ -538,38 +539,40 @@ static void test_turn_slip_clamps_and_signs(void **state)
     grip_mf_input m;
     grip_mf_output_ext a;
     grip_mf_output_ext b;
+    grip_mf_spin sp = { 0 };
+    grip_mf_spin sm = { 0 };
     const uint32_t ts = GRIP_MF_EXT_ALL | GRIP_MF_USE_TURN_SLIP;
     (void)state;
-    in.phit = to_qs(500.0);
-    assert_int_equal(grip_mf_eval_ext(p, &in, ts, &a), GRIP_WARN_CLAMPED);
-    in.phit = to_qs(GRIP_MF_PHIT_MAX);
-    assert_int_equal(grip_mf_eval_ext(p, &in, ts, &b), GRIP_OK);
+    sp.phit = to_qs(500.0);
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, ts, &a), GRIP_WARN_CLAMPED);
+    sp.phit = to_qs(GRIP_MF_PHIT_MAX);
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, ts, &b), GRIP_OK);
     assert_memory_equal(&a, &b, sizeof a);
-    in.phit = to_qs(1.5);
-    in.omega = to_qs(-5000.0);
-    assert_int_equal(grip_mf_eval_ext(p, &in, ts, &a), GRIP_WARN_CLAMPED);
-    in.omega = to_qs(-GRIP_MF_OMEGA_MAX);
-    assert_int_equal(grip_mf_eval_ext(p, &in, ts, &b), GRIP_OK);
+    sp.phit = to_qs(1.5);
+    sp.omega = to_qs(-5000.0);
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, ts, &a), GRIP_WARN_CLAMPED);
+    sp.omega = to_qs(-GRIP_MF_OMEGA_MAX);
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, ts, &b), GRIP_OK);
     assert_memory_equal(&a, &b, sizeof a);
-    in.omega = 0;
+    sp.omega = 0;
     /* mirror: the set mounted on the other side */
-    assert_int_equal(grip_mf_eval_ext(p, &in, ts, &a), GRIP_OK);
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, ts, &a), GRIP_OK);
     q = *p;
     q.options ^= GRIP_MF_OPT_MIRROR;
     m = in;
     m.alpha = -in.alpha;
     m.gamma = -in.gamma;
-    m.phit = -in.phit;
-    assert_int_equal(grip_mf_eval_ext(&q, &m, ts, &b), GRIP_OK);
+    sm.phit = -sp.phit;
+    assert_int_equal(grip_mf_eval_ext_spin(&q, &m, &sm, ts, &b), GRIP_OK);
     assert_true(a.fx == b.fx && a.fy == -b.fy && a.mz == -b.mz);
     /* SAE */
     q = *p;
     q.options |= GRIP_MF_OPT_SAE;
     m = in;
     m.alpha = -in.alpha;
-    m.phit = -in.phit;
+    sm.phit = -sp.phit;
     m.fz = -in.fz;
-    assert_int_equal(grip_mf_eval_ext(&q, &m, ts, &b), GRIP_OK);
+    assert_int_equal(grip_mf_eval_ext_spin(&q, &m, &sm, ts, &b), GRIP_OK);
     assert_true(a.fx == b.fx && a.fy == -b.fy && a.mz == -b.mz);
 }
 
@@ -588,14 +591,15 @@ static void test_turn_slip_phit_zero_limit(void **state)
         double h = IS_FIXED ? 1.0 / 65536.0 : 1e-5;
         grip_mf_input in = mk(0.02, 0.05, 0.03, fz, 0.0, 16.0);
         grip_mf_output_ext o[3];
+        grip_mf_spin sp = { 0 };
         int s;
         int k;
         for (s = -1; s <= 1; s += 2) {
             double m[3];
             double slack;
             for (k = 0; k < 3; k++) {
-                in.phit = to_qs((double)(s * k) * h);
-                assert_int_equal(grip_mf_eval_ext(p, &in, GRIP_MF_USE_TURN_SLIP, &o[k]), GRIP_OK);
+                sp.phit = to_qs((double)(s * k) * h);
+                assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, GRIP_MF_USE_TURN_SLIP, &o[k]), GRIP_OK);
                 m[k] = from_ql(o[k].mz);
                 assert_true(isfinite(m[k]));
             }

@@ -734,7 +734,7 @@ static void test_nonfinite_inputs(void **state)
     for (field = 0; field < 6; field++) {
         for (b = 0; b < 3; b++) {
             for (c = 0; c < 2; c++) {
-                grip_mf_input in = { 0.1f, 0.1f, 0.0f, (float)FNOM, (float)PNOM, (float)V_TEST, 0.0f, 0.0f };
+                grip_mf_input in = { 0.1f, 0.1f, 0.0f, (float)FNOM, (float)PNOM, (float)V_TEST };
                 grip_mf_output out = { 1.0f, 1.0f, 1.0f };
                 grip_status_t st;
                 float *f = (field == 0) ? &in.kappa : (field == 1) ? &in.alpha : (field == 2) ? &in.gamma
