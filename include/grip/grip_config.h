@@ -21,6 +21,24 @@
 #define GRIP_ARITH_FIXED 0
 #endif
 
+/* Float build only: where the math functions of the arithmetic layer
+ * (lib/arith/arith.h) come from:
+ *   0 = the C library's atanf, atan2f, sinf, cosf, expf (libm);
+ *   1 = grip's own single-precision polynomial kernels
+ *       (lib/arith/f32_kernels.h) for atan and atan2, libm for the rest;
+ *   2 = grip's kernels for atan, atan2, sin, cos and exp.
+ * grip's kernels are inline and branch-free on their main path, give the
+ * same bits on every IEEE-754 single-precision target and are each within a
+ * measured, tested bound of the exact function (docs/numerics.md, "Float
+ * kernels"); which is faster depends on the target's libm
+ * (docs/performance.md: on the x86-64 host with glibc and on the Cortex-M4F
+ * with newlib neither level makes a Magic Formula evaluation faster, so the
+ * default is 0). sqrt and log are libm's in every case. The fixed build has
+ * its own Q15.16 kernels and needs 0. */
+#ifndef GRIP_FLOAT_KERNELS
+#define GRIP_FLOAT_KERNELS 0
+#endif
+
 /* Fixed build only: count every saturation of a fixed-point operation and
  * remember the first one (grip_debug_saturation_count()). Costs a call on
  * every saturation; meant for host tests (`make ... DEBUG_SAT=1`). */

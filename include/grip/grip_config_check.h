@@ -18,6 +18,14 @@
 #error "GRIP_DEBUG_SATURATION needs GRIP_ARITH_FIXED=1: the float build never saturates"
 #endif
 
+#if (GRIP_FLOAT_KERNELS != 0) && (GRIP_FLOAT_KERNELS != 1) && (GRIP_FLOAT_KERNELS != 2)
+#error "GRIP_FLOAT_KERNELS must be 0 (libm), 1 (grip's atan, atan2) or 2 (grip's atan, atan2, sin, cos, exp)"
+#endif
+
+#if GRIP_FLOAT_KERNELS && GRIP_ARITH_FIXED
+#error "GRIP_FLOAT_KERNELS needs GRIP_ARITH_FIXED=0: the fixed build uses its Q15.16 kernels"
+#endif
+
 /* The fixed-point kernels (polynomials, range reduction, constants) are
  * derived for exactly these formats; other values would silently lose
  * accuracy, so they are refused rather than accepted. */

@@ -10,7 +10,9 @@
  *   r_div(a_Qx, b_Qx)   -> QS       (ratio of like quantities is dimensionless)
  *   r_div_keep(a_Qx, b_QS) -> Qx    (quantity divided by a dimensionless value)
  *   r_ql_to_qs / r_qs_to_ql          format change, no-op in float
- *   r_sqrt r_atan r_atan2 r_sin r_cos r_exp r_log on QS
+ *   r_sqrt r_atan r_atan2 r_sin r_cos r_sincos r_exp r_log on QS
+ *   (float build: libm's, or grip's polynomial kernels f32_kernels.h as
+ *   GRIP_FLOAT_KERNELS selects, grip_config.h)
  *
  * Internal to lib/: not part of the public API.
  */
@@ -41,6 +43,11 @@ static inline grip_real_t r_atan(grip_real_t a) { return grip_q16_atan(a); }
 static inline grip_real_t r_atan2(grip_real_t y, grip_real_t x) { return grip_q16_atan2(y, x); }
 static inline grip_real_t r_sin(grip_real_t a) { return grip_q16_sin(a); }
 static inline grip_real_t r_cos(grip_real_t a) { return grip_q16_cos(a); }
+static inline void r_sincos(grip_real_t a, grip_real_t *s, grip_real_t *c)
+{
+    *s = grip_q16_sin(a);
+    *c = grip_q16_cos(a);
+}
 static inline grip_real_t r_exp(grip_real_t a) { return grip_q16_exp(a); }
 static inline grip_real_t r_log(grip_real_t a) { return grip_q16_log(a); }
 /* Every fixed-point value is finite by construction. */
@@ -68,11 +75,26 @@ static inline grip_real_t r_ql_to_qs(grip_real_t a) { return a; }
 static inline grip_real_t r_qs_to_ql(grip_real_t a) { return a; }
 /* Negative arguments give 0, as in the fixed build, never NaN. */
 static inline grip_real_t r_sqrt(grip_real_t a) { return (a > 0.0f) ? sqrtf(a) : 0.0f; }
+#if GRIP_FLOAT_KERNELS >= 1
+/* grip's polynomial kernels (grip_config.h, GRIP_FLOAT_KERNELS) */
+#include "f32_kernels.h" /* grip-deviation: MISRA-20.1 float build only, inside the kernel selection #if */
+static inline grip_real_t r_atan(grip_real_t a) { return grip_kf_atan(a); }
+static inline grip_real_t r_atan2(grip_real_t y, grip_real_t x) { return grip_kf_atan2(y, x); }
+#else
 static inline grip_real_t r_atan(grip_real_t a) { return atanf(a); }
 static inline grip_real_t r_atan2(grip_real_t y, grip_real_t x) { return atan2f(y, x); }
+#endif
+#if GRIP_FLOAT_KERNELS >= 2
+static inline grip_real_t r_sin(grip_real_t a) { return grip_kf_sin(a); }
+static inline grip_real_t r_cos(grip_real_t a) { return grip_kf_cos(a); }
+static inline void r_sincos(grip_real_t a, grip_real_t *s, grip_real_t *c) { grip_kf_sincos(a, s, c); }
+static inline grip_real_t r_exp(grip_real_t a) { return grip_kf_exp(a); }
+#else
 static inline grip_real_t r_sin(grip_real_t a) { return sinf(a); }
 static inline grip_real_t r_cos(grip_real_t a) { return cosf(a); }
+static inline void r_sincos(grip_real_t a, grip_real_t *s, grip_real_t *c) { *s = sinf(a); *c = cosf(a); }
 static inline grip_real_t r_exp(grip_real_t a) { return expf(a); }
+#endif
 static inline grip_real_t r_log(grip_real_t a) { return (a > 0.0f) ? logf(a) : -1.0e30f; }
 static inline int r_is_finite(grip_real_t a) { return isfinite(a) ? 1 : 0; }
 /* cos(atan(a)) = 1 / sqrt(1 + a^2), exactly; a^2 = inf gives 0, as the

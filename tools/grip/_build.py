@@ -17,7 +17,8 @@ What goes into each extension:
   * port/linux/tir_reader.c and brush_params.c, the readers of `grip-tire`
     (host code, CFLAGS_HOST), used only when grip_tools cannot read a file;
   * the wrapper below (C_SOURCE): loops over N points / samples that call
-    the library once per point, and the conversions SI <-> the build's
+    the library once per point (the Magic Formula: once per block of points,
+    grip_mf_eval_batch), and the conversions SI <-> the build's
     number format (grip_convert.h for inputs, GRIP_QS()/GRIP_QL() for
     parameters).
 
@@ -303,6 +304,7 @@ C_SOURCE = r"""
 #include "grip/grip_types.h"
 #include "grip/grip_version.h"
 #include "grip/grip_mf.h"
+#include "grip/grip_mf_batch.h"
 #include "grip/grip_brush.h"
 #include "grip/grip_signals.h"
 #include "grip/grip_est.h"
@@ -469,34 +471,63 @@ static const grip_mf_params *grip_py_est_tire(const grip_est_config_t *cfg, int 
 
 /* ---- loops: one library call per point -------------------------------- */
 
+/* The Magic Formula over n points: the inputs of a block of points are
+ * converted (strided SI doubles -> grip_mf_input), the block is evaluated by
+ * one grip_mf_eval_batch / grip_mf_eval_pure_batch call (grip_mf_batch.h),
+ * and the outputs are copied out. A point whose input the build cannot hold
+ * is not given to the library (GRIP_ERR_INPUT, zero outputs, as grip-tire).
+ * The block lives on the stack: no allocation per call. */
+#define GRIP_PY_MF_BLOCK 128u
+
 static int64_t grip_py_mf_eval(const grip_mf_params *p, int pure, size_t n,
                                const double *kappa, size_t s_kappa, const double *alpha, size_t s_alpha,
                                const double *gamma, size_t s_gamma, const double *fz, size_t s_fz,
                                const double *pr, size_t s_pr, const double *vx, size_t s_vx,
                                grip_real_t *fx, grip_real_t *fy, grip_real_t *mz, int32_t *status)
 {
-    size_t k;
+    grip_mf_input in[GRIP_PY_MF_BLOCK];
+    grip_mf_output out[GRIP_PY_MF_BLOCK];
+    grip_status_t st[GRIP_PY_MF_BLOCK];
+    size_t idx[GRIP_PY_MF_BLOCK];
+    size_t k0;
     int64_t errors = 0;
-    for (k = 0; k < n; k++) {
-        grip_mf_input x;
-        grip_mf_output y;
-        grip_status_t st = GRIP_OK;
-        memset(&y, 0, sizeof y);
-        if (grip_py_in(kappa[k * s_kappa], 0, &x.kappa) != GRIP_OK ||
-            grip_py_in(alpha[k * s_alpha], 0, &x.alpha) != GRIP_OK ||
-            grip_py_in(gamma[k * s_gamma], 0, &x.gamma) != GRIP_OK ||
-            grip_py_in(fz[k * s_fz], 1, &x.fz) != GRIP_OK ||
-            grip_py_in(pr[k * s_pr], 1, &x.p) != GRIP_OK ||
-            grip_py_in(vx[k * s_vx], 0, &x.vx) != GRIP_OK) {
-            st = GRIP_ERR_INPUT;
-        } else {
-            st = pure ? grip_mf_eval_pure(p, &x, &y) : grip_mf_eval(p, &x, &y);
+    for (k0 = 0; k0 < n; k0 += GRIP_PY_MF_BLOCK) {
+        size_t m = (n - k0 < GRIP_PY_MF_BLOCK) ? n - k0 : GRIP_PY_MF_BLOCK;
+        uint32_t good = 0;
+        size_t j;
+        for (j = 0; j < m; j++) {
+            size_t k = k0 + j;
+            grip_mf_input *x = &in[good];
+            if (grip_py_in(kappa[k * s_kappa], 0, &x->kappa) != GRIP_OK ||
+                grip_py_in(alpha[k * s_alpha], 0, &x->alpha) != GRIP_OK ||
+                grip_py_in(gamma[k * s_gamma], 0, &x->gamma) != GRIP_OK ||
+                grip_py_in(fz[k * s_fz], 1, &x->fz) != GRIP_OK ||
+                grip_py_in(pr[k * s_pr], 1, &x->p) != GRIP_OK ||
+                grip_py_in(vx[k * s_vx], 0, &x->vx) != GRIP_OK) {
+                fx[k] = 0;
+                fy[k] = 0;
+                mz[k] = 0;
+                status[k] = (int32_t)GRIP_ERR_INPUT;
+                errors++;
+            } else {
+                idx[good++] = k;
+            }
         }
-        fx[k] = y.fx;
-        fy[k] = y.fy;
-        mz[k] = y.mz;
-        status[k] = (int32_t)st;
-        errors += (st < 0);
+        if (good != 0) {
+            if (pure) {
+                (void)grip_mf_eval_pure_batch(p, good, in, out, st);
+            } else {
+                (void)grip_mf_eval_batch(p, good, in, out, st);
+            }
+            for (j = 0; j < good; j++) {
+                size_t k = idx[j];
+                fx[k] = out[j].fx;
+                fy[k] = out[j].fy;
+                mz[k] = out[j].mz;
+                status[k] = (int32_t)st[j];
+                errors += (st[j] < 0);
+            }
+        }
     }
     return errors;
 }

@@ -18,6 +18,6 @@ done
 echo "== RAV4 CAN log -> inputs -> estimator (grip-replay -e, fixed build summary)"
 build/float-gcc/bin/grip-replay -q -e "$TIRE" -o "$OUT/rav4_estimates_float.csv" "$LOG"
 build/fixed-gcc/bin/grip-replay -e "$TIRE" -o "$OUT/rav4_estimates_fixed.csv" "$LOG"
-echo "== Estimates, and the Magic Formula on a real tire (grip-tire) vs the float64 reference"
+echo "== Estimates, and the Magic Formula on a real tire (the C library via grip.mf) vs the float64 reference"
 .venv/bin/grip main-job --outdir "$OUT" \
     --rav4 "$OUT/rav4_estimates_float.csv" "$OUT/rav4_estimates_fixed.csv"

@@ -6,6 +6,7 @@ import tempfile
 import unittest
 
 from grip_tools.golden import io as golden_io, q16 as golden_q16, q16_kernels as kernels
+from grip_tools.golden import f32_kernels
 from grip_tools.evaluate import stack
 from grip_tools.paths import REPO_ROOT
 
@@ -17,6 +18,42 @@ class KernelsTest(unittest.TestCase):
         with open(os.path.join(ROOT, "lib", "arith", "q16_kernels.h")) as f:
             self.assertEqual(f.read(), kernels.render_header(),
                              "lib/arith/q16_kernels.h is stale: run grip kernels")
+
+    def test_committed_float_header_matches_generator(self):
+        with open(os.path.join(ROOT, "lib", "arith", "f32_kernels_coefs.h")) as f:
+            self.assertEqual(f.read(), f32_kernels.render_header(),
+                             "lib/arith/f32_kernels_coefs.h is stale: run grip kernels-f32")
+
+
+class ConfigCheckTest(unittest.TestCase):
+    """grip_config_check.h refuses what it documents (GRIP_FLOAT_KERNELS
+    here: 0, 1, 2 in the float build, 0 in the fixed build), and the float
+    kernels compile with the library's strict flags at every level."""
+
+    def cc(self, *defs, src=None):
+        import subprocess
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "t.c")
+            with open(path, "w") as f:
+                f.write(src or '#include "grip/grip_types.h"\nint grip_t;\n')
+            return subprocess.run(["cc", "-std=c99", "-Wall", "-Wextra", "-Werror", "-Wconversion",
+                                   "-Wdouble-promotion", "-fsyntax-only", "-I" + os.path.join(ROOT, "include"),
+                                   "-I" + os.path.join(ROOT, "lib", "arith")] + list(defs) + [path],
+                                  capture_output=True, text=True)
+
+    def test_float_kernels_levels(self):
+        for lvl in (0, 1, 2):
+            r = self.cc("-DGRIP_ARITH_FIXED=0", f"-DGRIP_FLOAT_KERNELS={lvl}",
+                        src='#include "arith.h"\nfloat t(float x);\nfloat t(float x) '
+                            '{ return r_atan(x) + r_atan2(x, 1.0f) + r_sin(x) + r_cos(x) + r_exp(x); }\n')
+            self.assertEqual(r.returncode, 0, r.stderr)
+        r = self.cc("-DGRIP_ARITH_FIXED=0", "-DGRIP_FLOAT_KERNELS=3")
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("GRIP_FLOAT_KERNELS must be 0", r.stderr)
+        r = self.cc("-DGRIP_ARITH_FIXED=1", "-DGRIP_FLOAT_KERNELS=1")
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("needs GRIP_ARITH_FIXED=0", r.stderr)
+        self.assertEqual(self.cc("-DGRIP_ARITH_FIXED=1").returncode, 0)
 
 
 class StackTest(unittest.TestCase):

@@ -275,6 +275,36 @@ class CsvModeTests(unittest.TestCase):
         self.assertAlmostEqual(q, 1.2)
         self.assertEqual(which, "beta_rms_deg")
 
+    def test_est_eval_binding_is_grip_replay(self):
+        """est_eval runs the C estimator through the binding (run_est with a
+        ("binding", arith) build): the same statuses, validity and flags as
+        grip-replay --csv on the same inputs and every other column equal as
+        grip-replay prints it (%.6g), in both arithmetics, for the generic
+        car with vehicle-file values and for the av21 preset."""
+        from grip_tools.evaluate import est_eval
+        if est_eval.binding_available() is not None:
+            self.skipTest(est_eval.binding_available())
+        t, value, valid = self.t, self.value[:, :13], self.valid[:, :13]
+        av21_value = value.copy()
+        av21_value[:, est_ref.STEER] /= 15.5
+        cases = [("generic", {"latency": 0.02, "steer_latency": 0.01, "cda": 0.7, "crr": 0.012}, value),
+                 ("av21", {}, av21_value)]
+        for arith in ("float", "fixed"):
+            b = self.binary(arith)
+            for vehicle, values, v in cases:
+                with self.subTest(arith=arith, vehicle=vehicle):
+                    prog = est_eval.run_est(("program", b), TIR, t, v, valid, vehicle=vehicle, vehicle_values=values)
+                    mine = est_eval.run_est(("binding", arith), TIR, t, v, valid, vehicle=vehicle,
+                                            vehicle_values=values)
+                    for k in ("est_status", "valid", "flags"):
+                        np.testing.assert_array_equal(mine[k], prog[k], k)
+                    for k in ("time", "beta", "mu", "mu_conf", "fyf", "fyr", "vx", "yaw_rate", "yaw_rate_ref",
+                              "yaw_rate_bias", "ay_model"):
+                        a = ["" if np.isnan(x) else "%.6g" % x for x in mine[k]]
+                        c = ["" if np.isnan(x) else "%.6g" % x for x in prog[k]]
+                        bad = [i for i in range(len(a)) if a[i] != c[i]]
+                        self.assertEqual(bad, [], f"{k}: first rows {[(a[i], c[i]) for i in bad[:3]]}")
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -21,11 +21,15 @@ message rate) and compared with truth.csv:
   Fy axle  RMS of the front / rear axle lateral force error (wheel frame)
            as a percentage of the run's peak |Fy| of that axle
 
-The C estimator (float and fixed builds, build/<arith>-gcc/bin/grip-replay,
-override with --c-bin ARITH=PATH) runs over the same inputs through its CSV
-mode (grip-replay -e TIR --vehicle generic --vehicle-file F --csv FILE, the
-inputs exactly as est_ref gets them, written by write_input_csv) and is
-evaluated the same way; a build that is absent is skipped with a note. Per
+The C estimator (float and fixed builds) runs over the same inputs, exactly
+as est_ref gets them, through the Python binding of the C library
+(grip.est: the library's own code, bit-identical to grip-replay's CSV mode,
+tests/python/binding/test_est.py), and is evaluated the same way.
+--c-bin ARITH=PATH runs a grip-replay program instead (grip-replay -e TIR
+--vehicle generic --vehicle-file F --csv FILE, the inputs written by
+write_input_csv): another build of the C code than the binding's (another
+compiler, a sanitizer build); a program that is absent is skipped with a
+note. Per
 run, the fixed/float error ratio: fixed error / float error of each of beta
 RMS, beta max, Fy front / rear RMS and |mu err| at t0 + 1 s, taken where the
 float error is at least FLOOR (0.05 deg, 0.1 % of peak, 0.01 of mu; below
@@ -195,21 +199,95 @@ def run_c(binary, tir_path, csv_path, vehicle="generic", vehicle_lines=(), step_
     return read_replay(p.stdout)
 
 
+# grip-replay's --vehicle presets (port/linux/grip_replay.c, vehicle_config)
+# beyond grip_est_config_default ("generic"), for the binding
+VEHICLE_PRESETS = {"generic": {}}
+
+
+def binding_available():
+    """None when `import grip` (the C library compiled into Python) works,
+    else why not."""
+    try:
+        import grip  # noqa: F401
+        grip.mf.coefficients("float")
+    except (ImportError, OSError) as e:
+        return f"the Python binding is not built ({e}); `make setup` builds it"
+    return None
+
+
+def c_builds(specs=()):
+    """The C estimator builds to run: ({arith: spec}, notes). By default the
+    binding, float and fixed (spec ("binding", arith)); ARITH=PATH in specs:
+    the grip-replay program PATH for that arithmetic instead (spec
+    ("program", PATH)), skipped with a note when absent."""
+    builds, notes = {}, []
+    why = binding_available()
+    for a in ("float", "fixed"):
+        if why is None:
+            builds[a] = ("binding", a)
+        else:
+            notes.append(f"C {a} build skipped: {why}")
+    for spec in specs:
+        k, _, v = spec.partition("=")
+        if os.path.exists(v):
+            builds[k] = ("program", v)
+        else:
+            builds.pop(k, None)
+            notes.append(f"C {k} build skipped: {v} does not exist")
+    return builds, notes
+
+
+def run_binding(arith, tir_path, t, value, valid, vehicle="generic", vehicle_values=None, step_ms=10.0):
+    """The C estimator of `arith` through the binding (grip.est.Estimator
+    over samples built as grip-replay's --csv mode builds them), configured
+    as grip-replay -e TIR --vehicle VEHICLE --vehicle-file (vehicle_values:
+    {key: SI value}) --step-ms STEP_MS; returns read_replay's dict, at full
+    precision (grip-replay prints %.6g)."""
+    import grip
+    tyre = grip.mf.load(tir_path)
+    cfg = {"tire": tyre, "rate_hz": int(round(1000.0 / step_ms))}
+    cfg.update(VEHICLE_PRESETS[vehicle])
+    cfg.update(vehicle_values or {})
+    est = grip.est.Estimator(cfg, arith=arith)
+    cols = {c: np.where(valid[:, i] != 0, value[:, i], np.nan) for i, c in enumerate(IN_COLS)}
+    o = est.step(grip.signals.Samples.from_columns(cols, t_s=np.asarray(t, np.float64)))
+    # grip-replay's ay_model column: the tire model's sum Fy / m in the body
+    # frame (the front wheels' forces turned by the road-wheel angle), where
+    # the axle forces are valid
+    d = o["delta"]
+    fyb = (o["fx"][:, 0] + o["fx"][:, 1]) * np.sin(d) + (o["fy"][:, 0] + o["fy"][:, 1]) * np.cos(d) \
+        + o["fy"][:, 2] + o["fy"][:, 3]
+    mass = float(est.config["mass"])
+    ay_model = np.where((o["valid"] & est_ref.V_AXLE) != 0, fyb / mass, np.nan)
+    return {"time": np.asarray(t, np.float64), "beta": o["beta"], "mu": o["mu"], "mu_conf": o["mu_conf"],
+            "fyf": o["fy_axle"][:, 0], "fyr": o["fy_axle"][:, 1], "vx": o["vx"], "yaw_rate": o["yaw_rate"],
+            "yaw_rate_ref": o["yaw_rate_ref"], "yaw_rate_bias": o["yaw_rate_bias"], "ay_model": ay_model,
+            "est_status": np.asarray(o["status"], np.float64),
+            "valid": np.asarray(o["valid"], np.int64), "flags": np.asarray(o["flags"], np.int64)}
+
+
+def run_est(build, tir_path, t, value, valid, vehicle="generic", vehicle_values=None, step_ms=10.0):
+    """One C build (a c_builds() spec) over the inputs; read_replay's dict."""
+    kind, what = build
+    if kind == "binding":
+        return run_binding(what, tir_path, t, value, valid, vehicle, vehicle_values, step_ms)
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "inputs.csv")
+        write_input_csv(path, t, value, valid)
+        lines = [f"{k} = {v!r}" for k, v in (vehicle_values or {}).items()]
+        return run_c(what, tir_path, path, vehicle=vehicle, vehicle_lines=lines, step_ms=step_ms)
+
+
 def estimate_c(run_dir, bins):
     """The C builds over a run's sensors.csv, inputs exactly as est_ref gets
-    them; {arith: est dict}; builds not in bins are absent."""
+    them; {arith: est dict}; builds not in bins (c_builds()) are absent."""
     if not bins:
         return {}
     cols = read_csv(os.path.join(run_dir, "sensors.csv"))
     t, value, valid = est_ref.inputs_from_sensors(cols)
-    out = {}
-    with tempfile.TemporaryDirectory() as d:
-        path = os.path.join(d, "inputs.csv")
-        write_input_csv(path, t, value, valid)
-        for a, b in bins.items():
-            # as estimate(): the simulator car's latency, drag and rolling resistance
-            out[a] = run_c(b, golden_est.tire_path(), path, vehicle_lines=est_vehicle_lines())
-    return out
+    # as estimate(): the simulator car's latency, drag and rolling resistance
+    return {a: run_est(b, golden_est.tire_path(), t, value, valid, vehicle_values=est_vehicle())
+            for a, b in bins.items()}
 
 
 def fixed_float_ratio(rf, rx):
@@ -391,6 +469,8 @@ AV21_STANDIN = {"LFZO": "0.5", "LMUX": "1.5", "LMUY": "1.5"}
 AV21_VEHICLE = dict(mass=av21_log.MASS, iz=1000.0, lf=av21_log.LF, lr=av21_log.LR, track_f=1.6, track_r=1.6, h_cg=0.30,
                     steer_ratio=1.0, wheel_radius=0.30, roll_split_front=0.5, roll_gradient=0.001,
                     steer_lag=0.28)
+# grip-replay --vehicle av21 (port/linux/grip_replay.c), for the binding
+VEHICLE_PRESETS["av21"] = AV21_VEHICLE
 
 
 def av21_standin_tir(path):
@@ -510,44 +590,41 @@ def av21_report(log, outdir, bins):
           f"{fit['rms_no_lag']:.4f} without a lag, yaw gain {fit['gain']:.3f}, {fit['n']} samples); "
           f"preset steer_lag {AV21_VEHICLE['steer_lag']}", file=sys.stderr)
     outs = {}
-    with tempfile.TemporaryDirectory() as d:
-        path = os.path.join(d, "av21_inputs.csv")
-        write_input_csv(path, t, value, valid)
-        for a, b in bins.items():
-            outs[a] = o = run_c(b, tir_path, path, vehicle="av21", step_ms=1000.0 / AV21_RATE_HZ)
-            moving = ins["vx"] > 5.0
-            num = [k for k in o if k not in ("valid", "flags")]
-            finite = all(np.all(np.isfinite(o[k][~np.isnan(o[k])])) for k in num) and \
-                all(np.all(np.isfinite(o[k])) for k in num if k != "ay_model")
-            vb = (o["valid"] & est_ref.V_BETA) != 0
-            vr = (o["valid"] & est_ref.V_YAW_REF) != 0
-            va = (o["valid"] & est_ref.V_AXLE) != 0
-            beta_ins = np.arctan2(ins["vy"], np.maximum(ins["vx"], 1e-3))
-            flag_names = {"standstill": est_ref.F_STANDSTILL, "low_speed": est_ref.F_LOW_SPEED,
-                          "wheel_lock": est_ref.F_WHEEL_LOCK, "wheel_spin": est_ref.F_WHEEL_SPIN,
-                          "excited": est_ref.F_EXCITED, "saturated": est_ref.F_SATURATED,
-                          "steer_limit": est_ref.F_STEER_LIMIT, "reset": est_ref.F_RESET,
-                          "model_misfit": est_ref.F_MODEL_MISFIT}
-            r = {"errors": int(np.sum(o["est_status"] < 0)), "all_finite": bool(finite),
-                 "moving_steps": int(moving.sum()),
-                 "valid_steps": {"beta": int(vb.sum()), "yaw_ref": int(vr.sum()), "axle": int(va.sum()),
-                                 "mu": int(np.sum((o["valid"] & est_ref.V_MU) != 0))},
-                 "flag_steps": {k: int(np.sum((o["flags"] & v) != 0)) for k, v in flag_names.items()},
-                 "yaw_ref_vs_measured": _stats(np.where(vr & moving, o["yaw_rate_ref"], np.nan), ins["r"]),
-                 "yaw_est_vs_measured": _stats(np.where(vb & moving, o["yaw_rate"], np.nan), ins["r"]),
-                 "ay_model_vs_measured": _stats(np.where(va & moving, o["ay_model"], np.nan), ins["ay"]),
-                 "beta_vs_ins": _stats(np.where(vb & (ins["vx"] > 10.0), o["beta"], np.nan) * DEG,
-                                       np.where(ins["vx"] > 10.0, beta_ins, np.nan) * DEG),
-                 "beta_ins_max_deg": float(np.max(np.abs(beta_ins[ins["vx"] > 10.0])) * DEG),
-                 "beta_est_max_deg": float(np.nanmax(np.abs(np.where(vb, o["beta"], np.nan))) * DEG),
-                 "yaw_rate_bias_end": float(o["yaw_rate_bias"][-1]),
-                 "yaw_rate_bias_range": [float(np.min(o["yaw_rate_bias"])), float(np.max(o["yaw_rate_bias"]))],
-                 "mu_end": float(o["mu"][-1]), "mu_range": [float(np.min(o["mu"][moving])),
-                                                          float(np.max(o["mu"][moving]))],
-                 "mu_conf_max": float(np.max(o["mu_conf"])),
-                 }
-            res["builds"][a] = r
-            print(f"est-eval av21 {a}: {json.dumps(r)}", file=sys.stderr)
+    for a, b in bins.items():
+        outs[a] = o = run_est(b, tir_path, t, value, valid, vehicle="av21", step_ms=1000.0 / AV21_RATE_HZ)
+        moving = ins["vx"] > 5.0
+        num = [k for k in o if k not in ("valid", "flags")]
+        finite = all(np.all(np.isfinite(o[k][~np.isnan(o[k])])) for k in num) and \
+            all(np.all(np.isfinite(o[k])) for k in num if k != "ay_model")
+        vb = (o["valid"] & est_ref.V_BETA) != 0
+        vr = (o["valid"] & est_ref.V_YAW_REF) != 0
+        va = (o["valid"] & est_ref.V_AXLE) != 0
+        beta_ins = np.arctan2(ins["vy"], np.maximum(ins["vx"], 1e-3))
+        flag_names = {"standstill": est_ref.F_STANDSTILL, "low_speed": est_ref.F_LOW_SPEED,
+                      "wheel_lock": est_ref.F_WHEEL_LOCK, "wheel_spin": est_ref.F_WHEEL_SPIN,
+                      "excited": est_ref.F_EXCITED, "saturated": est_ref.F_SATURATED,
+                      "steer_limit": est_ref.F_STEER_LIMIT, "reset": est_ref.F_RESET,
+                      "model_misfit": est_ref.F_MODEL_MISFIT}
+        r = {"errors": int(np.sum(o["est_status"] < 0)), "all_finite": bool(finite),
+             "moving_steps": int(moving.sum()),
+             "valid_steps": {"beta": int(vb.sum()), "yaw_ref": int(vr.sum()), "axle": int(va.sum()),
+                             "mu": int(np.sum((o["valid"] & est_ref.V_MU) != 0))},
+             "flag_steps": {k: int(np.sum((o["flags"] & v) != 0)) for k, v in flag_names.items()},
+             "yaw_ref_vs_measured": _stats(np.where(vr & moving, o["yaw_rate_ref"], np.nan), ins["r"]),
+             "yaw_est_vs_measured": _stats(np.where(vb & moving, o["yaw_rate"], np.nan), ins["r"]),
+             "ay_model_vs_measured": _stats(np.where(va & moving, o["ay_model"], np.nan), ins["ay"]),
+             "beta_vs_ins": _stats(np.where(vb & (ins["vx"] > 10.0), o["beta"], np.nan) * DEG,
+                                   np.where(ins["vx"] > 10.0, beta_ins, np.nan) * DEG),
+             "beta_ins_max_deg": float(np.max(np.abs(beta_ins[ins["vx"] > 10.0])) * DEG),
+             "beta_est_max_deg": float(np.nanmax(np.abs(np.where(vb, o["beta"], np.nan))) * DEG),
+             "yaw_rate_bias_end": float(o["yaw_rate_bias"][-1]),
+             "yaw_rate_bias_range": [float(np.min(o["yaw_rate_bias"])), float(np.max(o["yaw_rate_bias"]))],
+             "mu_end": float(o["mu"][-1]), "mu_range": [float(np.min(o["mu"][moving])),
+                                                      float(np.max(o["mu"][moving]))],
+             "mu_conf_max": float(np.max(o["mu_conf"])),
+             }
+        res["builds"][a] = r
+        print(f"est-eval av21 {a}: {json.dumps(r)}", file=sys.stderr)
     if "float" in outs and "fixed" in outs:
         f, x = outs["float"], outs["fixed"]
         res["fixed_vs_float"] = {k: float(np.nanmax(np.abs(f[k] - x[k])))
@@ -624,7 +701,8 @@ def main(argv=None):
     ap.add_argument("--runs-dir", default=os.path.join(ROOT, "build", "est_eval"),
                     help="where --simulate writes (and reuses) the simulator runs (DIR/runs)")
     ap.add_argument("--c-bin", action="append", default=[], metavar="ARITH=PATH",
-                    help="grip-replay of a build (default build/float-gcc, build/fixed-gcc)")
+                    help="run this grip-replay program for ARITH instead of the binding (another build of "
+                         "the C code)")
     ap.add_argument("--no-c", action="store_true", help="evaluate est_ref only")
     ap.add_argument("--av21", nargs="?", const=av21_log.LOG, default=None, metavar="LOG",
                     help="also run the C builds on the Dallara AV-21 log (default %(const)s): <out>/av21.json, "
@@ -648,17 +726,9 @@ def main(argv=None):
                               ("dry", "wet", "snow"))
     bins, notes = {}, []
     if not a.no_c:
-        paths = dict(C_BINS)
-        for spec in a.c_bin:
-            k, _, v = spec.partition("=")
-            paths[k] = v
-        for k, v in paths.items():
-            if os.path.exists(v):
-                bins[k] = v
-            else:
-                notes.append(f"C {k} build skipped: {os.path.relpath(v, ROOT)} is not built "
-                             f"(make ARITH={k} progs)")
-                print(f"est-eval: {notes[-1]}", file=sys.stderr)
+        bins, notes = c_builds(a.c_bin)
+        for n in notes:
+            print(f"est-eval: {n}", file=sys.stderr)
     results, c_results, ests = {}, {}, []
     for d in runs:
         name = os.path.basename(d.rstrip("/"))
@@ -683,7 +753,7 @@ def main(argv=None):
             json.dump({"est_ref": results, "c": c_results, "notes": notes}, f, indent=1)
         md = "## float64 reference (est_ref)\n\n" + table(results)
         if bins:
-            md += ("\n## C builds (grip-replay --csv) next to est_ref\n\n"
+            md += ("\n## C builds (the C library through grip.est) next to est_ref\n\n"
                    "Each cell: est_ref / C float / C fixed (errors against the simulator's truth).\n\n"
                    + table_c(results, c_results, notes))
         elif notes:

@@ -4,17 +4,17 @@ programs first):
 1. --rav4 FLOAT.csv FIXED.csv: the estimator's outputs on the real RAV4
    drive (grip-replay -e): validity, mu, and the yaw-rate reference against
    the measured yaw rate, float and fixed; a PNG of the drive.
-2. the Magic Formula of a real tire with grip's C library (grip-tire, float
-   and fixed builds) against the float64 reference: error table and curves.
+2. the Magic Formula of a real tire with grip's C library (float and fixed
+   builds, in-process through the Python binding grip.mf: the code of
+   grip-tire, bit for bit) against the float64 reference: error table and
+   curves.
 
 Tire: Goodyear G275 MSA 335/65R22.5 at 60 psi, an MF-Tyre 5.x (PAC2002) file
 fitted to Calspan flat-belt measurements (tests/data/chrono-tir).
 """
 import argparse
 import csv
-import io
 import os
-import subprocess
 import sys
 
 import numpy as np
@@ -44,18 +44,16 @@ def sweeps(params):
     return rows
 
 
-def run_grip_tire(binary, tire, rows):
-    text = io.StringIO()
-    w = csv.writer(text)
-    w.writerow(["case", "load"] + COLS)
-    for r in rows:
-        w.writerow([r[0], r[1]] + [repr(float(v)) for v in r[2:]])
-    run = subprocess.run([binary, "--tir", tire], input=text.getvalue(), capture_output=True,
-                         text=True)
-    if run.returncode != 0:
-        raise SystemExit(f"main job: {binary} failed ({run.returncode}): {run.stderr.strip()}")
-    out = list(csv.DictReader(io.StringIO(run.stdout)))
-    return {k: np.array([float(o[k]) for o in out]) for k in ("fx", "fy", "mz")}
+def run_c_mf(arith, tire, rows):
+    """grip's C Magic Formula (grip_mf_eval of the `arith` build, through
+    the binding: what grip-tire --tir TIRE computes for these rows, bit for
+    bit) -> {"fx", "fy", "mz"} in N, N m."""
+    import grip
+    params = grip.mf.load(tire)
+    x = np.array([r[2:] for r in rows], dtype=np.float64)
+    out = grip.mf.evaluate(params, x[:, 0], x[:, 1], x[:, 2], x[:, 3], x[:, 4], x[:, 5], arith=arith,
+                           errors="raise")
+    return {k: out[k] for k in ("fx", "fy", "mz")}
 
 
 def read_replay(path):
@@ -154,8 +152,7 @@ def main(argv=None):
     rows = sweeps(params)
     inputs = np.array([r[2:] for r in rows], dtype=float)
     ref = mf.evaluate(params, *[inputs[:, i] for i in range(5)], vx=inputs[:, 5])
-    c_out = {a: run_grip_tire(os.path.join(ROOT, f"build/{a}-gcc/bin/grip-tire"), args.tir, rows)
-             for a in ("float", "fixed")}
+    c_out = {a: run_c_mf(a, args.tir, rows) for a in ("float", "fixed")}
 
     fz = inputs[:, 3]
     print(f"grip main job: Magic Formula of {os.path.basename(args.tir)} "

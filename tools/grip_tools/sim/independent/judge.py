@@ -4,7 +4,7 @@
 
 Per vehicle x manoeuvre x surface: the multi-body model flies the
 manoeuvre (mb, manoeuvres), the sensor cluster samples it (sensors), and
-both C builds (grip-replay --csv, float and fixed) run over the samples in
+both C builds (float and fixed, through the binding grip.est) run over the samples in
 two configurations an OEM could have:
 
   generic  vehicle data only: mass, yaw inertia, axle distances, tracks, CG
@@ -377,7 +377,7 @@ def run_one(job):
     for cname, cfg in configs.items():
         res["configs"][cname] = {}
         for arith, b in bins.items():
-            est = est_eval.run_c(b, cfg["tir"], inputs, vehicle="generic", vehicle_lines=cfg["lines"])
+            est = est_eval.run_est(b, cfg["tir"], t, value, valid, vehicle="generic", vehicle_values=cfg["values"])
             res["configs"][cname][arith] = metrics(tr, meas, est, cfg["mu_norm"], cfg["bicycle"], geom)
             if arith == "float":
                 for k in ("beta", "mu", "mu_conf", "fyf", "vx"):
@@ -616,17 +616,9 @@ def plot_worst(sel, runs_dir, path, cname="generic"):
 # ---------------------------------------------------------------------------
 
 def find_bins(specs=()):
-    bins, notes = {}, []
-    paths = dict(est_eval.C_BINS)
-    for spec in specs:
-        k, _, v = spec.partition("=")
-        paths[k] = v
-    for k, v in paths.items():
-        if os.path.exists(v):
-            bins[k] = v
-        else:
-            notes.append(f"C {k} build skipped: {os.path.relpath(v, REPO_ROOT)} is not built (make ARITH={k} progs)")
-    return bins, notes
+    """The C builds to run (est_eval.c_builds: the binding, float and fixed;
+    --c-bin ARITH=PATH: a grip-replay program instead) and notes."""
+    return est_eval.c_builds(specs)
 
 
 def run(out, full=False, vehicles=None, manoeuvres=None, surfaces=None, jobs=None, runs_dir=None,
@@ -648,7 +640,7 @@ def run(out, full=False, vehicles=None, manoeuvres=None, surfaces=None, jobs=Non
     for n in notes:
         print(f"est-eval --independent: {n}", file=sys.stderr)
     if not bins:
-        raise SystemExit("est-eval --independent: no C build of grip-replay (make; make ARITH=fixed)")
+        raise SystemExit("est-eval --independent: no C build to run (the Python binding: make setup)")
     jobs = jobs or max(1, min(os.cpu_count() or 1, 4))
     import multiprocessing as mp
     ctx = mp.get_context("fork")

@@ -1,0 +1,218 @@
+/*
+ * f32_kernels.h - single-precision atan, atan2, sin, cos, sincos and exp
+ * from minimax polynomials (f32_kernels_coefs.h, `grip kernels-f32`), for
+ * the float build's arithmetic layer (arith.h, GRIP_FLOAT_KERNELS >= 1).
+ *
+ * Why: libm's functions are accurate but opaque calls (an x86 call clobbers
+ * every vector register; glibc's atanf is ~60 instructions); these are
+ * short and inline, so the compiler schedules them with the Magic Formula
+ * around them. atan, sin, cos and exp select by arithmetic and table
+ * look-ups, not by a branch on the data (gcc -O2 makes atan branch-free;
+ * atan2's octant test and the rare cases - NaN, the fallbacks - may become
+ * well-predicted branches). Polynomials in Estrin's scheme: a Magic Formula
+ * evaluation is one long dependency chain, so latency counts more than
+ * instructions. Every operation is a plain IEEE single
+ * operation (no fused multiply-add is required or assumed: the library is
+ * compiled with -std=c99, whose default is -ffp-contract=off), so a kernel
+ * gives the same bits on every IEEE-754 single-precision target.
+ *
+ * Accuracy, measured against double-precision libm by
+ * tests/unit/test_f32_kernels.c over the whole float domain (every float
+ * for the one-argument functions, docs/numerics.md "Float kernels"):
+ *   |k(x) - f(x)| <= bound * max(|f(x)|, FLT_MIN)
+ * (relative error; FLT_MIN is the floor where results are subnormal).
+ *
+ * Domains: atan, atan2 every float (IEEE special cases as C99's atan2f,
+ * signed zeros included); sin, cos, sincos use the polynomial for
+ * |x| <= GRIP_KF_TRIG_MAX and libm's sinf/cosf beyond (and for NaN, inf);
+ * exp uses it for GRIP_KF_EXP_MIN <= x <= GRIP_KF_EXP_MAX (normal results)
+ * and libm's expf beyond (overflow, subnormal results, NaN, inf).
+ *
+ * Internal to lib/: not part of the public API.
+ */
+#ifndef GRIP_F32_KERNELS_H
+#define GRIP_F32_KERNELS_H
+
+#include <math.h> /* fabsf, copysignf and the libm fallbacks (float build only) */
+#include <stdint.h>
+#include <string.h>
+#include "f32_kernels_coefs.h"
+
+/* |x| up to which sin/cos reduce by m pi/2 themselves: |m| <= 83 < 2^7, so
+ * that m times each 17-bit part of pi/2 is exact. */
+#define GRIP_KF_TRIG_MAX 128.0f
+/* exp's own range: 2^k stays a normal float (-126 <= k <= 127). */
+#define GRIP_KF_EXP_MIN (-87.0f)
+#define GRIP_KF_EXP_MAX 88.0f
+/* 1.5 * 2^23: adding and subtracting it rounds a float of magnitude below
+ * 2^22 to an integer (round to nearest even), without a conversion. */
+#define GRIP_KF_SHIFTER 12582912.0f
+/* 1.5 * 2^24: the same for even integers (the spacing of floats there is 2) */
+#define GRIP_KF_SHIFTER2 25165824.0f
+/* the smallest normal float, 2^-126 */
+#define GRIP_KF_FLT_MIN 1.17549435e-38f
+
+static inline uint32_t grip_kf_bits(float x)
+{
+    uint32_t u;
+    (void)memcpy(&u, &x, sizeof u);
+    return u;
+}
+
+static inline float grip_kf_float(uint32_t u)
+{
+    float x;
+    (void)memcpy(&x, &u, sizeof x);
+    return x;
+}
+
+/* atan(t) for t in [0, 1] (also correct for t in [-1, 0]). */
+static inline float grip_kf_atan01(float t)
+{
+    /* Estrin's scheme: the same polynomial in a quarter of Horner's
+     * dependency chain (latency, not count, limits a Magic Formula
+     * evaluation, which is one long chain) */
+    float z = t * t;
+    float z2 = z * z;
+    float z4 = z2 * z2;
+    float p01 = GRIP_KF_ATAN_1 * z + GRIP_KF_ATAN_0;
+    float p23 = GRIP_KF_ATAN_3 * z + GRIP_KF_ATAN_2;
+    float p45 = GRIP_KF_ATAN_5 * z + GRIP_KF_ATAN_4;
+    float p67 = GRIP_KF_ATAN_7 * z + GRIP_KF_ATAN_6;
+    float p = (p01 + p23 * z2) + (p45 + p67 * z2) * z4;
+    return t + t * (z * p);
+}
+
+/* Offsets and signs of the octant reconstruction: result = c_hi + (s p +
+ * c_lo), indexed by (|y| > |x|) + 2 (x < 0); atan uses the first two. */
+static const float grip_kf_oct_hi[4] = { 0.0f, GRIP_KF_PIO2_HI, GRIP_KF_PI_HI, GRIP_KF_PIO2_HI };
+static const float grip_kf_oct_lo[4] = { 0.0f, GRIP_KF_PIO2_LO, GRIP_KF_PI_LO, GRIP_KF_PIO2_LO };
+static const float grip_kf_oct_s[4] = { 1.0f, -1.0f, -1.0f, 1.0f };
+
+static inline float grip_kf_atan(float x)
+{
+    float a = fabsf(x);
+    uint32_t big = (a > 1.0f) ? 1u : 0u;
+    /* 1/|x|, computed whatever |x| (so that no branch depends on the data):
+     * + FLT_MIN changes nothing for |x| >= 1 and keeps 0 from being a
+     * divisor; below 1 the quotient is >= 1 and the minimum drops it */
+    float inv = 1.0f / (a + GRIP_KF_FLT_MIN);
+    float t = (inv < a) ? inv : a;                /* min(|x|, 1/|x|); NaN stays NaN */
+    float p = grip_kf_atan01(t);
+    float r = grip_kf_oct_hi[big] + (grip_kf_oct_s[big] * p + grip_kf_oct_lo[big]);
+    return copysignf(r, x);
+}
+
+static inline float grip_kf_atan2(float y, float x)
+{
+    float ax = fabsf(x);
+    float ay = fabsf(y);
+    uint32_t oct;
+    float mx;
+    float mn;
+    float t;
+    float p;
+    float r;
+    if ((x != x) || (y != y)) {
+        return x + y;                             /* NaN in, NaN out */
+    }
+    /* octant: + 1 when |y| > |x| (the angle is pi/2 - atan(|x|/|y|)),
+     * + 2 when x < 0 or x = -0 (pi - ...) */
+    oct = ((ay > ax) ? 1u : 0u) + ((grip_kf_bits(x) >> 30) & 2u);
+    mx = (ay > ax) ? ay : ax;
+    mn = (ay > ax) ? ax : ay;
+    t = mn / ((mx > 0.0f) ? mx : 1.0f);           /* both zero: 0 / 1 */
+    if (t != t) {
+        t = 1.0f;                                 /* inf / inf: the diagonal */
+    }
+    p = grip_kf_atan01(t);
+    r = grip_kf_oct_hi[oct] + (grip_kf_oct_s[oct] * p + grip_kf_oct_lo[oct]);
+    return copysignf(r, y);
+}
+
+/* sin x and cos x for |x| <= GRIP_KF_TRIG_MAX: x = m pi/2 + r with m even
+ * (sin) or odd (cos), |r| <= pi/2 (a little more where x 2/pi rounds), then
+ * sin x = (-1)^(m/2) sin r and cos x = (-1)^((m+1)/2) sin r: one odd
+ * polynomial, accurate near the zeros of both (r small there). m comes from
+ * 1.5 2^24 added and subtracted, which rounds x 2/pi to an even integer. The
+ * four parts of pi/2 are positive and have 17 bits, so m times each is
+ * exact and the first subtraction is exact wherever r is small (Sterbenz);
+ * a zero x has m = 0 and stays a zero of its sign. The sign is applied to r
+ * before the polynomial (sin is odd: the same bits), off the dependency
+ * chain. */
+static const float grip_kf_sign[2] = { 1.0f, -1.0f };
+
+static inline float grip_kf_sin_poly(float x, float mf, uint32_t neg)
+{
+    float r = (((x - mf * GRIP_KF_PIO2_1) - mf * GRIP_KF_PIO2_2) - mf * GRIP_KF_PIO2_3) - mf * GRIP_KF_PIO2_4;
+    float z = r * r;
+    float p = (GRIP_KF_SIN_1 * z + GRIP_KF_SIN_0) + (z * z) * (GRIP_KF_SIN_3 * z + GRIP_KF_SIN_2);
+    r = r * grip_kf_sign[neg];
+    /* r + r^3 p, except where z is zero (r = 0, or |r| below 2^-75 where the
+     * term is nothing): there r itself, which keeps the sign of a zero */
+    return (z == 0.0f) ? r : (r + (r * z) * p);
+}
+
+static inline float grip_kf_sin_k(float x)
+{
+    float mf = (x * GRIP_KF_2_OVER_PI + GRIP_KF_SHIFTER2) - GRIP_KF_SHIFTER2;       /* even */
+    uint32_t neg = ((uint32_t)(int32_t)mf >> 1) & 1u;                              /* m/2 odd */
+    return grip_kf_sin_poly(x, mf, neg);
+}
+
+static inline float grip_kf_cos_k(float x)
+{
+    float mf = (((x * GRIP_KF_2_OVER_PI - 1.0f) + GRIP_KF_SHIFTER2) - GRIP_KF_SHIFTER2) + 1.0f; /* odd */
+    uint32_t neg = (((uint32_t)(int32_t)mf >> 1) & 1u) ^ 1u;                       /* (m+1)/2 odd */
+    return grip_kf_sin_poly(x, mf, neg);
+}
+
+static inline float grip_kf_sin(float x)
+{
+    if (!(fabsf(x) <= GRIP_KF_TRIG_MAX)) {
+        return sinf(x);
+    }
+    return grip_kf_sin_k(x);
+}
+
+static inline float grip_kf_cos(float x)
+{
+    if (!(fabsf(x) <= GRIP_KF_TRIG_MAX)) {
+        return cosf(x);
+    }
+    return grip_kf_cos_k(x);
+}
+
+/* Both: exactly grip_kf_sin(x) and grip_kf_cos(x). */
+static inline void grip_kf_sincos(float x, float *s, float *c)
+{
+    if (!(fabsf(x) <= GRIP_KF_TRIG_MAX)) {
+        *s = sinf(x);
+        *c = cosf(x);
+        return;
+    }
+    *s = grip_kf_sin_k(x);
+    *c = grip_kf_cos_k(x);
+}
+
+/* e^x = 2^k e^r, x = k ln 2 + r, |r| <= ln(2)/2 (a little more where x/ln 2
+ * rounds); 2^k from its bits. */
+static inline float grip_kf_exp(float x)
+{
+    float kf;
+    float r;
+    float r2;
+    float p;
+    int32_t k;
+    if (!((x >= GRIP_KF_EXP_MIN) && (x <= GRIP_KF_EXP_MAX))) {
+        return expf(x);
+    }
+    kf = (x * GRIP_KF_LOG2E + GRIP_KF_SHIFTER) - GRIP_KF_SHIFTER;
+    k = (int32_t)kf;
+    r = (x - kf * GRIP_KF_LN2_HI) - kf * GRIP_KF_LN2_LO;
+    r2 = r * r;
+    p = (GRIP_KF_EXP_1 * r + GRIP_KF_EXP_0) + r2 * ((GRIP_KF_EXP_3 * r + GRIP_KF_EXP_2) + r2 * GRIP_KF_EXP_4);
+    return (1.0f + (r + r * (r * p))) * grip_kf_float((uint32_t)(k + 127) << 23);
+}
+
+#endif /* GRIP_F32_KERNELS_H */
