@@ -38,7 +38,23 @@ typedef struct {
 #define GRIP_MF_OPT_MZ52_SVYK_CAMBER (1u << 5) /* MF 5.2 combined Mz: Fy' = Fy - SVyk with the    */
                                                /* cambered mu_y (grip's earlier form) instead of  */
                                                /* MFeval's mu_y at gamma = 0; no effect on MF 6.x */
-#define GRIP_MF_OPT_ALL          (0x3Fu)
+/* Use modes (MFeval's useMode digits; docs/magic-formula-c.md section 9),
+ * evaluated by grip_mf_eval_ext. As option bits they are the set's
+ * defaults; grip_mf_eval_ext's request word can switch them per call
+ * (GRIP_MF_USE_*). */
+#define GRIP_MF_OPT_TURN_SLIP    (1u << 6) /* turn slip (useMode xx2): evaluated by           */
+                                           /* grip_mf_eval_ext only; grip_mf_eval and         */
+                                           /* grip_mf_eval_pure refuse a set with this bit    */
+                                           /* (GRIP_ERR_PARAM) rather than drop the turn slip */
+#define GRIP_MF_OPT_NO_LIMITS    (1u << 7) /* useMode 2xx: no low-speed model, no E <= 1      */
+                                           /* limits, mu_y with its sign; grip_mf_eval_ext    */
+                                           /* only (grip_mf_eval, _pure refuse the set)       */
+#define GRIP_MF_OPT_TS_CAMBER    (0x100u)   /* turn slip with the camber's spin of the sign    */
+                                           /* that keeps the camber thrust at phit = 0, Drp   */
+                                           /* of the spin, Kzgr0 = Fz R0 (QDZ8 + QDZ9 dfz +   */
+                                           /* (QDZ10 + QDZ11 dfz)|gamma|) LKZC; no effect     */
+                                           /* without turn slip                               */
+#define GRIP_MF_OPT_ALL          (0x1FFu)
 
 /* Valid input domain (plain constants: wrap them in GRIP_QS()/GRIP_QL() or
  * cast them); inputs beyond it are clamped and GRIP_WARN_CLAMPED is
@@ -52,6 +68,8 @@ typedef struct {
 #define GRIP_MF_DPI_MIN        (-0.5)     /* p >= 0.5 * NOMPRES (MF 6.x)                      */
 #define GRIP_MF_DPI_MAX        1.0        /* p <= 2 * NOMPRES (MF 6.x)                        */
 #define GRIP_MF_VX_MAX         300.0      /* |vx| [m/s]                                       */
+#define GRIP_MF_PHIT_MAX       100.0      /* |phit| [1/m] (path radius 1 cm; turn slip only)  */
+#define GRIP_MF_OMEGA_MAX      3000.0     /* |omega| [rad/s]                                  */
 
 /* Operating point of one tyre (ISO-W unless GRIP_MF_OPT_SAE / _KAPPA_BRAKE). */
 typedef struct {
@@ -63,6 +81,18 @@ typedef struct {
                          /*     NOMPRES if INFLPRES = 0; ignored by MF 5.2      */
     grip_real_t vx;      /* QS  longitudinal speed of the contact centre [m/s]  */
 } grip_mf_input;
+
+/* The wheel's rotations, MFeval's input columns 5 and 8: inputs of
+ * grip_mf_eval_ext_spin only (a struct of their own, so that the
+ * grip_mf_input of every evaluation, four on the estimator's stack per
+ * step, does not grow). */
+typedef struct {
+    grip_real_t phit;    /* QS  turn slip [1/m], MFeval's: yaw rate of the      */
+                         /*     wheel = -phit Vc (ISO z up); used with turn slip*/
+    grip_real_t omega;   /* QS  wheel spin [rad/s], > 0 rolling forward; 0:     */
+                         /*     MFeval's estimate (1 + kappa) |vx| / Re (Re,    */
+                         /*     Omega, Rl, rho, Cz and the spin of turn slip)   */
+} grip_mf_spin;
 
 /* Forces and moment at the contact centre. */
 typedef struct {
@@ -100,6 +130,15 @@ typedef struct {
 #define GRIP_MF_EXT_MY      0x40000u /* QL  rolling resistance moment My [N m]              */
 #define GRIP_MF_EXT_ALL     0x7FFFFu
 
+/* Use-mode bits of grip_mf_eval_ext's request word (with the channel
+ * bits): each switches the set's default (GRIP_MF_OPT_*) for this call;
+ * asking for both of a pair is GRIP_ERR_INPUT. */
+#define GRIP_MF_USE_TURN_SLIP    (0x01000000u) /* turn slip on (MFeval useMode xx2)          */
+#define GRIP_MF_USE_NO_TURN_SLIP (0x02000000u) /* turn slip off (xx1)                         */
+#define GRIP_MF_USE_NO_LIMITS    (0x04000000u) /* limits off (2xx)                            */
+#define GRIP_MF_USE_LIMITS       (0x08000000u) /* limits on (1xx)                             */
+#define GRIP_MF_USE_ALL          (0x0F000000u)
+
 /* Combined-slip forces and the extended channels. A channel not requested,
  * or requested but not available (its bit clear in `valid`), is zero. */
 typedef struct {
@@ -134,10 +173,12 @@ typedef struct {
 #define grip_mf_eval_pure GRIP_TYPED(grip_mf_eval_pure)
 #define grip_mf_eval GRIP_TYPED(grip_mf_eval)
 #define grip_mf_eval_ext GRIP_TYPED(grip_mf_eval_ext)
+#define grip_mf_eval_ext_spin GRIP_TYPED(grip_mf_eval_ext_spin)
 #define grip_mf_ext_supported GRIP_TYPED(grip_mf_ext_supported)
 
 /* Validates a parameter set: GRIP_OK, GRIP_ERR_NULL or GRIP_ERR_PARAM:
  * FITTYP not 5, 6, 21, 61, 62; TYRESIDE not +-1; unknown option bits;
+ * GRIP_MF_OPT_TURN_SLIP without PHYP1 > 0 and 0 < QDRP1 < 2;
  * FNOMIN not in (0, 1e6] N; UNLOADED_RADIUS <= 0; LFZO <= 0; NOMPRES or
  * INFLPRES < 0; LMUX, LMUY or LMUV < 0; LMUV > 0 with LONGVL <= 0.1 m/s;
  * in the float build also any non-finite coefficient. grip_mf_eval and
@@ -158,7 +199,9 @@ grip_status_t grip_mf_check_params_detail(const grip_mf_params *p, grip_check_de
  * above; outputs valid), GRIP_ERR_NULL, GRIP_ERR_PARAM, GRIP_ERR_INPUT (a
  * non-finite input, float build) or GRIP_ERR_DOMAIN (a non-finite result
  * from finite but absurd coefficients, float build); on every error the
- * outputs are zero. Pure function: no state, reentrant. */
+ * outputs are zero. A set with GRIP_MF_OPT_TURN_SLIP or _NO_LIMITS is
+ * refused (GRIP_ERR_PARAM): the use modes are grip_mf_eval_ext's. Pure
+ * function: no state, reentrant. */
 grip_status_t grip_mf_eval_pure(const grip_mf_params *p, const grip_mf_input *in,
                                 grip_mf_output *out);
 
@@ -166,9 +209,17 @@ grip_status_t grip_mf_eval_pure(const grip_mf_params *p, const grip_mf_input *in
 grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out);
 
 /* grip_mf_eval's Fx, Fy, Mz and the channels requested in `outputs`
- * (GRIP_MF_EXT_* bits), from the same evaluation. The status is that of
- * grip_mf_eval (an unknown bit in `outputs` is GRIP_ERR_INPUT; on every
- * error all outputs are zero and valid is 0). out->valid holds the bits of
+ * (GRIP_MF_EXT_* bits), from the same evaluation, in the use modes of the
+ * set switched by the GRIP_MF_USE_* bits of `outputs` (turn slip, with
+ * spin->phit and spin->omega; no limits). spin may be NULL: phit = 0 and
+ * omega = 0 (the spin estimated); grip_mf_eval_ext is
+ * grip_mf_eval_ext_spin with spin NULL. The status is that of grip_mf_eval
+ * (an unknown bit in `outputs`, both bits of a GRIP_MF_USE_ pair, a NaN or
+ * infinite omega, or phit with turn slip, is GRIP_ERR_INPUT; turn slip on
+ * a set without its coefficients GRIP_ERR_PARAM; on every error all
+ * outputs are zero and valid is 0). A non-zero omega is the wheel's spin
+ * of Re, Omega, Rl, rho, Cz and of the turn slip (MFeval's input column
+ * 8); 0: estimated. out->valid holds the bits of
  * the requested channels that were computed; a requested channel whose bit
  * is clear is zero and must not be used: its parameters are missing from
  * the set (see grip_mf_ext_supported), its equation has no solution at this
@@ -176,6 +227,8 @@ grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, gri
  * does not fit its format. Fz <= 0: forces, moments, mu, Kxk, Kya, t, rho,
  * Cz and the contact length are zero; Re, Omega, Rl are those of the
  * unloaded wheel. Pure function, no loops with a data-dependent count. */
+grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input *in, const grip_mf_spin *spin,
+                                    uint32_t outputs, grip_mf_output_ext *out);
 grip_status_t grip_mf_eval_ext(const grip_mf_params *p, const grip_mf_input *in, uint32_t outputs,
                                grip_mf_output_ext *out);
 

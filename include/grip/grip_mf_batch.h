@@ -30,8 +30,9 @@
  *
  * Returns the summary: GRIP_OK for n == 0; GRIP_ERR_NULL when p, in or out
  * is NULL (n > 0; nothing is written); GRIP_ERR_PARAM when the parameter
- * set is structurally unusable (every point: zero outputs, status
- * GRIP_ERR_PARAM); otherwise the status of the first point that failed (a
+ * set is structurally unusable or asks for a use mode of grip_mf_eval_ext
+ * (GRIP_MF_OPT_TURN_SLIP, _NO_LIMITS), as grip_mf_eval refuses it (every
+ * point: zero outputs, status GRIP_ERR_PARAM); otherwise the status of the first point that failed (a
  * negative status), else GRIP_WARN_CLAMPED when any point was clamped, else
  * GRIP_OK. in and out must not overlap. */
 grip_status_t grip_mf_eval_batch(const grip_mf_params *p, uint32_t n, const grip_mf_input *in,

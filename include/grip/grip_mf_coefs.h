@@ -13,7 +13,12 @@
  *             keys of the extended outputs (grip_mf_eval_ext, from
  *             ASPECT_RATIO on) take MFeval's readTIR defaults, except
  *             RIM_RADIUS (0: no bottoming check, docs/magic-formula.md);
- *             WIDTH and the three STIFFNESS keys keep 0 = not given
+ *             WIDTH and the three STIFFNESS keys keep 0 = not given.
+ *             The turn-slip keys (LMP and [TURNSLIP_COEFFICIENTS], used
+ *             only with GRIP_MF_USE_TURN_SLIP) default to 0 = not given
+ *             (LMP to 1): a set without PHYP1 > 0 and 0 < QDRP1 < 2 cannot
+ *             evaluate turn slip. All of them are dimensionless (they
+ *             multiply R0 phi), so [UNITS] never scales them
  *   REQUIRED  1: a file without this key is rejected
  */
 #ifndef GRIP_MF_COEFS_H
@@ -232,6 +237,26 @@
     X(qsy5, QSY5, ROLLING_COEFFICIENTS, QS, 0, 0) \
     X(qsy6, QSY6, ROLLING_COEFFICIENTS, QS, 0, 0) \
     X(qsy7, QSY7, ROLLING_COEFFICIENTS, QS, 0.85, 0) \
-    X(qsy8, QSY8, ROLLING_COEFFICIENTS, QS, -0.4, 0)
+    X(qsy8, QSY8, ROLLING_COEFFICIENTS, QS, -0.4, 0) \
+    X(lmp, LMP, SCALING_COEFFICIENTS, QS, 1, 0) \
+    X(pdxp1, PDXP1, TURNSLIP_COEFFICIENTS, QS, 0, 0) \
+    X(pdxp2, PDXP2, TURNSLIP_COEFFICIENTS, QS, 0, 0) \
+    X(pdxp3, PDXP3, TURNSLIP_COEFFICIENTS, QS, 0, 0) \
+    X(pkyp1, PKYP1, TURNSLIP_COEFFICIENTS, QS, 0, 0) \
+    X(pdyp1, PDYP1, TURNSLIP_COEFFICIENTS, QS, 0, 0) \
+    X(pdyp2, PDYP2, TURNSLIP_COEFFICIENTS, QS, 0, 0) \
+    X(pdyp3, PDYP3, TURNSLIP_COEFFICIENTS, QS, 0, 0) \
+    X(pdyp4, PDYP4, TURNSLIP_COEFFICIENTS, QS, 0, 0) \
+    X(phyp1, PHYP1, TURNSLIP_COEFFICIENTS, QS, 0, 0) \
+    X(phyp2, PHYP2, TURNSLIP_COEFFICIENTS, QS, 0, 0) \
+    X(phyp3, PHYP3, TURNSLIP_COEFFICIENTS, QS, 0, 0) \
+    X(phyp4, PHYP4, TURNSLIP_COEFFICIENTS, QS, 0, 0) \
+    X(pecp1, PECP1, TURNSLIP_COEFFICIENTS, QS, 0, 0) \
+    X(pecp2, PECP2, TURNSLIP_COEFFICIENTS, QS, 0, 0) \
+    X(qdtp1, QDTP1, TURNSLIP_COEFFICIENTS, QS, 0, 0) \
+    X(qcrp1, QCRP1, TURNSLIP_COEFFICIENTS, QS, 0, 0) \
+    X(qcrp2, QCRP2, TURNSLIP_COEFFICIENTS, QS, 0, 0) \
+    X(qbrp1, QBRP1, TURNSLIP_COEFFICIENTS, QS, 0, 0) \
+    X(qdrp1, QDRP1, TURNSLIP_COEFFICIENTS, QS, 0, 0)
 
 #endif /* GRIP_MF_COEFS_H */

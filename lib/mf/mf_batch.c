@@ -35,7 +35,9 @@ static grip_status_t mf_batch(const grip_mf_params *p, uint32_t n, const grip_mf
     if ((p == NULL) || (in == NULL) || (out == NULL)) {
         return GRIP_ERR_NULL;
     }
-    if (!mf_params_usable(p)) {
+    /* the plain evaluations' check: a set with a use mode (turn slip, no
+     * limits: grip_mf_eval_ext's) is refused as grip_mf_eval refuses it */
+    if (!mf_params_usable_plain(p)) {
         for (k = 0u; k < n; k++) {
             out[k].fx = R_ZERO;
             out[k].fy = R_ZERO;

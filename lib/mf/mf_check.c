@@ -15,8 +15,9 @@ static int fittyp_known(int32_t fittyp)
     return (fittyp == 5) || (fittyp == 6) || (fittyp == 21) || (fittyp == 61) || (fittyp == 62);
 }
 
-/* The structural checks, the first failure named in *d (d may be NULL). */
-static int mf_params_usable_detail(const grip_mf_params *p, grip_check_detail_t *d)
+/* The structural checks, the first failure named in *d (d may be NULL);
+ * options: the option bits the evaluation accepts. */
+static int mf_params_usable_detail(const grip_mf_params *p, uint32_t options, grip_check_detail_t *d)
 {
     if (!fittyp_known(p->fittyp)) {
         return check_fail(d, "", -1, "fittyp", "one of 5, 6, 21 (MF 5.2), 61, 62 (MF 6.1, 6.2)");
@@ -24,7 +25,7 @@ static int mf_params_usable_detail(const grip_mf_params *p, grip_check_detail_t 
     if ((p->tyreside != 1) && (p->tyreside != -1)) {
         return check_fail(d, "", -1, "tyreside", "+1 (left) or -1 (right)");
     }
-    if ((p->options & ~GRIP_MF_OPT_ALL) != 0u) {
+    if ((p->options & ~options) != 0u) {
         return check_fail(d, "", -1, "options", "GRIP_MF_OPT_* bits only");
     }
     /* The comparisons are false for NaN, so NaN is rejected too. */
@@ -62,7 +63,19 @@ static int mf_params_usable_detail(const grip_mf_params *p, grip_check_detail_t 
 
 int mf_params_usable(const grip_mf_params *p)
 {
-    return mf_params_usable_detail(p, NULL);
+    return mf_params_usable_detail(p, GRIP_MF_OPT_ALL, NULL);
+}
+
+/* grip_mf_eval, grip_mf_eval_pure: the use modes (turn slip, no limits)
+ * are grip_mf_eval_ext's; a set that asks for them is refused. */
+int mf_params_usable_plain(const grip_mf_params *p)
+{
+    return mf_params_usable_detail(p, GRIP_MF_OPT_ALL & ~(GRIP_MF_OPT_TURN_SLIP | GRIP_MF_OPT_NO_LIMITS), NULL);
+}
+
+int mf_turn_slip_usable(const grip_mf_params *p)
+{
+    return (p->phyp1 > R_ZERO) && (p->qdrp1 > R_ZERO) && (p->qdrp1 < RC(2.0));
 }
 
 grip_status_t grip_mf_check_params_detail(const grip_mf_params *p, grip_check_detail_t *detail)
@@ -71,8 +84,19 @@ grip_status_t grip_mf_check_params_detail(const grip_mf_params *p, grip_check_de
     if (p == NULL) {
         return GRIP_ERR_NULL;
     }
-    if (!mf_params_usable_detail(p, detail)) {
+    if (!mf_params_usable_detail(p, GRIP_MF_OPT_ALL, detail)) {
         return GRIP_ERR_PARAM;
+    }
+    /* a set that asks for turn slip must have its coefficients */
+    if ((p->options & GRIP_MF_OPT_TURN_SLIP) != 0u) {
+        if (!(p->phyp1 > R_ZERO)) {
+            (void)check_fail(detail, "", -1, "phyp1", "> 0 with GRIP_MF_OPT_TURN_SLIP");
+            return GRIP_ERR_PARAM;
+        }
+        if (!((p->qdrp1 > R_ZERO) && (p->qdrp1 < RC(2.0)))) {
+            (void)check_fail(detail, "", -1, "qdrp1", "in (0, 2) with GRIP_MF_OPT_TURN_SLIP");
+            return GRIP_ERR_PARAM;
+        }
     }
 #define MF_CHECK_FINITE(field, KEY, SECTION, FORMAT, DEFAULT, REQUIRED) /* grip-deviation: MISRA-20.7 X-macro: field is a member name, cannot be parenthesized */ \
     if (!r_is_finite(p->field)) {                                         \

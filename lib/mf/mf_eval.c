@@ -13,6 +13,16 @@
  * Everything is computed per unit load (mf_internal.h); the result is
  * scaled by Fz and Fz * R0 to N and N m at the very end. Pure functions:
  * no state, no loops.
+ *
+ * The use modes (MFeval's useMode: no limits, 2xx; turn slip, xx2, with
+ * the zeta factors of Pacejka 4.3.3, "4.77" ... below, in the forms of
+ * MFeval's Solver) are evaluated for grip_mf_eval_ext only (mf_eval_core_use).
+ * The blocks the evaluations share are written once, as always-inline
+ * bodies with a constant `ext` and a turn-slip context `ts`, and compiled
+ * twice: the plain variants (ext = 0, ts = NULL, called by grip_mf_eval
+ * and grip_mf_eval_pure) fold to the model without the use modes - the
+ * same code, cost and stack as before they existed - and the _x variants
+ * carry them.
  */
 #include "mf_internal.h"
 
@@ -50,8 +60,33 @@ typedef struct {
     grip_real_t dr;      /* Dr / (Fz * UNLOADED_RADIUS)                        */
 } mf_trail;
 
+/* The turn slip of one evaluation (mf_ts_begin, mf_ts_moment): the spin
+ * and the zeta factors, each times what MFeval multiplies by it (zeta5
+ * and zeta6 are formed where they act, mf_trail_coefs_x). */
+typedef struct {
+    grip_real_t u;       /* R0 phi: the spin (turn slip and camber), limited   */
+                         /* to +-MF_TS_U_MAX                                   */
+    grip_real_t ut;      /* R0 phit_e: the turn slip as MFeval processes it    */
+    grip_real_t one_eg;  /* 1 - eps_gamma, eps_gamma = PECP1 (1 + PECP2 dfz)   */
+    grip_real_t gabs;    /* |gamma| (the inclination, not gamma*)              */
+    grip_real_t z1;      /* zeta1: Dx, SVx                            (4.105)  */
+    grip_real_t z2;      /* zeta2: Dy, SVy, SVyg, DVyk, Dr's LRES term (4.77)  */
+    grip_real_t z3;      /* zeta3: Kya                                 (4.79)  */
+    grip_real_t shyp;    /* SHyp, the shift that replaces the camber shift of  */
+                         /* Fy (MF 6.x)                                (4.80)  */
+    grip_real_t cr;      /* Cr = zeta7 of the residual moment          (4.E46) */
+    grip_real_t re;      /* in: Re / R0 for the estimate of Omega (mf_ts_radius), */
+                         /* 0 when Omega is given or Re cannot be formed       */
+    int camber;          /* GRIP_MF_OPT_TS_CAMBER                              */
+} mf_ts;
+
+/* |R0 phi| beyond this is limited: (PKYP1 R0^2 phi^2 stays in QS); reached
+ * only by spins beyond the input domain (|phit| <= 100 1/m with R0 < 1.5 m). */
+#define MF_TS_U_MAX RC(150.0)
+
 /* ---------------------------------------------------------------- Fx0 */
-static void mf_long_pure(const grip_mf_params *p, const mf_op *op, mf_long *out)
+static MF_ALWAYS_INLINE void mf_long_pure(const grip_mf_params *p, const mf_op *op, const mf_ts *ts,
+                                          grip_real_t emax, mf_long *out)
 {
     grip_real_t dfz = op->dfz;
     grip_real_t dpi = op->dpi;
@@ -59,7 +94,7 @@ static void mf_long_pure(const grip_mf_params *p, const mf_op *op, mf_long *out)
     grip_real_t kx = r_add(op->kappa, shx);                                          /* 4.E10 */
     grip_real_t cx = r_mul(p->pcx1, p->lcx);                                         /* 4.E11 */
     grip_real_t mux = mf_mux(p, dfz, dpi, op->gmux, op->lmux_s);                     /* 4.E13 */
-    grip_real_t dx = mux;                                                            /* 4.E12 */
+    grip_real_t dx = (ts != NULL) ? r_mul(mux, ts->z1) : mux;                        /* 4.E12 */
     grip_real_t ex = r_mul(r_mul(r_add(p->pex1, r_add(r_mul(p->pex2, dfz), r_mul(p->pex3, r_sq(dfz)))),
                                  r_sub(R_ONE, r_mul(p->pex4, r_sign(kx)))),
                            p->lex);                                                  /* 4.E14 */
@@ -68,10 +103,13 @@ static void mf_long_pure(const grip_mf_params *p, const mf_op *op, mf_long *out)
     grip_real_t kx_per = r_mul(r_mul(r_mul(r_add(p->pkx1, r_mul(p->pkx2, dfz)), r_exp(r_mul(p->pkx3, dfz))),
                                      r_add(R_ONE, r_add(r_mul(p->ppx1, dpi), r_mul(p->ppx2, r_sq(dpi))))),
                                p->lkx);
-    grip_real_t bx = mf_div_lim(kx_per, r_mul(cx, mux), MF_LIM_B);                   /* 4.E16 */
+    grip_real_t bx = mf_div_lim(kx_per, r_mul(cx, dx), MF_LIM_B);                    /* 4.E16 */
     grip_real_t svx = r_mul(r_mul(r_mul(r_add(p->pvx1, r_mul(p->pvx2, dfz)), p->lvx), op->lmux_p),
                             op->smooth);                                             /* 4.E18 */
-    ex = r_min(ex, R_ONE);
+    if (ts != NULL) {
+        svx = r_mul(svx, ts->z1);
+    }
+    ex = r_min(ex, emax);
     out->fx0 = r_add(mf_sin_curve(bx, cx, dx, ex, kx), svx);                        /* 4.E9 */
     out->kxk = kx_per;
 }
@@ -91,7 +129,7 @@ typedef struct {
     grip_real_t cy;      /* PCY1 LCY                                           */
 } mf_lat_common;
 
-static void mf_lat_common_init(const grip_mf_params *p, const mf_op *op, mf_lat_common *c)
+static MF_ALWAYS_INLINE void mf_lat_common_init(const grip_mf_params *p, const mf_op *op, mf_lat_common *c)
 {
     grip_real_t dfz = op->dfz;
     grip_real_t dpi = op->dpi;
@@ -104,9 +142,10 @@ static void mf_lat_common_init(const grip_mf_params *p, const mf_op *op, mf_lat_
     c->cy = r_mul(p->pcy1, p->lcy);                                                               /* 4.E21 */
 }
 
-/* Pure lateral force at inclination g (gamma*, scaled for MF 5.2). */
-static void mf_lat_pure(const grip_mf_params *p, const mf_op *op, const mf_lat_common *c, grip_real_t g,
-                        mf_lat *out)
+/* Pure lateral force at inclination g (gamma*, scaled for MF 5.2), with the
+ * turn slip of ts when not NULL; emax limits Ey. */
+static MF_ALWAYS_INLINE void mf_lat_body(const grip_mf_params *p, const mf_op *op, const mf_lat_common *c,
+                                         grip_real_t g, const mf_ts *ts, grip_real_t emax, mf_lat *out)
 {
     grip_real_t dfz = op->dfz;
     grip_real_t dpi = op->dpi;
@@ -122,15 +161,29 @@ static void mf_lat_pure(const grip_mf_params *p, const mf_op *op, const mf_lat_c
     grip_real_t muy = r_mul(r_mul(c->mub, r_sub(R_ONE, r_mul(p->pdy3, g2))), op->lmuy_s);         /* 4.E23 */
     grip_real_t dy = muy;                                                                         /* 4.E22 */
     grip_real_t svyg = r_mul(r_mul(r_mul(r_add(p->pvy3, r_mul(p->pvy4, dfz)), g), op->kyc), op->lmuy_p); /* 4.E28 */
-    grip_real_t svy = r_add(c->svb, svyg);                                                        /* 4.E29 */
+    grip_real_t svb = c->svb;
+    grip_real_t svy;
     grip_real_t shy = c->shb;
     grip_real_t ay;
     grip_real_t cy = c->cy;
     grip_real_t ey;
     grip_real_t by;
+    if (ts != NULL) {
+        /* turn slip: Kya times zeta3, Dy, SVy (with SVyg) times zeta2 */
+        kya = r_mul(kya, ts->z3);
+        dy = r_mul(dy, ts->z2);
+        svyg = r_mul(svyg, ts->z2);
+        svb = r_mul(svb, ts->z2);
+    }
+    svy = r_add(svb, svyg);                                                                       /* 4.E29 */
     if (op->mf52) {
-        /* MF 5.2: camber shift PHY3 * gamma_y. */
+        /* MF 5.2: camber shift PHY3 * gamma_y (MFeval keeps it with turn
+         * slip: SHyp does not enter the MF 5.2 shift). */
         shy = r_add(shy, r_mul(p->phy3, g));
+    } else if (ts != NULL) {
+        /* 4.E27 with zeta0 = 0, zeta4 = 1 + SHyp - SVyg / Kya' (4.84): the
+         * turn-slip shift replaces the camber shift */
+        shy = r_add(shy, r_sub(ts->shyp, mf_div_lim(svyg, kya, MF_LIM_SHIFT)));
     } else {
         /* MF 6.x: the camber shift follows from the camber stiffness Kyg0
          * (4.E30) and SVyg (4.E27). */
@@ -146,8 +199,8 @@ static void mf_lat_pure(const grip_mf_params *p, const mf_op *op, const mf_lat_c
                      r_sub(r_add(R_ONE, r_mul(MF6_ONLY(op, p->pey5), g2)),
                            r_mul(r_add(p->pey3, r_mul(p->pey4, g)), mf_sign1(ay)))),
                p->ley);                                                                           /* 4.E24 */
-    ey = r_min(ey, R_ONE);
-    by = mf_div_lim(kya, r_mul(cy, muy), MF_LIM_B);                                               /* 4.E26 */
+    ey = r_min(ey, emax);
+    by = mf_div_lim(kya, r_mul(cy, dy), MF_LIM_B);                                                /* 4.E26 */
     out->fy0 = r_add(mf_sin_curve(by, cy, dy, ey, ay), svy);                                      /* 4.E19 */
     out->muy = muy;
     out->kya = kya;
@@ -158,7 +211,8 @@ static void mf_lat_pure(const grip_mf_params *p, const mf_op *op, const mf_lat_c
 }
 
 /* ------------------------------------------------- Mz0 coefficients */
-static void mf_trail_coefs(const grip_mf_params *p, const mf_op *op, const mf_lat *lat, mf_trail *out)
+static MF_ALWAYS_INLINE void mf_trail_body(const grip_mf_params *p, const mf_op *op, const mf_lat *lat,
+                                           grip_real_t emax, mf_trail *out)
 {
     grip_real_t dfz = op->dfz;
     grip_real_t dpi = op->dpi;
@@ -166,6 +220,7 @@ static void mf_trail_coefs(const grip_mf_params *p, const mf_op *op, const mf_la
     grip_real_t ga = r_abs(g);
     grip_real_t ky_mu = mf_div_lim(p->lky, op->lmuy_s, MF_LIM_RATIO);       /* LKY / LMUY* */
     grip_real_t sht = r_add(r_add(p->qhz1, r_mul(p->qhz2, dfz)), r_mul(r_add(p->qhz3, r_mul(p->qhz4, dfz)), g));
+    /* grip-deviation: clang-analyzer-core.CallAndMessage false positive: mf_lat_pure writes every field of *lat (the analyzer stops following mf_lat_body) */
     grip_real_t shf = r_add(lat->shy, mf_div_lim(lat->svy, lat->kya, MF_LIM_SHIFT));              /* 4.E38 */
     grip_real_t dt_cam;
     grip_real_t bt_cam;
@@ -194,7 +249,7 @@ static void mf_trail_coefs(const grip_mf_params *p, const mf_op *op, const mf_la
     et = r_mul(r_add(p->qez1, r_add(r_mul(p->qez2, dfz), r_mul(p->qez3, r_sq(dfz)))),
                r_add(R_ONE, r_mul(r_mul(r_add(p->qez4, r_mul(p->qez5, g)), MF_2_OVER_PI),
                                   r_atan(r_mul(r_mul(bt, out->ct), out->alpha_t)))));            /* 4.E44 */
-    out->et = r_min(et, R_ONE);
+    out->et = r_min(et, emax);
     out->dt = dt;
     out->bt = bt;
     out->br = r_add(r_mul(p->qbz9, ky_mu), r_mul(r_mul(p->qbz10, lat->by), lat->cy));            /* 4.E45 */
@@ -221,10 +276,11 @@ static grip_real_t mf_residual_at(const mf_trail *tc, grip_real_t a)
 }
 
 /* Combined-slip weighting function of Fy (4.E59-E65) at inclination g. */
-static grip_real_t mf_gyk(const grip_mf_params *p, const mf_op *op, grip_real_t g)
+static MF_ALWAYS_INLINE grip_real_t mf_gyk_body(const grip_mf_params *p, const mf_op *op, grip_real_t g,
+                                                grip_real_t emax)
 {
     grip_real_t shyk = r_add(p->rhy1, r_mul(p->rhy2, op->dfz));                                   /* 4.E65 */
-    grip_real_t eyk = r_min(r_add(p->rey1, r_mul(p->rey2, op->dfz)), R_ONE);                      /* 4.E64 */
+    grip_real_t eyk = r_min(r_add(p->rey1, r_mul(p->rey2, op->dfz)), emax);     /* 4.E64 */
     grip_real_t byk = r_mul(r_mul(r_add(p->rby1, r_mul(MF6_ONLY(op, p->rby4), r_sq(g))),
                                   r_cos_atan(r_mul(p->rby2, r_sub(op->alpha, p->rby3)))),
                             p->lyka);                                                             /* 4.E62 */
@@ -232,12 +288,91 @@ static grip_real_t mf_gyk(const grip_mf_params *p, const mf_op *op, grip_real_t 
     return mf_div_lim(mf_cos_curve(byk, p->rcy1, eyk, ks), mf_cos_curve(byk, p->rcy1, eyk, shyk), MF_LIM_G);
 }
 
+/* The plain (grip_mf_eval, grip_mf_eval_pure) and extended (mf_eval_core_use)
+ * variants of the blocks above: separate functions with frames of their
+ * own, as the blocks were before the use modes (the _x ones kept out of
+ * line: GCC inlined some into the extended evaluation, whose frame then
+ * outgrew the stack budget). */
+static void mf_lat_pure(const grip_mf_params *p, const mf_op *op, const mf_lat_common *c, grip_real_t g,
+                        mf_lat *out)
+{
+    mf_lat_body(p, op, c, g, NULL, R_ONE, out);
+}
+
+static MF_NOINLINE void mf_lat_pure_x(const grip_mf_params *p, const mf_op *op, const mf_lat_common *c,
+                                      grip_real_t g, const mf_ts *ts, grip_real_t emax, mf_lat *out)
+{
+    mf_lat_body(p, op, c, g, ts, emax, out);
+}
+
+static void mf_trail_coefs(const grip_mf_params *p, const mf_op *op, const mf_lat *lat, mf_trail *out)
+{
+    mf_trail_body(p, op, lat, R_ONE, out);
+}
+
+/* with turn slip (ts not NULL): Dt times zeta5 (4.91, 4.E43), Br times
+ * zeta6 (4.102, 4.E45) */
+static MF_NOINLINE void mf_trail_coefs_x(const grip_mf_params *p, const mf_op *op, const mf_lat *lat,
+                                         const mf_ts *ts, grip_real_t emax, mf_trail *out)
+{
+    mf_trail_body(p, op, lat, emax, out);
+    if (ts != NULL) {
+        out->dt = r_mul(out->dt, r_cos_atan(r_mul(p->qdtp1, ts->u)));
+        out->br = r_mul(out->br, r_cos_atan(r_mul(p->qbrp1, ts->u)));
+    }
+}
+
+static grip_real_t mf_gyk(const grip_mf_params *p, const mf_op *op, grip_real_t g)
+{
+    return mf_gyk_body(p, op, g, R_ONE);
+}
+
+static MF_NOINLINE grip_real_t mf_gyk_x(const grip_mf_params *p, const mf_op *op, grip_real_t g, grip_real_t emax)
+{
+    return mf_gyk_body(p, op, g, emax);
+}
+
+/* The limit of the curvature factors E of an extended evaluation: 1 in
+ * MFeval's limits mode (1xx), none with GRIP_MF_OPT_NO_LIMITS (2xx); the
+ * plain variants use the constant 1. */
+static MF_ALWAYS_INLINE grip_real_t mf_emax(uint32_t mode)
+{
+    return ((mode & GRIP_MF_OPT_NO_LIMITS) != 0u) ? RC(30000.0) : R_ONE;
+}
+
 /* ------------------------------------------------------ preparation */
 
-
-static grip_status_t mf_prepare(const grip_mf_params *p, const grip_mf_input *in, mf_op *op, mf_io *io)
+/* dpi (4.E2b) of the inflation pressure pr (0: INFLPRES, else NOMPRES),
+ * limited to the domain; 0 for MF 5.2 (no pressure terms) and without
+ * NOMPRES. */
+static MF_ALWAYS_INLINE grip_real_t mf_dpi(const grip_mf_params *p, grip_real_t pr, int mf52, int *clamped)
 {
-    uint32_t opt = p->options;
+    grip_real_t dpi = R_ZERO;
+    if (!mf52 && (p->nompres > R_ZERO)) {
+        if (!(pr > R_ZERO)) {
+            pr = (p->inflpres > R_ZERO) ? p->inflpres : p->nompres;
+        }
+        if (pr < r_mul(RC(1.0 + GRIP_MF_DPI_MIN), p->nompres)) {
+            dpi = RC(GRIP_MF_DPI_MIN);
+            *clamped = 1;
+        } else if (pr > r_mul(RC(1.0 + GRIP_MF_DPI_MAX), p->nompres)) {
+            dpi = RC(GRIP_MF_DPI_MAX);
+            *clamped = 1;
+        } else {
+            dpi = r_div(r_sub(pr, p->nompres), p->nompres);                          /* 4.E2b */
+        }
+    }
+    return dpi;
+}
+
+
+/* mode: the use-mode bits of an extended evaluation (ext); the plain ones
+ * take the set's options. */
+static MF_ALWAYS_INLINE grip_status_t mf_prepare(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode,
+                                                 mf_op *op, mf_io *io, int ext)
+{
+    uint32_t opt = ext ? mode : p->options;
+    int limits = 1;
     int clamped = 0;
     grip_real_t kappa = in->kappa;
     grip_real_t alpha = in->alpha;
@@ -248,7 +383,11 @@ static grip_status_t mf_prepare(const grip_mf_params *p, const grip_mf_input *in
     grip_real_t sa;
     grip_real_t ca;
 
-    if (!mf_params_usable(p)) {
+    if (ext && ((mode & GRIP_MF_OPT_NO_LIMITS) != 0u)) {
+        limits = 0;
+    }
+    /* the plain evaluations refuse a set with a use mode, at no cost */
+    if (!(ext ? mf_params_usable(p) : mf_params_usable_plain(p))) {
         return GRIP_ERR_PARAM;
     }
     if (!r_is_finite(kappa) || !r_is_finite(alpha) || !r_is_finite(gamma) || !r_is_finite(fz) ||
@@ -298,21 +437,7 @@ static grip_status_t mf_prepare(const grip_mf_params *p, const grip_mf_input *in
     op->fz = r_div(fz, p->fnomin);
     op->fzp = r_div(op->fz, p->lfzo);                                               /* 4.E1 */
     op->dfz = r_sub(op->fzp, R_ONE);                                                /* 4.E2a */
-    op->dpi = R_ZERO;
-    if (!op->mf52 && (p->nompres > R_ZERO)) {   /* MF 5.2 has no pressure terms */
-        if (!(pr > R_ZERO)) {
-            pr = (p->inflpres > R_ZERO) ? p->inflpres : p->nompres;
-        }
-        if (pr < r_mul(RC(1.0 + GRIP_MF_DPI_MIN), p->nompres)) {
-            op->dpi = RC(GRIP_MF_DPI_MIN);
-            clamped = 1;
-        } else if (pr > r_mul(RC(1.0 + GRIP_MF_DPI_MAX), p->nompres)) {
-            op->dpi = RC(GRIP_MF_DPI_MAX);
-            clamped = 1;
-        } else {
-            op->dpi = r_div(r_sub(pr, p->nompres), p->nompres);                    /* 4.E2b */
-        }
-    }
+    op->dpi = mf_dpi(p, pr, op->mf52, &clamped);
     if (io->zero) {
         return GRIP_OK;
     }
@@ -327,7 +452,7 @@ static grip_status_t mf_prepare(const grip_mf_params *p, const grip_mf_input *in
     op->smooth = R_ONE;
     sa = r_sin(alpha);
     ca = r_cos(alpha);
-    if (p->vxlow > R_ZERO) {
+    if ((p->vxlow > R_ZERO) && limits) {
         grip_real_t avx = r_abs(vx);
         grip_real_t c = r_abs(ca);
         grip_real_t num = r_mul(avx, r_add(c, r_abs(sa)));
@@ -350,6 +475,11 @@ static grip_status_t mf_prepare(const grip_mf_params *p, const grip_mf_input *in
      * -Vsx / |Vx|), and the model uses |Vx| throughout: sgn(Vcx) = +1 in
      * 4.E3, 4.E42, 4.E47 and cos'(alpha) = |cos(alpha)|. */
     op->cosa = r_abs(ca);                                                           /* 4.E6 */
+    if (!limits && (vx == R_ZERO)) {
+        /* cos(alpha') = Vcx / (Vc + eps) is 0 at Vx = 0, where MFeval's 2xx
+         * (no low-speed model) also has sgn(Vcx) = 0 in Dr */
+        op->cosa = R_ZERO;
+    }
     if (op->book) {
         op->alpha = r_div(sa, ca);                                                  /* 4.E3 */
         op->gamma = r_sin(gamma);                                                   /* 4.E4 */
@@ -422,8 +552,12 @@ static grip_status_t mf_finish(const grip_mf_params *p, const mf_op *op, const m
     return st;
 }
 
-static grip_status_t mf_begin(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out, mf_op *op,
-                              mf_io *io)
+/* ts: the turn-slip context when the evaluation has turn slip (mode), NULL
+ * otherwise; a set that asks for turn slip where the evaluation has none
+ * (grip_mf_eval, grip_mf_eval_pure) or that lacks the turn-slip
+ * coefficients is refused. */
+static MF_ALWAYS_INLINE grip_status_t mf_begin(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode,
+                                               const mf_ts *ts, int ext, grip_mf_output *out, mf_op *op, mf_io *io)
 {
     grip_status_t st;
     if (out == NULL) {
@@ -435,7 +569,10 @@ static grip_status_t mf_begin(const grip_mf_params *p, const grip_mf_input *in, 
     if ((p == NULL) || (in == NULL)) {
         return GRIP_ERR_NULL;
     }
-    st = mf_prepare(p, in, op, io);
+    if (ext && ((mode & GRIP_MF_OPT_TURN_SLIP) != 0u) && ((ts == NULL) || !mf_turn_slip_usable(p))) {
+        return GRIP_ERR_PARAM;
+    }
+    st = mf_prepare(p, in, mode, op, io, ext);
     if ((st == GRIP_OK) && io->zero) {
         return GRIP_OK;
     }
@@ -458,17 +595,206 @@ typedef struct {
     mf_trail tc;
 } mf_pure;
 
+/* cos(atan(num / den)) = |den| / hypot(num, den), 1 for 0 / 0. */
+static grip_real_t mf_cos_atan_ratio(grip_real_t num, grip_real_t den)
+{
+    return (num == R_ZERO) ? R_ONE : mf_div_lim(r_abs(den), mf_hypot(num, den), R_ONE);
+}
+
+/* The spin of MFeval's parseInputs and the zeta factors that depend on it
+ * and the operating point alone (op after mf_prepare):
+ *   phit_e = phit cos(alpha) |Vx| / VXLOW-below-VXLOW in the limits mode
+ *            (MFeval's "empirically discovered" reduction), phit otherwise;
+ *   phi    = -phit_e - (1 - eps_gamma) Omega sin(gamma) / Vc' (MFeval's 4.76
+ *            without the book's minus sign, ISO z up; + with
+ *            GRIP_MF_OPT_TS_CAMBER), Vc' = |Vx| / cos(alpha) (alpha after
+ *            the low-speed scaling), VXLOW below VXLOW; Omega the input or
+ *            MFeval's estimate (1 + kappa) |Vx| / Re (ts->re, Re = R0 when it
+ *            cannot be formed), so that R0 Omega / Vc' = (1 + kappa)
+ *            cos(alpha) / r.
+ * phit is a rate about z: it changes sign in SAE and in the mirror image,
+ * as alpha does; |Vx| is used throughout (a given Omega changes sign with
+ * Vx < 0). Returns 1 when phit or omega was clamped to the domain. */
+static MF_NOINLINE int mf_ts_begin(const grip_mf_params *p, const grip_mf_input *in, const grip_mf_spin *spin,
+                                   uint32_t mode, const mf_op *op, const mf_io *io, mf_ts *ts)
+{
+    int clamped = 0;
+    int ignored = 0;     /* kappa, alpha, gamma, vx: mf_prepare reported them */
+    grip_real_t dfz = op->dfz;
+    grip_real_t r0 = p->unloaded_radius;
+    grip_real_t kap = mf_clamp_sym(((mode & GRIP_MF_OPT_KAPPA_BRAKE) != 0u) ? r_neg(in->kappa) : in->kappa,
+                                   RC(GRIP_MF_KAPPA_MAX), &ignored);
+    grip_real_t ain = mf_clamp_sym(in->alpha, op->book ? RC(GRIP_MF_ALPHA_MAX_BOOK) : RC(GRIP_MF_ALPHA_MAX),
+                                   &ignored);
+    grip_real_t gam = mf_clamp_sym(io->mirror ? r_neg(in->gamma) : in->gamma, RC(GRIP_MF_GAMMA_MAX), &ignored);
+    grip_real_t vx = mf_clamp_sym(in->vx, RC(GRIP_MF_VX_MAX), &ignored);
+    grip_real_t avx = r_abs(vx);
+    grip_real_t pt = mf_clamp_sym(spin->phit, RC(GRIP_MF_PHIT_MAX), &clamped);
+    grip_real_t om = mf_clamp_sym(spin->omega, RC(GRIP_MF_OMEGA_MAX), &clamped);
+    grip_real_t q;
+    grip_real_t u;
+    grip_real_t ared;
+    grip_real_t byp;
+    if (io->sae != io->mirror) {
+        pt = r_neg(pt);
+    }
+    if (vx < R_ZERO) {
+        om = r_neg(om);
+    }
+    if ((mode & GRIP_MF_OPT_NO_LIMITS) == 0u) {
+        pt = r_mul(pt, r_cos(ain));
+        if ((p->vxlow > R_ZERO) && (avx <= p->vxlow)) {
+            pt = r_mul(pt, r_div(avx, p->vxlow));
+        }
+    }
+    ts->ut = r_mul(r0, pt);
+    ts->one_eg = r_sub(R_ONE, r_mul(p->pecp1, r_add(R_ONE, r_mul(p->pecp2, dfz))));           /* 4.90 */
+    ts->gabs = r_abs(gam);
+    ts->camber = 0;
+    if ((mode & GRIP_MF_OPT_TS_CAMBER) != 0u) {
+        ts->camber = 1;
+    }
+    /* q = R0 Omega / Vc' */
+    if (om != R_ZERO) {
+        q = (avx < p->vxlow) ? mf_div_lim(r_mul(r0, om), p->vxlow, MF_LIM_RATIO)
+                             : mf_div_lim(r_mul(r_mul(r0, om), op->cosa), avx, MF_LIM_RATIO);
+    } else {
+        grip_real_t r = ts->re;
+        grip_real_t k1 = r_add(R_ONE, kap);
+        if (!(r > R_ZERO)) {
+            r = R_ONE;   /* no Re: the free radius */
+        }
+        q = (avx < p->vxlow) ? mf_div_lim(r_mul(k1, avx), r_mul(r, p->vxlow), MF_LIM_RATIO)
+                             : mf_div_lim(r_mul(k1, op->cosa), r, MF_LIM_RATIO);
+    }
+    q = r_mul(r_mul(ts->one_eg, r_sin(gam)), q);
+    u = ts->camber ? r_add(r_neg(ts->ut), q) : r_sub(r_neg(ts->ut), q);
+    u = r_clamp(u, r_neg(MF_TS_U_MAX), MF_TS_U_MAX);
+    ts->u = u;
+    /* zeta1 (4.105, 4.106) with the slip kappa of the model (low speed) */
+    ts->z1 = r_cos_atan(r_mul(r_mul(r_mul(p->pdxp1, r_add(R_ONE, r_mul(p->pdxp2, dfz))),
+                                    r_cos_atan(r_mul(p->pdxp3, op->kappa))),
+                              u));
+    /* zeta2 (4.77, 4.78): cos(atan(PDYP3 tan alpha)) of the slip angle
+     * after the low-speed scaling (not alpha*) */
+    ared = op->book ? r_atan(op->alpha) : op->alpha;
+    byp = r_mul(r_mul(p->pdyp1, r_add(R_ONE, r_mul(p->pdyp2, dfz))),
+                mf_cos_atan_ratio(r_mul(p->pdyp3, r_sin(ared)), r_cos(ared)));
+    ts->z2 = r_cos_atan(r_mul(byp, r_add(r_abs(u), r_mul(p->pdyp4, r_sqrt(r_abs(u))))));
+    ts->z3 = r_cos_atan(r_mul(p->pkyp1, r_sq(u)));                                           /* 4.79 */
+    ts->cr = R_ONE;
+    ts->shyp = R_ZERO;
+    if (!op->mf52 && (vx != R_ZERO)) {
+        /* SHyp (4.80-4.89): D_Hyp sin(C_Hyp atan(B_Hyp R0 phi - E_Hyp (...)))
+         * with B_Hyp = Kyg0 / ((1 - eps_gamma) C_Hyp D_Hyp Kya0), Kya0 the
+         * cornering stiffness at gamma = 0 times zeta3, all per unit load.
+         * MFeval's sgn(Vcx) makes it 0 at Vx = 0. */
+        grip_real_t kyd = r_add(R_ONE, r_mul(p->ppy2, op->dpi));
+        grip_real_t kya0 = r_mul(r_mul(r_mul(r_mul(p->pky1, r_add(R_ONE, r_mul(p->ppy1, op->dpi))),
+                                             mf_div_lim(r_sin(r_mul(p->pky4, mf_atan_ratio(op->fzp, r_mul(p->pky2, kyd)))),
+                                                        op->fzp, MF_LIM_B)),
+                                       p->lky),
+                                 ts->z3);
+        grip_real_t kyg0 = r_mul(r_mul(r_add(p->pky6, r_mul(p->pky7, dfz)), r_add(R_ONE, r_mul(p->ppy5, op->dpi))),
+                                 op->kyc);
+        grip_real_t dhyp = r_add(p->phyp2, r_mul(p->phyp3, dfz));                             /* 4.86 */
+        grip_real_t bhyp = mf_div_lim(kyg0, r_mul(r_mul(ts->one_eg, r_mul(p->phyp1, dhyp)), kya0), MF_LIM_B);
+        ts->shyp = mf_sin_curve(bhyp, p->phyp1, dhyp, r_min(p->phyp4, mf_emax(mode)), u);
+    }
+    return clamped;
+}
+
+/* The turn-slip parts of the residual moment (MFeval's calculateMz0),
+ * per Fz R0: returns Drp (zeta8 - 1, 4.94-4.99) and sets ts->cr = zeta7 =
+ * 2/pi acos(x), x = Mzp90 / |Drp| (4.103) limited to [-1, 1] (MFeval's
+ * acos of x > 1 is complex; its reported Mz grows without bound there, and
+ * is Inf/NaN where Drp = 0). At phit_e = 0 (and phi = 0 with
+ * GRIP_MF_OPT_TS_CAMBER) both vanish and x is the ratio of their slopes
+ * Mzp_inf 2/pi QCRP2 Gyk / |Kzgr0 / (1 - eps_gamma)|. Kzgr0 as MFeval
+ * writes it, Fz R0 (QDZ8 QDZ9 dfz + QDZ10 + QDZ11 dfz |gamma|) LKZC of
+ * phit_e; with GRIP_MF_OPT_TS_CAMBER Fz R0 (QDZ8 + QDZ9 dfz + (QDZ10 +
+ * QDZ11 dfz) |gamma|) LKZC (the camber stiffness of Dr) of phi. */
+static MF_NOINLINE grip_real_t mf_ts_moment(const grip_mf_params *p, const mf_op *op, mf_ts *ts, grip_real_t muy,
+                                grip_real_t gyk)
+{
+    grip_real_t dfz = op->dfz;
+    grip_real_t q10 = MF6_ONLY(op, p->qdz10);
+    grip_real_t q11 = MF6_ONLY(op, p->qdz11);
+    /* Mzp_inf / (Fz R0) (4.95) */
+    grip_real_t m = r_max(r_mul(r_mul(r_mul(p->qcrp1, r_abs(muy)), r_sqrt(op->fzp)), p->lmp), R_ZERO);
+    grip_real_t ddrp = mf_div_lim(m, r_sin(r_mul(p->qdrp1, RC(1.5707963267949))), MF_LIM_RATIO);  /* 4.94 */
+    grip_real_t kz;
+    grip_real_t arg;
+    grip_real_t den;
+    grip_real_t drp = R_ZERO;
+    grip_real_t x;
+    grip_real_t f90 = r_mul(r_mul(m, MF_2_OVER_PI), gyk);
+    if (ts->camber) {
+        kz = r_mul(r_add(r_add(p->qdz8, r_mul(p->qdz9, dfz)), r_mul(r_add(q10, r_mul(q11, dfz)), ts->gabs)), op->kzc);
+        arg = ts->u;
+    } else {
+        kz = r_mul(r_add(r_mul(r_mul(p->qdz8, p->qdz9), dfz), r_add(q10, r_mul(r_mul(q11, dfz), ts->gabs))), op->kzc);
+        arg = ts->ut;
+    }
+    den = r_mul(p->qdrp1, ddrp);
+    if (den > R_ZERO) {
+        /* Drp = DDrp sin(CDrp atan(BDrp R0 phi)), BDrp R0 phi = Kzgr0 R0 phi /
+         * ((1 - eps_gamma) CDrp DDrp): an atan2 keeps DDrp -> 0 finite */
+        grip_real_t num = mf_div_lim(r_mul(kz, arg), ts->one_eg, MF_LIM_RATIO);
+        drp = r_mul(ddrp, r_sin(r_mul(p->qdrp1, r_atan2(num, den))));
+    }
+    if ((ts->ut == R_ZERO) && (arg == R_ZERO)) {
+        x = mf_div_lim(r_mul(r_mul(f90, p->qcrp2), r_abs(ts->one_eg)), r_abs(kz), R_ONE);
+    } else {
+        x = mf_div_lim(r_mul(f90, r_atan(r_mul(p->qcrp2, r_abs(ts->ut)))), r_abs(drp), R_ONE);
+    }
+    ts->cr = r_mul(MF_2_OVER_PI, r_atan2(r_sqrt(r_sub(R_ONE, r_sq(x))), x));                  /* acos(x) */
+    return drp;
+}
+
 /* Status of the evaluation; the caller returns it at once when it is an
  * error or when io.zero (Fz <= 0: zero outputs). */
 static grip_status_t mf_pure_begin(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out,
                                    mf_pure *s)
 {
-    grip_status_t st = mf_begin(p, in, out, &s->op, &s->io);
+    grip_status_t st = mf_begin(p, in, 0u, NULL, 0, out, &s->op, &s->io);
     if ((st < 0) || s->io.zero) {
         return st;
     }
-    mf_long_pure(p, &s->op, &s->lon);
+    mf_long_pure(p, &s->op, NULL, R_ONE, &s->lon);
     mf_lat_common_init(p, &s->op, &s->latc);
+    return st;
+}
+
+/* The same with the use modes of `mode` (mf_pure_begin_x), in three steps
+ * called one after the other from the evaluation, so that their frames do
+ * not add up on the deepest stack path: the operating point
+ * (mf_begin_x), the turn slip (mf_ts_begin, when ts is not NULL), the pure
+ * longitudinal force and the common lateral factors (mf_pure_rest_x). */
+static MF_NOINLINE grip_status_t mf_begin_x(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode,
+                                            const mf_ts *ts, grip_mf_output *out, mf_pure *s)
+{
+    return mf_begin(p, in, mode, ts, 1, out, &s->op, &s->io);
+}
+
+static MF_NOINLINE void mf_pure_rest_x(const grip_mf_params *p, mf_pure *s, const mf_ts *ts, grip_real_t emax)
+{
+    mf_long_pure(p, &s->op, ts, emax, &s->lon);
+    mf_lat_common_init(p, &s->op, &s->latc);
+}
+
+static MF_ALWAYS_INLINE grip_status_t mf_pure_begin_x(const grip_mf_params *p, const grip_mf_input *in,
+                                                      const grip_mf_spin *spin, uint32_t mode, grip_real_t emax,
+                                                      grip_mf_output *out, mf_pure *s, mf_ts *ts)
+{
+    grip_status_t st = mf_begin_x(p, in, mode, ts, out, s);
+    if ((st < 0) || s->io.zero) {
+        return st;
+    }
+    if ((ts != NULL) && mf_ts_begin(p, in, spin, mode, &s->op, &s->io, ts)) {
+        st = GRIP_WARN_CLAMPED;
+    }
+    mf_pure_rest_x(p, s, ts, emax);
     return st;
 }
 
@@ -477,12 +803,17 @@ static grip_status_t mf_pure_begin(const grip_mf_params *p, const grip_mf_input 
  * inputs), else evaluated into s->lat0 (sharing s->latc). Forced inline:
  * called from three evaluations, it would otherwise get a frame of its own
  * on the deepest stack path (+16 B on the Cortex-M0+). */
-static MF_ALWAYS_INLINE const mf_lat *mf_lat_gamma0(const grip_mf_params *p, mf_pure *s)
+static MF_ALWAYS_INLINE const mf_lat *mf_lat_gamma0(const grip_mf_params *p, mf_pure *s, const mf_ts *ts, int ext,
+                                                    grip_real_t emax)
 {
     if (s->op.gy == R_ZERO) {
         return &s->lat;
     }
-    mf_lat_pure(p, &s->op, &s->latc, R_ZERO, &s->lat0);
+    if (ext) {
+        mf_lat_pure_x(p, &s->op, &s->latc, R_ZERO, ts, emax, &s->lat0);
+    } else {
+        mf_lat_pure(p, &s->op, &s->latc, R_ZERO, &s->lat0);
+    }
     return &s->lat0;
 }
 
@@ -500,7 +831,7 @@ grip_status_t grip_mf_eval_pure(const grip_mf_params *p, const grip_mf_input *in
     mf_trail_coefs(p, &s.op, &s.lat, &s.tc);
     /* Mz0' = -t0 Fy0 (4.E32). MF 6.x uses Fy0 at gamma = 0 (camber acts on
      * Mz through Mzr); MF 5.2 the pure lateral force itself. */
-    fy_ref = s.op.mf52 ? s.lat.fy0 : mf_lat_gamma0(p, &s)->fy0;
+    fy_ref = s.op.mf52 ? s.lat.fy0 : mf_lat_gamma0(p, &s, NULL, 0, R_ONE)->fy0;
     t0 = mf_trail_at(&s.op, &s.tc, s.tc.alpha_t);                          /* 4.E33 */
     if (!s.op.book) {
         t0 = r_mul(t0, p->lfzo);         /* MF-Tyre scales the trail by LFZO */
@@ -533,11 +864,19 @@ static grip_real_t mf_alpha_eq(const mf_op *op, grip_real_t a, grip_real_t kxk, 
 }
 
 /* The combined evaluation; x != NULL also captures the intermediates of the
- * extended outputs (mf_core). Inlined into its two callers. */
+ * extended outputs (mf_core); ext (a constant in each caller): with the use
+ * modes of `mode` (the _x variants); re: Re / R0 for turn slip's estimate
+ * of Omega (mf_ts_radius). Inlined into its callers. */
 static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const grip_mf_input *in,
-                                                  grip_mf_output *out, mf_core *x)
+                                                  const grip_mf_spin *spin, uint32_t mode, grip_real_t re,
+                                                  grip_mf_output *out, mf_core *x, int ext)
 {
     mf_pure s;
+    mf_ts ts = { R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, 0 };
+    /* turn slip only with the capture of the extended outputs: NULL (and
+     * compiled away) in grip_mf_eval */
+    mf_ts *tsp = (ext && ((mode & GRIP_MF_OPT_TURN_SLIP) != 0u)) ? &ts : NULL;
+    grip_real_t emax = ext ? mf_emax(mode) : R_ONE;
     grip_real_t fx;
     grip_real_t fy;
     grip_real_t mz;
@@ -548,9 +887,12 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
     grip_real_t t;
     grip_real_t mzr;
     grip_real_t sarm;
-    grip_status_t st = mf_pure_begin(p, in, out, &s);
+    grip_status_t st;
     const mf_op *op = &s.op;
+    ts.re = re;
+    st = ext ? mf_pure_begin_x(p, in, spin, mode, emax, out, &s, tsp) : mf_pure_begin(p, in, out, &s);
     if ((x != NULL) && (st >= 0)) {
+        x->op.mode = mode;
         x->op.fz_ql = s.op.fz_ql;
         x->op.fz = s.op.fz;
         x->op.fzp = s.op.fzp;
@@ -564,15 +906,22 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
     if ((st < 0) || s.io.zero) {
         return st;
     }
-    mf_lat_pure(p, op, &s.latc, op->gy, &s.lat);
-    mf_trail_coefs(p, op, &s.lat, &s.tc);
+    if (ext) {
+        mf_lat_pure_x(p, op, &s.latc, op->gy, tsp, emax, &s.lat);
+        mf_trail_coefs_x(p, op, &s.lat, tsp, emax, &s.tc);
+    } else {
+        mf_lat_pure(p, op, &s.latc, op->gy, &s.lat);
+        mf_trail_coefs(p, op, &s.lat, &s.tc);
+    }
+    if (tsp != NULL) {
+    }
 
     /* Fx = Gxa Fx0 (4.E50-E57). */
     {
         grip_real_t bxa = r_mul(r_mul(r_add(p->rbx1, r_mul(MF6_ONLY(op, p->rbx3), r_sq(op->gx))),
                                       r_cos_atan(r_mul(p->rbx2, op->kappa))),
                                 p->lxal);                                                         /* 4.E54 */
-        grip_real_t exa = r_min(r_add(p->rex1, r_mul(p->rex2, op->dfz)), R_ONE);                   /* 4.E56 */
+        grip_real_t exa = r_min(r_add(p->rex1, r_mul(p->rex2, op->dfz)), emax);  /* 4.E56 */
         grip_real_t as = r_add(op->alpha, p->rhx1);                                                /* 4.E53 */
         grip_real_t gxa = mf_div_lim(mf_cos_curve(bxa, p->rcx1, exa, as), mf_cos_curve(bxa, p->rcx1, exa, p->rhx1),
                                      MF_LIM_G);                                                   /* 4.E51-52 */
@@ -584,9 +933,22 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
         grip_real_t dvy = r_add(r_add(p->rvy1, r_mul(p->rvy2, op->dfz)), r_mul(p->rvy3, op->gy));
         grip_real_t dva = r_cos_atan(r_mul(p->rvy4, op->alpha));
         grip_real_t svk = r_sin(r_mul(p->rvy5, r_atan(r_mul(p->rvy6, op->kappa))));
+        /* grip-deviation: clang-analyzer-core.CallAndMessage false positive: mf_lat_pure writes every field of s.lat (the analyzer stops following mf_lat_body) */
         grip_real_t dvyk = r_mul(r_mul(s.lat.muy, dvy), dva);                                      /* 4.E67 */
+        if (tsp != NULL) {
+            dvyk = r_mul(dvyk, tsp->z2);
+        }
         svyk = r_mul(r_mul(r_mul(dvyk, svk), p->lvyka), op->smooth);                               /* 4.E66 */
-        gyk = mf_gyk(p, op, op->gy);
+        gyk = ext ? mf_gyk_x(p, op, op->gy, emax) : mf_gyk(p, op, op->gy);
+        if (tsp != NULL) {
+            /* 4.E47 with zeta0 = 0 (the camber term goes: the spin carries
+             * it), zeta2 on the LRES term, zeta8 - 1 = Drp; Cr = zeta7 */
+            grip_real_t drp = mf_ts_moment(p, op, tsp, s.lat.muy, gyk);
+            s.tc.dr = r_add(r_mul(r_mul(r_mul(r_mul(r_add(p->qdz6, r_mul(p->qdz7, op->dfz)), p->lres), tsp->z2),
+                                        op->lmuy_s),
+                                  op->cosa),
+                            drp);
+        }
         fy = r_add(r_mul(gyk, s.lat.fy0), svyk);
         /* MF 5.2: the SVyk of Fy' = Fy - SVyk. MFeval (calculateMz) forms it
          * with mu_y at gamma = 0 (its muy_sub0; RVY3 keeps gamma); with
@@ -608,7 +970,11 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
         sarm = r_mul(r_add(r_add(p->ssz1, r_mul(p->ssz2, fy_rel)),
                            r_mul(r_add(p->ssz3, r_mul(p->ssz4, op->dfz)), op->gz)),
                      p->ls);
-        mzr = mf_residual_at(&s.tc, ar_eq);                                                         /* 4.E75 */
+        if (tsp != NULL) {
+            mzr = r_mul(s.tc.dr, r_cos(r_mul(tsp->cr, r_atan(r_mul(s.tc.br, ar_eq)))));             /* 4.E75 */
+        } else {
+            mzr = mf_residual_at(&s.tc, ar_eq);                                                     /* 4.E75 */
+        }
         t = mf_trail_at(op, &s.tc, at_eq);                                                         /* 4.E73 */
         if (op->book) {
             mzr = r_mul(mzr, op->cosa);   /* the book keeps cos'(alpha) in the combined Mzr too */
@@ -622,7 +988,9 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
         } else {
             /* MF 6.x: Fy' = Gyk Fy0(gamma = 0) (4.E74); MF-Tyre keeps the
              * inclination in Gyk, the book evaluates Gyk at gamma = 0 too. */
-            fy_prime = r_mul(op->book ? mf_gyk(p, op, R_ZERO) : gyk, mf_lat_gamma0(p, &s)->fy0);
+            /* grip-deviation: clang-analyzer-core.CallAndMessage false positive: mf_lat_pure writes every field of s.lat0 (the analyzer stops following mf_lat_body) */
+            fy_prime = r_mul(op->book ? (ext ? mf_gyk_x(p, op, R_ZERO, emax) : mf_gyk(p, op, R_ZERO)) : gyk,
+                             mf_lat_gamma0(p, &s, tsp, ext, emax)->fy0);
         }
         mz = r_add(r_sub(mzr, r_mul(t, fy_prime)), r_mul(sarm, fx));                                 /* 4.E71 */
     }
@@ -640,10 +1008,38 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
 
 grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out)
 {
-    return mf_combined(p, in, out, NULL);
+    return mf_combined(p, in, NULL, 0u, R_ZERO, out, NULL, 0);
 }
 
-grip_status_t mf_eval_core(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out, mf_core *x)
+/* The two variants of the extended evaluation, functions of their own
+ * (inlined into one function their frames would add up on the deepest
+ * stack path of grip_mf_eval_ext, tests/firmware/check.sh). */
+grip_status_t mf_eval_core(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode, grip_mf_output *out,
+                           mf_core *x)
 {
-    return mf_combined(p, in, out, x);
+    return mf_combined(p, in, NULL, mode, R_ZERO, out, x, 0);
+}
+
+grip_status_t mf_eval_core_use(const grip_mf_params *p, const grip_mf_input *in, const grip_mf_spin *spin,
+                               uint32_t mode, grip_real_t re, grip_mf_output *out, mf_core *x)
+{
+    return mf_combined(p, in, spin, mode, re, out, x, 1);
+}
+
+grip_real_t mf_ts_radius(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode)
+{
+    int ignored = 0;
+    int mf52 = 0;
+    grip_real_t kap = mf_clamp_sym(((mode & GRIP_MF_OPT_KAPPA_BRAKE) != 0u) ? r_neg(in->kappa) : in->kappa,
+                                   RC(GRIP_MF_KAPPA_MAX), &ignored);
+    grip_real_t vx = mf_clamp_sym(in->vx, RC(GRIP_MF_VX_MAX), &ignored);
+    grip_real_t fz = ((mode & GRIP_MF_OPT_SAE) != 0u) ? r_neg(in->fz) : in->fz;
+    if (!mf_params_usable(p) || !(fz > R_ZERO)) {
+        return R_ZERO;
+    }
+    if ((p->fittyp == 5) || (p->fittyp == 6) || (p->fittyp == 21)) {
+        mf52 = 1;
+    }
+    fz = r_min(fz, r_mul(RC(GRIP_MF_FZ_MAX_REL), p->fnomin));
+    return mf_rolling_radius(p, kap, vx, r_div(fz, p->fnomin), mf_dpi(p, in->p, mf52, &ignored));
 }

@@ -55,7 +55,8 @@ static grip_real_t mf_times(grip_real_t x, grip_real_t s, grip_real_t max, grip_
     if ((r_abs(x) <= RC(2.0)) && (as <= r_mul(RC(0.5), max))) {
         return r_mul(x, s);   /* the common case, without a division */
     }
-    if ((r_abs(x) > MF_QS_MAX) || ((as > small) && (r_abs(x) > r_div(max, as)))) {
+    /* written as "not within" so that a NaN x (float build) is flagged too */
+    if (!(r_abs(x) <= MF_QS_MAX) || ((as > small) && !(r_abs(x) <= r_div(max, as)))) {
         *ok = 0;
         return R_ZERO;
     }
@@ -108,6 +109,7 @@ typedef struct {
     grip_real_t kap;     /* kappa (ISO, clamped, before the low-speed scaling) */
     grip_real_t gam;     /* gamma (ISO, mirrored, clamped; not gamma*)         */
     grip_real_t vx;      /* vx, signed                                         */
+    grip_real_t omega;   /* the input's wheel spin [rad/s] (clamped), 0: none  */
     grip_real_t fz;      /* Fz / FNOMIN (0 when unloaded)                      */
     grip_real_t fx0;     /* combined Fx / FNOMIN, Fy / FNOMIN (0 unloaded)     */
     grip_real_t fy0;
@@ -140,8 +142,10 @@ typedef struct {
  * likewise) or, when that is far (b > a^3), a + b^(1/3) (f >= 0 there).
  * Three steps reach 1e-13 relative for a in [0.3, 1.5], b in [0, 30]
  * (the domain's worst, vx = 300 m/s, kappa = 1.5, Q_V1 = 7e-4: b = 1.4);
- * the last step must be below MF_RE_TOL. No root when b < -4 a^3 / 27. */
-static void ext_radius(ext_ctx *e)
+ * the last step must be below MF_RE_TOL. No root when b < -4 a^3 / 27.
+ * Forced inline: with a second caller (mf_rolling_radius) GCC made it a
+ * call, +150 x86 instructions per grip_mf_eval_ext. */
+static MF_ALWAYS_INLINE void ext_radius(ext_ctx *e)
 {
     const grip_mf_params *p = e->p;
     int i;
@@ -152,6 +156,31 @@ static void ext_radius(ext_ctx *e)
     grip_real_t r;
     grip_real_t step = R_ONE;
     e->re_ok = 0;
+    if (e->omega != R_ZERO) {
+        /* Omega given (MFeval's input column 8): Re = Romega(Omega) -
+         * deflection, nothing to iterate. w = Omega R0 / LONGVL, |w| < 181
+         * (w^2 in QS); u = w r and b = Q_V1 w^2 r^2 keep Romega = Q_RE0 +
+         * b / r^2 and R0 |Omega| / LONGVL = |u| / r of the estimate. */
+        grip_real_t w;
+        grip_real_t bw;
+        if (!e->has_cz || !(r_mul(RC(0.001), p->fnomin) < e->r0czp) ||
+            !(r_mul(r_abs(r_mul(e->omega, p->unloaded_radius)), RC(1.0 / 181.0)) < p->longvl)) {
+            return;
+        }
+        k = r_div(p->fnomin, e->r0czp);
+        a = r_sub(p->q_re0, r_mul(k, r_add(r_mul(p->dreff, r_atan(r_mul(p->breff, e->fz))), r_mul(p->freff, e->fz))));
+        w = r_div(r_mul(e->omega, p->unloaded_radius), p->longvl);
+        bw = r_mul(p->q_v1, r_sq(w));
+        r = r_add(a, bw);
+        if (!(a > RC(0.01)) || !(r <= MF_RE_MAX)) {
+            return;
+        }
+        e->r = r;
+        e->u = r_mul(w, r);
+        e->b = r_mul(bw, r_sq(r));
+        e->re_ok = 1;
+        return;
+    }
     /* FNOMIN / (Cz R0) < 1000, and |u| < 181 (u^2 in QS) */
     num = r_mul(r_add(R_ONE, e->kap), e->vx);
     if (!e->has_cz || !(r_mul(RC(0.001), p->fnomin) < e->r0czp) ||
@@ -196,6 +225,27 @@ static void ext_radius(ext_ctx *e)
     e->r = r;
     e->b = b;
     e->re_ok = 1;
+}
+
+/* every field zero (a static object): the start of a context */
+static const ext_ctx EXT_CTX_ZERO;
+
+grip_real_t mf_rolling_radius(const grip_mf_params *p, grip_real_t kap, grip_real_t vx, grip_real_t fz,
+                              grip_real_t dpi)
+{
+    ext_ctx e = EXT_CTX_ZERO;
+    int ok = 1;
+    e.p = p;
+    e.kap = kap;
+    e.vx = vx;
+    e.fz = fz;
+    e.omega = R_ZERO;
+    e.r = R_ZERO;
+    e.czp = mf_times_ql(r_add(R_ONE, r_mul(p->pfz1, dpi)), p->vertical_stiffness, &ok);
+    e.r0czp = mf_times_ql(p->unloaded_radius, e.czp, &ok);
+    e.has_cz = ok && (p->vertical_stiffness > R_ZERO) && (e.czp > R_ZERO);
+    ext_radius(&e);
+    return e.re_ok ? e.r : R_ZERO;
 }
 
 /* Romega / R0 and R0 |Omega| / LONGVL = |u| / r, for the vertical model. */
@@ -746,10 +796,13 @@ static const grip_mf_output_ext EXT_ZERO = { R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_Z
                                              R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO,
                                              R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, 0u };
 
-/* *v not finite: 0 and its bit cleared. */
-static inline void ext_finite(grip_real_t *v, uint32_t bit, uint32_t *valid)
+/* A requested channel that is not finite: 0 and its bit cleared (also when
+ * already flagged: a flagged channel may hold a NaN that a NaN coefficient
+ * brought before its format check; found by tests/fuzz/fuzz_mf.c). The
+ * others are still EXT_ZERO. */
+static inline void ext_finite(grip_real_t *v, uint32_t bit, uint32_t outputs, uint32_t *valid)
 {
-    if (((*valid & bit) != 0u) && !r_is_finite(*v)) {
+    if (((outputs & bit) != 0u) && !r_is_finite(*v)) {
         *v = R_ZERO;
         *valid &= ~bit;
     }
@@ -757,24 +810,38 @@ static inline void ext_finite(grip_real_t *v, uint32_t bit, uint32_t *valid)
 
 /* The inputs as the model saw them, before the low-speed scaling: the
  * conventions and clamps of mf_prepare (mf_eval.c) for kappa, gamma, vx. */
-static void ext_inputs(const grip_mf_params *p, const grip_mf_input *in, const mf_io *io, ext_ctx *e)
+static int ext_inputs(const grip_mf_params *p, const grip_mf_input *in, const grip_mf_spin *spin, const mf_io *io,
+                      ext_ctx *e)
 {
     int clamped = 0;
+    int om_clamped = 0;
     grip_real_t kap = ((p->options & GRIP_MF_OPT_KAPPA_BRAKE) != 0u) ? r_neg(in->kappa) : in->kappa;
     grip_real_t gam = io->mirror ? r_neg(in->gamma) : in->gamma;
     e->kap = mf_clamp_sym(kap, RC(GRIP_MF_KAPPA_MAX), &clamped);
     e->gam = mf_clamp_sym(gam, RC(GRIP_MF_GAMMA_MAX), &clamped);
     e->vx = mf_clamp_sym(in->vx, RC(GRIP_MF_VX_MAX), &clamped);
+    e->omega = mf_clamp_sym(spin->omega, RC(GRIP_MF_OMEGA_MAX), &om_clamped);
+    return om_clamped;   /* the others were reported by mf_prepare */
 }
+
+/* no turn slip, the spin estimated: grip_mf_eval_ext's */
+static const grip_mf_spin SPIN_ZERO;
 
 grip_status_t grip_mf_eval_ext(const grip_mf_params *p, const grip_mf_input *in, uint32_t outputs,
                                grip_mf_output_ext *out)
+{
+    return grip_mf_eval_ext_spin(p, in, NULL, outputs, out);
+}
+
+grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input *in, const grip_mf_spin *spin,
+                                    uint32_t outputs, grip_mf_output_ext *out)
 {
     mf_core c;
     ext_ctx e;
     grip_mf_output base;
     grip_status_t st;
     uint32_t valid = 0u;
+    uint32_t mode;
     int ok;
     grip_real_t fzr0;
     grip_real_t kxk = R_ZERO;
@@ -788,10 +855,32 @@ grip_status_t grip_mf_eval_ext(const grip_mf_params *p, const grip_mf_input *in,
     if ((p == NULL) || (in == NULL)) {
         return GRIP_ERR_NULL;
     }
-    if ((outputs & ~GRIP_MF_EXT_ALL) != 0u) {
+    if (((outputs & ~(GRIP_MF_EXT_ALL | GRIP_MF_USE_ALL)) != 0u) ||
+        ((outputs & (GRIP_MF_USE_TURN_SLIP | GRIP_MF_USE_NO_TURN_SLIP)) ==
+         (GRIP_MF_USE_TURN_SLIP | GRIP_MF_USE_NO_TURN_SLIP)) ||
+        ((outputs & (GRIP_MF_USE_LIMITS | GRIP_MF_USE_NO_LIMITS)) == (GRIP_MF_USE_LIMITS | GRIP_MF_USE_NO_LIMITS))) {
         return GRIP_ERR_INPUT;
     }
-    st = mf_eval_core(p, in, &base, &c);
+    if (spin == NULL) {
+        spin = &SPIN_ZERO;
+    }
+    mode = mf_mode_use(p->options, outputs);
+    outputs &= GRIP_MF_EXT_ALL;
+    /* the spin and the turn slip (float build: NaN and infinities) */
+    if (!r_is_finite(spin->omega) || (((mode & GRIP_MF_OPT_TURN_SLIP) != 0u) && !r_is_finite(spin->phit))) {
+        return GRIP_ERR_INPUT;
+    }
+    if (((mode | p->options) & (GRIP_MF_OPT_TURN_SLIP | GRIP_MF_OPT_NO_LIMITS)) == 0u) {
+        /* no use mode in the set or the call: the plain variant, the cost
+         * of before the use modes */
+        st = mf_eval_core(p, in, mode, &base, &c);
+    } else {
+        st = mf_eval_core_use(p, in, spin, mode,
+                              (((mode & GRIP_MF_OPT_TURN_SLIP) != 0u) && (spin->omega == R_ZERO))
+                                  ? mf_ts_radius(p, in, mode)
+                                  : R_ZERO,
+                              &base, &c);
+    }
     out->fx = base.fx;
     out->fy = base.fy;
     out->mz = base.mz;
@@ -801,7 +890,9 @@ grip_status_t grip_mf_eval_ext(const grip_mf_params *p, const grip_mf_input *in,
 
     e.p = p;
     e.c = &c;
-    ext_inputs(p, in, &c.io, &e);
+    if (ext_inputs(p, in, spin, &c.io, &e) && (st == GRIP_OK)) {
+        st = GRIP_WARN_CLAMPED;
+    }
     e.loaded = c.io.zero ? 0 : 1;
     if (!e.loaded) {
         c.fx = R_ZERO;
@@ -853,12 +944,18 @@ grip_status_t grip_mf_eval_ext(const grip_mf_params *p, const grip_mf_input *in,
             valid |= ok ? GRIP_MF_EXT_RE : 0u;
         }
         if (e.re_ok && ((outputs & GRIP_MF_EXT_OMEGA) != 0u)) {
-            /* (1 + kappa) vx / Re = u LONGVL / Re: below 30000 rad/s */
+            /* (1 + kappa) vx / Re = u LONGVL / Re: below 30000 rad/s; or
+             * the input's Omega */
             grip_real_t re = r_mul(e.r, p->unloaded_radius);
             grip_real_t num = r_mul(r_add(R_ONE, e.kap), e.vx);
-            if (r_mul(r_abs(num), RC(1.0 / 30000.0)) < re) {
+            if (e.omega != R_ZERO) {
+                out->omega = e.omega;
+                valid |= GRIP_MF_EXT_OMEGA;
+            } else if (r_mul(r_abs(num), RC(1.0 / 30000.0)) < re) {
                 out->omega = r_div(num, re);
                 valid |= GRIP_MF_EXT_OMEGA;
+            } else {
+                /* beyond the format: flagged */
             }
         }
         if ((outputs & (GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ)) != 0u) {
@@ -883,7 +980,8 @@ grip_status_t grip_mf_eval_ext(const grip_mf_params *p, const grip_mf_input *in,
         valid |= GRIP_MF_EXT_MUX;
     }
     if ((outputs & GRIP_MF_EXT_MUY) != 0u) {
-        out->muy = r_abs(c.muy);
+        /* MFeval reports |mu_y| in its limits mode (1xx), mu_y in 2xx */
+        out->muy = ((mode & GRIP_MF_OPT_NO_LIMITS) != 0u) ? c.muy : r_abs(c.muy);
         valid |= GRIP_MF_EXT_MUY;
     }
     if ((outputs & (GRIP_MF_EXT_KXK | GRIP_MF_EXT_SIGMAX)) != 0u) {
@@ -929,25 +1027,27 @@ grip_status_t grip_mf_eval_ext(const grip_mf_params *p, const grip_mf_input *in,
     /* a non-finite coefficient that only a channel uses (grip_mf_check_params
      * rejects it; the evaluation does not repeat that check): the channel is
      * flagged, never NaN (float build; compiles away in the fixed build) */
-    ext_finite(&out->re, GRIP_MF_EXT_RE, &valid);
-    ext_finite(&out->omega, GRIP_MF_EXT_OMEGA, &valid);
-    ext_finite(&out->rl, GRIP_MF_EXT_RL, &valid);
-    ext_finite(&out->rho, GRIP_MF_EXT_RHO, &valid);
-    ext_finite(&out->cz, GRIP_MF_EXT_CZ, &valid);
-    ext_finite(&out->contact_length, GRIP_MF_EXT_LENGTH, &valid);
-    ext_finite(&out->contact_width, GRIP_MF_EXT_WIDTH, &valid);
-    ext_finite(&out->t, GRIP_MF_EXT_T, &valid);
-    ext_finite(&out->mzr, GRIP_MF_EXT_MZR, &valid);
-    ext_finite(&out->mux, GRIP_MF_EXT_MUX, &valid);
-    ext_finite(&out->muy, GRIP_MF_EXT_MUY, &valid);
-    ext_finite(&out->kxk, GRIP_MF_EXT_KXK, &valid);
-    ext_finite(&out->kya, GRIP_MF_EXT_KYA, &valid);
-    ext_finite(&out->cx, GRIP_MF_EXT_CX, &valid);
-    ext_finite(&out->cy, GRIP_MF_EXT_CY, &valid);
-    ext_finite(&out->sigmax, GRIP_MF_EXT_SIGMAX, &valid);
-    ext_finite(&out->sigmay, GRIP_MF_EXT_SIGMAY, &valid);
-    ext_finite(&out->mx, GRIP_MF_EXT_MX, &valid);
-    ext_finite(&out->my, GRIP_MF_EXT_MY, &valid);
+    if (outputs != 0u) {
+        ext_finite(&out->re, GRIP_MF_EXT_RE, outputs, &valid);
+        ext_finite(&out->omega, GRIP_MF_EXT_OMEGA, outputs, &valid);
+        ext_finite(&out->rl, GRIP_MF_EXT_RL, outputs, &valid);
+        ext_finite(&out->rho, GRIP_MF_EXT_RHO, outputs, &valid);
+        ext_finite(&out->cz, GRIP_MF_EXT_CZ, outputs, &valid);
+        ext_finite(&out->contact_length, GRIP_MF_EXT_LENGTH, outputs, &valid);
+        ext_finite(&out->contact_width, GRIP_MF_EXT_WIDTH, outputs, &valid);
+        ext_finite(&out->t, GRIP_MF_EXT_T, outputs, &valid);
+        ext_finite(&out->mzr, GRIP_MF_EXT_MZR, outputs, &valid);
+        ext_finite(&out->mux, GRIP_MF_EXT_MUX, outputs, &valid);
+        ext_finite(&out->muy, GRIP_MF_EXT_MUY, outputs, &valid);
+        ext_finite(&out->kxk, GRIP_MF_EXT_KXK, outputs, &valid);
+        ext_finite(&out->kya, GRIP_MF_EXT_KYA, outputs, &valid);
+        ext_finite(&out->cx, GRIP_MF_EXT_CX, outputs, &valid);
+        ext_finite(&out->cy, GRIP_MF_EXT_CY, outputs, &valid);
+        ext_finite(&out->sigmax, GRIP_MF_EXT_SIGMAX, outputs, &valid);
+        ext_finite(&out->sigmay, GRIP_MF_EXT_SIGMAY, outputs, &valid);
+        ext_finite(&out->mx, GRIP_MF_EXT_MX, outputs, &valid);
+        ext_finite(&out->my, GRIP_MF_EXT_MY, outputs, &valid);
+    }
     out->valid = valid;
     return st;
 }

@@ -19,6 +19,30 @@
 #include "arith.h"
 #include "grip/grip_mf.h"
 
+/* Forces the inlining of the combined evaluation into grip_mf_eval,
+ * mf_eval_core and mf_eval_core_use: each keeps one frame (no wrapper frame under
+ * grip_mf_eval, whose worst-case stack the estimator's step adds to, and
+ * the capture of the intermediates compiles away from grip_mf_eval); and
+ * of the blocks and small helpers that the plain and the extended variants
+ * of mf_eval.c share, so that each variant has the code of one caller
+ * (-Os made mf_sin_curve, mf_atan_ratio, mf_mux calls once they had two:
+ * +110 Cortex-M0+ instructions per grip_mf_eval). GCC and clang; other
+ * compilers inline as they see fit (the stack budget is measured with
+ * arm-none-eabi-gcc). */
+#if defined(__GNUC__)
+#define MF_ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define MF_ALWAYS_INLINE inline
+#endif
+
+/* Keeps a function out of line (its frame apart from its caller's: see
+ * mf_eval_core_use). */
+#if defined(__GNUC__)
+#define MF_NOINLINE __attribute__((noinline))
+#else
+#define MF_NOINLINE
+#endif
+
 /* Operating point shared by all parts of one evaluation. */
 typedef struct {
     grip_real_t fz_ql;   /* Fz [N] (QL), after clamping                        */
@@ -46,6 +70,26 @@ typedef struct {
     int mf52;            /* FITTYP 5, 6, 21                                    */
     int book;            /* GRIP_MF_OPT_BOOK                                   */
 } mf_op;
+
+/* The use-mode bits of an evaluation (GRIP_MF_OPT_* of the set, switched
+ * per call by grip_mf_eval_ext's GRIP_MF_USE_* bits). */
+static inline uint32_t mf_mode_use(uint32_t opt, uint32_t use)
+{
+    uint32_t m = opt;
+    if ((use & GRIP_MF_USE_TURN_SLIP) != 0u) {
+        m |= GRIP_MF_OPT_TURN_SLIP;
+    }
+    if ((use & GRIP_MF_USE_NO_TURN_SLIP) != 0u) {
+        m &= ~GRIP_MF_OPT_TURN_SLIP;
+    }
+    if ((use & GRIP_MF_USE_NO_LIMITS) != 0u) {
+        m |= GRIP_MF_OPT_NO_LIMITS;
+    }
+    if ((use & GRIP_MF_USE_LIMITS) != 0u) {
+        m &= ~GRIP_MF_OPT_NO_LIMITS;
+    }
+    return m;
+}
 
 /* Conventions of one evaluation. */
 typedef struct {
@@ -99,7 +143,7 @@ static inline grip_real_t mf_hypot(grip_real_t a, grip_real_t b)
 
 /* atan(num / den) for num >= 0 and any den (den == 0 gives pi/2 for
  * num > 0), without forming the quotient. */
-static inline grip_real_t mf_atan_ratio(grip_real_t num, grip_real_t den)
+static MF_ALWAYS_INLINE grip_real_t mf_atan_ratio(grip_real_t num, grip_real_t den)
 {
     grip_real_t a = r_atan2(num, den);
     if (den < R_ZERO) {
@@ -117,7 +161,7 @@ static inline grip_real_t mf_shape(grip_real_t b, grip_real_t c, grip_real_t e, 
 }
 
 /* D sin(C atan(B x - E (B x - atan(B x)))): the sine version (forces). */
-static inline grip_real_t mf_sin_curve(grip_real_t b, grip_real_t c, grip_real_t d, grip_real_t e,
+static MF_ALWAYS_INLINE grip_real_t mf_sin_curve(grip_real_t b, grip_real_t c, grip_real_t d, grip_real_t e,
                                        grip_real_t x)
 {
     return r_mul(d, r_sin(mf_shape(b, c, e, x)));
@@ -136,11 +180,25 @@ static inline grip_real_t mf_sign1(grip_real_t a)
     return (a < R_ZERO) ? r_neg(R_ONE) : R_ONE;
 }
 
-/* Structural validity of a parameter set (cheap; done on every call). */
+/* Structural validity of a parameter set (cheap; done on every call);
+ * _plain for grip_mf_eval and grip_mf_eval_pure, which refuse the use-mode
+ * bits (turn slip, no limits: grip_mf_eval_ext's). */
 int mf_params_usable(const grip_mf_params *p);
+int mf_params_usable_plain(const grip_mf_params *p);
+
+/* The set has what the turn-slip equations divide by: PHYP1 > 0 (C_Hyp)
+ * and 0 < QDRP1 < 2 (C_Drp, sin(pi/2 C_Drp) > 0). */
+int mf_turn_slip_usable(const grip_mf_params *p);
+
+/* Re / R0 of MFeval's calculateRe at the operating point (kappa, vx as the
+ * model takes them before the low-speed scaling, Fz / FNOMIN, dpi): the
+ * fixed point with Omega = (1 + kappa) vx / Re (the spin not given). 0 when
+ * it cannot be formed (no VERTICAL_STIFFNESS, no root). */
+grip_real_t mf_rolling_radius(const grip_mf_params *p, grip_real_t kap, grip_real_t vx, grip_real_t fz,
+                              grip_real_t dpi);
 
 /* mu_x (4.E13) at dfz, dpi, the camber of mu_x and LMUX*. */
-static inline grip_real_t mf_mux(const grip_mf_params *p, grip_real_t dfz, grip_real_t dpi, grip_real_t gmux,
+static MF_ALWAYS_INLINE grip_real_t mf_mux(const grip_mf_params *p, grip_real_t dfz, grip_real_t dpi, grip_real_t gmux,
                                  grip_real_t lmux_s)
 {
     return r_mul(r_mul(r_mul(r_add(p->pdx1, r_mul(p->pdx2, dfz)),
@@ -159,6 +217,7 @@ typedef struct {
     grip_real_t gmux;    /* camber of mu_x, LMUX* (mu_x by mf_mux)             */
     grip_real_t lmux_s;
     int mf52;
+    uint32_t mode;       /* the use-mode bits of the evaluation                */
 } mf_ext_op;
 
 /* What the extended outputs (mf_ext.c) take from one combined evaluation:
@@ -176,10 +235,30 @@ typedef struct {
     grip_real_t fy;
 } mf_core;
 
-/* grip_mf_eval, and also the intermediates the extended outputs need into
+/* grip_mf_eval with the use modes of `mode` (GRIP_MF_OPT_* bits, turn slip
+ * included), and also the intermediates the extended outputs need into
  * *x (x->op and x->io whenever the status is not an error, also for
- * Fz <= 0, when the op holds Fz = 0; the rest only for Fz > 0). */
-grip_status_t mf_eval_core(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out, mf_core *x);
+ * Fz <= 0, when the op holds Fz = 0; the rest only for Fz > 0), in two
+ * variants the caller picks: mf_eval_core when neither mode nor the set
+ * has a use mode (turn slip, no limits; the combined evaluation of
+ * grip_mf_eval, bit for bit), mf_eval_core_use otherwise. The caller
+ * calls them directly (no dispatching function between: its frame would
+ * add to grip_mf_eval_ext's deepest stack path). spin: the turn slip and
+ * the spin (not NULL); re: with turn slip and no given Omega,
+ * mf_ts_radius(p, in, mode); else 0. */
+grip_status_t mf_eval_core(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode, grip_mf_output *out,
+                           mf_core *x);
+grip_status_t mf_eval_core_use(const grip_mf_params *p, const grip_mf_input *in, const grip_mf_spin *spin,
+                               uint32_t mode, grip_real_t re, grip_mf_output *out, mf_core *x);
+
+/* Re / R0 at kappa, Vx, Fz and the pressure as mf_prepare takes them (with
+ * the sign conventions of mode): the rolling radius of turn slip's estimate
+ * of Omega (the spin from camber), 0 when it cannot be formed. The caller
+ * of mf_eval_core_use forms it before the evaluation, not within it, so that
+ * the iteration's stack does not add to the evaluation's frame (the
+ * firmware's stack budget). The inputs are checked by the evaluation (a
+ * result of refused inputs is not used). */
+grip_real_t mf_ts_radius(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode);
 
 /* x clamped to [-lim, lim]; *clamped set when it was outside. */
 static inline grip_real_t mf_clamp_sym(grip_real_t x, grip_real_t lim, int *clamped)
@@ -195,16 +274,5 @@ static inline grip_real_t mf_clamp_sym(grip_real_t x, grip_real_t lim, int *clam
     return x;
 }
 
-/* Forces the inlining of the combined evaluation into grip_mf_eval and
- * into mf_eval_core: each keeps one frame (no wrapper frame under
- * grip_mf_eval, whose worst-case stack the estimator's step adds to, and
- * the capture of the intermediates compiles away from grip_mf_eval). GCC
- * and clang; other compilers inline as they see fit (the stack budget is
- * measured with arm-none-eabi-gcc). */
-#if defined(__GNUC__)
-#define MF_ALWAYS_INLINE inline __attribute__((always_inline))
-#else
-#define MF_ALWAYS_INLINE inline
-#endif
 
 #endif /* GRIP_MF_INTERNAL_H */

@@ -3,6 +3,7 @@
  *
  *   grip-tire [--model mf] [--tir FILE] [--pure] [--side left|right]
  *             [--sae] [--kappa-braking] [--mz52-svyk-camber] [--outputs LIST]
+ *             [--use-mode NNN] [--turn-slip] [--ts-camber]
  *             [--no-status] [--prefix STR] < in.csv > out.csv
  *
  * Reads CSV on standard input whose header names at least the columns
@@ -13,6 +14,10 @@
  * adds the Magic Formula's extended channels (grip_mf_eval_ext, MFeval's
  * channel names, unit in the column name); a channel that is not available
  * at a row (docs/magic-formula-c.md section 8) is an empty field.
+ * --use-mode takes MFeval's three-digit useMode (1xx/2xx limits, xx1/xx2
+ * turn slip; x2x is refused) and --turn-slip is xx2; with turn slip the
+ * column phit [1/m] is read, and a column omega [rad/s] (the wheel's spin,
+ * 0: estimated) is read whenever present.
  *
  * Models are entries of MODELS[] below; a model needs a name, a set-up
  * function (read its parameter file) and an evaluation function on SI
@@ -47,14 +52,16 @@
  * file without a line end). */
 #define TIRE_LINE_MAX 65536
 
-/* Model inputs and outputs, in this order. */
-enum { IN_KAPPA, IN_ALPHA, IN_GAMMA, IN_FZ, IN_P, IN_VX, N_IN };
+/* Model inputs and outputs, in this order: the six every model needs,
+ * then the Magic Formula's turn slip and wheel spin (optional columns, 0
+ * when absent). */
+enum { IN_KAPPA, IN_ALPHA, IN_GAMMA, IN_FZ, IN_P, IN_VX, N_REQ, IN_PHIT = N_REQ, IN_OMEGA, N_IN };
 enum { OUT_FX, OUT_FY, OUT_MZ, N_OUT };
 
-static const char *const IN_NAMES[N_IN] = { "kappa", "alpha", "gamma", "fz", "p", "vx" };
+static const char *const IN_NAMES[N_IN] = { "kappa", "alpha", "gamma", "fz", "p", "vx", "phit", "omega" };
 static const char *const OUT_NAMES[N_OUT] = { "fx", "fy", "mz" };
 /* fixed-point format of each: 1 = QL (forces, pressure), 0 = QS */
-static const int IN_QL[N_IN] = { 0, 0, 0, 1, 1, 0 };
+static const int IN_QL[N_IN] = { 0, 0, 0, 1, 1, 0, 0, 0 };
 static const int OUT_QL[N_OUT] = { 1, 1, 1 };
 
 /* The Magic Formula's extended channels (--outputs), in the column order
@@ -100,6 +107,9 @@ typedef struct {
     int sae;
     int kappa_braking;
     int mz52_svyk_camber;
+    int turn_slip;         /* --turn-slip, --use-mode xx2 */
+    int no_limits;         /* --use-mode 2xx */
+    int ts_camber;         /* --ts-camber */
     const char *outputs;   /* --outputs LIST, or NULL */
     int n_ext;             /* the extended channels asked for, in order */
     int ext[32];
@@ -173,6 +183,20 @@ static int mf_setup(const cli_options *o, model_ctx *m, char *err, size_t errlen
     if (o->mz52_svyk_camber) {
         m->u.mf.options |= GRIP_MF_OPT_MZ52_SVYK_CAMBER;
     }
+    if (o->no_limits) {
+        m->u.mf.options |= GRIP_MF_OPT_NO_LIMITS;
+    }
+    if (o->ts_camber) {
+        m->u.mf.options |= GRIP_MF_OPT_TS_CAMBER;
+    }
+    if (o->turn_slip) {
+        m->u.mf.options |= GRIP_MF_OPT_TURN_SLIP;
+        if (m->u.mf.phyp1 <= (grip_real_t)0 || m->u.mf.qdrp1 <= (grip_real_t)0) {
+            snprintf(err, errlen, "%s: turn slip needs the file's [TURNSLIP_COEFFICIENTS] (PHYP1 > 0, 0 < QDRP1 < 2)",
+                     o->tir);
+            return -1;
+        }
+    }
     {
         grip_check_detail_t d;
         st = grip_mf_check_params_detail(&m->u.mf, &d);
@@ -199,6 +223,7 @@ static grip_status_t mf_eval(const model_ctx *m, const grip_real_t in[N_IN], gri
     grip_mf_input x;
     grip_mf_output y;
     grip_status_t st;
+    memset(&x, 0, sizeof x);
     x.kappa = in[IN_KAPPA];
     x.alpha = in[IN_ALPHA];
     x.gamma = in[IN_GAMMA];
@@ -219,6 +244,7 @@ static grip_status_t mf_eval_ext_row(const model_ctx *m, const cli_options *o, c
                                      grip_real_t out[N_OUT], double ext[], int ok[])
 {
     grip_mf_input x;
+    grip_mf_spin s;
     grip_mf_output_ext y;
     grip_status_t st;
     uint32_t mask = 0u;
@@ -229,10 +255,12 @@ static grip_status_t mf_eval_ext_row(const model_ctx *m, const cli_options *o, c
     x.fz = in[IN_FZ];
     x.p = in[IN_P];
     x.vx = in[IN_VX];
+    s.phit = in[IN_PHIT];
+    s.omega = in[IN_OMEGA];
     for (i = 0; i < o->n_ext; i++) {
         mask |= EXT_CHANNELS[o->ext[i]].bit;
     }
-    st = grip_mf_eval_ext(&m->u.mf, &x, mask, &y);
+    st = grip_mf_eval_ext_spin(&m->u.mf, &x, &s, mask, &y);
     out[OUT_FX] = y.fx;
     out[OUT_FY] = y.fy;
     out[OUT_MZ] = y.mz;
@@ -316,6 +344,7 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: grip-tire [--model NAME] [--tir FILE] [--pure] [--side left|right]\n"
             "                 [--sae] [--kappa-braking] [--mz52-svyk-camber] [--outputs LIST]\n"
+            "                 [--use-mode NNN] [--turn-slip] [--ts-camber]\n"
             "                 [--no-status] [--prefix STR] [--dump-params] [--strict]\n"
             "                 [--no-range-check] < in.csv > out.csv\n"
             "\n"
@@ -346,6 +375,13 @@ static void usage(FILE *f)
             "  --mz52-svyk-camber  mf, MF 5.2 files: combined Mz with Fy' = Fy - SVyk of Fy\n"
             "                    (cambered mu_y) instead of MFeval's SVyk with mu_y at\n"
             "                    gamma = 0 (GRIP_MF_OPT_MZ52_SVYK_CAMBER)\n"
+            "  --use-mode NNN    mf: MFeval's useMode: 1xx limits (default), 2xx none (no\n"
+            "                    low-speed model, no E <= 1); xx1 no turn slip (default),\n"
+            "                    xx2 turn slip; x2x (alpha* = tan alpha) is not available\n"
+            "  --turn-slip       mf: turn slip (useMode xx2): reads the column phit [1/m]\n"
+            "                    (and omega [rad/s] when present; 0 = estimated)\n"
+            "  --ts-camber       mf, turn slip: the camber's spin with the sign that keeps\n"
+            "                    the camber thrust (docs/magic-formula.md section 10)\n"
             "  --no-status       do not append the status column\n"
             "  --prefix STR      prefix of the appended column names (e.g. model_)\n"
             "  --dump-params     print the loaded parameters (SI, as stored in this\n"
@@ -444,6 +480,25 @@ static int parse_args(int argc, char **argv, cli_options *o)
             o->kappa_braking = 1;
         } else if (strcmp(a, "--mz52-svyk-camber") == 0) {
             o->mz52_svyk_camber = 1;
+        } else if (strcmp(a, "--turn-slip") == 0) {
+            o->turn_slip = 1;
+        } else if (strcmp(a, "--ts-camber") == 0) {
+            o->ts_camber = 1;
+        } else if (strcmp(a, "--use-mode") == 0 && i + 1 < argc) {
+            const char *s = argv[++i];
+            if (strlen(s) != 3 || (s[0] != '1' && s[0] != '2') || (s[1] != '1' && s[1] != '2') ||
+                (s[2] != '1' && s[2] != '2')) {
+                fprintf(stderr, "grip-tire: --use-mode: '%s' is not one of MFeval's useModes (1|2)(1|2)(1|2)\n", s);
+                return -1;
+            }
+            if (s[1] == '2') {
+                fprintf(stderr, "grip-tire: --use-mode %s: alpha* = tan(alpha) (MFeval's x2x) is not available: "
+                                "MFeval mixes gamma and gamma* term by term there; the library's GRIP_MF_OPT_BOOK "
+                                "(the book's forms) is the nearest (docs/magic-formula-c.md section 9)\n", s);
+                return -1;
+            }
+            o->no_limits = (s[0] == '2');
+            o->turn_slip = (s[2] == '2');
         } else if (strcmp(a, "--outputs") == 0 && i + 1 < argc) {
             o->outputs = argv[++i];
         } else if (strcmp(a, "--no-status") == 0) {
@@ -525,7 +580,7 @@ static int read_header(const char *line, const cli_options *o, header_map *h)
             }
         }
     }
-    for (i = 0; i < N_IN; i++) {
+    for (i = 0; i < N_REQ; i++) {
         if (h->col[i] < 0) {
             fprintf(stderr,
                     "grip-tire: <stdin>:1: header: missing column '%s' (need kappa,alpha,gamma,fz,p,vx)\n",
@@ -533,6 +588,11 @@ static int read_header(const char *line, const cli_options *o, header_map *h)
             free(work);
             return -1;
         }
+    }
+    if (o->turn_slip && h->col[IN_PHIT] < 0) {
+        fprintf(stderr, "grip-tire: <stdin>:1: header: missing column 'phit' (turn slip [1/m])\n");
+        free(work);
+        return -1;
     }
     /* the appended names must not collide with input columns */
     for (k = 0; k < N_OUT + o->n_ext + 1; k++) {
@@ -602,7 +662,12 @@ static int process_row(const tire_model *model, const model_ctx *m, const cli_op
         goto write;
     }
     for (i = 0; i < N_IN; i++) {
-        const char *f = rec.field[h->col[i]];
+        const char *f;
+        if (h->col[i] < 0) {
+            in[i] = 0.0;   /* an optional column that is absent */
+            continue;
+        }
+        f = rec.field[h->col[i]];
         if (csv_number(f, &in[i]) != 0) {
             fprintf(stderr, "grip-tire: <stdin>:%lu: column '%s': '%s' is not a finite number\n",
                     lineno, IN_NAMES[i], f);
@@ -618,7 +683,8 @@ static int process_row(const tire_model *model, const model_ctx *m, const cli_op
             goto write;
         }
     }
-    if (o->n_ext > 0) {
+    if (o->n_ext > 0 || o->turn_slip || o->no_limits) {
+        /* the use modes are evaluated by grip_mf_eval_ext only */
         status = (int)mf_eval_ext_row(m, o, rin, rout, ext, ext_ok);
     } else {
         status = (int)model->eval(m, rin, rout);
@@ -706,6 +772,15 @@ int main(int argc, char **argv)
     if (o.n_ext > 0 && (strcmp(model->name, "mf") != 0 || o.pure)) {
         fprintf(stderr, "grip-tire: --outputs needs the combined-slip mf model (not --model %s%s)\n", model->name,
                 o.pure ? ", --pure" : "");
+        return EXIT_USAGE;
+    }
+    if ((o.turn_slip || o.no_limits || o.ts_camber) && strcmp(model->name, "mf") != 0) {
+        fprintf(stderr, "grip-tire: --use-mode, --turn-slip and --ts-camber are options of the mf model (not --model %s)\n",
+                model->name);
+        return EXIT_USAGE;
+    }
+    if ((o.turn_slip || o.no_limits) && o.pure) {
+        fprintf(stderr, "grip-tire: the use modes are evaluated with combined slip only (not with --pure)\n");
         return EXIT_USAGE;
     }
     memset(&m, 0, sizeof m);

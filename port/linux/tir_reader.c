@@ -1013,8 +1013,9 @@ static int check_use_mode(const entry *x, grip_tir_values *out, const err_ctx *e
     case 4:
         break;
     case 5:
-        return fail(e, x->line, "USE_MODE", "%d asks for combined slip with turn slip; grip's Magic Formula has "
-                    "no turn slip (write USE_MODE = %d for combined slip without it)", (int)m, (int)(m - 1));
+        return fail(e, x->line, "USE_MODE", "%d asks for combined slip with turn slip; grip takes turn slip per "
+                    "call, not from the file (grip_mf_eval_ext with GRIP_MF_USE_TURN_SLIP, grip-tire --turn-slip): "
+                    "write USE_MODE = %d and ask for it there", (int)m, (int)(m - 1));
     default:
         return fail(e, x->line, "USE_MODE", "%d: units digit %d is not a slip calculation of MF-Tyre (0..5)",
                     (int)m, slip);

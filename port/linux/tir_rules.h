@@ -71,7 +71,9 @@
 
 /*
  * Keys MF-Tyre, MF-Swift, Adams PAC2002 and MFeval (readTIR) define that
- * grip does not use: accepted in any known section, never read. Sources:
+ * grip does not use: accepted in any known section, never read (the
+ * turn-slip keys, LMP and [TURNSLIP_COEFFICIENTS], are coefficients of
+ * grip_mf_coefs.h). Sources:
  * MFeval's readTIR parameter list, the MF-Tyre 5.2 / PAC2002 property
  * files in tests/data, the MF-Tyre USE_MODE documentation.
  */
@@ -128,29 +130,9 @@
     X(ELLIPS_NLENGTH) \
     X(ENV_C1) \
     X(ENV_C2) \
-    X(LMP) \
     X(LGYR) \
     X(QTZ1) \
-    X(MBELT) \
-    X(PDXP1) \
-    X(PDXP2) \
-    X(PDXP3) \
-    X(PKYP1) \
-    X(PDYP1) \
-    X(PDYP2) \
-    X(PDYP3) \
-    X(PDYP4) \
-    X(PHYP1) \
-    X(PHYP2) \
-    X(PHYP3) \
-    X(PHYP4) \
-    X(PECP1) \
-    X(PECP2) \
-    X(QDTP1) \
-    X(QCRP1) \
-    X(QCRP2) \
-    X(QBRP1) \
-    X(QDRP1)
+    X(MBELT)
 
 /*
  * Plausibility ranges, in SI units after the [UNITS] conversion, of every
@@ -208,6 +190,7 @@
     X("PKY1", ABS, 0.1, 1000.0, "cornering stiffness Ky/Fz0") \
     X("QBZ1", ABS, 0.1, 1000.0, "trail stiffness factor B") \
     X("PD*", ABS, 0.0, 100.0, "friction coefficient") \
+    X("PHYP*", ABS, 0.0, 100.0, "turn-slip shift coefficient [-]") \
     X("PH*", ABS, 0.0, 1.0, "horizontal shift [-]") \
     X("RH*", ABS, 0.0, 1.0, "horizontal shift [-]") \
     X("QH*", ABS, 0.0, 1.0, "horizontal shift [-]") \

@@ -48,6 +48,8 @@ static const grip_mf_params *mf61;
 static const grip_mf_params *mf52;
 static const grip_mf_params *mf62;
 static grip_mf_input mf_in[BENCH_INPUTS];
+static grip_mf_spin mf_ts_in[BENCH_INPUTS];    /* a turn slip for mf_in, spin estimated */
+static grip_mf_spin mf_tsw_in[BENCH_INPUTS];   /* ... with the spin given */
 static volatile grip_real_t mf_sink;
 
 static const grip_mf_params *tire_named(const char *name)
@@ -124,6 +126,10 @@ static void mf_setup(void)
         mf_in[i].fz = load[(i + i / 4) % 4];
         mf_in[i].p = R_ZERO;
         mf_in[i].vx = RC(20.0);
+        mf_ts_in[i].omega = R_ZERO;
+        mf_ts_in[i].phit = (i % 4 == 0) ? R_ZERO : ((i % 4 == 1) ? RC(0.5) : ((i % 4 == 2) ? RC(-1.0) : RC(2.0)));
+        mf_tsw_in[i] = mf_ts_in[i];
+        mf_tsw_in[i].omega = r_mul(r_add(R_ONE, mf_in[i].kappa), RC(20.0 / 0.3865));   /* (1 + kappa) vx / Re */
     }
 }
 
@@ -176,6 +182,30 @@ static void b_mf62_ext_rl(int i)
     mf_sink = out.rl;
 }
 
+/* Turn slip (grip_mf_eval_ext only): the forces alone without and with
+ * it (the spin estimated from Re, or given), so that the difference is the
+ * cost of the turn slip. */
+static void b_mf61_ext_forces(int i)
+{
+    grip_mf_output_ext out;
+    (void)grip_mf_eval_ext(mf61, &mf_in[i], 0u, &out);
+    mf_sink = out.mz;
+}
+
+static void b_mf61_ext_turn_slip(int i)
+{
+    grip_mf_output_ext out;
+    (void)grip_mf_eval_ext_spin(mf61, &mf_in[i], &mf_ts_in[i], GRIP_MF_USE_TURN_SLIP, &out);
+    mf_sink = out.mz;
+}
+
+static void b_mf61_ext_turn_slip_omega(int i)
+{
+    grip_mf_output_ext out;
+    (void)grip_mf_eval_ext_spin(mf61, &mf_in[i], &mf_tsw_in[i], GRIP_MF_USE_TURN_SLIP, &out);
+    mf_sink = out.mz;
+}
+
 static void b_mf52_ext_re_sigma_k(int i)
 {
     grip_mf_output_ext out;
@@ -190,6 +220,8 @@ const bench_case bench_cases[] = {
     { "mf52_combined_fx_fy_mz", b_mf52_combined },
     { "mf61_ext_re_sigma_k", b_mf61_ext_re_sigma_k }, { "mf61_ext_all", b_mf61_ext_all },
     { "mf62_ext_rl", b_mf62_ext_rl }, { "mf52_ext_re_sigma_k", b_mf52_ext_re_sigma_k },
+    { "mf61_ext_forces", b_mf61_ext_forces }, { "mf61_ext_turn_slip", b_mf61_ext_turn_slip },
+    { "mf61_ext_turn_slip_omega", b_mf61_ext_turn_slip_omega },
     { "r_mul", b_r_mul }, { "r_div", b_r_div }, { "r_sqrt", b_r_sqrt },
     { "r_atan2", b_r_atan2 }, { "r_sin", b_r_sin }, { "r_exp", b_r_exp },
     { "r_atan", b_r_atan }, { "r_cos", b_r_cos },

@@ -39,6 +39,20 @@ def main():
            (1.5, 1.5, 0.5, 40000.0, 500000.0, 300.0), (-1.0, 0.02, 0.0, 2000.0, 0.0, 0.5)]
     for i, (k, a, g, fz, p, vx) in enumerate(ops):
         put('mf', 'op%d' % i, bytes([i, (i * 7) & 0x1F]) + qs(k) + qs(a) + qs(g) + ql(fz) + ql(p) + qs(vx))
+    # ... then phit omega, flags (1 no limits, 2 turn slip camber form, 4 an
+    # invalid option bit, 8 raw request, 16 grip_mf_eval_ext: no spin
+    # argument), the request word of
+    # grip_mf_eval_ext (0x7FFFF: every channel; 1 << 24: turn slip on,
+    # 1 << 26: no limits). Sets 5, 7, 8, 9 (FSAE, MF 6.1, 6.2, PacejkaBook)
+    # have the turn-slip coefficients; option byte bit 7 asks for turn slip.
+    ts = [(5, 0x80, 0.5, 0.0, 0, 0x7FFFF), (7, 0x00, -2.0, 45.0, 0, 0x7FFFF | (1 << 24)),
+          (8, 0x80, 1.0, 0.0, 2, 0x7FFFF), (9, 0x80, 0.0, 0.0, 1, 0x7FFFF | (1 << 26)),
+          (6, 0x80, 1.0, 0.0, 0, 0x7FFFF), (7, 0x00, 3.0, 0.0, 0, (1 << 24) | (1 << 25)),
+          (5, 0x80, 2.0, 30.0, 16, 0x7FFFF)]
+    for i, (st, opt, ph, om, flags, req) in enumerate(ts):
+        k, a, g, fz, p, vx = ops[1 + i % 3]
+        put('mf', 'ts%d' % i, bytes([st, opt]) + qs(k) + qs(a) + qs(g) + ql(fz) + ql(p) + qs(vx) + qs(ph) + qs(om)
+            + bytes([flags]) + req.to_bytes(4, 'little'))
     # fuzz_mf89: alpha fz gamma lo hi
     for i, (a, fz, g) in enumerate([(0.1, 4000.0, 0.0), (-0.4, 9000.0, 0.1), (0.01, 100.0, -0.05)]):
         put('mf89', 'op%d' % i, qs(a) + ql(fz) + qs(g) + ql(1000.0) + ql(8000.0))

@@ -77,9 +77,22 @@ static void test_mf(void **state)
     assert_int_equal(grip_mf_check_params_detail(&p, &d), GRIP_ERR_PARAM);
     expect_detail(&d, "", -1, "tyreside", "+1");
     p = *valid_mf();
-    p.options = 0x100u;
+    p.options = 0x200u;   /* the first bit above GRIP_MF_OPT_ALL */
     assert_int_equal(grip_mf_check_params_detail(&p, &d), GRIP_ERR_PARAM);
     expect_detail(&d, "", -1, "options", "GRIP_MF_OPT_");
+    /* turn slip without its coefficients */
+    p = *valid_mf();
+    p.options = GRIP_MF_OPT_TURN_SLIP;
+    p.phyp1 = q(0.0);
+    p.qdrp1 = q(1.0);
+    assert_int_equal(grip_mf_check_params_detail(&p, &d), GRIP_ERR_PARAM);
+    expect_detail(&d, "", -1, "phyp1", "> 0 with GRIP_MF_OPT_TURN_SLIP");
+    p.phyp1 = q(1.0);
+    p.qdrp1 = q(2.0);
+    assert_int_equal(grip_mf_check_params_detail(&p, &d), GRIP_ERR_PARAM);
+    expect_detail(&d, "", -1, "qdrp1", "in (0, 2)");
+    p.qdrp1 = q(1.0);
+    assert_int_equal(grip_mf_check_params_detail(&p, &d), GRIP_OK);
     p = *valid_mf();
     p.lmuv = q(0.5);
     p.longvl = q(0.05);

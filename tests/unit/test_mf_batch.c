@@ -140,6 +140,26 @@ static void test_every_tire_bit_identical(void **s)
 }
 
 /* Every option bit (one set), also bit-identical. */
+/* A set with a use mode of grip_mf_eval_ext (turn slip, no limits): every
+ * point GRIP_ERR_PARAM with zero outputs, as the single calls. */
+static void check_refused(const grip_mf_params *p, int pure)
+{
+    int k;
+    fill_points(p->fnomin, p->nompres);
+    memset(g_out, 0x5A, sizeof g_out);
+    memset(g_st, 0x5A, sizeof g_st);
+    assert_int_equal(pure ? grip_mf_eval_pure_batch(p, NPTS, g_in, g_out, g_st)
+                          : grip_mf_eval_batch(p, NPTS, g_in, g_out, g_st),
+                     GRIP_ERR_PARAM);
+    for (k = 0; k < NPTS; k++) {
+        grip_mf_output one;
+        assert_int_equal(pure ? grip_mf_eval_pure(p, &g_in[k], &one) : grip_mf_eval(p, &g_in[k], &one),
+                         GRIP_ERR_PARAM);
+        assert_int_equal(g_st[k], GRIP_ERR_PARAM);
+        assert_true(g_out[k].fx == 0 && g_out[k].fy == 0 && g_out[k].mz == 0);
+    }
+}
+
 static void test_options(void **s)
 {
     grip_mf_params q = *grip_test_tires[0].params;
@@ -147,7 +167,12 @@ static void test_options(void **s)
     (void)s;
     for (o = 0u; o <= GRIP_MF_OPT_ALL; o++) {
         q.options = o;
-        check_set(&q, 0, "options");
+        if ((o & (GRIP_MF_OPT_TURN_SLIP | GRIP_MF_OPT_NO_LIMITS)) != 0u) {
+            check_refused(&q, 0);
+            check_refused(&q, 1);
+        } else {
+            check_set(&q, 0, "options");
+        }
     }
 }
 

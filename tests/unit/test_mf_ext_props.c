@@ -5,8 +5,10 @@
  * slip stiffnesses as the slopes of the pure-slip forces, the sign rules of
  * the mirror and SAE options, and the formats at the corners of the input
  * domain and beyond it (finite values; a channel that does not fit its
- * format is flagged, never saturated or wrapped). Tolerances next to each
- * check (docs/magic-formula-c.md section 8).
+ * format is flagged, never saturated or wrapped); the use modes and turn
+ * slip: their arguments and refusals, the clamps of phit and omega, the
+ * mirror and SAE signs of phit, the limit at phit = 0. Tolerances next to
+ * each check (docs/magic-formula-c.md sections 8 and 9).
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -76,6 +78,7 @@ static double val(const grip_mf_output_ext *o, int j)
 static grip_mf_input mk(double kappa, double alpha, double gamma, double fz, double p, double vx)
 {
     grip_mf_input in;
+    memset(&in, 0, sizeof in);
     in.kappa = to_qs(kappa);
     in.alpha = to_qs(alpha);
     in.gamma = to_qs(gamma);
@@ -462,6 +465,152 @@ static void test_ext_format_ends(void **state)
     }
 }
 
+/* The use modes' arguments and refusals: both bits of a pair, a NaN spin
+ * (float), turn slip on a set without its coefficients (every output 0,
+ * nothing valid); grip_mf_eval and grip_mf_eval_pure refuse a set that asks
+ * for turn slip or no limits; grip_mf_check_params accepts turn slip only
+ * with the coefficients; phit is not read without turn slip; the set's
+ * option and the per-call bit give the same result bit for bit. */
+static void test_use_mode_arguments(void **state)
+{
+    const grip_mf_params *p = tire("MagicFormula61_Paramerters");
+    const grip_mf_params *p52 = tire("MagicFormula52_Paramerters");
+    grip_mf_params q = *p;
+    grip_mf_input in = mk(0.05, 0.05, 0.02, 5000.0, 0.0, 16.0);
+    grip_mf_output_ext o;
+    grip_mf_output_ext o2;
+    grip_mf_output b;
+    grip_mf_spin sp = { 0 };
+    (void)state;
+    sp.phit = to_qs(1.0);
+    memset(&o, 0x5a, sizeof o);
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, GRIP_MF_EXT_ALL | GRIP_MF_USE_TURN_SLIP | GRIP_MF_USE_NO_TURN_SLIP, &o),
+                     GRIP_ERR_INPUT);
+    assert_true(o.valid == 0u && o.fx == 0 && o.fy == 0 && o.mz == 0 && o.re == 0);
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, GRIP_MF_USE_LIMITS | GRIP_MF_USE_NO_LIMITS, &o), GRIP_ERR_INPUT);
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, 1u << 23, &o), GRIP_ERR_INPUT);
+    memset(&o, 0x5a, sizeof o);
+    assert_int_equal(grip_mf_eval_ext_spin(p52, &in, &sp, GRIP_MF_EXT_ALL | GRIP_MF_USE_TURN_SLIP, &o), GRIP_ERR_PARAM);
+    assert_true(o.valid == 0u && o.fx == 0 && o.fy == 0 && o.mz == 0);
+    /* per set: refused by the evaluations without turn slip */
+    q.options |= GRIP_MF_OPT_TURN_SLIP;
+    assert_int_equal(grip_mf_check_params(&q), GRIP_OK);
+    assert_int_equal(grip_mf_eval(&q, &in, &b), GRIP_ERR_PARAM);
+    assert_int_equal(grip_mf_eval_pure(&q, &in, &b), GRIP_ERR_PARAM);
+    assert_int_equal(grip_mf_eval_ext_spin(&q, &in, &sp, GRIP_MF_EXT_ALL, &o), GRIP_OK);
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, GRIP_MF_EXT_ALL | GRIP_MF_USE_TURN_SLIP, &o2), GRIP_OK);
+    assert_memory_equal(&o, &o2, sizeof o);
+    /* ... and switched off per call: the set's own model */
+    assert_int_equal(grip_mf_eval_ext_spin(&q, &in, &sp, GRIP_MF_EXT_ALL | GRIP_MF_USE_NO_TURN_SLIP, &o), GRIP_OK);
+    assert_int_equal(grip_mf_eval(p, &in, &b), GRIP_OK);
+    assert_true(o.fx == b.fx && o.fy == b.fy && o.mz == b.mz);
+    q = *p52;
+    q.options |= GRIP_MF_OPT_TURN_SLIP;
+    assert_int_equal(grip_mf_check_params(&q), GRIP_ERR_PARAM);
+    /* no limits (2xx) too is grip_mf_eval_ext's */
+    q = *p;
+    q.options |= GRIP_MF_OPT_NO_LIMITS;
+    assert_int_equal(grip_mf_check_params(&q), GRIP_OK);
+    assert_int_equal(grip_mf_eval(&q, &in, &b), GRIP_ERR_PARAM);
+    assert_int_equal(grip_mf_eval_pure(&q, &in, &b), GRIP_ERR_PARAM);
+    assert_int_equal(grip_mf_eval_ext_spin(&q, &in, &sp, GRIP_MF_EXT_ALL, &o), GRIP_OK);
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, GRIP_MF_EXT_ALL | GRIP_MF_USE_NO_LIMITS, &o2), GRIP_OK);
+    assert_memory_equal(&o, &o2, sizeof o);
+#if !GRIP_ARITH_FIXED
+    sp.phit = NAN;
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, GRIP_MF_EXT_ALL, &o), GRIP_OK);   /* phit not read */
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, GRIP_MF_EXT_ALL | GRIP_MF_USE_TURN_SLIP, &o), GRIP_ERR_INPUT);
+    assert_int_equal(o.valid, 0u);
+    sp.phit = 0.0f;
+    sp.omega = INFINITY;
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, GRIP_MF_EXT_RE, &o), GRIP_ERR_INPUT);
+#endif
+}
+
+/* phit beyond +-100 1/m and omega beyond +-3000 rad/s are clamped
+ * (GRIP_WARN_CLAMPED), equal to the evaluation at the limit; phit is a rate
+ * about z: mirrored (alpha, gamma, phit negated) Fx stays, Fy and Mz change
+ * sign; SAE (alpha, phit, Fz negated) likewise, bit for bit. */
+static void test_turn_slip_clamps_and_signs(void **state)
+{
+    const grip_mf_params *p = tire("MagicFormula61_Paramerters");
+    grip_mf_params q;
+    grip_mf_input in = mk(0.05, 0.04, 0.03, 5000.0, 0.0, 16.0);
+    grip_mf_input m;
+    grip_mf_output_ext a;
+    grip_mf_output_ext b;
+    grip_mf_spin sp = { 0 };
+    grip_mf_spin sm = { 0 };
+    const uint32_t ts = GRIP_MF_EXT_ALL | GRIP_MF_USE_TURN_SLIP;
+    (void)state;
+    sp.phit = to_qs(500.0);
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, ts, &a), GRIP_WARN_CLAMPED);
+    sp.phit = to_qs(GRIP_MF_PHIT_MAX);
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, ts, &b), GRIP_OK);
+    assert_memory_equal(&a, &b, sizeof a);
+    sp.phit = to_qs(1.5);
+    sp.omega = to_qs(-5000.0);
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, ts, &a), GRIP_WARN_CLAMPED);
+    sp.omega = to_qs(-GRIP_MF_OMEGA_MAX);
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, ts, &b), GRIP_OK);
+    assert_memory_equal(&a, &b, sizeof a);
+    sp.omega = 0;
+    /* mirror: the set mounted on the other side */
+    assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, ts, &a), GRIP_OK);
+    q = *p;
+    q.options ^= GRIP_MF_OPT_MIRROR;
+    m = in;
+    m.alpha = -in.alpha;
+    m.gamma = -in.gamma;
+    sm.phit = -sp.phit;
+    assert_int_equal(grip_mf_eval_ext_spin(&q, &m, &sm, ts, &b), GRIP_OK);
+    assert_true(a.fx == b.fx && a.fy == -b.fy && a.mz == -b.mz);
+    /* SAE */
+    q = *p;
+    q.options |= GRIP_MF_OPT_SAE;
+    m = in;
+    m.alpha = -in.alpha;
+    sm.phit = -sp.phit;
+    m.fz = -in.fz;
+    assert_int_equal(grip_mf_eval_ext_spin(&q, &m, &sm, ts, &b), GRIP_OK);
+    assert_true(a.fx == b.fx && a.fy == -b.fy && a.mz == -b.mz);
+}
+
+/* At phit = 0 MFeval's zeta7 is 0/0; grip takes the limit. No jump at 0:
+ * the step of Mz from 0 to h is at most twice the step from h to 2h (+ 4
+ * LSB in the fixed build, 1e-6 relative in float), on both sides, h = 1e-5
+ * 1/m (float) or one Q15.16 step (fixed). */
+static void test_turn_slip_phit_zero_limit(void **state)
+{
+    const char *const names[] = { "MagicFormula61_Paramerters", "FSAE_Defaults" };
+    int t;
+    (void)state;
+    for (t = 0; t < 2; t++) {
+        const grip_mf_params *p = tire(names[t]);
+        double fz = from_ql(p->fnomin);
+        double h = IS_FIXED ? 1.0 / 65536.0 : 1e-5;
+        grip_mf_input in = mk(0.02, 0.05, 0.03, fz, 0.0, 16.0);
+        grip_mf_output_ext o[3];
+        grip_mf_spin sp = { 0 };
+        int s;
+        int k;
+        for (s = -1; s <= 1; s += 2) {
+            double m[3];
+            double slack;
+            for (k = 0; k < 3; k++) {
+                sp.phit = to_qs((double)(s * k) * h);
+                assert_int_equal(grip_mf_eval_ext_spin(p, &in, &sp, GRIP_MF_USE_TURN_SLIP, &o[k]), GRIP_OK);
+                m[k] = from_ql(o[k].mz);
+                assert_true(isfinite(m[k]));
+            }
+            slack = IS_FIXED ? 4.0 * fz * from_qs(p->unloaded_radius) / 65536.0 : 1e-6 * fabs(m[0]);
+            printf("# %s: Mz(0) = %.6f N m, steps %+.3e, %+.3e N m (phit %+.1e 1/m)\n", names[t], m[0], m[1] - m[0],
+                   m[2] - m[1], s * h);
+            assert_true(fabs(m[1] - m[0]) <= 2.0 * fabs(m[2] - m[1]) + slack);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -473,6 +622,9 @@ int main(void)
         cmocka_unit_test_setup(test_ext_conventions, setup),
         cmocka_unit_test_setup(test_ext_domain_corners, setup),
         cmocka_unit_test_setup(test_ext_format_ends, setup),
+        cmocka_unit_test_setup(test_use_mode_arguments, setup),
+        cmocka_unit_test_setup(test_turn_slip_clamps_and_signs, setup),
+        cmocka_unit_test_setup(test_turn_slip_phit_zero_limit, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -676,7 +676,8 @@ static void test_invalid_params(void **state)
     symmetric_params(&p); p.unloaded_radius = to_qs(-0.3); expect_param_error(&p);
     symmetric_params(&p); p.lfzo = 0; expect_param_error(&p);
     symmetric_params(&p); p.tyreside = 0; expect_param_error(&p);
-    symmetric_params(&p); p.options = 1u << 7; expect_param_error(&p);
+    symmetric_params(&p); p.options = 1u << 9; expect_param_error(&p);
+    symmetric_params(&p); p.options = GRIP_MF_OPT_TURN_SLIP; expect_param_error(&p);   /* no turn-slip coefficients */
     symmetric_params(&p); p.lmux = to_qs(-1.0); expect_param_error(&p);
     symmetric_params(&p); p.lmuv = to_qs(1.0); p.longvl = 0; expect_param_error(&p);
     symmetric_params(&p); p.nompres = to_ql(-1.0); expect_param_error(&p);

@@ -388,6 +388,65 @@ class ForcesAgreeWithReference(unittest.TestCase):
         rc, out, err = run(["--tir", path, "--outputs", "re"], "kappa,alpha,gamma,fz,p,vx,re[m]\n")
         self.assertEqual(rc, 4, err)
 
+    def test_use_modes_and_turn_slip(self):
+        # --use-mode 211 / 212 / --turn-slip [--ts-camber], with the columns
+        # phit and omega (a third of the rows with a given spin), against the
+        # reference; the extended channels with turn slip too
+        arith = build_arith()
+        worst = {}
+        runs = ((["--use-mode", "211"], dict(limits=False)),
+                (["--use-mode", "111", "--outputs", "re,omega,t,mzr,kya"], {}),
+                (["--turn-slip", "--outputs", "re,omega,t,mzr,kya,muy"], dict(turn_slip=True)),
+                (["--use-mode", "212"], dict(turn_slip=True, limits=False)),
+                (["--turn-slip", "--ts-camber"], dict(turn_slip=True, ts_camber=True)))
+        for i, path in enumerate(shared_tirs()):
+            params = tir.read_tir(path).params()
+            cols = grid(params, 120, 70 + i)
+            rng = np.random.default_rng(i)
+            cols["phit"] = rng.uniform(-3.0, 3.0, cols["kappa"].size)
+            om = (1.0 + cols["kappa"]) * cols["vx"] / params["unloaded_radius"]
+            cols["omega"] = np.where(rng.uniform(0, 1, om.size) < 0.3, om, 0.0)
+            text = "kappa,alpha,gamma,fz,p,vx,phit,omega\n" + "".join(
+                ",".join(repr(float(cols[k][j])) for k in ("kappa", "alpha", "gamma", "fz", "p", "vx", "phit", "omega"))
+                + "\n" for j in range(om.size))
+            for args, kw in runs:
+                if kw.get("turn_slip") and not mf.turn_slip_usable(params):
+                    rc, out, err = run(["--tir", path] + args, text)
+                    self.assertEqual(rc, 3, f"{path} {args}: {err}")
+                    self.assertIn("TURNSLIP_COEFFICIENTS", err)
+                    continue
+                rc, out, err = run(["--tir", path] + args, text)
+                self.assertEqual(rc, 0, f"{path} {args}: {err[-300:]}")
+                head, rows = parse_out(out)
+                ref = mf.evaluate_ext(params, cols["kappa"], cols["alpha"], cols["gamma"], cols["fz"], cols["p"],
+                                      cols["vx"], phit=cols["phit"], omega=cols["omega"], **kw)
+                r0, fn = params["unloaded_radius"], params["fnomin"]
+                names = ["fx", "fy", "mz"] + [h.split("[")[0] for h in head[head.index("mz") + 1:-1]]
+                for j, name in enumerate(names):
+                    field = [r[head.index("fx") + j] for r in rows]
+                    want = ref[name]
+                    got = np.array([float(f) if f else np.nan for f in field])
+                    sc = {"fx": cols["fz"], "fy": cols["fz"], "mz": cols["fz"] * r0, "mzr": fn * r0, "kya": fn,
+                          "muy": 1.0, "omega": (1.0 + np.abs(cols["kappa"])) / r0}.get(name, r0)
+                    e = np.abs(got - want) / (sc + (0.0 if name in ("fx", "fy", "mz") else np.abs(want)))
+                    key = f"{' '.join(args[:2])} {name}"
+                    worst[key] = max(worst.get(key, 0.0), float(np.nanmax(e)))
+                    self.assertLessEqual(float(np.nanmax(e)), TOL_REL[arith], f"{os.path.basename(path)} {args} {name}")
+        print(f"\n# use modes / turn slip ({arith}): worst |err| / scale: "
+              + ", ".join(f"{k} {v:.1e}" for k, v in sorted(worst.items(), key=lambda kv: -kv[1])[:6]))
+
+    def test_use_mode_errors(self):
+        path = os.path.join(SHARED, "mfeval-tir", "MagicFormula61_Paramerters.tir")
+        cols = grid(tir.read_tir(path).params(), 3, 5)
+        for args in (["--use-mode", "121"], ["--use-mode", "113"], ["--use-mode", "11"], ["--turn-slip", "--pure"]):
+            rc, out, err = run(["--tir", path] + args, to_csv(cols))
+            self.assertEqual(rc, 2, f"{args}: {err}")
+        rc, out, err = run(["--tir", path, "--use-mode", "121"], to_csv(cols))
+        self.assertIn("alpha* = tan(alpha)", err)
+        rc, out, err = run(["--tir", path, "--turn-slip"], to_csv(cols))   # no phit column
+        self.assertEqual(rc, 4, err)
+        self.assertIn("phit", err)
+
     def test_mount_side(self):
         # the file is a RIGHT tyre: mounted right it is used as fitted,
         # mounted left it is mirrored

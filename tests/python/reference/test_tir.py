@@ -384,7 +384,7 @@ class Validation(unittest.TestCase):
         self.assertEqual(set(tir.FILE_FITTYP.values()), set(tir.SUPPORTED_FITTYP))
 
     def test_use_mode(self):
-        for name, words in (("use_mode_turnslip.tir", "no turn slip"), ("use_mode_negative.tir", "mirrors the tyre"),
+        for name, words in (("use_mode_turnslip.tir", "turn slip per call"), ("use_mode_negative.tir", "mirrors the tyre"),
                             ("use_mode_fy_only.tir", "Fy, Mx and Mz only"), ("use_mode_digit.tir", "tens digit 4"),
                             ("use_mode_uncombined.tir", "uncombined forces"), ("use_mode_text.tir", "not an integer")):
             with self.subTest(name=name):

@@ -11,6 +11,14 @@ Writes into outdir (build/golden):
                  Mz with GRIP_MF_OPT_MZ52_SVYK_CAMBER, then MFeval's other
                  channels mf.EXT_NAMES in SI units; nan where a channel is not
                  available: its parameters are missing or it has no solution)
+  mf_mode_<name>.txt  the use modes (docs/magic-formula.md section 10):
+                 MODE_COLUMNS, mode = the GRIP_MF_OPT_* bits of the row
+                 (64 turn slip, 128 no limits = MFeval 2xx, 256 the turn
+                 slip's camber form), phit [1/m], omega [rad/s] (0:
+                 estimated), then fx fy mz and the channels of mf_ext_;
+                 rows without turn slip for every file (2xx, and 1xx with a
+                 given omega), turn-slip rows for the files that have the
+                 [TURNSLIP_COEFFICIENTS] (mf.turn_slip_usable)
   mf_params.c    static const grip_mf_params grip_tire_<name> = {...} per
                  file (tools/grip_tools/reference/tir.py emitter) and the table
                  grip_test_tires[] / grip_test_tire_count (tests/support/mf_params.h)
@@ -43,6 +51,9 @@ from grip_tools.golden.io import header
 SEED = 20261123
 COLUMNS = ["kappa", "alpha", "gamma", "fz", "p", "vx", "fx0", "fy0", "mz0", "fx", "fy", "mz"]
 EXT_COLUMNS = COLUMNS[:6] + ["fx", "fy", "mz", "mz_svyk_camber"] + list(mf.EXT_NAMES)
+MODE_COLUMNS = ["mode"] + COLUMNS[:6] + ["phit", "omega", "fx", "fy", "mz"] + list(mf.EXT_NAMES)
+OPT_TURN_SLIP, OPT_NO_LIMITS, OPT_TS_CAMBER = 1 << 6, 1 << 7, 1 << 8   # include/grip/grip_mf.h
+PHIT_MAX = 100.0     # GRIP_MF_PHIT_MAX: the rows stay inside the library's domain
 SUBDIRS = ("chrono-tir", "mfeval-tir")
 
 
@@ -226,7 +237,111 @@ def golden_texts(path, name, P):
                           f"# param units: {units}\n# columns: " + " ".join(EXT_COLUMNS))
     ext_body = np.column_stack([x[c] for c in EXT_COLUMNS[:6]] + [ext[c] for c in EXT_COLUMNS[6:]])
     ext_lines = [" ".join(f"{v:.17g}" for v in row) for row in ext_body]
-    return hdr + "\n".join(lines) + "\n", ext_hdr + "\n".join(ext_lines) + "\n"
+    return (hdr + "\n".join(lines) + "\n", ext_hdr + "\n".join(ext_lines) + "\n",
+            mode_text(path, name, P, hdr))
+
+
+def _mode_rows(P, x, rng):
+    """The rows of mf_mode_<name>.txt: (mode, inputs with phit and omega)."""
+    n = x["kappa"].size
+    R0 = P["unloaded_radius"]
+    blocks = []
+
+    def take(idx, mode, phit=None, omega_frac=0.0):
+        idx = np.asarray(idx)
+        m = idx.size
+        b = {c: x[c][idx].copy() for c in COLUMNS[:6]}
+        b["mode"] = np.full(m, float(mode))
+        b["phit"] = np.zeros(m) if phit is None else np.asarray(phit, dtype=float)
+        # a given spin near free rolling on a share of the rows (0: estimated)
+        om = (1.0 + b["kappa"]) * np.abs(b["vx"]) / R0 * rng.uniform(0.9, 1.1, m)
+        b["omega"] = np.where(rng.uniform(0.0, 1.0, m) < omega_frac, om, 0.0)
+        blocks.append(b)
+
+    low = np.flatnonzero(x["vx"] != P["longvl"])          # the low-speed rows
+    every3 = np.arange(0, n, 3)
+    # MFeval 2xx (no limits) on every file, and 1xx with a given omega
+    take(np.union1d(every3, low), OPT_NO_LIMITS, omega_frac=0.3)
+    take(rng.choice(n, 300, replace=False), 0, omega_frac=1.0)
+    if mf.turn_slip_usable(P):
+        R = ranges(P)
+        glo, ghi = R["gamma"]
+        fmid = min(max(P["fnomin"], R["fz"][0]), R["fz"][1])
+        # phit sweeps at zero slip, two cambers, two loads: appended inputs
+        sweep = np.linspace(-5.0, 5.0, 41)
+        extra = []
+        for f in (0.5 * fmid, fmid):
+            for g in (0.0, 0.5 * ghi):
+                for a in (0.0, 0.25 * R["alpha"][1]):
+                    extra.append((sweep, a, g, f))
+        base_n = n
+        xs = {c: [x[c]] for c in COLUMNS[:6]}
+        for ph, a, g, f in extra:
+            m = ph.size
+            xs["kappa"].append(np.zeros(m))
+            xs["alpha"].append(np.full(m, a))
+            xs["gamma"].append(np.full(m, g))
+            xs["fz"].append(np.full(m, f))
+            xs["p"].append(np.full(m, R["pnom"]))
+            xs["vx"].append(np.full(m, P["longvl"]))
+        for c in COLUMNS[:6]:
+            x[c] = np.concatenate(xs[c])
+        n = x["kappa"].size
+        sweep_idx = np.arange(base_n, n)
+        sweep_phit = np.tile(sweep, len(extra))
+        # every base row with a random turn slip (a fifth at phit = 0: the
+        # camber's spin alone; a tenth up to +-20 1/m), the sweeps
+        ph = rng.uniform(-3.0, 3.0, base_n)
+        ph[rng.uniform(0.0, 1.0, base_n) < 0.2] = 0.0
+        big = rng.uniform(0.0, 1.0, base_n) < 0.1
+        ph[big] = rng.uniform(-20.0, 20.0, int(big.sum()))
+        take(np.arange(base_n), OPT_TURN_SLIP, ph, omega_frac=0.3)
+        take(sweep_idx, OPT_TURN_SLIP, sweep_phit)
+        sub = np.union1d(every3, low)
+        take(sub, OPT_TURN_SLIP | OPT_NO_LIMITS, ph[sub], omega_frac=0.3)
+        take(sub, OPT_TURN_SLIP | OPT_TS_CAMBER, ph[sub], omega_frac=0.3)
+        take(sweep_idx, OPT_TURN_SLIP | OPT_TS_CAMBER, sweep_phit)
+    rows = {c: np.concatenate([b[c] for b in blocks]) for c in MODE_COLUMNS[:9]}
+    if np.any(np.abs(rows["phit"]) > PHIT_MAX):
+        raise RuntimeError("turn slip outside the library's domain")
+    return rows
+
+
+def mode_outputs(P, rows, p_used):
+    """MODE_COLUMNS outputs of the rows (one reference call per mode)."""
+    out = {c: np.full(rows["mode"].size, np.nan) for c in MODE_COLUMNS[9:]}
+    for mode in np.unique(rows["mode"]):
+        sel = rows["mode"] == mode
+        m = int(mode)
+        p = rows["p"][sel] if p_used else None
+        o = mf.evaluate_ext(P, rows["kappa"][sel], rows["alpha"][sel], rows["gamma"][sel], rows["fz"][sel],
+                            p=p, vx=rows["vx"][sel], limits=not (m & OPT_NO_LIMITS),
+                            turn_slip=bool(m & OPT_TURN_SLIP), phit=rows["phit"][sel], omega=rows["omega"][sel],
+                            ts_camber=bool(m & OPT_TS_CAMBER))
+        for c in MODE_COLUMNS[9:]:
+            out[c][sel] = o[c]
+    for k in ("fx", "fy", "mz"):
+        if not np.all(np.isfinite(out[k])):
+            raise RuntimeError(f"non-finite {k} in the reference output (use modes)")
+    return out
+
+
+def mode_text(path, name, P, hdr):
+    """mf_mode_<name>.txt, with the header of mf_<name>.txt."""
+    seed = SEED + 7 + zlib.crc32(name.encode()) % 100000
+    rng = np.random.default_rng(seed)
+    x = inputs(P, rng)
+    rows = _mode_rows(P, x, rng)
+    out = mode_outputs(P, rows, P["fittyp"] in mf.MF6)
+    units = " ".join(f"{n}[{u}]" for n, u, _m, _s in mf.EXT_CHANNELS)
+    h = hdr.replace("# columns: " + " ".join(COLUMNS),
+                    f"# param mode seed: {seed}\n"
+                    f"# param modes: 0 = MFeval 111, {OPT_NO_LIMITS} = 211, {OPT_TURN_SLIP} = 112, "
+                    f"{OPT_TURN_SLIP | OPT_NO_LIMITS} = 212, +{OPT_TS_CAMBER} = the turn slip's camber form\n"
+                    f"# param units: phit[1/m] omega[rad/s] {units}\n"
+                    "# columns: " + " ".join(MODE_COLUMNS))
+    body = np.column_stack([rows[c] for c in MODE_COLUMNS[:9]] + [out[c] for c in MODE_COLUMNS[9:]])
+    return h + "\n".join(" ".join(f"{v:.17g}" for v in row) for row in body) + "\n"
 
 
 def _c_string(s):
@@ -284,8 +399,9 @@ def write_golden(outdir):
         names[name] = path
         P = tir.read_tir(path).params("left")     # TirError propagates: generation fails
         entries.append((name, path, P))
-        main, ext = golden_texts(path, name, P)
+        main, ext, modes = golden_texts(path, name, P)
         _write_keep_stamp(os.path.join(outdir, f"mf_{name}.txt"), main)
         _write_keep_stamp(os.path.join(outdir, f"mf_ext_{name}.txt"), ext)
+        _write_keep_stamp(os.path.join(outdir, f"mf_mode_{name}.txt"), modes)
     write_if_changed(os.path.join(outdir, "mf_params.c"), params_c(entries))
     print(f"golden_mf: {len(entries)} tyres -> {outdir}/mf_*.txt, mf_params.c", file=sys.stderr)

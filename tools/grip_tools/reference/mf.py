@@ -19,8 +19,16 @@ form='book' (the Pacejka-book forms: alpha* = tan(alpha), gamma* = sin(gamma),
 A_mu = 10, QBZ5/QBZ6 in Bt, |gamma*| in Dt, square-root equivalent slip
 angles, Fy' with gamma = 0 in Gyk, cos(alpha) in the combined Mzr, Fz0' in s,
 trail not scaled by LFZO).
-Left out: turn slip (phi_t = 0, all zeta = 1), transient relaxation
-dynamics; vx < 0 is handled with |vx| (slips must be defined with |vx|).
+Use modes (MFeval's useMode digits, docs/magic-formula.md section 10):
+limits=True is MFeval's 1xx (the low-speed model, the curvature factors
+E <= 1, |mu_y| as the output; the file's *_RANGE clamps and MFeval's FZMIN
+floor of the aligning moment are not applied), limits=False its 2xx;
+turn_slip=True its xx2: the spin phi from the turn slip phit [1/m] and the
+camber (with the wheel's spin omega [rad/s], or MFeval's estimate from the
+effective rolling radius when omega is 0 or None) and the zeta factors of
+MFeval's Solver (calculateFx0, calculateFy0, calculateMz0, calculateFy,
+calculateMz). Left out: transient relaxation dynamics; vx < 0 is handled
+with |vx| (slips must be defined with |vx|).
 evaluate_ext() adds MFeval's other output channels (effective rolling
 radius, loaded radius and vertical stiffness with the MF 5.2/6.1 and MF 6.2
 vertical models, contact patch, trail, residual moment, friction, slip
@@ -80,6 +88,30 @@ class _Ctx:
     pass
 
 
+def _emax(c, e):
+    """A curvature factor E limited to <= 1: MFeval does it in its limits
+    mode (1xx) only (Ex, Ey, Et, Exa, Eyk, EHyp)."""
+    return np.minimum(e, 1.0) if c.limits else e
+
+
+def use_mode(code):
+    """MFeval's useMode (three digits) -> dict(limits, alpha_star, turn_slip).
+    Hundreds 1 = limits check, 2 = none; tens 1 = alpha as it is, 2 =
+    alpha* = tan(alpha), gamma* = sin(gamma); units 1 = combined, 2 = combined
+    + turn slip. ValueError for anything else."""
+    code = int(code)
+    h, t, u = code // 100, (code // 10) % 10, code % 10
+    if not (100 <= code <= 999) or h not in (1, 2) or t not in (1, 2) or u not in (1, 2):
+        raise ValueError(f"useMode {code}: not one of MFeval's (1|2)(1|2)(1|2)")
+    return dict(limits=h == 1, alpha_star=t == 2, turn_slip=u == 2)
+
+
+def turn_slip_usable(P):
+    """The set has what the turn-slip equations divide by: PHYP1 > 0 (C_Hyp)
+    and 0 < QDRP1 < 2 (C_Drp, sin(pi/2 C_Drp) > 0). Absent keys are 0."""
+    return P.get("phyp1", 0.0) > 0.0 and 0.0 < P.get("qdrp1", 0.0) < 2.0
+
+
 # The individual book-vs-MF-Tyre choices; form='book' sets all of them,
 # form='mftyre' none. A dict form={flag: bool} switches single ones (for
 # studies of each difference; not a supported model).
@@ -107,11 +139,12 @@ def _flags(form):
     raise ValueError(f"form must be 'mftyre', 'book' or a dict of {BOOK_FLAGS}, not {form!r}")
 
 
-def _prepare(P, kappa, alpha, gamma, fz, p, vx, form):
+def _prepare(P, kappa, alpha, gamma, fz, p, vx, form, limits=True):
     """Inputs sanitized, low-speed factors, the basic quantities."""
     c = _Ctx()
     c.P = P
     c.f = _flags(form)
+    c.limits = bool(limits)
     c.fittyp = int(P["fittyp"])
     if c.fittyp not in MF5 + MF6:
         raise ValueError(f"unsupported FITTYP {c.fittyp}")
@@ -135,7 +168,8 @@ def _prepare(P, kappa, alpha, gamma, fz, p, vx, form):
     vabs = np.minimum(np.abs(vx), VX_LIMIT)
     c.vx = np.clip(vx, -VX_LIMIT, VX_LIMIT)   # signed (extended outputs only)
     vxlow = P["vxlow"]
-    if vxlow > 0:
+    c.vabs = vabs
+    if vxlow > 0 and c.limits:
         r = np.clip(vabs / vxlow, 0.0, 1.0)
         # the slip angle fades with the sum of the speeds |Vx| + |Vsy|,
         # Vsy = tan(alpha) |Vx| (MF-Tyre / MFeval low-speed model)
@@ -160,6 +194,10 @@ def _prepare(P, kappa, alpha, gamma, fz, p, vx, form):
     c.a_s = np.tan(c.alpha) if c.f["alpha_star"] else c.alpha
     c.g_s = np.sin(c.gamma) if c.f["gamma_star"] else c.gamma
     c.cosa = np.cos(c.alpha)
+    if not c.limits:
+        # cos(alpha') = Vcx / (Vc + eps): 0 at Vx = 0, where MFeval's 2xx
+        # (no low-speed model) also has sgn(Vcx) = 0 in Dr
+        c.cosa = np.where(vabs == 0.0, 0.0, c.cosa)
     # camber per group: MF 5.2 scales it with LGAX/LGAY/LGAZ
     if c.mf6:
         c.gx, c.gy, c.gz = c.gamma, c.g_s, c.g_s
@@ -176,84 +214,248 @@ def _prepare(P, kappa, alpha, gamma, fz, p, vx, form):
     return c
 
 
-def _fx0(c):
+def _fx0(c, ts=None):
     P, Fz, dfz, dpi = c.P, c.Fz, c.dfz, c.dpi
     Cx = P["pcx1"] * P["lcx"]
     mux = ((P["pdx1"] + P["pdx2"] * dfz) * (1.0 + P["ppx3"] * dpi + P["ppx4"] * dpi ** 2)
            * (1.0 - P["pdx3"] * c.gx ** 2) * c.lmux_s)
     Dx = mux * Fz
+    if ts is not None:
+        Dx = Dx * ts.z1                                        # 4.E12 with zeta1
     Kxk = (Fz * (P["pkx1"] + P["pkx2"] * dfz) * np.exp(P["pkx3"] * dfz)
            * (1.0 + P["ppx1"] * dpi + P["ppx2"] * dpi ** 2) * P["lkx"])
     Bx = Kxk / (Cx * Dx + EPS * _sgn1(Dx))
     SHx = (P["phx1"] + P["phx2"] * dfz) * P["lhx"] * c.w
     SVx = Fz * (P["pvx1"] + P["pvx2"] * dfz) * P["lvx"] * c.lmux_p * c.w
+    if ts is not None:
+        SVx = SVx * ts.z1                                      # 4.E18 with zeta1
     kx = c.kappa + SHx
-    Ex = np.minimum((P["pex1"] + P["pex2"] * dfz + P["pex3"] * dfz ** 2)
-                    * (1.0 - P["pex4"] * _sgn1(kx)) * P["lex"], 1.0)
+    Ex = _emax(c, (P["pex1"] + P["pex2"] * dfz + P["pex3"] * dfz ** 2)
+               * (1.0 - P["pex4"] * _sgn1(kx)) * P["lex"])
     Fx0 = _mf(Bx, Cx, Dx, Ex, kx) + SVx
     return dict(Fx0=Fx0, mux=mux, Dx=Dx, Cx=Cx, Bx=Bx, Ex=Ex, Kxk=Kxk, SHx=SHx, SVx=SVx)
 
 
-def _fy0(c, gy):
-    """Pure lateral force at lateral camber gy (the model's gamma variable)."""
+def _fy0(c, gy, ts=None):
+    """Pure lateral force at lateral camber gy (the model's gamma variable);
+    with the turn-slip factors of ts (MFeval's calculateFy0) when given."""
     P, Fz, dfz, dpi = c.P, c.Fz, c.dfz, c.dpi
+    z2 = 1.0 if ts is None else ts.z2
     if c.mf6:
         den = (P["pky2"] + P["pky5"] * gy ** 2) * (1.0 + P["ppy2"] * dpi)
         Kya = (P["pky1"] * c.Fz0p * (1.0 + P["ppy1"] * dpi) * (1.0 - P["pky3"] * np.abs(gy))
                * np.sin(P["pky4"] * np.arctan((Fz / c.Fz0p) / _nz(den))) * P["lky"])
+        if ts is not None:
+            Kya = Kya * ts.z3                                  # 4.E25 with zeta3
         Kyg0 = Fz * (P["pky6"] + P["pky7"] * dfz) * (1.0 + P["ppy5"] * dpi) * P["lkyc"]
         SVyg = Fz * (P["pvy3"] + P["pvy4"] * dfz) * gy * P["lkyc"] * c.lmuy_p
+        if ts is not None:
+            SVyg = SVyg * z2                                   # 4.E28 with zeta2
         Kya_p = Kya + EPS * _sgn1(Kya)
-        SHy = ((P["phy1"] + P["phy2"] * dfz) * P["lhy"] + (Kyg0 * gy - SVyg) / Kya_p) * c.w
-        SVy = (Fz * (P["pvy1"] + P["pvy2"] * dfz) * P["lvy"] * c.lmuy_p + SVyg) * c.w
+        if ts is None:
+            SHy = ((P["phy1"] + P["phy2"] * dfz) * P["lhy"] + (Kyg0 * gy - SVyg) / Kya_p) * c.w
+        else:
+            # 4.E27 with zeta0 = 0 and zeta4 = 1 + SHyp - SVyg / Kya' (4.84)
+            SHy = ((P["phy1"] + P["phy2"] * dfz) * P["lhy"] + _shyp(c, ts) - SVyg / Kya_p) * c.w
+        SVy = (Fz * (P["pvy1"] + P["pvy2"] * dfz) * P["lvy"] * c.lmuy_p * z2 + SVyg) * c.w
         muy = ((P["pdy1"] + P["pdy2"] * dfz) * (1.0 + P["ppy3"] * dpi + P["ppy4"] * dpi ** 2)
                * (1.0 - P["pdy3"] * gy ** 2) * c.lmuy_s)
     else:
         Kya = (P["pky1"] * c.Fz0p * np.sin(P["pky4"] * np.arctan(Fz / _nz(P["pky2"] * c.Fz0p)))
                * (1.0 - P["pky3"] * np.abs(gy)) * P["lky"])
+        if ts is not None:
+            Kya = Kya * ts.z3
+        # MF 5.2 (MFeval): the turn slip shift SHyp does not enter SHy
         SHy = ((P["phy1"] + P["phy2"] * dfz) * P["lhy"] + P["phy3"] * gy) * c.w
         SVy = (Fz * ((P["pvy1"] + P["pvy2"] * dfz) * P["lvy"] + (P["pvy3"] + P["pvy4"] * dfz) * gy)
-               * c.lmuy_p * c.w)
+               * c.lmuy_p * z2 * c.w)
         muy = (P["pdy1"] + P["pdy2"] * dfz) * (1.0 - P["pdy3"] * gy ** 2) * c.lmuy_s
     ay = c.a_s + SHy
     Cy = P["pcy1"] * P["lcy"]
-    Dy = muy * Fz
+    Dy = muy * Fz * z2                                         # 4.E22 (zeta2)
     if c.mf6:
         Ey = (P["pey1"] + P["pey2"] * dfz) * (1.0 + P["pey5"] * gy ** 2
                                               - (P["pey3"] + P["pey4"] * gy) * _sgn1(ay)) * P["ley"]
     else:
         Ey = (P["pey1"] + P["pey2"] * dfz) * (1.0 - (P["pey3"] + P["pey4"] * gy) * _sgn1(ay)) * P["ley"]
-    Ey = np.minimum(Ey, 1.0)
+    Ey = _emax(c, Ey)
     By = Kya / (Cy * Dy + EPS * _sgn1(Dy))
     Fy0 = _mf(By, Cy, Dy, Ey, ay) + SVy
     return dict(Fy0=Fy0, muy=muy, Dy=Dy, Cy=Cy, By=By, Ey=Ey, Kya=Kya, SHy=SHy, SVy=SVy)
 
 
-def _gyk(c, gy, muy):
-    """Combined-slip weighting of Fy and the kappa-induced side force."""
+def _gyk(c, gy, muy, z2=1.0):
+    """Combined-slip weighting of Fy and the kappa-induced side force (z2:
+    the turn-slip factor zeta2 of DVyk)."""
     P, Fz, dfz = c.P, c.Fz, c.dfz
     rby4 = P["rby4"] if c.mf6 else 0.0
     Byk = (P["rby1"] + rby4 * gy ** 2) * np.cos(np.arctan(P["rby2"] * (c.a_s - P["rby3"]))) * P["lyka"]
     Cyk = P["rcy1"]
-    Eyk = np.minimum(P["rey1"] + P["rey2"] * dfz, 1.0)
+    Eyk = _emax(c, P["rey1"] + P["rey2"] * dfz)
     SHyk = P["rhy1"] + P["rhy2"] * dfz
     Gyk = _weight(Byk, Cyk, Eyk, c.kappa + SHyk, SHyk)
-    DVyk = muy * Fz * (P["rvy1"] + P["rvy2"] * dfz + P["rvy3"] * gy) * np.cos(np.arctan(P["rvy4"] * c.a_s))
+    DVyk = (muy * Fz * (P["rvy1"] + P["rvy2"] * dfz + P["rvy3"] * gy) * np.cos(np.arctan(P["rvy4"] * c.a_s))
+            * z2)
     SVyk = DVyk * np.sin(P["rvy5"] * np.arctan(P["rvy6"] * c.kappa)) * P["lvyka"] * c.w
     return Gyk, SVyk
 
 
-def _core(P, kappa, alpha, gamma, fz, p, vx, form, mz52_svyk_camber=False):
+# ---------------------------------------------------------------------------
+# Turn slip (MFeval's useMode xx2).
+
+TS_RATIO_LIMIT = 1000.0  # |R0 omega / Vc'| beyond this is limited (VXLOW = 0 and Vx = 0 only)
+
+
+def _spin(c, phit, omega, camber=False):
+    """The turn-slip context of MFeval's parseInputs: the processed turn slip
+    phit_e and the spin phi (both times R0), eps_gamma, and the zeta factors
+    that depend on them alone.
+
+    phit [1/m] is MFeval's input column 5 (psi_dot = -phit Vc'); in the
+    limits mode (1xx) it is multiplied by cos(alpha) and the low-speed factor
+    |Vx| / VXLOW, as MFeval does. omega [rad/s] is the wheel's spin; 0 or None:
+    MFeval's estimate (1 + kappa) Vx / Re with Re its effective rolling radius
+    (R0 when the set has no VERTICAL_STIFFNESS or Re has no root). With grip's
+    |Vx| convention Vx < 0 is evaluated as |Vx|: the estimate uses |Vx| and a
+    given omega changes sign.
+
+    camber=True: the camber's spin with the opposite sign, -phit + (1 -
+    eps_gamma) omega sin(gamma) / Vc', which at phit = 0 keeps the camber
+    thrust of the model without turn slip (MFeval's sign reverses it);
+    GRIP_MF_OPT_TS_CAMBER, docs/magic-formula.md section 10."""
+    P = c.P
+    R0 = P["unloaded_radius"]
+    ts = _Ctx()
+    shape = c.kappa.shape
+    phit = np.broadcast_to(np.asarray(0.0 if phit is None else phit, dtype=float), shape)
+    pt = phit * np.cos(c.alpha_in) * c.r if c.limits else phit
+    ts.ut = R0 * pt                                            # R0 phit (processed)
+    ts.eps_g = P["pecp1"] * (1.0 + P["pecp2"] * c.dfz)         # 4.90
+    vabs = c.vabs
+    # Vc' = sqrt(Vcx^2 + Vsy^2) = |Vx| / cos(alpha) (alpha after the
+    # low-speed scaling), VXLOW when |Vx| < VXLOW (MFeval: singularity
+    # protected velocity)
+    cos_a = np.abs(np.cos(c.alpha))
+    vcp = np.where(vabs < P["vxlow"], P["vxlow"], vabs / np.where(cos_a > 0.0, cos_a, 1e-300))
+    om = np.broadcast_to(np.asarray(0.0 if omega is None else omega, dtype=float), shape)
+    given = om != 0.0
+    r = _rolling(P, c, None)[0]
+    r = np.where(np.isfinite(r), r, 1.0)
+    w_est = (1.0 + c.kappa_in) * vabs / (r * R0)
+    w = np.where(given, np.where(c.vx < 0.0, -om, om), w_est)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        q = np.where(vcp > 0.0, R0 * w / np.where(vcp > 0.0, vcp, 1.0),
+                     np.sign(w) * TS_RATIO_LIMIT)
+    q = np.clip(q, -TS_RATIO_LIMIT, TS_RATIO_LIMIT)
+    # phi = (psi_dot - (1 - eps_gamma) omega sin(gamma)) / Vc', psi_dot = -phit Vc'
+    # (MFeval's 4.76 without the book's minus sign: z up)
+    ts.camber = camber
+    ts.u = -ts.ut + (1.0 if camber else -1.0) * (1.0 - ts.eps_g) * np.sin(c.gamma) * q
+    u = ts.u
+    dfz = c.dfz
+    bxp = P["pdxp1"] * (1.0 + P["pdxp2"] * dfz) * np.cos(np.arctan(P["pdxp3"] * c.kappa))   # 4.106
+    ts.z1 = np.cos(np.arctan(bxp * u))                                                    # 4.105
+    byp = P["pdyp1"] * (1.0 + P["pdyp2"] * dfz) * np.cos(np.arctan(P["pdyp3"] * np.tan(c.alpha)))  # 4.78
+    ts.z2 = np.cos(np.arctan(byp * (np.abs(u) + P["pdyp4"] * np.sqrt(np.abs(u)))))        # 4.77
+    ts.z3 = np.cos(np.arctan(P["pkyp1"] * u ** 2))                                        # 4.79
+    ts.z5 = np.cos(np.arctan(P["qdtp1"] * u))                                             # 4.91
+    ts.z6 = np.cos(np.arctan(P["qbrp1"] * u))                                             # 4.102
+    return ts
+
+
+def _shyp(c, ts):
+    """The turn-slip shift SHyp of Fy (4.80-4.89, MF 6.x), with Kya0 (the
+    cornering stiffness at gamma = 0, times zeta3) and Kyg0 (4.E30). Zero at
+    Vx = 0 (MFeval: D_Hyp carries sgn(Vcx) = 0)."""
+    P, Fz, dfz, dpi = c.P, c.Fz, c.dfz, c.dpi
+    kya0 = (P["pky1"] * c.Fz0p * (1.0 + P["ppy1"] * dpi)
+            * np.sin(P["pky4"] * np.arctan((Fz / c.Fz0p) / _nz(P["pky2"] * (1.0 + P["ppy2"] * dpi))))
+            * ts.z3 * P["lky"])
+    kya0p = kya0 + EPS * _sgn1(kya0)
+    kyg0 = Fz * (P["pky6"] + P["pky7"] * dfz) * (1.0 + P["ppy5"] * dpi) * P["lkyc"]
+    chyp = P["phyp1"]
+    dhyp = P["phyp2"] + P["phyp3"] * dfz
+    ehyp = _emax(c, np.asarray(P["phyp4"], dtype=float))
+    kyrp0 = kyg0 / _nz(1.0 - ts.eps_g)                                                   # 4.89
+    bhyp = kyrp0 / _nz(chyp * dhyp * kya0p)                                              # 4.88
+    shyp = _mf(bhyp, chyp, dhyp, ehyp, ts.u)                                             # 4.80
+    return np.where(c.vabs == 0.0, 0.0, shyp)
+
+
+# |Mzp90 / Drp| is limited to 1 (zeta7 in [0, 2]): MFeval takes acos of
+# the unlimited ratio, a complex Cr beyond 1, and reports the real part of
+# Mz, Dr cosh(2/pi acosh(x) atan(Br a)), which grows without bound (and is
+# Inf/NaN where Drp = 0: Kzgr0 = 0, e.g. FSAE_Defaults, PacejkaBook_Defaults)
+TS_X_LIMIT = 1.0
+
+
+def _turn_moment(c, ts, muy, gyk):
+    """MFeval's turn-slip parts of the residual moment (calculateMz0): Drp
+    [N m] (zeta8 - 1) and the shape factor Cr = zeta7, returned as Drp and
+    x = Mzp90 / |Drp| (Cr = 2/pi acos(x)). Kzgr0 as MFeval writes it:
+    Fz R0 (QDZ8 QDZ9 dfz + QDZ10 + QDZ11 dfz |gamma|) LKZC."""
+    P, Fz, dfz = c.P, c.Fz, c.dfz
+    R0 = P["unloaded_radius"]
+    mzp_inf = P["qcrp1"] * np.abs(muy) * R0 * Fz * np.sqrt(Fz / c.Fz0p) * P["lmp"]       # 4.95
+    mzp_inf = np.where(mzp_inf < 0.0, 1e-6, mzp_inf)
+    cdrp = P["qdrp1"]                                                                   # 4.96
+    ddrp = mzp_inf / math.sin(0.5 * math.pi * cdrp)                                     # 4.94
+    qdz10 = P["qdz10"] if c.mf6 else 0.0
+    qdz11 = P["qdz11"] if c.mf6 else 0.0
+    lkzc = P["lkzc"] if c.mf6 else 1.0
+    if ts.camber:
+        # the camber stiffness of Dr (4.E47 at gamma -> 0), of the spin phi
+        kzgr0 = Fz * R0 * (P["qdz8"] + P["qdz9"] * dfz + (qdz10 + qdz11 * dfz) * np.abs(c.gamma)) * lkzc
+        arg = ts.u
+    else:
+        kzgr0 = Fz * R0 * (P["qdz8"] * P["qdz9"] * dfz + (qdz10 + qdz11 * dfz * np.abs(c.gamma))) * lkzc  # 4.99
+        arg = ts.ut
+    one_eg = _nz(1.0 - ts.eps_g)
+    # BDrp R0 phi = Kzgr0 R0 phi / (CDrp DDrp (1 - eps_gamma)) as an angle:
+    # atan2 keeps DDrp -> 0 (Fz -> 0) finite
+    num = kzgr0 * arg / one_eg
+    den = cdrp * ddrp
+    ang = np.arctan2(num * np.sign(den), np.abs(den))
+    drp = ddrp * np.sin(cdrp * ang)
+    mzp90 = mzp_inf * (2.0 / math.pi) * np.arctan(P["qcrp2"] * np.abs(ts.ut)) * gyk      # 4.103
+    # x = Mzp90 / |Drp|; at phit = 0 both vanish and x is their limit
+    # (slopes Mzp_inf 2/pi QCRP2 Gyk and |Kzgr0 / (1 - eps_gamma)|)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x_lim = mzp_inf * (2.0 / math.pi) * P["qcrp2"] * gyk / np.abs(kzgr0 / one_eg)
+        x = np.where((ts.ut == 0.0) & (arg == 0.0), x_lim, mzp90 / np.abs(drp))
+    x = np.where(np.isnan(x), 0.0, x)
+    return drp, np.clip(x, -TS_X_LIMIT, TS_X_LIMIT), x
+
+
+def _cr_cos(x, y):
+    """cos(Cr y) with Cr = zeta7 = 2/pi acos(x), -1 <= x <= 1."""
+    return np.cos((2.0 / math.pi) * np.arccos(x) * y)
+
+
+def _core(P, kappa, alpha, gamma, fz, p, vx, form, mz52_svyk_camber=False, limits=True, turn_slip=False,
+          phit=None, omega=None, ts_camber=False):
     """All forces and moments in ISO-W, no mirroring. Returns a dict.
 
     mz52_svyk_camber: MF 5.2 aligning moment with Fy' = Fy - SVyk(mu_y(gamma))
-    (grip's earlier form) instead of MFeval's Fy - SVyk(mu_y(gamma = 0))."""
+    (grip's earlier form) instead of MFeval's Fy - SVyk(mu_y(gamma = 0)).
+    limits: MFeval's useMode 1xx (True) or 2xx (False); turn_slip: xx2 with
+    the inputs phit [1/m] and omega [rad/s] (see _spin)."""
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        c = _prepare(P, kappa, alpha, gamma, fz, p, vx, form)
+        c = _prepare(P, kappa, alpha, gamma, fz, p, vx, form, limits)
+        c.omega_in = omega
         Fz, dfz, dpi, R0 = c.Fz, c.dfz, c.dpi, P["unloaded_radius"]
-        x0 = _fx0(c)
-        y0 = _fy0(c, c.gy)
+        ts = None
+        if turn_slip:
+            if not turn_slip_usable(P):
+                raise ValueError("turn slip: the set has no usable [TURNSLIP_COEFFICIENTS] "
+                                 "(PHYP1 > 0 and 0 < QDRP1 < 2)")
+            ts = _spin(c, phit, omega, ts_camber)
+        x0 = _fx0(c, ts)
+        y0 = _fy0(c, c.gy, ts)
         y00 = _fy0(c, np.zeros_like(c.gy))                     # Fy0 at gamma = 0
+        # MFeval's combined Mz takes Fy0 at gamma = 0 with the turn slip
+        # (calculateMz), its pure Mz0 without (calculateMz0)
+        y00ts = y00 if ts is None else _fy0(c, np.zeros_like(c.gy), ts)
 
         # ---- pure aligning moment
         gz = c.gz
@@ -274,9 +476,10 @@ def _core(P, kappa, alpha, gamma, fz, p, vx, form, mz52_svyk_camber=False):
         Ct = P["qcz1"]
         Dt = (Fz * (R0 / c.Fz0p) * (P["qdz1"] + P["qdz2"] * dfz) * (1.0 - P["ppz1"] * dpi)
               * dt_cam * P["ltr"])
-        Et = np.minimum((P["qez1"] + P["qez2"] * dfz + P["qez3"] * dfz ** 2)
-                        * (1.0 + (P["qez4"] + P["qez5"] * gz) * (2.0 / math.pi) * np.arctan(Bt * Ct * at)),
-                        1.0)
+        if ts is not None:
+            Dt = Dt * ts.z5                                    # 4.E43 with zeta5
+        Et = _emax(c, (P["qez1"] + P["qez2"] * dfz + P["qez3"] * dfz ** 2)
+                   * (1.0 + (P["qez4"] + P["qez5"] * gz) * (2.0 / math.pi) * np.arctan(Bt * Ct * at)))
         trail_scale = c.cosa * c.w * (1.0 if c.f["trail_nolfzo"] else P["lfzo"])
         t0 = Dt * np.cos(Ct * np.arctan(Bt * at - Et * (Bt * at - np.arctan(Bt * at)))) * trail_scale
         if c.mf6:
@@ -288,7 +491,17 @@ def _core(P, kappa, alpha, gamma, fz, p, vx, form, mz52_svyk_camber=False):
             Dr = (Fz * R0 * ((P["qdz6"] + P["qdz7"] * dfz) * P["lres"] + (P["qdz8"] + P["qdz9"] * dfz) * gz)
                   * c.lmuy_s * c.cosa)
         Br = P["qbz9"] * P["lky"] / _nz(c.lmuy_s) + P["qbz10"] * y0["By"] * y0["Cy"]
-        Mzr0 = Dr * np.cos(np.arctan(Br * ar)) * c.cosa * c.w
+        Gyk, SVyk = _gyk(c, c.gy, y0["muy"], 1.0 if ts is None else ts.z2)
+        if ts is None:
+            Mzr0 = Dr * np.cos(np.arctan(Br * ar)) * c.cosa * c.w
+            Drp = x_cr = x_raw = None
+        else:
+            # 4.E47 with zeta0 = 0 (no camber term), zeta2 on the LRES term
+            # and zeta8 - 1 = Drp; Br times zeta6 (4.E45); Cr = zeta7 (4.E46)
+            Drp, x_cr, x_raw = _turn_moment(c, ts, y0["muy"], Gyk)
+            Dr = Fz * R0 * (P["qdz6"] + P["qdz7"] * dfz) * P["lres"] * ts.z2 * c.lmuy_s * c.cosa + Drp
+            Br = Br * ts.z6
+            Mzr0 = Dr * _cr_cos(x_cr, np.arctan(Br * ar)) * c.cosa * c.w
         Mz0 = -t0 * (y00["Fy0"] if c.mf6 else y0["Fy0"]) + Mzr0
 
         # ---- combined longitudinal force
@@ -296,13 +509,12 @@ def _core(P, kappa, alpha, gamma, fz, p, vx, form, mz52_svyk_camber=False):
         gxa = c.g_s if c.mf6 else c.gx
         Bxa = (P["rbx1"] + rbx3 * gxa ** 2) * np.cos(np.arctan(P["rbx2"] * c.kappa)) * P["lxal"]
         Cxa = P["rcx1"]
-        Exa = np.minimum(P["rex1"] + P["rex2"] * dfz, 1.0)
+        Exa = _emax(c, P["rex1"] + P["rex2"] * dfz)
         SHxa = P["rhx1"]
         Gxa = _weight(Bxa, Cxa, Exa, c.a_s + SHxa, SHxa)
         Fx = Gxa * x0["Fx0"]
 
         # ---- combined lateral force
-        Gyk, SVyk = _gyk(c, c.gy, y0["muy"])
         Fy = Gyk * y0["Fy0"] + SVyk
 
         # ---- combined aligning moment
@@ -315,7 +527,10 @@ def _core(P, kappa, alpha, gamma, fz, p, vx, form, mz52_svyk_camber=False):
             ar_eq = np.arctan(np.sqrt(np.tan(ar) ** 2 + ratio2)) * _sgn1(ar)
         fz0_s = c.Fz0p if c.f["s_fz0p"] else c.Fz0
         s = R0 * (P["ssz1"] + P["ssz2"] * (Fy / fz0_s) + (P["ssz3"] + P["ssz4"] * dfz) * gz) * P["ls"]
-        Mzr = Dr * np.cos(np.arctan(Br * ar_eq)) * c.w * (c.cosa if c.f["mzr_cos"] else 1.0)
+        if ts is None:
+            Mzr = Dr * np.cos(np.arctan(Br * ar_eq)) * c.w * (c.cosa if c.f["mzr_cos"] else 1.0)
+        else:
+            Mzr = Dr * _cr_cos(x_cr, np.arctan(Br * ar_eq)) * c.w * (c.cosa if c.f["mzr_cos"] else 1.0)
         t = Dt * np.cos(Ct * np.arctan(Bt * at_eq - Et * (Bt * at_eq - np.arctan(Bt * at_eq)))) * trail_scale
         if not c.mf6:
             # MF 5.2 (MF-Tyre 5.2 manual, as MFeval): Fy' = Fy - SVyk, where
@@ -325,9 +540,9 @@ def _core(P, kappa, alpha, gamma, fz, p, vx, form, mz52_svyk_camber=False):
             Fyp = Fy - SVyk_mz
         elif c.f["fyp_gamma0"]:
             Gyk0, _ = _gyk(c, np.zeros_like(c.gy), y00["muy"])
-            Fyp = Gyk0 * y00["Fy0"]
+            Fyp = Gyk0 * y00ts["Fy0"]
         else:
-            Fyp = Gyk * y00["Fy0"]
+            Fyp = Gyk * y00ts["Fy0"]
         Mz = -t * Fyp + Mzr + s * Fx
 
         out = dict(fx0=x0["Fx0"], fy0=y0["Fy0"], mz0=Mz0, fx=Fx, fy=Fy, mz=Mz)
@@ -338,7 +553,8 @@ def _core(P, kappa, alpha, gamma, fz, p, vx, form, mz52_svyk_camber=False):
         det.update(dict(Gxa=Gxa, Gyk=Gyk, SVyk=SVyk, t0=t0, t=t, Mzr0=Mzr0, Mzr=Mzr, s=s,
                         Bt=Bt, Ct=Ct, Dt=Dt, Et=Et, Br=Br, Dr=Dr, SHt=SHt, SHf=SHf,
                         alpha_t=at, alpha_r=ar, alpha_t_eq=at_eq, alpha_r_eq=ar_eq, Fy_prime=Fyp, ctx=c,
-                        Fy0_gamma0=y00["Fy0"], muy_gamma0=y00["muy"], r=c.r, ra=c.ra, w=c.w, dfz=dfz, dpi=dpi))
+                        Fy0_gamma0=y00["Fy0"], muy_gamma0=y00["muy"], r=c.r, ra=c.ra, w=c.w, dfz=dfz, dpi=dpi,
+                        ts=ts, Drp=Drp, x_cr=x_cr, x_raw=x_raw, Fy0_gamma0_ts=y00ts["Fy0"]))
         return out, det
 
 
@@ -378,9 +594,24 @@ def mirror_outputs(out):
     return {k: (-v if k in flip else v) for k, v in out.items()}
 
 
+def _turn_inputs(phit, omega, convention, mirror):
+    """phit, omega in the model's frame: phit is a rate about z, so it
+    changes sign in SAE (z down) and in the mirror image, as alpha does;
+    omega, the wheel's spin, keeps its sign."""
+    if phit is None:
+        return None, omega
+    ph = np.asarray(phit, dtype=float)
+    if convention == "sae":
+        ph = -ph
+    if mirror:
+        ph = -ph
+    return ph, omega
+
+
 def evaluate(params, kappa, alpha, gamma, fz, p=None, vx=None, *, form="mftyre",
              convention="iso", kappa_braking=False, mirror=None, details=False,
-             mz52_svyk_camber=False):
+             mz52_svyk_camber=False, limits=True, turn_slip=False, phit=None, omega=None,
+             ts_camber=False):
     """Forces and moments of one parameter set (array inputs broadcast).
 
     params: dict of grip_mf_params fields in SI (tir.Tir.params()).
@@ -393,6 +624,8 @@ def evaluate(params, kappa, alpha, gamma, fz, p=None, vx=None, *, form="mftyre",
     mz52_svyk_camber=True: MF 5.2 combined Mz with grip's earlier Fy' = Fy -
     SVyk(mu_y at gamma) (GRIP_MF_OPT_MZ52_SVYK_CAMBER) instead of MFeval's
     Fy - SVyk(mu_y at gamma = 0); no effect on MF 6.x.
+    limits (MFeval useMode 1xx: True, 2xx: False), turn_slip (xx2) with
+    phit [1/m] and omega [rad/s] (0 or None: estimated): see _spin.
     Returns {fx0, fy0, mz0, fx, fy, mz} (and the internals when details).
     """
     k, a, g, f = to_iso(kappa, alpha, gamma, fz, convention, kappa_braking)
@@ -400,7 +633,8 @@ def evaluate(params, kappa, alpha, gamma, fz, p=None, vx=None, *, form="mftyre",
         mirror = (int(params.get("tyreside", 1)) == -1) != bool(int(params.get("options", 0)) & (1 << 3))
     if mirror:
         a, g = mirror_inputs(a, g)
-    out, det = _core(params, k, a, g, f, p, vx, form, mz52_svyk_camber)
+    ph, om = _turn_inputs(phit, omega, convention, mirror)
+    out, det = _core(params, k, a, g, f, p, vx, form, mz52_svyk_camber, limits, turn_slip, ph, om, ts_camber)
     if mirror:
         out = mirror_outputs(out)
     out = from_iso(out, convention)
@@ -523,6 +757,39 @@ def _rl62(P, fz, romega, gamma, omega_abs, dpi, fx, fy):
     return np.where(ok, rl, np.nan), np.where(ok, rho, np.nan)
 
 
+def _rolling(P, c, omega=None):
+    """(Re / R0, Omega, Romega, Cz at the pressure, has Cz) of MFeval's
+    calculateRe: Re = Romega(Omega) - Fz0 / Cz (DREFF atan(BREFF Fz/Fz0) +
+    FREFF Fz/Fz0). Omega = (1 + kappa) Vx / Re (the fixed point MFeval
+    iterates) or, where omega is given (non-zero), Omega = omega and Re
+    follows from it directly (MFeval's input column 8). NaN where the set has
+    no VERTICAL_STIFFNESS or there is no positive root."""
+    R0, Fz0, V0 = P["unloaded_radius"], P["fnomin"], P["longvl"]
+    fz = np.where(c.loaded, c.Fz, 0.0)
+    kap = c.kappa_in
+    vx = c.vx
+    cz0 = P["vertical_stiffness"]
+    czp = cz0 * (1.0 + P["pfz1"] * c.dpi)
+    has_cz = (cz0 > 0.0) & (czp > 0.0)
+    czs = np.where(has_cz, czp, 1.0)
+    defl = Fz0 / czs * (P["dreff"] * np.arctan(P["breff"] * fz / Fz0) + P["freff"] * fz / Fz0)
+    b = P["q_v1"] * ((1.0 + kap) * vx / V0) ** 2
+    r = _re_root(P["q_re0"] - defl / R0, b)
+    r = np.where(has_cz, r, np.nan)
+    omega_out = (1.0 + kap) * vx / (r * R0)
+    romega = R0 * (P["q_re0"] + b / r ** 2)
+    if omega is not None:
+        om = np.broadcast_to(np.asarray(omega, dtype=float), r.shape)
+        given = om != 0.0
+        a = P["q_re0"] - defl / R0
+        rg = P["q_re0"] + P["q_v1"] * (om * R0 / V0) ** 2 - defl / R0
+        rg = np.where(has_cz & (a > 0.0), rg, np.nan)
+        r = np.where(given, rg, r)
+        omega_out = np.where(given, om, omega_out)
+        romega = np.where(given, R0 * (P["q_re0"] + P["q_v1"] * (om * R0 / V0) ** 2), romega)
+    return r, omega_out, romega, czs, has_cz
+
+
 def _ext(P, c, det, out):
     """MFeval's extra channels in ISO-W and the model's frame (before the
     un-mirroring). NaN marks a channel whose parameters are missing or whose
@@ -541,20 +808,10 @@ def _ext(P, c, det, out):
     nan = np.full(shape, np.nan)
     e = {}
 
-    # effective rolling radius (calculateRe): Re = Romega(Omega) - Fz0 / Cz
-    # (DREFF atan(BREFF Fz/Fz0) + FREFF Fz/Fz0), Omega = (1 + kappa) Vx / Re
+    # effective rolling radius, the wheel's spin and its free radius
+    r, e["omega"], romega, czs, has_cz = _rolling(P, c, getattr(c, "omega_in", None))
     cz0 = P["vertical_stiffness"]
-    czp = cz0 * (1.0 + P["pfz1"] * dpi)
-    has_cz = (cz0 > 0.0) & (czp > 0.0)
-    czs = np.where(has_cz, czp, 1.0)
-    defl = Fz0 / czs * (P["dreff"] * np.arctan(P["breff"] * fz / Fz0) + P["freff"] * fz / Fz0)
-    b = P["q_v1"] * ((1.0 + kap) * vx / V0) ** 2
-    r = _re_root(P["q_re0"] - defl / R0, b)
-    r = np.where(has_cz, r, np.nan)
-    re = r * R0
-    e["re"] = re
-    e["omega"] = (1.0 + kap) * vx / re
-    romega = R0 * (P["q_re0"] + b / r ** 2)
+    e["re"] = r * R0
     omega_abs = np.abs(e["omega"])
 
     # loaded radius, deflection and vertical stiffness
@@ -611,7 +868,8 @@ def _ext(P, c, det, out):
     e["t"] = np.where(loaded, det["t"], 0.0)
     e["mzr"] = np.where(loaded, det["Mzr"], 0.0)
     e["mux"] = np.where(loaded, det["mux"], 0.0)
-    e["muy"] = np.where(loaded, np.abs(det["muy"]), 0.0)
+    # MFeval reports |mu_y| in its limits mode (1xx), mu_y itself in 2xx
+    e["muy"] = np.where(loaded, np.abs(det["muy"]) if c.limits else det["muy"], 0.0)
     e["kxk"] = np.where(loaded, det["Kxk"], 0.0)
     e["kya"] = np.where(loaded, det["Kya"], 0.0)
 
@@ -662,20 +920,24 @@ def _ext(P, c, det, out):
 
 
 def evaluate_ext(params, kappa, alpha, gamma, fz, p=None, vx=None, *, form="mftyre",
-                 convention="iso", kappa_braking=False, mirror=None, mz52_svyk_camber=False):
+                 convention="iso", kappa_braking=False, mirror=None, mz52_svyk_camber=False,
+                 limits=True, turn_slip=False, phit=None, omega=None, ts_camber=False):
     """evaluate()'s combined outputs {fx, fy, mz} and MFeval's other output
     channels EXT_NAMES (units in EXT_CHANNELS), same arguments. A channel is
     NaN where the parameter set lacks what it needs (VERTICAL_STIFFNESS,
     WIDTH, LONGITUDINAL_/LATERAL_STIFFNESS = 0: not given) or its equation
     has no solution; grip_mf_eval_ext clears the channel's valid bit there.
     Fz <= 0: forces, moments, mu, stiffnesses Kxk, Kya, trail, Cz, rho, 2a
-    are 0; Re, Omega and Rl are those of the unloaded wheel."""
+    are 0; Re, Omega and Rl are those of the unloaded wheel. A given omega
+    (non-zero; MFeval's input column 8) is the Omega of Re, Rl, rho, Cz with
+    or without turn slip."""
     k, a, g, f = to_iso(kappa, alpha, gamma, fz, convention, kappa_braking)
     if mirror is None:
         mirror = (int(params.get("tyreside", 1)) == -1) != bool(int(params.get("options", 0)) & (1 << 3))
     if mirror:
         a, g = mirror_inputs(a, g)
-    out, det = _core(params, k, a, g, f, p, vx, form, mz52_svyk_camber)
+    ph, om = _turn_inputs(phit, omega, convention, mirror)
+    out, det = _core(params, k, a, g, f, p, vx, form, mz52_svyk_camber, limits, turn_slip, ph, om, ts_camber)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         e = _ext(params, det["ctx"], det, out)
     res = {q: out[q] for q in ("fx", "fy", "mz")}

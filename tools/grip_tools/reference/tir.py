@@ -626,8 +626,9 @@ def _check_use_mode(t, e, pure_slip):
                        f"USE_MODE = {m + 1}")
     if slip == 5:
         raise TirError(path, e.line, "USE_MODE",
-                       f"{m} asks for combined slip with turn slip; grip's Magic Formula has no turn slip "
-                       f"(write USE_MODE = {m - 1} for combined slip without it)")
+                       f"{m} asks for combined slip with turn slip; grip takes turn slip per call, not from the "
+                       f"file (grip_mf_eval_ext with GRIP_MF_USE_TURN_SLIP, grip-tire --turn-slip): write "
+                       f"USE_MODE = {m - 1} and ask for it there")
     if slip > 5:
         raise TirError(path, e.line, "USE_MODE", f"{m}: units digit {slip} is not a slip calculation of MF-Tyre (0..5)")
     t.use_mode = m
