@@ -135,6 +135,13 @@ def main():
     write("tire_short_row.csv", [th, row, "0,0.01,0"])
     write("tire_quote.csv", [th + ",note", row + ',"open'])
     write("tire_empty.csv", [])
+    # unit errors: loads in kN, slip angles in degrees, pressure in bar,
+    # camber in degrees, a header that declares another unit
+    write("tire_kn.csv", [th] + [f"0,{a / 100:.2f},0,{fz},0,10" for fz in (2, 4, 6) for a in (-4, 0, 4)])
+    write("tire_degrees.csv", [th] + [f"0,{a},0,4000,0,10" for a in (0.5, 1, 2, 4, 8)])
+    write("tire_bar.csv", [th, "0,0.01,0,4000,2.2,10", "0,0.01,0,4000,2.4,10"])
+    write("tire_camber_deg.csv", [th, "0,0.01,3,4000,0,10"])
+    write("tire_declared_kn.csv", ["kappa,alpha[rad],gamma,fz[kN],p,vx", "0,0.01,0,4,0,10"])
     # ---- .tir files the library rejects after the reader accepted them,
     # and brush-model parameter files (grip-tire --model ... --params)
     with open(os.path.join(HERE, "..", "data", "tir", "minimal.tir")) as f:
@@ -145,6 +152,7 @@ def main():
     write("brush_mu.txt", ["model = fiala", "mu = 4"])
     write("brush_mu_order.txt", ["model = sakai", "mu_s = 0.5", "mu_d = 0.9"])
     write("brush_default_fz.txt", ["model = neofiala", "fz_min = 20000"])
+    write("brush_ok.txt", ["model = neofiala"])
     write("veh_mass.veh", ["mass = 0.5"])
     write("veh_steer.veh", ["steer_ratio = 200"])
     # ---- measured-data CSV for the Python tools (grip fit-mf, grip analyze)
@@ -163,6 +171,9 @@ def main():
     write("an_good.csv", t)
     write("an_time_back.csv", t[:10] + ["0.05,0.01,4000,-500"] + t[11:])
     write("an_no_output.csv", ["t[s],alpha[rad],fz[N]", "0,0.01,4000", "0.01,0.01,4000"])
+    write("an_degrees.csv", [t[0]] + [f"{i * 0.01:.2f},{(i - 25) * 0.3:.1f},4000,{(25 - i) * 60}" for i in range(50)])
+    write("an_kn.csv", [t[0]] + [f"{i * 0.01:.2f},0.01,4,-500" for i in range(50)])
+    write("an_header_only.csv", t[:1])
 
 
 if __name__ == "__main__":
