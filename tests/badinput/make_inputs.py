@@ -84,6 +84,15 @@ def main():
     write("long_line.sigtab", ["grip-can-table 1 rav4", "# " + "x" * 600])
     write("unknown_input.sigtab", ["grip-can-table 1 t", "msg KINEMATICS 0x24 8 12000 none 0 0 0 intel",
                                    "sig YAW_RATE yaw_rte value 1 10 motorola 0 37 585297991 -299845282323 43 981"])
+    # tables every line of which parses, but that fail the consistency check
+    kin = ["grip-can-table 1 t", "msg KINEMATICS 0x24 8 12000 none 0 0 0 intel",
+           "sig YAW_RATE yaw_rate value 1 10 motorola 0 37 585297991 -299845282323 43 981",
+           "sig ACCEL_X ax value 17 10 motorola 0 34 -616585505 315680096256 95 929"]
+    write("table_dup_id.sigtab", kin + ["msg STEER_ANGLE_SENSOR 0x24 8 12000 none 0 0 0 intel",
+                                        "sig STEER_ANGLE steer_angle value 3 12 motorola 1 35 899535847 0 -333 333"])
+    write("table_bits.sigtab", kin[:3] + [kin[3].replace(" value 17 10 ", " value 70 10 ")])
+    write("table_two_msgs.sigtab", kin + ["msg STEER_ANGLE_SENSOR 0x25 8 12000 none 0 0 0 intel",
+                                          "sig ACCEL_Y ax value 3 12 motorola 1 34 -616585505 315680096256 95 929"])
     write("dup_key.veh", ["mass = 1600", "iz = 2600", "mass = 1700"])
     write("unknown_key.veh", ["mass = 1600", "wheelbase = 2.7"])
     write("not_number.veh", ["mass = 1600 kg"])
