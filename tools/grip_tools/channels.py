@@ -146,9 +146,11 @@ def _looks_like(name, values):
     return ch.hint if ch.hint_max > 0.0 and m <= ch.hint_max else ""
 
 
-def check_ranges(path, table):
+def check_ranges(path, table, fz_nominal=None):
     """Physical plausibility of every known channel; also catches a load in
-    kN or a pressure in bar or psi labelled in SI units."""
+    kN or a pressure in bar or psi labelled in SI units. fz_nominal: the
+    tyre's FNOMIN [N] when the tool knows it (loads all below a tenth of it
+    are kN labelled N, as grip-tire's rule)."""
     for n in table.names:
         ch = CHANNELS.get(n)
         if ch is None:
@@ -167,6 +169,11 @@ def check_ranges(path, table):
             i = int(np.argmax(fz))
             raise DataError(path, int(table.row_lines[i]), "fz",
                             f"the largest load is {top:g} N: a tire load in kN labelled N?")
+        if fz_nominal and 0.0 < top < FZ_KN_FNOMIN * fz_nominal:
+            i = int(np.argmax(fz))
+            raise DataError(path, int(table.row_lines[i]), "fz",
+                            f"the largest load is {top:g} N, below a tenth of the tyre's FNOMIN = "
+                            f"{fz_nominal:g} N: a tire load in kN labelled N?")
     if "p" in table.columns:
         p = table.columns["p"]
         pos = p[p > 0.0]
@@ -183,10 +190,11 @@ def check_ranges(path, table):
                             f"time does not increase: {t[i]:g} s after {t[i - 1]:g} s")
 
 
-def read_table(path, required=(), known_only=False, check=True, quiet=False):
+def read_table(path, required=(), known_only=False, check=True, quiet=False, fz_nominal=None):
     """Read a measured-data CSV into a Table, or raise DataError. required:
     columns that must be present; known_only: refuse columns that are not
-    known channels (instead of keeping unit-declared extras)."""
+    known channels (instead of keeping unit-declared extras); fz_nominal:
+    the tyre's FNOMIN [N], if known (check_ranges)."""
     size = os.path.getsize(path) if os.path.isfile(path) else 0
     if size > MAX_FILE_BYTES:
         raise DataError(path, None, None, f"{size} bytes: larger than the cap of {MAX_FILE_BYTES} bytes")
@@ -248,5 +256,5 @@ def read_table(path, required=(), known_only=False, check=True, quiet=False):
             hint = f" (is '{near[0]}' meant to be '{n}'?)" if near else ""
             raise DataError(path, header_line, n, f"required column missing{hint}")
     if check:
-        check_ranges(path, table)
+        check_ranges(path, table, fz_nominal)
     return table
