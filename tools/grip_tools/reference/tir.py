@@ -36,7 +36,7 @@ import stat
 import sys
 import tempfile
 
-from grip_tools.errors import DataError
+from grip_tools.errors import EXIT_HELP, DataError
 from grip_tools.paths import REPO_ROOT
 COEFS_HEADER = os.path.join(REPO_ROOT, "include", "grip", "grip_mf_coefs.h")
 RULES_HEADER = os.path.join(REPO_ROOT, "port", "linux", "tir_rules.h")
@@ -944,7 +944,8 @@ C_RESERVED = frozenset(("auto break case char const continue default do double e
 
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="grip tir2c",
-                                 description="Emit a grip_mf_params C definition from a .tir file.")
+                                 description="Emit a grip_mf_params C definition from a .tir file.",
+                                 epilog=EXIT_HELP + "; nothing is written on any error")
     ap.add_argument("tir")
     ap.add_argument("--name", required=True, help="C identifier of the parameter set")
     ap.add_argument("-o", "--output", required=True, help="the .c file to write")
