@@ -270,6 +270,7 @@ typedef struct {
 } bad_case;
 
 static const bad_case BAD[] = {
+    { "typo_key.tir", "RBX1X", "RBX1X = 12.0", "a misspelling of RBX1? The file does not give RBX1, which would take its default 20" },
     { "missing_fnomin.tir", "FNOMIN", "[VERTICAL]", "missing required key" },
     { "missing_fittyp.tir", "FITTYP", "[MODEL]", "missing required key" },
     { "missing_section.tir", "QBZ1", NULL, "missing required key in [ALIGNING_COEFFICIENTS]" },

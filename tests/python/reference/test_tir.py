@@ -400,8 +400,15 @@ class Validation(unittest.TestCase):
         self.assertEqual(len(warns), 2)
         self.assertIn(":29: RBX1X: unknown key in [LONGITUDINAL_COEFFICIENTS]: ignored (did you mean RBX1?)",
                       warns[0])
-        self.assertEqual(t.lines["RBX1"], 0)             # ignored, not guessed from RBX1X:
-        self.assertEqual(t.values["RBX1"], 20.0)         # RBX1 takes MFeval's default
+        self.assertEqual(t.lines["RBX1"], 31)            # ignored: RBX1 comes from its own line
+        # the same misspelling in a file without RBX1 would lose its value
+        # (RBX1 would take its default): refused, strict or not
+        for strict in (False, True):
+            with self.assertRaises(tir.TirError) as cm:
+                quiet_read(os.path.join(FIXTURES, "typo_key.tir"), strict=strict)
+            self.assertEqual((cm.exception.line, cm.exception.key), (29, "RBX1X"))
+            self.assertIn("a misspelling of RBX1? The file does not give RBX1, which would take its default 20",
+                          cm.exception.message)
         with self.assertRaises(tir.TirError) as cm:
             quiet_read(os.path.join(FIXTURES, "warn_unknown_key.tir"), strict=True)
         self.assertEqual((cm.exception.line, cm.exception.key), (29, "RBX1X"))

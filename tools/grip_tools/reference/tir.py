@@ -565,6 +565,7 @@ def _check_keys(t, warn):
         own_section.setdefault(key, sec)
     known_sections = set(r.sections) | {c.section for c in coefficients()}
     known_keys = set(r.known_keys)
+    coefs = {c.key: c for c in coefficients()}
     for section, e in t.entries:
         own = own_section.get(e.key)
         known_section = section in known_sections
@@ -575,6 +576,13 @@ def _check_keys(t, warn):
                                     "this value is ignored")
         elif known_section and e.key not in known_keys:
             near = nearest_key(e.key)
+            c = coefs.get(near)
+            if c is not None and c.section == section and near not in t.sections.get(section, {}):
+                # a misspelling of a coefficient the file does not give: its
+                # value would be lost and the default read instead
+                raise TirError(t.path, e.line, e.key,
+                               f"unknown key in [{section}]: a misspelling of {near}? The file does not give "
+                               f"{near}, which would take its default {c.default:g}: rename the key, or give {near}")
             warn(e.line, e.key, f"unknown key in [{section}]: ignored" + (f" (did you mean {near}?)" if near else ""))
 
 
