@@ -505,7 +505,7 @@ def assess(ds, truth, res):
                    res.correction.summary() if res.correction is not None else "",
                    [{"name": d.name, "family": list(d.family), "families": [list(f) for f in d.families],
                      "k": d.k, "score": d.score, "ic": d.ic, "kind": d.kind, "accepted": d.accepted,
-                     "ho_rms": dict(d.ho_rms)} for d in res.ranked], float(res.search.get("n_eff", 0.0)))
+                     "score2": d.score2, "ic2": d.ic2, "ho_rms": dict(d.ho_rms)} for d in res.ranked], float(res.search.get("n_eff", 0.0)))
 
 
 def run_one(args):
@@ -632,7 +632,9 @@ def reselect(path, rules=(("ic", 6.0), ("ic", 2.0), ("ic", 20.0), ("best", 0.0),
     of attribution._select, ("best", 0) the lowest IC alone, ("score", f)
     ties within a share f of the best score; each then with the fewest
     parameters, a constant change first, and the named-form replacement of
-    attribution._select. Returns {rule: named}, and the recorded count under
+    attribution._select. Candidates confirmed on the second split (ic2
+    recorded, attribution._confirm) are ranked by the sum of both ICs, as
+    the tool does. Returns {rule: named}, and the recorded count under
     None."""
     from grip_tools.loop.attribution import SPECIAL_TOL
     with open(path) as f:
@@ -644,6 +646,10 @@ def reselect(path, rules=(("ic", 6.0), ("ic", 2.0), ("ic", 20.0), ("best", 0.0),
             acc = sorted((c for c in s["ranked"] if c["accepted"]), key=lambda c: c["ic"])
             if not acc:
                 continue
+            conf = [c for c in acc if not math.isnan(c.get("ic2", float("nan")))]
+            if conf:                      # the tool's second split: the sum of both ICs
+                both = [dict(c, ic=c["ic"] + c["ic2"]) for c in conf if c["ic2"] < 0.0]
+                acc = sorted(both, key=lambda c: c["ic"]) if both else conf
             if kind == "ic":
                 band = [c for c in acc if c["ic"] <= acc[0]["ic"] + val]
             elif kind == "score":
