@@ -520,7 +520,8 @@ def assess(ds, truth, res):
                    res.correction.summary() if res.correction is not None else "",
                    [{"name": d.name, "family": list(d.family), "families": [list(f) for f in d.families],
                      "k": d.k, "score": d.score, "ic": d.ic, "kind": d.kind, "accepted": d.accepted,
-                     "score2": d.score2, "ic2": d.ic2, "ho_rms": dict(d.ho_rms)} for d in res.ranked], float(res.search.get("n_eff", 0.0)))
+                     "score2": d.score2, "ic2": d.ic2, "ho_rms": dict(d.ho_rms)} for d in res.ranked],
+                   float(res.search.get("n_eff", 0.0)))
 
 
 def run_one(args):
