@@ -35,6 +35,7 @@
 #include "candump.h"
 #include "can_socket.h"
 #include "csv.h"
+#include "input_rules.h"
 #include "tir_reader.h"
 
 #define EXIT_USAGE 2    /* bad command line */
@@ -76,6 +77,7 @@ typedef struct {
     int units;                 /* --units: unit suffixes in the output header */
     int skip_bad;
     int all_inputs;
+    int no_unit_check;         /* --no-unit-check: a CSV value outside input_rules.h is a range fault */
     int quiet;
     int want_fd;
     unsigned tir_flags;        /* --strict, --no-range-check: GRIP_TIR_* of the .tir reader */
@@ -454,7 +456,10 @@ static void usage(FILE *f)
             "                         known and ignored: step, NAME_fault, comment. Any other\n"
             "                         column is an error. The rows' time step must be --step-ms\n"
             "                         (within 1 %%). Needs -e.\n"
+            "                         A value outside its input's plausible range (a unit error:\n"
+            "                         a steering angle in degrees, a speed in km/h) is an error.\n"
             "      --ignore-columns A,B  --csv: also ignore these columns\n"
+            "      --no-unit-check    --csv: take such a value as a range fault (not valid)\n"
             "  -q, --quiet            no summary\n"
             "output: t_s, step, per input NAME and NAME_fault, with -e the estimator's columns;\n"
             "  with -e the measured yaw rate is yaw_rate_in (yaw_rate is the estimate)\n"
@@ -546,6 +551,9 @@ static int parse_args(int argc, char **argv, options *o)
             takes = 0;
         } else if (strcmp(a, "--all-inputs") == 0) {
             o->all_inputs = 1;
+            takes = 0;
+        } else if (strcmp(a, "--no-unit-check") == 0) {
+            o->no_unit_check = 1;
             takes = 0;
         } else if (strcmp(a, "--reorder") == 0) {
             o->sort_log = 1;
@@ -1267,6 +1275,25 @@ static int to_input(double v, uint32_t input, grip_real_t *out)
     return 1;
 }
 
+/* The plausible range of each input in a CSV file (input_rules.h). */
+typedef struct {
+    double lo;
+    double hi;
+    const char *hint;
+    double hint_max;
+} input_rule;
+
+static input_rule input_rules[GRIP_IN_COUNT];
+
+static void input_rules_init(void)
+{
+#define INPUT_RULE(id, lo_, hi_, hint_, hint_max_) \
+    input_rules[id].lo = (lo_); input_rules[id].hi = (hi_); input_rules[id].hint = (hint_); \
+    input_rules[id].hint_max = (hint_max_);
+    GRIP_INPUT_RULES(INPUT_RULE)
+#undef INPUT_RULE
+}
+
 /* 1 if name is in the comma-separated list. */
 static int in_list(const char *list, const char *name)
 {
@@ -1524,6 +1551,18 @@ static int csv_row(csv_ctx *c, char **cell, int ncol, const int *col, int t_col,
         if (isnan(v)) {
             continue;
         }
+        if (isfinite(v) && (v < input_rules[id].lo || v > input_rules[id].hi)) {
+            const input_rule *q = &input_rules[id];
+            if (!r->opt->no_unit_check) {
+                csv_error(c, "%s:%lu: column %s: %g is outside [%g, %g] %s%s; --no-unit-check takes it as a "
+                          "range fault", c->path, line, grip_input_name(id), v, q->lo, q->hi, grip_input_unit(id),
+                          fabs(v) <= q->hint_max ? q->hint : "");
+                bad = 1;
+            }
+            s->value[id] = 0;
+            s->fault[id] = GRIP_SIG_RANGE;
+            continue;
+        }
         if (!isfinite(v) || !to_input(v, id, &s->value[id])) {
             s->value[id] = 0;
             s->fault[id] = GRIP_SIG_RANGE;
@@ -1609,6 +1648,7 @@ static int run_csv(replay *r)
     csv_ctx c;
     int rc = 0;
     int k;
+    input_rules_init();
     if (csv_reader_open(&rd, r->opt->csv_in, line, CSV_LINE_MAX, 1, err, sizeof err) != 0) {
         fprintf(stderr, "grip-replay: %s\n", err);
         return EXIT_INPUT;
