@@ -33,7 +33,54 @@ def host_ns(arith):
     return {row["case"]: float(row["ns_per_call"]) for row in csv.DictReader(out.splitlines())}
 
 
+# The math kernels of an evaluation: libm's functions (float build, GRIP_FLOAT_KERNELS
+# 0; grip's float kernels are inlined into their callers and cannot be told apart) and
+# the Q15.16 functions behind r_sqrt ... r_log (fixed build).
+MATH_KERNEL_FN = re.compile(r"^grip_q16_(sqrt|atan|atan2|sin|cos|exp|log)$")
+CG_NAME = re.compile(r"^\((\d+)\)(?: (.*))?$")
+
+
+def callgrind_split(lines):
+    """Self cost (Ir) of a callgrind output file: (total, inside the math kernels)."""
+    obs, fns = {}, {}
+    ob, fn = "", ""
+    total = kern = 0
+    skip = False
+
+    def name(table, text):
+        m = CG_NAME.match(text.strip())
+        if not m:
+            return text.strip()
+        if m.group(2) is not None:
+            table[m.group(1)] = m.group(2)
+        return table.get(m.group(1), "")
+
+    for line in lines:
+        if skip:            # the inclusive cost of the call named on the line before
+            skip = False
+            continue
+        if line.startswith("ob="):
+            ob = name(obs, line[3:])
+        elif line.startswith("cob="):
+            name(obs, line[4:])
+        elif line.startswith("fn="):
+            fn = name(fns, line[3:])
+        elif line.startswith("cfn="):
+            name(fns, line[4:])
+        elif line.startswith("calls="):
+            skip = True
+        elif line[:1] in "0123456789+-*":
+            parts = line.split()
+            if len(parts) >= 2:
+                c = int(parts[1])
+                total += c
+                if "libm" in os.path.basename(ob) or MATH_KERNEL_FN.match(fn):
+                    kern += c
+    return total, kern
+
+
 def callgrind_ir(arith, case, n=1600):
+    """Mean instructions per call: (total, inside the math kernels)."""
     exe = os.path.join(ROOT, f"build/{arith}-gcc/bench/bench_host")
     with tempfile.TemporaryDirectory() as d:
         out = os.path.join(d, "cg.out")
@@ -41,10 +88,14 @@ def callgrind_ir(arith, case, n=1600):
                         f"--callgrind-out-file={out}", exe, case, str(n)],
                        check=True, capture_output=True)
         with open(out) as f:
-            for line in f:
-                if line.startswith("totals:"):
-                    return int(line.split()[1]) / n
-    raise RuntimeError("callgrind: no totals line in its output")
+            lines = f.readlines()
+    totals = [int(l.split()[1]) for l in lines if l.startswith("totals:")]
+    if not totals:
+        raise RuntimeError("callgrind: no totals line in its output")
+    total, kern = callgrind_split(lines)
+    if total != totals[0]:
+        raise RuntimeError(f"callgrind: self costs add up to {total}, totals line {totals[0]}")
+    return totals[0] / n, kern / n
 
 
 def qemu_counts(target, machine):
@@ -102,11 +153,13 @@ def main(argv=None):
     m4f = qemu_counts("m4f-float", "mps2-an386") if "m4f" in targets else none
     m0p = qemu_counts("m0p-fixed", "mps2-an385") if "m0p" in targets else none
     header = ["case", "host ns float", "host ns fixed", "x86 instr float", "x86 instr fixed",
+              "x86 float in kernels", "x86 fixed in kernels",
               "M4F instr mean", "M4F instr max", "M0+ instr mean", "M0+ instr max"]
     rows = []
     for c in cases:
         rows.append([c, f"{ns['float'][c]:.1f}", f"{ns['fixed'][c]:.1f}",
-                     f"{ir['float'][c]:.0f}", f"{ir['fixed'][c]:.0f}",
+                     f"{ir['float'][c][0]:.0f}", f"{ir['fixed'][c][0]:.0f}",
+                     f"{ir['float'][c][1]:.0f}", f"{ir['fixed'][c][1]:.0f}",
                      f"{m4f[c][0]:.0f}", f"{m4f[c][1]:.0f}", f"{m0p[c][0]:.0f}", f"{m0p[c][1]:.0f}"])
     with open(os.path.join(args.outdir, "bench.csv"), "w", newline="") as f:
         w = csv.writer(f)
@@ -118,7 +171,9 @@ def main(argv=None):
     with open(os.path.join(args.outdir, "bench.md"), "w") as f:
         f.write(text)
     print(text)
-    print("x86 instr: valgrind callgrind, mean over the 16 input sets; M4F/M0+ instr: "
+    print("x86 instr: valgrind callgrind, mean over the 16 input sets; 'in kernels': the part of it in "
+          "libm's functions (float) or grip_q16_sqrt/atan/atan2/sin/cos/exp/log (fixed), the rest is outside; "
+          "M4F/M0+ instr: "
           "qemu-system-arm trace, mean and max over the 16 input sets; host ns: median of 5 runs",
           file=sys.stderr)
     return 0
