@@ -92,7 +92,7 @@ static MF_ALWAYS_INLINE void mf_long_pure(const grip_mf_params *p, const mf_op *
     grip_real_t shx = r_mul(r_mul(r_add(p->phx1, r_mul(p->phx2, dfz)), p->lhx), op->smooth); /* 4.E17 */
     grip_real_t kx = r_add(op->kappa, shx);                                          /* 4.E10 */
     grip_real_t cx = r_mul(p->pcx1, p->lcx);                                         /* 4.E11 */
-    grip_real_t mux = mf_mux_dp(p, dfz, op->dp[MF_DP_PX_MU], op->gmux, op->lmux_s);  /* 4.E13 */
+    grip_real_t mux = mf_mux_dp(p, dfz, mf_dp(p, op->dp, op->dpi, MF_DP_PX_MU), op->gmux, op->lmux_s);  /* 4.E13 */
     grip_real_t dx = (ts != NULL) ? r_mul(mux, ts->z1) : mux;                        /* 4.E12 */
     grip_real_t ex = r_mul(r_mul(r_add(p->pex1, r_add(r_mul(p->pex2, dfz), r_mul(p->pex3, r_sq(dfz)))),
                                  r_sub(R_ONE, r_mul(p->pex4, r_sign(kx)))),
@@ -100,7 +100,7 @@ static MF_ALWAYS_INLINE void mf_long_pure(const grip_mf_params *p, const mf_op *
     /* Kxk / Fz: the slip stiffness per unit load, so that Bx is formed
      * without dividing two loads (4.E15, 4.E16). */
     grip_real_t kx_per = r_mul(r_mul(r_mul(r_add(p->pkx1, r_mul(p->pkx2, dfz)), r_exp(r_mul(p->pkx3, dfz))),
-                                     op->dp[MF_DP_PX_K]),
+                                     mf_dp(p, op->dp, op->dpi, MF_DP_PX_K)),
                                p->lkx);
     grip_real_t bx = mf_div_lim(kx_per, r_mul(cx, dx), MF_LIM_B);                    /* 4.E16 */
     grip_real_t svx = r_mul(r_mul(r_mul(r_add(p->pvx1, r_mul(p->pvx2, dfz)), p->lvx), op->lmux_p),
@@ -131,9 +131,9 @@ typedef struct {
 static MF_ALWAYS_INLINE void mf_lat_common_init(const grip_mf_params *p, const mf_op *op, mf_lat_common *c)
 {
     grip_real_t dfz = op->dfz;
-    c->kyb = op->dp[MF_DP_KYB];
-    c->kyd = op->dp[MF_DP_KYD];
-    c->mub = r_mul(r_add(p->pdy1, r_mul(p->pdy2, dfz)), op->dp[MF_DP_PY_MU]);
+    c->kyb = mf_dp(p, op->dp, op->dpi, MF_DP_KYB);
+    c->kyd = mf_dp(p, op->dp, op->dpi, MF_DP_KYD);
+    c->mub = r_mul(r_add(p->pdy1, r_mul(p->pdy2, dfz)), mf_dp(p, op->dp, op->dpi, MF_DP_PY_MU));
     c->svb = r_mul(r_mul(r_add(p->pvy1, r_mul(p->pvy2, dfz)), p->lvy), op->lmuy_p);
     c->shb = r_mul(r_add(p->phy1, r_mul(p->phy2, dfz)), p->lhy);
     c->eyb = r_add(p->pey1, r_mul(p->pey2, dfz));
@@ -157,7 +157,7 @@ static MF_ALWAYS_INLINE void mf_lat_body(const grip_mf_params *p, const mf_op *o
                             p->lky);
     grip_real_t muy = r_mul(r_mul(c->mub, r_sub(R_ONE, r_mul(p->pdy3, g2))), op->lmuy_s);         /* 4.E23 */
     grip_real_t dy = muy;                                                                         /* 4.E22 */
-    grip_real_t svyg = r_mul(r_mul(r_mul(r_add(p->pvy3, r_mul(p->pvy4, dfz)), g), op->kyc), op->lmuy_p); /* 4.E28 */
+    grip_real_t svyg = r_mul(r_mul(r_mul(r_add(p->pvy3, r_mul(p->pvy4, dfz)), g), MF_KYC(p, op)), op->lmuy_p); /* 4.E28 */
     grip_real_t svb = c->svb;
     grip_real_t svy;
     grip_real_t shy = c->shb;
@@ -184,7 +184,7 @@ static MF_ALWAYS_INLINE void mf_lat_body(const grip_mf_params *p, const mf_op *o
     } else {
         /* MF 6.x: the camber shift follows from the camber stiffness Kyg0
          * (4.E30) and SVyg (4.E27). */
-        grip_real_t kyg0 = r_mul(r_mul(r_add(p->pky6, r_mul(p->pky7, dfz)), op->dp[MF_DP_PY_G]), op->kyc);
+        grip_real_t kyg0 = r_mul(r_mul(r_add(p->pky6, r_mul(p->pky7, dfz)), mf_dp(p, op->dp, op->dpi, MF_DP_PY_G)), MF_KYC(p, op));
         shy = r_add(shy, mf_div_lim(r_sub(r_mul(kyg0, g), svyg), kya, MF_LIM_SHIFT));
     }
     /* Low speed: the shifts fade out with the speed. */
@@ -234,7 +234,7 @@ static MF_ALWAYS_INLINE void mf_trail_body(const grip_mf_params *p, const mf_op 
         bt_cam = r_add(R_ONE, r_add(r_mul(p->qbz4, g), r_mul(p->qbz5, ga)));
     }
     /* Dt / R0 = (Fz / Fz0') (QDZ1 + QDZ2 dfz)(1 - PPZ1 dpi) (...) LTR  (4.E42-43) */
-    dt = r_mul(r_mul(r_mul(r_mul(op->fzp, r_add(p->qdz1, r_mul(p->qdz2, dfz))), op->dp[MF_DP_PZ_T]),
+    dt = r_mul(r_mul(r_mul(r_mul(op->fzp, r_add(p->qdz1, r_mul(p->qdz2, dfz))), mf_dp(p, op->dp, op->dpi, MF_DP_PZ_T)),
                      dt_cam),
                p->ltr);
     bt = r_mul(r_mul(r_add(p->qbz1, r_add(r_mul(p->qbz2, dfz), r_mul(p->qbz3, r_sq(dfz)))), bt_cam), ky_mu);
@@ -249,10 +249,10 @@ static MF_ALWAYS_INLINE void mf_trail_body(const grip_mf_params *p, const mf_op 
     out->bt = bt;
     out->br = r_add(r_mul(p->qbz9, ky_mu), r_mul(r_mul(p->qbz10, lat->by), lat->cy));            /* 4.E45 */
     /* Dr / (Fz R0)                                                         (4.E47) */
-    dr_cam = r_mul(r_mul(r_add(r_mul(r_add(p->qdz8, r_mul(p->qdz9, dfz)), op->dp[MF_DP_PZ_R]),
+    dr_cam = r_mul(r_mul(r_add(r_mul(r_add(p->qdz8, r_mul(p->qdz9, dfz)), mf_dp(p, op->dp, op->dpi, MF_DP_PZ_R)),
                                r_mul(r_add(MF6_ONLY(op, p->qdz10), r_mul(MF6_ONLY(op, p->qdz11), dfz)), ga)),
                          g),
-                   op->kzc);
+                   MF_KZC(p, op));
     dr = r_mul(r_add(r_mul(r_add(p->qdz6, r_mul(p->qdz7, dfz)), p->lres), dr_cam), op->lmuy_s);
     /* sgn(Vcx) cos'(alpha), with |Vx| for Vx (see mf_prepare). */
     out->dr = r_mul(dr, op->cosa);
@@ -500,12 +500,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_prepare(const grip_mf_params *p, const 
     if (io->zero) {
         return GRIP_OK;
     }
-    if ((k != NULL) && !(pr > R_ZERO)) {
-        op->dp = k->dp;
-    } else {
-        mf_dp_fill(p, op->dpi, op->dp_own);
-        op->dp = op->dp_own;
-    }
+    op->dp = ((k != NULL) && !(pr > R_ZERO)) ? k->dp : NULL;
 
     /* Low-speed model (VXLOW), as MF-Tyre: for |Vx| <= VXLOW kappa fades
      * linearly with the speed (times |Vx| / VXLOW) and the shifts, the trail
@@ -569,14 +564,10 @@ static MF_ALWAYS_INLINE grip_status_t mf_prepare(const grip_mf_params *p, const 
         op->gx = r_mul(op->gamma, p->lgax);
         op->gy = r_mul(op->gamma, p->lgay);
         op->gz = r_mul(op->gamma, p->lgaz);
-        op->kyc = R_ONE;
-        op->kzc = R_ONE;
     } else {
         op->gx = op->gamma;
         op->gy = op->gamma;
         op->gz = op->gamma;
-        op->kyc = p->lkyc;
-        op->kzc = p->lkzc;
     }
     return clamped ? GRIP_WARN_CLAMPED : GRIP_OK;
 }
@@ -752,7 +743,7 @@ static MF_NOINLINE int mf_ts_begin(const grip_mf_params *p, const grip_mf_input 
                                        p->lky),
                                  ts->z3);
         grip_real_t kyg0 = r_mul(r_mul(r_add(p->pky6, r_mul(p->pky7, dfz)), r_add(R_ONE, r_mul(p->ppy5, op->dpi))),
-                                 op->kyc);
+                                 MF_KYC(p, op));
         grip_real_t dhyp = r_add(p->phyp2, r_mul(p->phyp3, dfz));                             /* 4.86 */
         grip_real_t bhyp = mf_div_lim(kyg0, r_mul(r_mul(ts->one_eg, r_mul(p->phyp1, dhyp)), kya0), MF_LIM_B);
         ts->shyp = mf_sin_curve(bhyp, p->phyp1, dhyp, r_min(p->phyp4, mf_emax(mode)), u);
@@ -786,10 +777,10 @@ static MF_NOINLINE grip_real_t mf_ts_moment(const grip_mf_params *p, const mf_op
     grip_real_t x;
     grip_real_t f90 = r_mul(r_mul(m, MF_2_OVER_PI), gyk);
     if (ts->camber) {
-        kz = r_mul(r_add(r_add(p->qdz8, r_mul(p->qdz9, dfz)), r_mul(r_add(q10, r_mul(q11, dfz)), ts->gabs)), op->kzc);
+        kz = r_mul(r_add(r_add(p->qdz8, r_mul(p->qdz9, dfz)), r_mul(r_add(q10, r_mul(q11, dfz)), ts->gabs)), MF_KZC(p, op));
         arg = ts->u;
     } else {
-        kz = r_mul(r_add(r_mul(r_mul(p->qdz8, p->qdz9), dfz), r_add(q10, r_mul(r_mul(q11, dfz), ts->gabs))), op->kzc);
+        kz = r_mul(r_add(r_mul(r_mul(p->qdz8, p->qdz9), dfz), r_add(q10, r_mul(r_mul(q11, dfz), ts->gabs))), MF_KZC(p, op));
         arg = ts->ut;
     }
     den = r_mul(p->qdrp1, ddrp);
@@ -1167,10 +1158,11 @@ grip_status_t grip_mf_eval_pure_prepared(const grip_mf_prepared *prep, const gri
 }
 
 /* The constants of the set under `options`, each formed by the expression
- * the unprepared evaluation uses (mf_prepare, mf_lmu, mf_dp_fill), so that
+ * the unprepared evaluation uses (mf_prepare, mf_lmu, mf_dp_form), so that
  * the prepared evaluation is bit-identical to it. */
 static void mf_prepare_fill(const grip_mf_params *p, uint32_t options, grip_mf_prepared *k)
 {
+    int i;
     int clamped = 0;
     int mf52 = mf_is_52(p);
     int book = (options & GRIP_MF_OPT_BOOK) != 0u;
@@ -1183,7 +1175,9 @@ static void mf_prepare_fill(const grip_mf_params *p, uint32_t options, grip_mf_p
     k->fz_max = r_mul(RC(GRIP_MF_FZ_MAX_REL), p->fnomin);
     k->dpi0 = mf_dpi(p, R_ZERO, mf52, &clamped);
     f |= clamped ? MF_PF_DPI0_CLAMP : 0u;
-    mf_dp_fill(p, k->dpi0, k->dp);
+    for (i = 0; i < GRIP_MF_DP_N; i++) {
+        k->dp[i] = mf_dp_form(p, k->dpi0, i);
+    }
     k->lmux_p = mf_lmu_prime(book, p->lmux);
     k->lmuy_p = mf_lmu_prime(book, p->lmuy);
     k->ky_mu = mf_div_lim(p->lky, p->lmuy, MF_LIM_RATIO);

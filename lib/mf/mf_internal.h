@@ -65,19 +65,22 @@ typedef struct {
     grip_real_t gx;      /* camber as it enters Fx, Fy, Mz: gamma* (MF 6.x),   */
     grip_real_t gy;      /* gamma* * LGAX / LGAY / LGAZ (MF 5.2)               */
     grip_real_t gz;
-    grip_real_t kyc;     /* LKYC, LKZC (MF 6.x); 1 (MF 5.2)                    */
-    grip_real_t kzc;
     grip_real_t ky_mu;   /* LKY / LMUY* (4.E40, 4.E45)                         */
-    const grip_real_t *dp; /* the pressure factors at dpi (MF_DP_*): dp_own,   */
-                         /* or the prepared set's at its default pressure      */
-    grip_real_t dp_own[GRIP_MF_DP_N];
+    const grip_real_t *dp; /* the prepared set's pressure factors (MF_DP_*) at */
+                         /* its default pressure; NULL: formed where used, at  */
+                         /* dpi (a table in the frame would put 32 B on the    */
+                         /* deepest stack path of grip_mf_eval_ext)            */
     int mf52;            /* FITTYP 5, 6, 21                                    */
     int book;            /* GRIP_MF_OPT_BOOK                                   */
 } mf_op;
 
+/* LKYC, LKZC (MF 6.x); 1 (MF 5.2). */
+#define MF_KYC(p, op) ((op)->mf52 ? R_ONE : (p)->lkyc)
+#define MF_KZC(p, op) ((op)->mf52 ? R_ONE : (p)->lkzc)
+
 /* The pressure factors (4.E13, 4.E15, 4.E25, 4.E23, 4.E30, 4.E43, 4.E47):
- * polynomials in dpi alone, formed once per evaluation, or once per set
- * for its default pressure (grip_mf_prepare). Indices of mf_op.dp and
+ * polynomials in dpi alone, formed where used, or once per set for its
+ * default pressure (grip_mf_prepare). Indices of mf_op.dp and
  * grip_mf_prepared.dp. */
 #define MF_DP_PX_MU 0    /* 1 + PPX3 dpi + PPX4 dpi^2 (mu_x)                   */
 #define MF_DP_PX_K  1    /* 1 + PPX1 dpi + PPX2 dpi^2 (Kxk)                    */
@@ -88,20 +91,35 @@ typedef struct {
 #define MF_DP_PZ_T  6    /* 1 - PPZ1 dpi (Dt)                                  */
 #define MF_DP_PZ_R  7    /* 1 + PPZ2 dpi (Dr)                                  */
 
-/* The pressure factors at dpi into dp[GRIP_MF_DP_N]: the expressions the
- * evaluation used to form in place, in the same order of operations (so a
- * prepared set's factors are those of an unprepared evaluation bit for
- * bit). */
-static inline void mf_dp_fill(const grip_mf_params *p, grip_real_t dpi, grip_real_t *dp)
+/* The pressure factor idx at dpi: one expression each, used both where
+ * the evaluation forms it and by grip_mf_prepare (so a prepared set's
+ * factors are an unprepared evaluation's bit for bit). */
+static inline grip_real_t mf_dp_form(const grip_mf_params *p, grip_real_t dpi, int idx)
 {
-    dp[MF_DP_PX_MU] = r_add(R_ONE, r_add(r_mul(p->ppx3, dpi), r_mul(p->ppx4, r_sq(dpi))));
-    dp[MF_DP_PX_K] = r_add(R_ONE, r_add(r_mul(p->ppx1, dpi), r_mul(p->ppx2, r_sq(dpi))));
-    dp[MF_DP_KYB] = r_mul(p->pky1, r_add(R_ONE, r_mul(p->ppy1, dpi)));
-    dp[MF_DP_KYD] = r_add(R_ONE, r_mul(p->ppy2, dpi));
-    dp[MF_DP_PY_MU] = r_add(R_ONE, r_add(r_mul(p->ppy3, dpi), r_mul(p->ppy4, r_sq(dpi))));
-    dp[MF_DP_PY_G] = r_add(R_ONE, r_mul(p->ppy5, dpi));
-    dp[MF_DP_PZ_T] = r_sub(R_ONE, r_mul(p->ppz1, dpi));
-    dp[MF_DP_PZ_R] = r_add(R_ONE, r_mul(p->ppz2, dpi));
+    switch (idx) {
+    case MF_DP_PX_MU:
+        return r_add(R_ONE, r_add(r_mul(p->ppx3, dpi), r_mul(p->ppx4, r_sq(dpi))));
+    case MF_DP_PX_K:
+        return r_add(R_ONE, r_add(r_mul(p->ppx1, dpi), r_mul(p->ppx2, r_sq(dpi))));
+    case MF_DP_KYB:
+        return r_mul(p->pky1, r_add(R_ONE, r_mul(p->ppy1, dpi)));
+    case MF_DP_KYD:
+        return r_add(R_ONE, r_mul(p->ppy2, dpi));
+    case MF_DP_PY_MU:
+        return r_add(R_ONE, r_add(r_mul(p->ppy3, dpi), r_mul(p->ppy4, r_sq(dpi))));
+    case MF_DP_PY_G:
+        return r_add(R_ONE, r_mul(p->ppy5, dpi));
+    case MF_DP_PZ_T:
+        return r_sub(R_ONE, r_mul(p->ppz1, dpi));
+    default:
+        return r_add(R_ONE, r_mul(p->ppz2, dpi));   /* MF_DP_PZ_R */
+    }
+}
+
+/* The pressure factor idx of an evaluation: the prepared one, or formed. */
+static inline grip_real_t mf_dp(const grip_mf_params *p, const grip_real_t *dp, grip_real_t dpi, int idx)
+{
+    return (dp != NULL) ? dp[idx] : mf_dp_form(p, dpi, idx);
 }
 
 /* The use-mode bits of an evaluation (GRIP_MF_OPT_* of the set, switched
