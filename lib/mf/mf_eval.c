@@ -439,7 +439,11 @@ static MF_ALWAYS_INLINE grip_status_t mf_prepare(const grip_mf_params *p, const 
     }
 
     /* Sign conventions -> ISO-W. */
-    io->sae = (k != NULL) ? ((k->flags & MF_PF_SAE) != 0u) : ((opt & GRIP_MF_OPT_SAE) != 0u);
+    if (k != NULL) {
+        io->sae = (k->flags & MF_PF_SAE) != 0u;
+    } else {
+        io->sae = (opt & GRIP_MF_OPT_SAE) != 0u;
+    }
     if (io->sae) {
         alpha = r_neg(alpha);          /* rotation about z: z points down in SAE */
         fz = r_neg(fz);                /* a loaded tyre has Fz < 0 in SAE        */
@@ -895,6 +899,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_pure_eval(const grip_mf_params *p, cons
     mf_trail_coefs(p, &s.op, &s.lat, &s.tc);
     /* Mz0' = -t0 Fy0 (4.E32). MF 6.x uses Fy0 at gamma = 0 (camber acts on
      * Mz through Mzr); MF 5.2 the pure lateral force itself. */
+    /* grip-deviation: clang-analyzer-core.uninitialized.Assign false positive: mf_lat_pure writes every field of s.lat and s.lat0 (the analyzer stops following mf_lat_body) */
     fy_ref = s.op.mf52 ? s.lat.fy0 : mf_lat_gamma0(p, &s, NULL, 0, R_ONE)->fy0;
     t0 = mf_trail_at(&s.op, &s.tc, s.tc.alpha_t);                          /* 4.E33 */
     if (!s.op.book) {
@@ -1165,8 +1170,11 @@ static void mf_prepare_fill(const grip_mf_params *p, uint32_t options, grip_mf_p
     int i;
     int clamped = 0;
     int mf52 = mf_is_52(p);
-    int book = (options & GRIP_MF_OPT_BOOK) != 0u;
+    int book = 0;
     uint32_t f = 0u;
+    if ((options & GRIP_MF_OPT_BOOK) != 0u) {
+        book = 1;
+    }
     f |= mf52 ? MF_PF_MF52 : 0u;
     f |= book ? MF_PF_BOOK : 0u;
     f |= ((options & GRIP_MF_OPT_SAE) != 0u) ? MF_PF_SAE : 0u;
