@@ -304,4 +304,13 @@
                               *        V_MU where the share hovers at 0.1 (golden bicycle_1khz:
                               *        the fixed build's mask on 59 -> 4 of 4,000 rows)          */
 
+/* ---- sensitivity study ------------------------------------------------- */
+/* `grip est-sensitivity` builds the estimator with one value changed: the
+ * header named here #undefs and redefines it. Never set in a product build;
+ * docs/estimator/sensitivity.md has each constant's class and measured
+ * sensitivity on the independent judge. */
+#ifdef GRIP_EST_TUNING_OVERRIDE
+#include GRIP_EST_TUNING_OVERRIDE
+#endif
+
 #endif

@@ -695,6 +695,11 @@ static grip_can_table_text_t text_table;
 static int load_table(const char *path, const grip_can_table_t **table)
 {
     static char line[GRIP_CAN_TEXT_LINE_MAX + 1];
+    /* the line of each msg and sig line, to name what the consistency
+     * check refuses */
+    static unsigned long msg_line[GRIP_CAN_MAX_MESSAGES];
+    static unsigned long sig_line[GRIP_CAN_MAX_SIGNALS];
+    grip_check_detail_t d;
     char err[700];
     const char *why = "";
     csv_reader rd;
@@ -709,10 +714,18 @@ static int load_table(const char *path, const grip_can_table_t **table)
     }
     grip_can_table_text_init(&text_table);
     while ((rc = csv_read_line(&rd, err, sizeof err)) == 1) {
+        uint16_t nm = text_table.table.n_messages;
+        uint16_t ns = text_table.table.n_signals;
         if (grip_can_table_text_line(&text_table, line, (uint32_t)rd.len, &why) != GRIP_OK) {
             fprintf(stderr, "grip-replay: %s:%lu: %s\n", rd.path, rd.lineno, why);
             csv_reader_close(&rd);
             return -1;
+        }
+        if (text_table.table.n_messages > nm && nm < GRIP_CAN_MAX_MESSAGES) {
+            msg_line[nm] = rd.lineno;
+        }
+        if (text_table.table.n_signals > ns && ns < GRIP_CAN_MAX_SIGNALS) {
+            sig_line[ns] = rd.lineno;
         }
     }
     csv_reader_close(&rd);
@@ -720,8 +733,26 @@ static int load_table(const char *path, const grip_can_table_t **table)
         fprintf(stderr, "grip-replay: signal table: %s\n", err);
         return -1;
     }
-    if (grip_can_table_text_finish(&text_table, table, &why) != GRIP_OK) {
-        fprintf(stderr, "grip-replay: %s: %s\n", path, why);
+    if (grip_can_table_text_finish_detail(&text_table, table, &why, &d) != GRIP_OK) {
+        if (d.rule[0] != '\0') {
+            /* the refused message or signal by its line and name */
+            const grip_can_table_t *t = &text_table.table;
+            int msg = strcmp(d.part, "message") == 0 && d.index >= 0 && d.index < (int32_t)t->n_messages;
+            int sig = strcmp(d.part, "signal") == 0 && d.index >= 0 && d.index < (int32_t)t->n_signals;
+            if (msg || sig) {
+                fprintf(stderr, "grip-replay: %s:%lu: %s %s: %s: %s (the table's consistency check)\n", path,
+                        msg ? msg_line[d.index] : sig_line[d.index], d.part,
+                        msg ? t->messages[d.index].name : t->signals[d.index].name, d.field, d.rule);
+            } else if (strcmp(d.part, "input") == 0 && d.index >= 0) {
+                fprintf(stderr, "grip-replay: %s: input %s: %s: %s (the table's consistency check)\n", path,
+                        grip_input_name((uint32_t)d.index), d.field, d.rule);
+            } else {
+                fprintf(stderr, "grip-replay: %s: %s: %s (the table's consistency check)\n", path, d.field,
+                        d.rule);
+            }
+        } else {
+            fprintf(stderr, "grip-replay: %s: %s\n", path, why);
+        }
         return -1;
     }
     return 0;

@@ -170,18 +170,22 @@ def write_input_csv(path, t, value, valid):
 
 def read_replay(text):
     """grip-replay's output CSV (estimator columns) -> the arrays estimate() returns."""
-    import csv
     import io
-    rows = list(csv.DictReader(io.StringIO(text)))
-
-    def col(k):
-        return np.array([float(r[k]) if r[k] != "" else np.nan for r in rows])
-    return {"time": col("t_s"), "beta": col("beta"), "mu": col("mu"), "mu_conf": col("mu_conf"),
-            "fyf": col("fy_front"), "fyr": col("fy_rear"), "vx": col("vx"), "yaw_rate": col("yaw_rate"),
-            "yaw_rate_ref": col("yaw_rate_ref"), "yaw_rate_bias": col("yaw_rate_bias"),
-            "ay_model": col("ay_model"), "est_status": col("est_status"),
-            "valid": np.array([int(r["est_valid"]) for r in rows], dtype=np.int64),
-            "flags": np.array([int(r["est_flags"]) for r in rows], dtype=np.int64)}
+    import pyarrow as pa
+    import pyarrow.csv as pcsv
+    want = {"t_s": "time", "beta": "beta", "mu": "mu", "mu_conf": "mu_conf", "fy_front": "fyf", "fy_rear": "fyr",
+            "vx": "vx", "yaw_rate": "yaw_rate", "yaw_rate_ref": "yaw_rate_ref", "yaw_rate_bias": "yaw_rate_bias",
+            "ay_model": "ay_model", "est_status": "est_status"}
+    # only the estimator's columns, as float64 (an empty cell is NaN) and
+    # the two bit masks as int64; the input and fault columns are not read
+    types = {k: pa.float64() for k in want}
+    types.update(est_valid=pa.int64(), est_flags=pa.int64())
+    tab = pcsv.read_csv(io.BytesIO(text.encode()), read_options=pcsv.ReadOptions(use_threads=False),
+                        convert_options=pcsv.ConvertOptions(column_types=types, include_columns=list(types)))
+    out = {v: tab.column(k).to_numpy(zero_copy_only=False).astype(float) for k, v in want.items()}
+    out["valid"] = tab.column("est_valid").to_numpy(zero_copy_only=False).astype(np.int64)
+    out["flags"] = tab.column("est_flags").to_numpy(zero_copy_only=False).astype(np.int64)
+    return out
 
 
 def run_c(binary, tir_path, csv_path, vehicle="generic", vehicle_lines=(), step_ms=10.0):

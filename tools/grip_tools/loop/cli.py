@@ -27,6 +27,7 @@ import argparse
 import sys
 import time
 
+from grip_tools.errors import EXIT_HELP
 from grip_tools.loop import attribution, io, report
 from grip_tools.loop.effects import TireModel
 
@@ -125,7 +126,7 @@ def main(argv=None):
     if argv and argv[0] == "apply":
         return apply_main(argv[1:])
     from grip_tools.reference import tir
-    ap = argparse.ArgumentParser(prog="grip analyze", description=__doc__,
+    ap = argparse.ArgumentParser(prog="grip analyze", description=__doc__, epilog=EXIT_HELP,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("data", nargs="?")
     ap.add_argument("--tir")
