@@ -209,6 +209,8 @@ typedef struct {
     uint32_t magic;
     grip_est_config_t cfg;
     /* derived at init */
+    grip_mf_prepared tire_prep[2]; /* the axles' MF sets prepared (grip_mf_prepare) for the
+                                    * step's four evaluations */
     grip_real_t fz_static[2];   /* QL per wheel, front / rear  */
     grip_real_t xw[4], yw[4];   /* QS m wheel positions from the CG (x forward, y left) */
     grip_real_t c_alpha[2];     /* QL N/rad per wheel at static load */

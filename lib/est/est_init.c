@@ -260,6 +260,14 @@ grip_status_t grip_est_init_detail(grip_est_t *est, const grip_est_config_t *cfg
         return st;
     }
     est->cfg = *cfg;
+    /* Prepared once for the step's evaluations (bit-identical to
+     * grip_mf_eval). A set that does not prepare (a use-mode bit, which
+     * check_config lets through) leaves the prepared set cleared, and its
+     * evaluations return GRIP_ERR_PARAM as grip_mf_eval's would: the
+     * static-load evaluations below refuse it. */
+    for (a = 0; a < 2; ++a) {
+        (void)grip_mf_prepare(cfg->tire[a].model.mf, cfg->tire[a].model.mf->options, &est->tire_prep[a]);
+    }
     l = r_add(cfg->lf, cfg->lr);
     m_g = r_mul(RC(EST_G * 0.5), cfg->mass);              /* half the weight [N] */
     est->fz_static[0] = r_mul(r_div(cfg->lr, l), m_g);

@@ -108,6 +108,23 @@ static inline grip_status_t tire_eval(const grip_est_tire_t *t, const grip_mf_in
     }
 }
 
+/* The step's tire evaluation of an axle: its prepared MF set (est_init.c),
+ * the same outputs as tire_eval, bit for bit, without the per-call checks
+ * of the set. */
+static inline grip_status_t tire_eval_axle(const grip_est_t *est, int axle, const grip_mf_input *in,
+                                           grip_mf_output *out)
+{
+    switch (est->cfg.tire[axle].kind) {
+    case GRIP_EST_TIRE_MF:
+        return grip_mf_eval_prepared(&est->tire_prep[axle], in, out);
+    default:
+        out->fx = R_ZERO;
+        out->fy = R_ZERO;
+        out->mz = R_ZERO;
+        return GRIP_ERR_PARAM;
+    }
+}
+
 /* vx's rate of change in the body frame: the measured ax less its learned
  * offset, plus r vy, plus gravity's component along the road's grade
  * (vx's prediction over a step, and vx at the outputs' time) */
