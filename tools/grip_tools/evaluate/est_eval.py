@@ -153,7 +153,29 @@ def estimate(run_dir):
     res["fyr"] = np.array([o["fy_axle"][1] for o in outs])
     res["valid"] = np.array([o["valid"] for o in outs], dtype=np.int64)
     res["vx"] = np.array([o["vx"] for o in outs])
+    res["beta_sd"] = np.array([o["beta_sd"] for o in outs])
+    res["flags"] = np.array([o["flags"] for o in outs], dtype=np.int64)
     return res
+
+
+def integrity(t, err, sd, ok, floor, k=3.0):
+    """Integrity of one output on the steps flagged valid (ok): the share
+    of them whose true |err| exceeds max(floor, k sd), and the longest such
+    run [s]. Returns dict(valid_steps, violations, rate, longest_s)."""
+    t, err, sd, ok = (np.asarray(a) for a in (t, err, sd, ok))
+    bad = ok & (np.abs(err) > np.maximum(floor, k * sd))
+    n_ok = int(ok.sum())
+    longest, run, t0 = 0.0, False, 0.0
+    dt = float(np.median(np.diff(t))) if len(t) > 1 else 0.0
+    for i in range(len(t)):
+        if bad[i] and not run:
+            run, t0 = True, t[i]
+        if run and (not bad[i] or i == len(t) - 1):
+            end = t[i] if not bad[i] else t[i] + dt
+            longest = max(longest, float(end - t0))
+            run = False
+    return dict(valid_steps=n_ok, violations=int(bad.sum()), rate=(float(bad.sum()) / n_ok if n_ok else 0.0),
+                longest_s=longest)
 
 
 def write_input_csv(path, t, value, valid):

@@ -64,6 +64,8 @@ F_MODEL_MISFIT = 1 << 15
 F_INPUT_DEGRADED = 1 << 16   # set by grip_monitor_gate (monitor_ref.gate), not by the estimator
 F_RATE = 1 << 17             # the step's period (input times) disagrees with rate_hz
 F_NO_REAR_STEER = 1 << 18    # rear steering configured, its angle missing beyond the hold time
+F_BETA_KIN = 1 << 19         # vy, beta from the kinematic estimate (its bound the smaller)
+F_BETA_DISAGREE = 1 << 20    # the dynamic and kinematic vy disagree beyond their joint bound
 
 
 def V_WHEEL(i):
@@ -244,6 +246,22 @@ SAT_U, SAT_HI, SAT_LO, CONF_MISFIT = 0.95, 0.7, 0.1, 0.45
 SAT_MU, SAT_MU_LO = 0.1, 0.05
 
 
+# -- error bounds (est_checks.c, docs/estimator.md "7. Checks and validity")
+# The dynamic (tire-model) vy's standard deviation: the filter's, and the
+# tire model's: a relative error TIRE_TOL of the axle's cornering stiffness
+# moves the rear slip angle, hence vy, by TIRE_TOL |alpha_r| |vx| / g, g =
+# sqrt(1 - u) the local slope of an axle at utilization u (floor G_MIN):
+# near saturation a force says little about the slip angle. The kinematic
+# vy integrates ay - r vx from where the dynamic one was better, its
+# deviation growing by KIN_ACC per second (accelerometer offset and
+# unmodelled bank: 0.2 m/s^2 is 1.2 deg of bank or a typical ESC sensor's
+# offset). The output takes the smaller bound; the two disagreeing beyond
+# DIS_K joint sigma clears V_BETA; V_BETA needs beta_sd <= beta_sd_max.
+# Every deviation is capped at SD_CAP [m/s] (its square within Q15.16).
+TIRE_TOL, KIN_ACC, BETA_SD_MAX = 0.3, 0.2, 0.0175
+DIS_K, SD_CAP = 3.0, 100.0
+
+
 # ---------------------------------------------------------------------------
 # Configuration (est_init.c) and helpers
 
@@ -255,6 +273,7 @@ def config(tire_front, tire_rear=None, rate_hz=100, **kw):
              rate_hz=int(rate_hz),
              dt=1.0 / int(rate_hz),
              speed_ref_mu=0, rear_steer=0,
+             tire_tol=TIRE_TOL, kin_acc_sd=KIN_ACC, beta_sd_max=BETA_SD_MAX,
              cla=0.0, aero_front=0.5, air_density=1.2, cda=0.0, crr=0.0, tan_bank=0.0, tan_grade=0.0,
              tire=(tire_front, tire_rear if tire_rear is not None else tire_front))
     c.update(kw)
@@ -375,7 +394,8 @@ class StepData:
         self.out = dict(vx=0.0, vy=0.0, beta=0.0, yaw_rate=0.0, yaw_rate_ref=0.0, yaw_error=0.0, delta=0.0,
                         kappa=np.zeros(4), alpha=np.zeros(4), fz=np.zeros(4), fx=np.zeros(4), fy=np.zeros(4),
                         mz=np.zeros(4), util=np.zeros(4), fy_axle=np.zeros(2), util_axle=np.zeros(2), mu=0.0,
-                        mu_conf=0.0, yaw_rate_bias=0.0, fy_margin_front=0.0, steer_char=0)
+                        mu_conf=0.0, yaw_rate_bias=0.0, fy_margin_front=0.0, steer_char=0,
+                        vy_sd=0.0, beta_sd=0.0, yaw_rate_sd=0.0, mu_sd=0.0)
         self.flags = 0
         self.vbits = 0               # validity bits
         # wheel positions from the CG (x forward, y left): FL, FR, RL, RR
@@ -468,6 +488,8 @@ class Estimator:
         self.hold = [0.0] * 6
         self.age = [BIG] * 6
         self.t_prev = None           # previous step's input time [us] (rate check)
+        self.vy_k = 0.0              # kinematic vy [m/s] and its deviation (bounds)
+        self.sd_k = SD_CAP
         self.no_wheel_steps = BIG
         self.dr_steps = 0
         self.ax_off = 0.0
@@ -1369,8 +1391,14 @@ class Estimator:
         if active and VX_AT_OUTPUT:
             vx_o = vx + c.get("latency", 0.0) * self._vx_rate(s.ax, float(self.x[1]), float(self.x[0]), s.g_x)
         o["vx"] = vx_o
+        if active and s.use_kin:
+            # the kinematic vy over the latency (its own rate: ay - r vx)
+            vyd = (s.ay if s.ay_ok else s.ay_m) + s.g_y - float(self.x[1]) * vx
+            s.vy_o = _clamp(self.vy_k + c.get("latency", 0.0) * vyd, -WS_MAX, WS_MAX)
         o["vy"] = s.vy_o if active else 0.0
         o["beta"] = math.atan(s.vy_o / max(vx_o, V_OFF)) if active else 0.0
+        o["vy_sd"] = s.vy_sd
+        o["beta_sd"] = s.beta_sd if active else 0.0
         o["yaw_rate"] = s.r_o if active else yaw
         if s.yaw_ok:
             s.vbits |= V_YAW
@@ -1453,6 +1481,53 @@ class Estimator:
         s.vy_o, s.r_o = vy_o, r_o
 
     # ---- est_checks.c: consistency checks -----------------------------------
+    def bound_lateral(self, s):
+        """est_checks.c: the standard deviations of vy (dynamic: the filter's
+        and the tire model's, grown where the axle's slope vanishes or vy
+        sits at its bound; kinematic: growing by kin_acc_sd per second since
+        the dynamic one was better), the kinematic vy integrated, which of
+        the two the outputs take (F_BETA_KIN) and whether they disagree
+        (F_BETA_DISAGREE); the yaw rate's and mu's deviations.
+
+        State: reads x, P; writes vy_k, sd_k. Step: reads vx, ay, g_y,
+        the model's slip angles and axle utilization; writes use_kin,
+        disagree, vy_sd, beta_sd (after the outputs' vy), the flags."""
+        c, o = self.cfg, s.out
+        s.use_kin, s.disagree, s.vy_sd, s.beta_sd = False, False, 0.0, 0.0
+        o["yaw_rate_sd"] = S[1] * math.sqrt(self.P[1, 1]) if self.active else 0.0
+        o["mu_sd"] = S[2] * math.sqrt(self.P[2, 2])
+        if not self.active:
+            self.vy_k, self.sd_k = 0.0, SD_CAP
+            return
+        vx = s.vx
+        u_r = min(float(o["util_axle"][1]), 1.0)
+        g_r = max(G_MIN, math.sqrt(1.0 - u_r))
+        a_r = abs(0.5 * (float(o["alpha"][2]) + float(o["alpha"][3])))
+        sd_f = S[0] * math.sqrt(self.P[0, 0])
+        sd_m = min(c.get("tire_tol", TIRE_TOL) * abs(vx) * a_r / g_r, SD_CAP)
+        if abs(float(self.x[0])) >= VY_K * abs(vx) + 1.0 - 0.01:
+            sd_m = SD_CAP            # vy held at its bound: not estimated there
+        sd_dyn = min(math.sqrt(sd_f * sd_f + sd_m * sd_m), SD_CAP)
+        ay = s.ay if s.ay_ok else s.ay_m
+        self.vy_k = _clamp(self.vy_k + (ay + s.g_y - float(self.x[1]) * vx) * c["dt"], -WS_MAX, WS_MAX)
+        self.sd_k = min(self.sd_k + c.get("kin_acc_sd", KIN_ACC) * c["dt"], SD_CAP)
+        if sd_dyn <= self.sd_k:
+            self.vy_k, self.sd_k = float(self.x[0]), sd_dyn
+            s.vy_sd = sd_dyn
+        else:
+            s.use_kin = True
+            s.flags |= F_BETA_KIN
+            s.vy_sd = self.sd_k
+            j = min(math.sqrt(sd_dyn * sd_dyn + self.sd_k * self.sd_k), SD_CAP)
+            if abs(float(self.x[0]) - self.vy_k) > DIS_K * j:
+                s.disagree = True
+                s.flags |= F_BETA_DISAGREE
+        # beta's deviation at the state's vy (the outputs' differs by the
+        # latency's few mm/s): d atan(vy / vx) / d vy = cos^2(beta) / vx
+        vxd = max(vx, V_OFF)
+        tb = _clamp((self.vy_k if s.use_kin else float(self.x[0])) / vxd, -100.0, 100.0)
+        s.beta_sd = s.vy_sd / vxd / (1.0 + tb * tb)
+
     def check_consistency(self, s):
         """est_checks.c, before the outputs: with the lateral filter on, the
         model-consistency (misfit) statistics of the step's ay update and
@@ -1467,6 +1542,7 @@ class Estimator:
         Step: reads nis, vx, the model's utilization, at_limit, the inputs'
         flags, dead_reck, excited; writes out mu_conf, validity and flags."""
         o = s.out
+        self.bound_lateral(s)
         if self.active:
             if s.nis is not None:
                 # model consistency (docs/estimator.md): the low-passed ay
@@ -1500,7 +1576,8 @@ class Estimator:
             # slip ratios rest on it; and a step period off the configured
             # rate (F_RATE) breaks the filter's per-step gains
             if (s.ay_ok and s.yaw_ok and s.ax_ok and not s.dead_reck and not self.misfit
-                    and s.steer_in_range and not (s.flags & F_RATE)):
+                    and s.steer_in_range and not (s.flags & F_RATE) and not s.disagree
+                    and s.beta_sd <= self.cfg.get("beta_sd_max", BETA_SD_MAX)):
                 s.vbits |= V_BETA | V_AXLE
             if not (s.vbits & V_BETA):
                 s.vbits &= ~(V_WHEEL(0) | V_WHEEL(1) | V_WHEEL(2) | V_WHEEL(3))
