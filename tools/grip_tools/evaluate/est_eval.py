@@ -158,26 +158,6 @@ def estimate(run_dir):
     return res
 
 
-def integrity(t, err, sd, ok, floor, k=3.0):
-    """Integrity of one output on the steps flagged valid (ok): the share
-    of them whose true |err| exceeds max(floor, k sd), and the longest such
-    run [s]. Returns dict(valid_steps, violations, rate, longest_s)."""
-    t, err, sd, ok = (np.asarray(a) for a in (t, err, sd, ok))
-    bad = ok & (np.abs(err) > np.maximum(floor, k * sd))
-    n_ok = int(ok.sum())
-    longest, run, t0 = 0.0, False, 0.0
-    dt = float(np.median(np.diff(t))) if len(t) > 1 else 0.0
-    for i in range(len(t)):
-        if bad[i] and not run:
-            run, t0 = True, t[i]
-        if run and (not bad[i] or i == len(t) - 1):
-            end = t[i] if not bad[i] else t[i] + dt
-            longest = max(longest, float(end - t0))
-            run = False
-    return dict(valid_steps=n_ok, violations=int(bad.sum()), rate=(float(bad.sum()) / n_ok if n_ok else 0.0),
-                longest_s=longest)
-
-
 def write_input_csv(path, t, value, valid):
     """The estimator's inputs as grip-replay --csv reads them (one row per
     step, an empty cell where the input is not valid)."""
@@ -735,7 +715,16 @@ def main(argv=None):
     ap.add_argument("--vehicles", nargs="+", help="--independent: only these vehicles")
     ap.add_argument("--manoeuvres", nargs="+", help="--independent: only these manoeuvres")
     ap.add_argument("--surfaces", nargs="+", help="--independent: only these surfaces")
+    ap.add_argument("--integrity", action="store_true",
+                    help="the validity flags' integrity on every judge (est_ref): <out>/integrity_table.md, .json")
+    ap.add_argument("--judges", default=",".join(("own", "mismatch", "independent", "av21")),
+                    help="--integrity: comma-separated subset of own, mismatch, independent, av21")
     a = ap.parse_args(argv)
+    if a.integrity:
+        from grip_tools.evaluate import integrity
+        integrity.run(a.out, judges=[j for j in a.judges.split(",") if j], runs_dir=a.runs_dir, full=a.full,
+                      av21_log=a.av21)
+        return 0
     if a.independent:
         from grip_tools.sim.independent import judge
         judge.run(a.out, full=a.full, vehicles=a.vehicles, manoeuvres=a.manoeuvres, surfaces=a.surfaces,

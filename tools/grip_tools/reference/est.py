@@ -246,20 +246,40 @@ SAT_U, SAT_HI, SAT_LO, CONF_MISFIT = 0.95, 0.7, 0.1, 0.45
 SAT_MU, SAT_MU_LO = 0.1, 0.05
 
 
-# -- error bounds (est_checks.c, docs/estimator.md "7. Checks and validity")
-# The dynamic (tire-model) vy's standard deviation: the filter's, and the
-# tire model's: a relative error TIRE_TOL of the axle's cornering stiffness
-# moves the rear slip angle, hence vy, by TIRE_TOL |alpha_r| |vx| / g, g =
-# sqrt(1 - u) the local slope of an axle at utilization u (floor G_MIN):
-# near saturation a force says little about the slip angle. The kinematic
-# vy integrates ay - r vx from where the dynamic one was better, its
-# deviation growing by KIN_ACC per second (accelerometer offset and
-# unmodelled bank: 0.2 m/s^2 is 1.2 deg of bank or a typical ESC sensor's
-# offset). The output takes the smaller bound; the two disagreeing beyond
-# DIS_K joint sigma clears V_BETA; V_BETA needs beta_sd <= beta_sd_max.
-# Every deviation is capped at SD_CAP [m/s] (its square within Q15.16).
-TIRE_TOL, KIN_ACC, BETA_SD_MAX = 0.3, 0.2, 0.0175
+# -- error bounds (est_checks.c, docs/estimator/integrity.md)
+# Two estimates of vy, each with a standard deviation:
+# dynamic   the filter's vy. Its deviation: the filter's own (P) and the
+#           tire model's. A relative force error tire_tol of an axle's
+#           model moves the slip angle the filter infers from that axle's
+#           force by tire_tol |F| / |dF/dalpha| <= tire_tol |alpha| / g, g
+#           = max(G_MIN, sqrt(1 - u)) the axle's slope factor at
+#           utilization u (the Jacobians' form); vy = vx times that. Either
+#           axle determines vy, so the better-observed one counts; with both
+#           near saturation neither does and the deviation grows without
+#           the filter's covariance knowing. vy at its bound |vx| + 1 is not
+#           estimated at all: SD_CAP.
+# kinematic vy integrated from ay + g_y - r vx, restarted at the dynamic
+#           vy whenever that has the smaller deviation. An offset drifts it
+#           linearly, so its deviation grows by a rate per second: the
+#           accelerometer's (kin_acc_sd: the +-0.1 m/s^2 offset of an ESC
+#           cluster, uniform: 0.058, and 0.5 deg of road bank, 0.086, root
+#           sum square 0.10 m/s^2), the gyro offset's left in the filter
+#           (vx sigma_b) and the roll compensation's, ROLL_TOL of g
+#           roll_gradient |ay| (a roll gradient known within 25 %).
+# The outputs take the estimate with the smaller deviation (F_BETA_KIN
+# when the kinematic one); when that is the kinematic one and the two
+# differ by more than DIS_K joint deviations, the tire model is being
+# fitted where it is wrong (F_BETA_DISAGREE): V_BETA, the force bits and
+# V_MU are withheld. V_BETA further needs beta_sd <= beta_sd_max, the
+# consumer's limit (default 1 deg: with the 3 sigma test, |beta error| <=
+# 3 deg). Every deviation is capped at SD_CAP [m/s] (its square within
+# Q15.16).
+TIRE_TOL, KIN_ACC, BETA_SD_MAX = 0.3, 0.10, 0.0175
+ROLL_TOL = 0.25
 DIS_K, SD_CAP = 3.0, 100.0
+# the bounds' use (off only to measure what they do, IntegrityTests): the
+# kinematic vy carried, the disagreement and beta_sd gating the bits
+INTEGRITY = True
 
 
 # ---------------------------------------------------------------------------
@@ -1482,16 +1502,16 @@ class Estimator:
 
     # ---- est_checks.c: consistency checks -----------------------------------
     def bound_lateral(self, s):
-        """est_checks.c: the standard deviations of vy (dynamic: the filter's
-        and the tire model's, grown where the axle's slope vanishes or vy
-        sits at its bound; kinematic: growing by kin_acc_sd per second since
-        the dynamic one was better), the kinematic vy integrated, which of
-        the two the outputs take (F_BETA_KIN) and whether they disagree
-        (F_BETA_DISAGREE); the yaw rate's and mu's deviations.
+        """est_checks.c: the standard deviations of vy (the dynamic one:
+        the filter's and the tire model's at the better-observed axle; the
+        kinematic one: growing by its drift rate since the dynamic one was
+        better), the kinematic vy integrated, which of the two the outputs
+        take (F_BETA_KIN) and whether they disagree (F_BETA_DISAGREE); the
+        yaw rate's and mu's deviations (the filter's).
 
         State: reads x, P; writes vy_k, sd_k. Step: reads vx, ay, g_y,
         the model's slip angles and axle utilization; writes use_kin,
-        disagree, vy_sd, beta_sd (after the outputs' vy), the flags."""
+        disagree, vy_sd, beta_sd, the flags."""
         c, o = self.cfg, s.out
         s.use_kin, s.disagree, s.vy_sd, s.beta_sd = False, False, 0.0, 0.0
         o["yaw_rate_sd"] = S[1] * math.sqrt(self.P[1, 1]) if self.active else 0.0
@@ -1500,18 +1520,29 @@ class Estimator:
             self.vy_k, self.sd_k = 0.0, SD_CAP
             return
         vx = s.vx
-        u_r = min(float(o["util_axle"][1]), 1.0)
-        g_r = max(G_MIN, math.sqrt(1.0 - u_r))
-        a_r = abs(0.5 * (float(o["alpha"][2]) + float(o["alpha"][3])))
-        sd_f = S[0] * math.sqrt(self.P[0, 0])
-        sd_m = min(c.get("tire_tol", TIRE_TOL) * abs(vx) * a_r / g_r, SD_CAP)
+        tol = c.get("tire_tol", TIRE_TOL)
+        # the tire model's share: the better-observed axle's slip-angle
+        # error [rad] times |vx|
+        da = SD_CAP
+        for ax in (0, 1):
+            u = min(float(o["util_axle"][ax]), 1.0)
+            g = max(G_MIN, math.sqrt(1.0 - u))
+            a = 0.5 * abs(float(o["alpha"][2 * ax]) + float(o["alpha"][2 * ax + 1]))
+            da = min(da, tol * a / g)
+        sd_m = min(da * abs(vx), SD_CAP)
         if abs(float(self.x[0])) >= VY_K * abs(vx) + 1.0 - 0.01:
             sd_m = SD_CAP            # vy held at its bound: not estimated there
+        sd_f = S[0] * math.sqrt(self.P[0, 0])
         sd_dyn = min(math.sqrt(sd_f * sd_f + sd_m * sd_m), SD_CAP)
         ay = s.ay if s.ay_ok else s.ay_m
         self.vy_k = _clamp(self.vy_k + (ay + s.g_y - float(self.x[1]) * vx) * c["dt"], -WS_MAX, WS_MAX)
-        self.sd_k = min(self.sd_k + c.get("kin_acc_sd", KIN_ACC) * c["dt"], SD_CAP)
-        if sd_dyn <= self.sd_k:
+        # drift rate [m/s^2]: accelerometer offset and bank, the gyro
+        # offset's remaining deviation times vx, the roll compensation
+        sb = B_UNIT * S[3] * math.sqrt(self.P[3, 3])
+        ka = c.get("kin_acc_sd", KIN_ACC)
+        rate = math.sqrt(ka * ka + (vx * sb) ** 2) + ROLL_TOL * G * c["roll_gradient"] * abs(ay)
+        self.sd_k = min(self.sd_k + rate * c["dt"], SD_CAP)
+        if sd_dyn <= self.sd_k or not INTEGRITY:
             self.vy_k, self.sd_k = float(self.x[0]), sd_dyn
             s.vy_sd = sd_dyn
         else:
@@ -1577,7 +1608,7 @@ class Estimator:
             # rate (F_RATE) breaks the filter's per-step gains
             if (s.ay_ok and s.yaw_ok and s.ax_ok and not s.dead_reck and not self.misfit
                     and s.steer_in_range and not (s.flags & F_RATE) and not s.disagree
-                    and s.beta_sd <= self.cfg.get("beta_sd_max", BETA_SD_MAX)):
+                    and (s.beta_sd <= self.cfg.get("beta_sd_max", BETA_SD_MAX) or not INTEGRITY)):
                 s.vbits |= V_BETA | V_AXLE
             if not (s.vbits & V_BETA):
                 s.vbits &= ~(V_WHEEL(0) | V_WHEEL(1) | V_WHEEL(2) | V_WHEEL(3))
@@ -1595,7 +1626,8 @@ class Estimator:
             # confidence in mu while the evidence builds up (the check is
             # low-passed over 2 s and would declare the misfit late)
             o["mu_conf"] = min(o["mu_conf"], CONF_MISFIT)
-        if o["mu_conf"] >= 0.5 and s.ax_ok and not (s.flags & F_RATE):
+        if o["mu_conf"] >= 0.5 and s.ax_ok and not (s.flags & F_RATE) and not s.disagree:
+            # a dynamic vy the kinematic one rejects: mu absorbed the misfit
             s.vbits |= V_MU
 
 
