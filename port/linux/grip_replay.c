@@ -211,7 +211,7 @@ static int vehicle_config(const char *name, const grip_mf_params *tire, int rate
  * lines. Keys: mass, iz, lf, lr, track (both), track_f, track_r, h_cg,
  * steer_ratio, wheel_radius, roll_split_front, roll_gradient, speed_ref_mu,
  * cla, aero_front, air_density, cda, crr, tan_bank, tan_grade, latency, steer_lag,
- * steer_latency.
+ * steer_latency, tire_tol, kin_acc_sd, beta_sd_max.
  * The estimator's init checks the ranges. */
 #define VEHICLE_LINE_MAX 511
 
@@ -248,6 +248,9 @@ static int vehicle_file(const char *path, grip_est_config_t *cfg)
         { "latency", offsetof(grip_est_config_t, latency), VK_QS },
         { "steer_lag", offsetof(grip_est_config_t, steer_lag), VK_QS },
         { "steer_latency", offsetof(grip_est_config_t, steer_latency), VK_QS },
+        { "tire_tol", offsetof(grip_est_config_t, tire_tol), VK_QS },
+        { "kin_acc_sd", offsetof(grip_est_config_t, kin_acc_sd), VK_QS },
+        { "beta_sd_max", offsetof(grip_est_config_t, beta_sd_max), VK_QS },
     };
     const size_t nkeys = sizeof keys / sizeof keys[0];
     static char line[VEHICLE_LINE_MAX + 1];
@@ -441,7 +444,7 @@ static void usage(FILE *f)
             "                         track track_f track_r h_cg steer_ratio wheel_radius\n"
             "                         roll_split_front roll_gradient speed_ref_mu (0/1) cla aero_front\n"
             "                         air_density cda crr tan_bank tan_grade latency steer_lag\n"
-            "                         steer_latency [s]\n"
+            "                         steer_latency [s] tire_tol kin_acc_sd [m/s^2] beta_sd_max [rad]\n"
             "      --csv FILE         estimator inputs from FILE ('-' = stdin) instead of CAN: one row per\n"
             "                         estimator step (every --step-ms), '#' lines skipped, a header row\n"
             "                         naming the columns: t_s [s], wheel_speed_fl wheel_speed_fr\n"
@@ -755,7 +758,7 @@ static const struct {
     { "beta", "rad" },      { "yaw_rate", "rad_s" },  { "yaw_rate_ref", "rad_s" }, { "delta", "rad" },
     { "mu", "" },           { "mu_conf", "" },        { "fy_front", "N" },       { "fy_rear", "N" },
     { "util_front", "" },   { "util_rear", "" },      { "fy_margin_front", "N" }, { "yaw_rate_bias", "rad_s" },
-    { "ay_model", "m_s2" },
+    { "ay_model", "m_s2" },   { "beta_sd", "rad" },     { "mu_sd", "" },
 };
 #define N_EST_COLS (sizeof EST_COLS / sizeof EST_COLS[0])
 
@@ -883,6 +886,7 @@ static void emit(replay *r, const grip_input_sample_t *s)
         if ((e->valid & GRIP_EST_V_AXLE) != 0u && r->mass_si > 0.0) {
             fprintf(r->csv, "%.6g", fyb / r->mass_si);
         }
+        fprintf(r->csv, ",%.6g,%.6g", real_to_si(e->beta_sd, 0), real_to_si(e->mu_sd, 0));
     }
     if (fprintf(r->csv, "\n") < 0) {
         r->write_failed = 1;

@@ -182,6 +182,7 @@ def read_replay(text):
             "fyf": col("fy_front"), "fyr": col("fy_rear"), "vx": col("vx"), "yaw_rate": col("yaw_rate"),
             "yaw_rate_ref": col("yaw_rate_ref"), "yaw_rate_bias": col("yaw_rate_bias"),
             "ay_model": col("ay_model"), "est_status": col("est_status"),
+            "beta_sd": col("beta_sd"), "mu_sd": col("mu_sd"),
             "valid": np.array([int(r["est_valid"]) for r in rows], dtype=np.int64),
             "flags": np.array([int(r["est_flags"]) for r in rows], dtype=np.int64)}
 

@@ -258,25 +258,31 @@ SAT_MU, SAT_MU_LO = 0.1, 0.05
 #           near saturation neither does and the deviation grows without
 #           the filter's covariance knowing. vy at its bound |vx| + 1 is not
 #           estimated at all: SD_CAP.
-# kinematic vy integrated from ay + g_y - r vx, restarted at the dynamic
-#           vy whenever that has the smaller deviation. An offset drifts it
-#           linearly, so its deviation grows by a rate per second: the
-#           accelerometer's (kin_acc_sd: the +-0.1 m/s^2 offset of an ESC
-#           cluster, uniform: 0.058, and 0.5 deg of road bank, 0.086, root
-#           sum square 0.10 m/s^2), the gyro offset's left in the filter
-#           (vx sigma_b) and the roll compensation's, ROLL_TOL of g
-#           roll_gradient |ay| (a roll gradient known within 25 %).
-# The outputs take the estimate with the smaller deviation (F_BETA_KIN
-# when the kinematic one); when that is the kinematic one and the two
-# differ by more than DIS_K joint deviations, the tire model is being
-# fitted where it is wrong (F_BETA_DISAGREE): V_BETA, the force bits and
-# V_MU are withheld. V_BETA further needs beta_sd <= beta_sd_max, the
-# consumer's limit (default 1 deg: with the 3 sigma test, |beta error| <=
-# 3 deg). Every deviation is capped at SD_CAP [m/s] (its square within
-# Q15.16).
+# kinematic vy integrated from ay + g_y - r vx and moved to the dynamic
+#           vy by the share c = (1 - q) / (1 - Q0) in [0, 1], q = sd_dyn /
+#           sd_k: the dynamic vy whole while its deviation is at most half
+#           the kinematic one's, the kinematic vy alone once the dynamic is
+#           the worse, a continuous blend between (value and deviation).
+#           An offset drifts it linearly, so its deviation grows by a rate
+#           per second: the accelerometer's (kin_acc_sd: the +-0.1 m/s^2
+#           offset of an ESC cluster, uniform: 0.058, and 0.5 deg of road
+#           bank, 0.086, root sum square 0.10 m/s^2), the gyro offset's
+#           left in the filter (vx sigma_b) and the roll compensation's,
+#           ROLL_TOL of g roll_gradient |ay| (a roll gradient known within
+#           25 %).
+# The outputs take the blended vy and its deviation (F_BETA_KIN while
+# c < 0.5). A dynamic vy beyond DIS_K joint deviations of the kinematic
+# one, with c < 1, is not taken: the tire model is being fitted where it
+# is wrong (F_BETA_DISAGREE), V_BETA, the force bits and V_MU are
+# withheld. V_BETA further needs beta_sd <= beta_sd_max, the consumer's
+# limit (default 1 deg: with the 3 sigma test, |beta error| <= 3 deg).
+# Every deviation is capped at SD_CAP [m/s] (its square within Q15.16).
 TIRE_TOL, KIN_ACC, BETA_SD_MAX = 0.3, 0.10, 0.0175
 ROLL_TOL = 0.25
 DIS_K, SD_CAP = 3.0, 100.0
+# the blend's ratio q = sd_dyn / sd_k is formed with sd_k at least SD_MIN
+# [m/s] and taken at most Q_MAX; the filter's vy is taken whole below Q0
+SD_MIN, Q_MAX, Q0 = 0.001, 100.0, 0.5
 # the bounds' use (off only to measure what they do, IntegrityTests): the
 # kinematic vy carried, the disagreement and beta_sd gating the bits
 INTEGRITY = True
@@ -1538,25 +1544,37 @@ class Estimator:
         self.vy_k = _clamp(self.vy_k + (ay + s.g_y - float(self.x[1]) * vx) * c["dt"], -WS_MAX, WS_MAX)
         # drift rate [m/s^2]: accelerometer offset and bank, the gyro
         # offset's remaining deviation times vx, the roll compensation
-        sb = B_UNIT * S[3] * math.sqrt(self.P[3, 3])
+        sb = S[3] * math.sqrt(self.P[3, 3])
         ka = c.get("kin_acc_sd", KIN_ACC)
         rate = math.sqrt(ka * ka + (vx * sb) ** 2) + ROLL_TOL * G * c["roll_gradient"] * abs(ay)
         self.sd_k = min(self.sd_k + rate * c["dt"], SD_CAP)
-        if sd_dyn <= self.sd_k or not INTEGRITY:
-            self.vy_k, self.sd_k = float(self.x[0]), sd_dyn
-            s.vy_sd = sd_dyn
+        x0 = float(self.x[0])
+        # the filter's share c: 1 while its deviation is at most Q0 of the
+        # kinematic one's, 0 from where it is the larger, linear between
+        # (continuous, so that neither estimate's last bit picks a branch);
+        # the deviation moves by the same share, a convex combination of
+        # two bounds being a bound whatever their correlation
+        q = min(sd_dyn / max(self.sd_k, SD_MIN), Q_MAX)
+        c = _clamp((1.0 - q) / (1.0 - Q0), 0.0, 1.0)
+        j = min(math.sqrt(sd_dyn * sd_dyn + self.sd_k * self.sd_k), SD_CAP)
+        if not INTEGRITY:
+            self.vy_k, self.sd_k = x0, sd_dyn
+        elif c < 1.0 and abs(x0 - self.vy_k) > DIS_K * j:
+            # the filter's vy outside the joint bound of the two: the tire
+            # model is fitted where it is wrong; the kinematic vy carries
+            s.disagree = True
+            s.flags |= F_BETA_DISAGREE
         else:
-            s.use_kin = True
+            self.vy_k = self.vy_k + c * (x0 - self.vy_k)
+            self.sd_k = self.sd_k + c * (sd_dyn - self.sd_k)
+        if INTEGRITY and c < 0.5:
             s.flags |= F_BETA_KIN
-            s.vy_sd = self.sd_k
-            j = min(math.sqrt(sd_dyn * sd_dyn + self.sd_k * self.sd_k), SD_CAP)
-            if abs(float(self.x[0]) - self.vy_k) > DIS_K * j:
-                s.disagree = True
-                s.flags |= F_BETA_DISAGREE
+        s.use_kin = INTEGRITY
+        s.vy_sd = self.sd_k
         # beta's deviation at the state's vy (the outputs' differs by the
         # latency's few mm/s): d atan(vy / vx) / d vy = cos^2(beta) / vx
         vxd = max(vx, V_OFF)
-        tb = _clamp((self.vy_k if s.use_kin else float(self.x[0])) / vxd, -100.0, 100.0)
+        tb = _clamp(self.vy_k / vxd, -100.0, 100.0)
         s.beta_sd = s.vy_sd / vxd / (1.0 + tb * tb)
 
     def check_consistency(self, s):
