@@ -37,14 +37,20 @@ static void misfit(grip_est_t *est, const est_ctx_t *s)
  * range and the lateral force no longer tells the slip angle, so beta is
  * dead reckoning too; nor with a tire model that does not fit the car
  * (misfit), nor with a steering angle beyond the rack's travel (no ay
- * update: dead reckoning as well), nor with beta's deviation beyond the
- * consumer's limit or the kinematic vy rejecting the filter's
- * (est_integrity.c). The per-wheel outputs come from the same model. */
+ * update: dead reckoning as well), nor with the kinematic vy rejecting the
+ * filter's (est_integrity.c); the sideslip not either with its deviation
+ * beyond the consumer's limit. The per-wheel outputs come from the same
+ * model. */
 static void lateral_validity(const grip_est_t *est, est_ctx_t *s)
 {
     if (s->ay_ok && s->yaw_ok && s->ax_ok && !s->dead_reck && !est->misfit && !s->disagree &&
-        ((s->flags & (GRIP_EST_F_STEER_LIMIT | GRIP_EST_F_RATE)) == 0u) && s->beta_sd <= est->cfg.beta_sd_max) {
-        s->valid |= GRIP_EST_V_BETA | GRIP_EST_V_AXLE;
+        ((s->flags & (GRIP_EST_F_STEER_LIMIT | GRIP_EST_F_RATE)) == 0u)) {
+        /* the axle forces are the model's at the filter's state and the
+         * balances': beta's deviation limit is not theirs */
+        s->valid |= GRIP_EST_V_AXLE;
+        if (s->beta_sd <= est->cfg.beta_sd_max) {
+            s->valid |= GRIP_EST_V_BETA;
+        }
     }
     if (!(s->valid & GRIP_EST_V_BETA)) {
         s->valid &= ~(GRIP_EST_V_WHEEL(0) | GRIP_EST_V_WHEEL(1) | GRIP_EST_V_WHEEL(2) | GRIP_EST_V_WHEEL(3));

@@ -720,11 +720,13 @@ def main(argv=None):
                     help="the validity flags' integrity on every judge (est_ref): <out>/integrity_table.md, .json")
     ap.add_argument("--judges", default=",".join(("own", "mismatch", "independent", "av21")),
                     help="--integrity: comma-separated subset of own, mismatch, independent, av21")
+    ap.add_argument("--const", action="append", default=[], metavar="NAME=VALUE",
+                    help="--integrity: an est_ref constant changed for the run (sensitivity: TIRE_TOL, KIN_ACC, ...)")
     a = ap.parse_args(argv)
     if a.integrity:
         from grip_tools.evaluate import integrity
         integrity.run(a.out, judges=[j for j in a.judges.split(",") if j], runs_dir=a.runs_dir, full=a.full,
-                      av21_log=a.av21)
+                      av21_log=a.av21, consts=a.const)
         return 0
     if a.independent:
         from grip_tools.sim.independent import judge

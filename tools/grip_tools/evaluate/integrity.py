@@ -265,9 +265,28 @@ def table(results):
     return "\n".join(summary) + "\n", "\n".join(lines) + "\n"
 
 
-def run(out, judges=JUDGES, runs_dir=None, full=False, av21_log=None):
+def run(out, judges=JUDGES, runs_dir=None, full=False, av21_log=None, consts=()):
+    """consts: "NAME=VALUE" pairs, est_ref module constants changed for the
+    run (the sensitivity of TIRE_TOL, KIN_ACC, ROLL_TOL, DIS_K, ...)."""
+    from unittest import mock
     runs_dir = runs_dir or os.path.join(est_eval.ROOT, "build", "est_eval")
     os.makedirs(out, exist_ok=True)
+    patches = []
+    for spec in consts:
+        name, _, value = spec.partition("=")
+        if not hasattr(est_ref, name):
+            raise ValueError(f"--const {spec}: est_ref has no constant {name}")
+        patches.append(mock.patch.object(est_ref, name, float(value)))
+    for p in patches:
+        p.start()
+    try:
+        return _run(out, judges, runs_dir, full, av21_log, consts)
+    finally:
+        for p in patches:
+            p.stop()
+
+
+def _run(out, judges, runs_dir, full, av21_log, consts):
     res = {}
     for j in judges:
         if j == "own":
@@ -283,9 +302,10 @@ def run(out, judges=JUDGES, runs_dir=None, full=False, av21_log=None):
         print(f"integrity: {j} done", file=sys.stderr)
     summary, detail = table(res)
     with open(os.path.join(out, "integrity.json"), "w") as f:
-        json.dump(res, f, indent=1)
+        json.dump({"consts": list(consts), "judges": res}, f, indent=1)
+    note = f" with {', '.join(consts)}" if consts else ""
     with open(os.path.join(out, "integrity_table.md"), "w") as f:
-        f.write("<!-- written by `grip est-eval --integrity`; do not edit -->\n\n## Summary\n\n" + summary
+        f.write(f"<!-- written by `grip est-eval --integrity`{note}; do not edit -->\n\n## Summary\n\n" + summary
                 + "\n## Every run\n\n" + detail)
     print(summary)
     return res

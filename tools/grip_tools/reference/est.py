@@ -1624,10 +1624,14 @@ class Estimator:
             # too: the wheel loads (load transfer), vx through braking and the
             # slip ratios rest on it; and a step period off the configured
             # rate (F_RATE) breaks the filter's per-step gains
+            # (the axle forces are the model's at the filter's state and the
+            # balances': beta's deviation limit is not theirs, the
+            # disagreement is)
             if (s.ay_ok and s.yaw_ok and s.ax_ok and not s.dead_reck and not self.misfit
-                    and s.steer_in_range and not (s.flags & F_RATE) and not s.disagree
-                    and (s.beta_sd <= self.cfg.get("beta_sd_max", BETA_SD_MAX) or not INTEGRITY)):
-                s.vbits |= V_BETA | V_AXLE
+                    and s.steer_in_range and not (s.flags & F_RATE) and not s.disagree):
+                s.vbits |= V_AXLE
+                if s.beta_sd <= self.cfg.get("beta_sd_max", BETA_SD_MAX) or not INTEGRITY:
+                    s.vbits |= V_BETA
             if not (s.vbits & V_BETA):
                 s.vbits &= ~(V_WHEEL(0) | V_WHEEL(1) | V_WHEEL(2) | V_WHEEL(3))
             if s.excited:
