@@ -307,10 +307,11 @@ static int vehicle_file(const char *path, grip_est_config_t *cfg, char *rear_tir
              * vehicle file's folder unless absolute */
             const char *v0 = eq + 1;
             const char *slash = strrchr(path, '/');
-            size_t vn, dn = (slash != NULL && v0[0] != '/') ? (size_t)(slash - path) + 1u : 0u;
+            size_t vn, dn;
             while (*v0 == ' ' || *v0 == '\t') {
                 v0++;
             }
+            dn = (slash != NULL && v0[0] != '/') ? (size_t)(slash - path) + 1u : 0u;
             vn = strlen(v0);
             while (vn > 0 && (v0[vn - 1] == ' ' || v0[vn - 1] == '\t' || v0[vn - 1] == '\r' || v0[vn - 1] == '\n')) {
                 vn--;

@@ -105,6 +105,36 @@ class RunAwayTests(unittest.TestCase):
         self.assertGreater(new["beta_sd"][-1], self.cfg["beta_sd_max"])
         self.assertEqual(int(new["valid"][-1] & est_ref.V_BETA), 0)
 
+    def test_c_builds(self):
+        # the same run-away through the C builds (grip-replay --csv, the rear
+        # tire from the vehicle file's rear_tire key)
+        from grip_tools.evaluate import est_eval
+        from grip_tools.golden import est as golden_est
+        from grip_tools.paths import REPO_ROOT
+        bins = {a: os.path.join(REPO_ROOT, "build", f"{a}-gcc", "bin", "grip-replay") for a in ("float", "fixed")}
+        if not all(os.path.exists(b) for b in bins.values()):
+            self.skipTest("grip-replay builds absent (make; make ARITH=fixed)")
+        moving = self.truth["vx"] > 5.0
+        res = {}
+        with tempfile.TemporaryDirectory() as d:
+            rear = os.path.join(d, "rear.tir")
+            with open(golden_est.tire_path()) as f, open(rear, "w") as g:
+                for line in f:
+                    g.write(f"LKY = {self.integrity.MISMATCH_LKY}\n" if line.split("=")[0].strip() == "LKY" else line)
+            csv_path = os.path.join(d, "in.csv")
+            n = len(est_eval.IN_COLS)
+            est_eval.write_input_csv(csv_path, self.t, self.value[:, :n], self.valid[:, :n])
+            lines = est_eval.est_vehicle_lines() + [f"rear_tire = {rear}"]
+            for arith, b in bins.items():
+                o = est_eval.run_c(b, golden_est.tire_path(), csv_path, vehicle="generic", vehicle_lines=lines)
+                res[arith] = o
+                r = self.integrity.judge_run(self.t, o, self.truth, moving)
+                print(f"\n# run-away, C {arith}: beta valid in {r['beta']['valid_steps']} steps, "
+                      f"{r['beta']['violations']} beyond max(1 deg, 3 sd)", flush=True)
+                self.assertEqual(r["beta"]["violations"], 0)
+                self.assertGreater(r["beta"]["valid_steps"], 100)
+        self.assertLess(float(np.max(np.abs(res["fixed"]["beta_sd"] - res["float"]["beta_sd"]))), 3e-3)
+
 
 class IndependentJudgeTests(unittest.TestCase):
     """One out-of-family run (CommonRoad's multi-body BMW 320i, its own
