@@ -327,9 +327,12 @@ def evaluate(run_dir, est):
     r["beta_rms_deg"] = float(np.sqrt(np.mean(e ** 2)))
     r["beta_max_deg"] = float(np.max(np.abs(e)))
     r["beta_true_max_deg"] = float(np.max(np.abs(beta_t[ok])) * DEG)
+    # the axle forces over the rows their own bit (V_AXLE) vouches for, as
+    # the independent judge counts them (V_BETA further needs beta's bound)
+    ok_a = ((est["valid"] & est_ref.V_AXLE) != 0) & (vx_t > 5.0)
     for name, est_f, tru_f in (("front", est["fyf"], fyf_t), ("rear", est["fyr"], fyr_t)):
-        peak = float(np.max(np.abs(tru_f[ok])))
-        rms = float(np.sqrt(np.mean((est_f - tru_f)[ok] ** 2)))
+        peak = float(np.max(np.abs(tru_f[ok_a]))) if ok_a.any() else 0.0
+        rms = float(np.sqrt(np.mean((est_f - tru_f)[ok_a] ** 2))) if ok_a.any() else 0.0
         r[f"fy_{name}_peak_N"] = peak
         # a straight run (peak below 200 N) has no meaningful percentage
         r[f"fy_{name}_rms_pct"] = 100.0 * rms / peak if peak >= 200.0 else None
