@@ -49,6 +49,9 @@ grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_para
     cfg->latency = R_ZERO;
     cfg->steer_lag = R_ZERO;
     cfg->steer_latency = R_ZERO;
+    cfg->tire_tol = RC(0.3);
+    cfg->kin_acc_sd = RC(0.10);
+    cfg->beta_sd_max = RC(0.0175);
     cfg->tire[0].kind = GRIP_EST_TIRE_MF;
     cfg->tire[0].model.mf = tire;
     cfg->tire[1].kind = GRIP_EST_TIRE_MF;
@@ -141,6 +144,9 @@ static grip_status_t check_config(const grip_est_config_t *c, grip_check_detail_
         { "latency", c->latency, R_ZERO, RC(0.1), "in [0, 0.1] s" },
         { "steer_lag", c->steer_lag, R_ZERO, RC(0.5), "in [0, 0.5] s" },
         { "steer_latency", c->steer_latency, R_ZERO, RC(0.1), "in [0, 0.1] s" },
+        { "tire_tol", c->tire_tol, R_ZERO, RC(2.0), "in [0, 2]" },
+        { "kin_acc_sd", c->kin_acc_sd, RC(0.01), RC(2.0), "in [0.01, 2] m/s^2" },
+        { "beta_sd_max", c->beta_sd_max, RC(0.001), RC(0.5), "in [0.001, 0.5] rad" },
     };
     int a;
     if (!check_ranges(r, sizeof r / sizeof r[0], d)) {
@@ -236,6 +242,8 @@ grip_status_t grip_est_reset(grip_est_t *est)
     est->active = 0;
     est->vx_init = 0;
     est->psi = R_ZERO;
+    est->vy_k = R_ZERO;
+    est->sd_k = RC(EST_SD_CAP);
     return GRIP_OK;
 }
 

@@ -213,11 +213,13 @@ static int vehicle_config(const char *name, const grip_mf_params *tire, int rate
  * lines. Keys: mass, iz, lf, lr, track (both), track_f, track_r, h_cg,
  * steer_ratio, wheel_radius, roll_split_front, roll_gradient, speed_ref_mu,
  * cla, aero_front, air_density, cda, crr, tan_bank, tan_grade, latency, steer_lag,
- * steer_latency.
+ * steer_latency, tire_tol, kin_acc_sd, beta_sd_max; rear_tire = PATH (the rear
+ * axle's .tir, relative to the vehicle file's folder; not with --estimate-rear).
  * The estimator's init checks the ranges. */
 #define VEHICLE_LINE_MAX 511
 
-static int vehicle_file(const char *path, grip_est_config_t *cfg)
+static int vehicle_file(const char *path, grip_est_config_t *cfg, char *rear_tire, size_t rear_n,
+                        unsigned long *rear_line)
 {
     /* one row per key: where it goes and in which format; "track" sets
      * both tracks */
@@ -250,6 +252,9 @@ static int vehicle_file(const char *path, grip_est_config_t *cfg)
         { "latency", offsetof(grip_est_config_t, latency), VK_QS },
         { "steer_lag", offsetof(grip_est_config_t, steer_lag), VK_QS },
         { "steer_latency", offsetof(grip_est_config_t, steer_latency), VK_QS },
+        { "tire_tol", offsetof(grip_est_config_t, tire_tol), VK_QS },
+        { "kin_acc_sd", offsetof(grip_est_config_t, kin_acc_sd), VK_QS },
+        { "beta_sd_max", offsetof(grip_est_config_t, beta_sd_max), VK_QS },
     };
     const size_t nkeys = sizeof keys / sizeof keys[0];
     static char line[VEHICLE_LINE_MAX + 1];
@@ -299,6 +304,38 @@ static int vehicle_file(const char *path, grip_est_config_t *cfg)
         }
         memcpy(key, p, n);
         key[n] = '\0';
+        if (strcmp(key, "rear_tire") == 0) {
+            /* a path, not a number: the rear axle's .tir, relative to the
+             * vehicle file's folder unless absolute */
+            const char *v0 = eq + 1;
+            const char *slash = strrchr(path, '/');
+            size_t vn, dn;
+            while (*v0 == ' ' || *v0 == '\t') {
+                v0++;
+            }
+            dn = (slash != NULL && v0[0] != '/') ? (size_t)(slash - path) + 1u : 0u;
+            vn = strlen(v0);
+            while (vn > 0 && (v0[vn - 1] == ' ' || v0[vn - 1] == '\t' || v0[vn - 1] == '\r' || v0[vn - 1] == '\n')) {
+                vn--;
+            }
+            if (*rear_line != 0) {
+                fprintf(stderr, "grip-replay: %s:%lu: key 'rear_tire' given twice (first on line %lu)\n", path,
+                        lineno, *rear_line);
+                csv_reader_close(f);
+                return -1;
+            }
+            if (vn == 0 || dn + vn >= rear_n) {
+                fprintf(stderr, "grip-replay: %s:%lu: rear_tire: %s\n", path, lineno,
+                        vn == 0 ? "empty (a .tir file path)" : "path too long");
+                csv_reader_close(f);
+                return -1;
+            }
+            memcpy(rear_tire, path, dn);
+            memcpy(rear_tire + dn, v0, vn);
+            rear_tire[dn + vn] = '\0';
+            *rear_line = lineno;
+            continue;
+        }
         errno = 0;
         v = strtod(eq + 1, &end);
         while (*end == ' ' || *end == '\t' || *end == '\r' || *end == '\n') {
@@ -443,7 +480,8 @@ static void usage(FILE *f)
             "                         track track_f track_r h_cg steer_ratio wheel_radius\n"
             "                         roll_split_front roll_gradient speed_ref_mu (0/1) cla aero_front\n"
             "                         air_density cda crr tan_bank tan_grade latency steer_lag\n"
-            "                         steer_latency [s]\n"
+            "                         steer_latency [s] tire_tol kin_acc_sd [m/s^2] beta_sd_max [rad];\n"
+            "                         rear_tire = PATH (the rear axle's .tir, relative to F's folder)\n"
             "      --csv FILE         estimator inputs from FILE ('-' = stdin) instead of CAN: one row per\n"
             "                         estimator step (every --step-ms), '#' lines skipped, a header row\n"
             "                         naming the columns: t_s [s], wheel_speed_fl wheel_speed_fr\n"
@@ -794,7 +832,7 @@ static const struct {
     { "beta", "rad" },      { "yaw_rate", "rad_s" },  { "yaw_rate_ref", "rad_s" }, { "delta", "rad" },
     { "mu", "" },           { "mu_conf", "" },        { "fy_front", "N" },       { "fy_rear", "N" },
     { "util_front", "" },   { "util_rear", "" },      { "fy_margin_front", "N" }, { "yaw_rate_bias", "rad_s" },
-    { "ay_model", "m_s2" },
+    { "ay_model", "m_s2" },   { "beta_sd", "rad" },     { "mu_sd", "" },
 };
 #define N_EST_COLS (sizeof EST_COLS / sizeof EST_COLS[0])
 
@@ -922,6 +960,7 @@ static void emit(replay *r, const grip_input_sample_t *s)
         if ((e->valid & GRIP_EST_V_AXLE) != 0u && r->mass_si > 0.0) {
             fprintf(r->csv, "%.6g", fyb / r->mass_si);
         }
+        fprintf(r->csv, ",%.6g,%.6g", real_to_si(e->beta_sd, 0), real_to_si(e->mu_sd, 0));
     }
     if (fprintf(r->csv, "\n") < 0) {
         r->write_failed = 1;
@@ -1973,8 +2012,29 @@ estimator:
             ecfg.tire[1].kind = GRIP_EST_TIRE_MF;
             ecfg.tire[1].model.mf = &r.tire_rear;
         }
-        if (o.vehicle_file != NULL && vehicle_file(o.vehicle_file, &ecfg) != 0) {
-            return EXIT_USAGE;
+        if (o.vehicle_file != NULL) {
+            static char rear_path[1024];
+            unsigned long rear_line = 0;
+            if (vehicle_file(o.vehicle_file, &ecfg, rear_path, sizeof rear_path, &rear_line) != 0) {
+                return EXIT_USAGE;
+            }
+            if (rear_line != 0) {
+                grip_tir_options to;
+                if (o.est_tir_rear != NULL) {
+                    fprintf(stderr, "grip-replay: %s:%lu: rear_tire: the rear tire is also given by --estimate-rear\n",
+                            o.vehicle_file, rear_line);
+                    return EXIT_USAGE;
+                }
+                grip_tir_options_init(&to);
+                to.flags = o.tir_flags;
+                to.warn = print_tir_warning;
+                if (grip_tir_read_opts(rear_path, &to, &r.tire_rear, err, sizeof err) != 0) {
+                    fprintf(stderr, "grip-replay: %s:%lu: rear_tire: %s\n", o.vehicle_file, rear_line, err);
+                    return EXIT_USAGE;
+                }
+                ecfg.tire[1].kind = GRIP_EST_TIRE_MF;
+                ecfg.tire[1].model.mf = &r.tire_rear;
+            }
         }
         r.mass_si = real_to_si(ecfg.mass, 1);
         {

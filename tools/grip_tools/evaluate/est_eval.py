@@ -153,6 +153,8 @@ def estimate(run_dir):
     res["fyr"] = np.array([o["fy_axle"][1] for o in outs])
     res["valid"] = np.array([o["valid"] for o in outs], dtype=np.int64)
     res["vx"] = np.array([o["vx"] for o in outs])
+    res["beta_sd"] = np.array([o["beta_sd"] for o in outs])
+    res["flags"] = np.array([o["flags"] for o in outs], dtype=np.int64)
     return res
 
 
@@ -175,7 +177,7 @@ def read_replay(text):
     import pyarrow.csv as pcsv
     want = {"t_s": "time", "beta": "beta", "mu": "mu", "mu_conf": "mu_conf", "fy_front": "fyf", "fy_rear": "fyr",
             "vx": "vx", "yaw_rate": "yaw_rate", "yaw_rate_ref": "yaw_rate_ref", "yaw_rate_bias": "yaw_rate_bias",
-            "ay_model": "ay_model", "est_status": "est_status"}
+            "ay_model": "ay_model", "est_status": "est_status", "beta_sd": "beta_sd", "mu_sd": "mu_sd"}
     # only the estimator's columns, as float64 (an empty cell is NaN) and
     # the two bit masks as int64; the input and fault columns are not read
     types = {k: pa.float64() for k in want}
@@ -328,9 +330,12 @@ def evaluate(run_dir, est):
     r["beta_rms_deg"] = float(np.sqrt(np.mean(e ** 2)))
     r["beta_max_deg"] = float(np.max(np.abs(e)))
     r["beta_true_max_deg"] = float(np.max(np.abs(beta_t[ok])) * DEG)
+    # the axle forces over the rows their own bit (V_AXLE) vouches for, as
+    # the independent judge counts them (V_BETA further needs beta's bound)
+    ok_a = ((est["valid"] & est_ref.V_AXLE) != 0) & (vx_t > 5.0)
     for name, est_f, tru_f in (("front", est["fyf"], fyf_t), ("rear", est["fyr"], fyr_t)):
-        peak = float(np.max(np.abs(tru_f[ok])))
-        rms = float(np.sqrt(np.mean((est_f - tru_f)[ok] ** 2)))
+        peak = float(np.max(np.abs(tru_f[ok_a]))) if ok_a.any() else 0.0
+        rms = float(np.sqrt(np.mean((est_f - tru_f)[ok_a] ** 2))) if ok_a.any() else 0.0
         r[f"fy_{name}_peak_N"] = peak
         # a straight run (peak below 200 N) has no meaningful percentage
         r[f"fy_{name}_rms_pct"] = 100.0 * rms / peak if peak >= 200.0 else None
@@ -717,7 +722,18 @@ def main(argv=None):
     ap.add_argument("--vehicles", nargs="+", help="--independent: only these vehicles")
     ap.add_argument("--manoeuvres", nargs="+", help="--independent: only these manoeuvres")
     ap.add_argument("--surfaces", nargs="+", help="--independent: only these surfaces")
+    ap.add_argument("--integrity", action="store_true",
+                    help="the validity flags' integrity on every judge (est_ref): <out>/integrity_table.md, .json")
+    ap.add_argument("--judges", default=",".join(("own", "mismatch", "independent", "av21")),
+                    help="--integrity: comma-separated subset of own, mismatch, independent, av21")
+    ap.add_argument("--const", action="append", default=[], metavar="NAME=VALUE",
+                    help="--integrity: an est_ref constant changed for the run (sensitivity: TIRE_TOL, KIN_ACC, ...)")
     a = ap.parse_args(argv)
+    if a.integrity:
+        from grip_tools.evaluate import integrity
+        integrity.run(a.out, judges=[j for j in a.judges.split(",") if j], runs_dir=a.runs_dir, full=a.full,
+                      av21_log=a.av21, consts=a.const)
+        return 0
     if a.independent:
         from grip_tools.sim.independent import judge
         judge.run(a.out, full=a.full, vehicles=a.vehicles, manoeuvres=a.manoeuvres, surfaces=a.surfaces,

@@ -85,6 +85,8 @@ CLASSES = {
     "EST_CONF_S0": "tuning", "EST_MF_TAU": "tuning", "EST_NIS_HI": "physics", "EST_NIS_LO": "physics",
     "EST_SAT_U": "tuning", "EST_SAT_HI": "tuning", "EST_SAT_LO": "tuning", "EST_CONF_MISFIT": "tuning",
     "EST_SAT_MU": "tuning", "EST_SAT_MU_LO": "tuning",
+    "EST_ROLL_TOL": "tuning", "EST_DIS_K": "physics", "EST_SD_CAP": "format", "EST_SD_MIN": "format",
+    "EST_Q_MAX": "format", "EST_KIN_Q0": "tuning", "EST_SD_VY_EDGE": "tuning",
 }
 CLASS_TEXT = {
     "physics": "a physical or statistical constant (g, a chi-square point, the tire as fitted)",
