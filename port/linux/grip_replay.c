@@ -1322,16 +1322,10 @@ typedef struct {
     double hint_max;
 } input_rule;
 
-static input_rule input_rules[GRIP_IN_COUNT];
-
-static void input_rules_init(void)
-{
-#define INPUT_RULE(id, lo_, hi_, hint_, hint_max_) \
-    input_rules[id].lo = (lo_); input_rules[id].hi = (hi_); input_rules[id].hint = (hint_); \
-    input_rules[id].hint_max = (hint_max_);
-    GRIP_INPUT_RULES(INPUT_RULE)
+/* indexed by input id; grip_tire.c builds its CHANNEL_RULES the same way */
+#define INPUT_RULE(id, lo, hi, hint, hint_max) [id] = { lo, hi, hint, hint_max },
+static const input_rule input_rules[GRIP_IN_COUNT] = { GRIP_INPUT_RULES(INPUT_RULE) };
 #undef INPUT_RULE
-}
 
 /* 1 if name is in the comma-separated list. */
 static int in_list(const char *list, const char *name)
@@ -1687,7 +1681,6 @@ static int run_csv(replay *r)
     csv_ctx c;
     int rc = 0;
     int k;
-    input_rules_init();
     if (csv_reader_open(&rd, r->opt->csv_in, line, CSV_LINE_MAX, 1, err, sizeof err) != 0) {
         fprintf(stderr, "grip-replay: %s\n", err);
         return EXIT_INPUT;
