@@ -68,6 +68,11 @@ static int check_set(const grip_mf_params *p, uint32_t options, const char *name
     int k;
     int n_clamped = 0;
     int n_default_p = 0;
+    int n_ext_valid = 0;
+    int m;
+    /* every channel, and what the estimator asks for (Re, sigma, K) */
+    const uint32_t ext_sets[2] = { GRIP_MF_EXT_ALL, GRIP_MF_EXT_RE | GRIP_MF_EXT_SIGMAX | GRIP_MF_EXT_SIGMAY |
+                                                        GRIP_MF_EXT_KXK | GRIP_MF_EXT_KYA };
     q.options = options;
     assert_int_equal(grip_mf_prepare(p, options, &prep), GRIP_OK);
     fill_points(p->fnomin, p->nompres);
@@ -91,6 +96,17 @@ static int check_set(const grip_mf_params *p, uint32_t options, const char *name
             fail_msg("%s options 0x%x point %d: prepared pure differs (status %d vs %d)", name, (unsigned)options,
                      k, (int)s4, (int)s3);
         }
+        for (m = 0; m < 2; m++) {
+            grip_mf_output_ext e1;
+            grip_mf_output_ext e2;
+            grip_status_t s5 = grip_mf_eval_ext(&q, &g_in[k], ext_sets[m], &e1);
+            grip_status_t s6 = grip_mf_eval_ext_prepared(&prep, &g_in[k], ext_sets[m], &e2);
+            if (s5 != s6 || memcmp(&e1, &e2, sizeof e1) != 0) {
+                fail_msg("%s options 0x%x point %d outputs 0x%x: prepared extended differs (status %d vs %d)",
+                         name, (unsigned)options, k, (unsigned)ext_sets[m], (int)s6, (int)s5);
+            }
+            n_ext_valid += (s5 >= 0) && (e1.valid != 0u);
+        }
         if (g_st[k] != s1 || !same(&g_out[k], &one) || !same(&g_ref[k], &one)) {
             fail_msg("%s options 0x%x point %d: batch differs (status %d, single %d)", name, (unsigned)options, k,
                      (int)g_st[k], (int)s1);
@@ -100,6 +116,7 @@ static int check_set(const grip_mf_params *p, uint32_t options, const char *name
     }
     assert_true(n_clamped > 0);
     assert_true(n_default_p > 0);
+    assert_true(n_ext_valid > 0);
     return NPTS;
 }
 
@@ -113,7 +130,7 @@ static void test_every_tire(void **s)
         const grip_mf_params *p = grip_test_tires[t].params;
         n += check_set(p, p->options, grip_test_tires[t].name);
     }
-    printf("# %d parameter sets, %ld points, combined, pure and batch: prepared bit-identical to unprepared\n",
+    printf("# %d parameter sets, %ld points, combined, pure, extended and batch: prepared bit-identical to unprepared\n",
            grip_test_tire_count, n);
 }
 
@@ -203,6 +220,13 @@ static void expect_refused(const grip_mf_params *p, uint32_t options, const char
     assert_true(out.fx == 0 && out.fy == 0 && out.mz == 0);
     assert_int_equal(grip_mf_eval_pure_prepared(&prep, &in, &out), GRIP_ERR_PARAM);
     assert_int_equal(grip_mf_eval_prepared_batch(&prep, 1u, &in, &out, NULL), GRIP_ERR_PARAM);
+    {
+        grip_mf_output_ext ext;
+        ext.fx = (grip_real_t)1;
+        ext.valid = 1u;
+        assert_int_equal(grip_mf_eval_ext_prepared(&prep, &in, GRIP_MF_EXT_ALL, &ext), GRIP_ERR_PARAM);
+        assert_true(ext.fx == 0 && ext.valid == 0u);
+    }
 }
 
 static void test_bad_sets(void **s)
@@ -262,6 +286,23 @@ static void test_bad_sets(void **s)
         assert_int_equal(grip_mf_eval_prepared_batch(NULL, 1u, &in, &out, NULL), GRIP_ERR_NULL);
         assert_int_equal(grip_mf_eval_prepared_batch(&prep, 1u, NULL, &out, NULL), GRIP_ERR_NULL);
         assert_int_equal(grip_mf_eval_prepared_batch(&prep, 1u, &in, NULL, NULL), GRIP_ERR_NULL);
+    }
+    {
+        /* the extended outputs: NULLs, and no use mode with a prepared set */
+        grip_mf_output_ext ext;
+        grip_mf_input in = { qs(0.05), qs(0.02), 0, ql(3000.0), 0, qs(20.0) };
+        assert_int_equal(grip_mf_eval_ext_prepared(&prep, &in, GRIP_MF_EXT_ALL, NULL), GRIP_ERR_NULL);
+        assert_int_equal(grip_mf_eval_ext_prepared(NULL, &in, GRIP_MF_EXT_ALL, &ext), GRIP_ERR_NULL);
+        assert_true(ext.valid == 0u);
+        assert_int_equal(grip_mf_eval_ext_prepared(&prep, NULL, GRIP_MF_EXT_ALL, &ext), GRIP_ERR_NULL);
+        assert_int_equal(grip_mf_eval_ext_prepared(&prep, &in, GRIP_MF_EXT_ALL | GRIP_MF_USE_TURN_SLIP, &ext),
+                         GRIP_ERR_INPUT);
+        assert_int_equal(grip_mf_eval_ext_prepared(&prep, &in, GRIP_MF_EXT_ALL | GRIP_MF_USE_NO_LIMITS, &ext),
+                         GRIP_ERR_INPUT);
+        assert_int_equal(grip_mf_eval_ext_prepared(&prep, &in, 0x40000000u, &ext), GRIP_ERR_INPUT);
+        assert_true(ext.fx == 0 && ext.valid == 0u);
+        assert_int_equal(grip_mf_eval_ext_prepared(&prep, &in, GRIP_MF_EXT_RE, &ext), GRIP_OK);
+        assert_true(ext.fy != 0 && ext.valid == GRIP_MF_EXT_RE && ext.re > 0);
     }
 }
 
