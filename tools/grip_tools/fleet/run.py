@@ -388,8 +388,10 @@ def run_fleet(a, specs=None, client=None, on_result=None):
     logs = res.compact([s.log_id for s in specs], schema)
     status = logs.column("status").to_pylist() if logs is not None else []
     info = {"grip_version": __version__, "backend": opts["backend"],
+            # per arithmetic: the program or the extension that ran, its sha256
+            # (the identity is "binding:" + sha256 for the extension)
             "replay": {k: ({"binary": opts["bins"][k], "sha256": opts["replay_ids"][k]} if opts["bins"] else
-                           {"extension": _extension_path(k), "identity": opts["replay_ids"][k]})
+                           {"extension": _extension_path(k), "sha256": opts["replay_ids"][k].split(":")[-1]})
                        for k in opts["ariths"]},
             "sources": [os.path.abspath(s) for s in a.sources], "options": opts["hash_options"],
             "logs": len(specs), "computed": counts["computed"], "skipped": counts["skipped"],
