@@ -516,15 +516,75 @@ double replay_input_value(grip_real_t v, uint32_t input)
 double replay_time_value(int64_t t_us)
 {
     char buf[32];
+    if (t_us >= 0 && t_us < ((int64_t)1 << 53)) {
+        /* the text is t_us / 10^6 exactly; one IEEE division of exact
+         * operands is that value correctly rounded, as strtod gives it */
+        return (double)t_us / 1e6;
+    }
     format_time(buf, sizeof buf, t_us);
     return strtod(buf, NULL);
 }
 
-double replay_as_printed(double v, int digits)
+/* 10^0 .. 10^22: every one exact in a double */
+static const double POW10[23] = { 1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                                  1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22 };
+
+static double as_printed_text(double v, int digits)
 {
     char buf[40];
     snprintf(buf, sizeof buf, "%.*g", digits, v);
     return strtod(buf, NULL);
+}
+
+/* %.*g rounds |v| to M * 10^k, M an integer of `digits` digits (the exact
+ * binary value, rounded to nearest); strtod returns the double nearest to
+ * M * 10^k. Without text: y = |v| / 10^k is one rounding away from the
+ * exact quotient (10^|k| exact for |k| <= 22), so M = round(y) unless y's
+ * fraction is within that error of one half (then the text path decides),
+ * and M * 10^k (or M / 10^-k) of exact operands is one correctly rounded
+ * operation: strtod's result. A value rounding up to 10^digits gives the
+ * same M * 10^k as the printed "1e..." form. */
+double replay_as_printed(double v, int digits)
+{
+    double a = fabs(v);
+    double y;
+    double m;
+    double lo;
+    double hi;
+    int e;
+    int k;
+    int i;
+    if (a == 0.0 || !isfinite(v) || digits < 1 || digits > 15) {
+        return (a == 0.0) ? v : as_printed_text(v, digits);
+    }
+    lo = POW10[digits - 1];
+    hi = POW10[digits];
+    e = (int)floor(log10(a));
+    y = 0.0;
+    for (i = 0; i < 3; i++) {   /* log10 may be one off near a power of ten */
+        k = e - digits + 1;
+        if (k > 22 || k < -22) {
+            return as_printed_text(v, digits);
+        }
+        y = (k >= 0) ? a / POW10[k] : a * POW10[-k];
+        if (y < lo) {
+            e--;
+        } else if (y >= hi) {
+            e++;
+        } else {
+            break;
+        }
+    }
+    if (i == 3) {
+        return as_printed_text(v, digits);
+    }
+    m = floor(y);
+    if (fabs((y - m) - 0.5) <= y * 0x1p-50) {
+        return as_printed_text(v, digits);
+    }
+    m = floor(y + 0.5);
+    y = (k >= 0) ? m * POW10[k] : m / POW10[-k];
+    return (v < 0.0) ? -y : y;
 }
 
 static void emit(replay *r, const grip_input_sample_t *s)
