@@ -381,6 +381,15 @@ class BackendsTests(unittest.TestCase):
                 n += 1
         self.assertEqual(n, 2 * (len(rows) - 2))
 
+    def test_step_cap(self):
+        """More steps than --max-steps: an error row, not a truncated log."""
+        from grip_tools.fleet import backend
+        from grip_tools.fleet.run import default_tir
+        job = backend.ReplayJob(kind="csv", tir=default_tir(), path=os.path.join(_DIR, "fleet", "logs", "sim000000.csv"))
+        self.assertEqual(len(backend.BindingReplay("float", max_steps=251).run(job).columns["t_s"]), 251)
+        with self.assertRaisesRegex(backend.ReplayError, r"^grip-replay exit 5: more than 250 steps"):
+            backend.BindingReplay("float", max_steps=250).run(job)
+
     def test_identity_differs_between_backends(self):
         from grip_tools.fleet import backend
         ids = {backend.BindingReplay("float").identity(), backend.BindingReplay("fixed").identity(),

@@ -281,6 +281,8 @@ def options(a):
             raise UsageError(f"--replay-bin {s}: give float=PATH or fixed=PATH")
         bins[k] = os.path.abspath(v)
     bins = {k: bins[k] for k in ariths}
+    if getattr(a, "max_steps", None) is not None and a.max_steps < 1:
+        raise UsageError(f"--max-steps {a.max_steps}: give a number of steps >= 1")
     backend = getattr(a, "backend", None)
     if backend is None:
         why = B.binding_available(ariths)
