@@ -222,6 +222,9 @@ typedef struct {
                                   * beta_sd <= beta_sd_max                        */
     grip_real_t yaw_rate_sd;     /* QS rad/s the filter's standard deviation of yaw_rate */
     grip_real_t mu_sd;           /* QS the filter's standard deviation of mu      */
+    grip_real_t vx_sd;           /* QS m/s standard deviation of vx (0 before vx is known) */
+    grip_real_t fy_axle_sd[2];   /* QL N standard deviation of fy_axle[] (0 with the
+                                  * observer off)                                 */
     int32_t steer_char;          /* +1 understeer, -1 oversteer, 0 neutral        */
     uint32_t valid;              /* GRIP_EST_V_* */
     uint32_t flags;              /* GRIP_EST_F_* */
@@ -310,6 +313,9 @@ typedef struct {
     int32_t vx_init;
     grip_real_t vy_k;           /* QS m/s kinematic vy (est_integrity.c) */
     grip_real_t sd_k;           /* QS m/s its standard deviation, [0, EST_SD_CAP] */
+    grip_real_t sd_vx;          /* QS m/s vx's standard deviation, [0, EST_SD_CAP] */
+    grip_real_t slip_acc;       /* QS s^2/m the wheels' mean slip per m/s^2 of ax: m / (4 c_kappa),
+                                 * the softer axle's static stiffness (vx's deviation) */
 } grip_est_t;
 
 #define grip_est_config_default GRIP_TYPED(grip_est_config_default)

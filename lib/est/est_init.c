@@ -244,6 +244,7 @@ grip_status_t grip_est_reset(grip_est_t *est)
     est->psi = R_ZERO;
     est->vy_k = R_ZERO;
     est->sd_k = RC(EST_SD_CAP);
+    est->sd_vx = RC(EST_SD_CAP);
     return GRIP_OK;
 }
 
@@ -359,6 +360,8 @@ grip_status_t grip_est_init_detail(grip_est_t *est, const grip_est_config_t *cfg
             est->fy_shape[a][k] = r_abs(r_div(o1.fy, in.fz));
         }
     }
+    /* vx's deviation: the wheels' mean slip per m/s^2 of ax (kg / N) */
+    est->slip_acc = r_div(cfg->mass, r_mul(RC(4.0), r_min(est->c_kappa[0], est->c_kappa[1])));
     {
         /* stability factor A = m (lr Cr - lf Cf) / (l^2 Cf Cr), Cf, Cr per axle
          * (seed eq. 2.17 with K per tire = C / 2); stored as 100 A */

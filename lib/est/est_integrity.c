@@ -98,3 +98,59 @@ void est_integrity(grip_est_t *est, est_ctx_t *s, grip_est_output_t *out)
     tb = sym_clamp(r_div(est->vy_k, vxd), RC(100.0));
     s->beta_sd = r_div(r_div(s->vy_sd, vxd), r_add(R_ONE, r_sq(tb)));
 }
+
+/* vx's deviation [m/s] through est_speed's complementary filter: the
+ * prediction's grows by ax's error (offset and grade: kin_acc_sd, and r
+ * times vy's deviation); the reference's is a wheel's rolling-radius
+ * tolerance (EST_WS_TOL) and the reference wheels' slip at the measured
+ * specific force, m |ax| / (4 c_kappa) at the softer axle's static
+ * stiffness (slip_acc = m / (4 c_kappa), est_init) (braking takes the fastest wheel, driving the slowest: their
+ * slip is at most the mean); the update moves the deviation towards the
+ * reference's by the update's own share kk, a convex combination of two
+ * bounds being a bound whatever their correlation. Standstill (vx set to
+ * 0 with every wheel below EST_V_STAND): EST_V_STAND. */
+void est_bound_speed(grip_est_t *est, const est_ctx_t *s, grip_real_t kk, grip_real_t v_ref, int stand)
+{
+    grip_real_t sd, vyb, acc;
+    if (!est->vx_init) {
+        est->sd_vx = RC(EST_SD_CAP);
+        return;
+    }
+    vyb = r_min(est->sd_k, r_add(r_mul(RC(EST_VY_K), r_abs(est->vx)), R_ONE));
+    acc = r_add(est->cfg.kin_acc_sd, r_mul(r_abs(s->yaw), vyb));
+    sd = r_min(r_add(est->sd_vx, r_div(acc, est->rate)), RC(EST_SD_CAP));
+    if (kk > R_ZERO) {
+        grip_real_t slip = r_mul(est->slip_acc, r_min(r_abs(s->ax), RC(EST_ACC_MAX)));
+        grip_real_t sref = r_mul(r_add(RC(EST_WS_TOL), r_min(slip, RC(EST_SLIP_MAX))), r_abs(v_ref));
+        sd = r_add(sd, r_mul(kk, r_sub(sref, sd)));
+    }
+    if (stand) {
+        sd = RC(EST_V_STAND);
+    }
+    est->sd_vx = sd;
+}
+
+/* The axle forces' deviations [N]: the tire model's relative error
+ * tire_tol of the force, the axle's slope (its wheels' |d Fy / d alpha| of
+ * this step's Jacobians) times the slip angle's deviation (beta's, and the
+ * yaw rate's lever arm over vx), and the force's change with mu (the
+ * step's d Fy / d mu) times mu's deviation; summed (at least their root
+ * sum square, and cheaper). vx's deviation with them. */
+void est_bound_outputs(const grip_est_t *est, const est_ctx_t *s, grip_est_output_t *out)
+{
+    int a;
+    grip_real_t q;
+    out->vx_sd = est->vx_init ? est->sd_vx : R_ZERO;
+    if (!est->active) {
+        return;
+    }
+    q = r_div(out->yaw_rate_sd, r_max(r_abs(out->vx), RC(EST_V_OFF)));
+    for (a = 0; a < 2; ++a) {
+        int w0 = a + a, w1 = a + a + 1;
+        grip_real_t arm = (a == 0) ? est->cfg.lf : est->cfg.lr; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
+        grip_real_t asd = r_min(r_add(out->beta_sd, r_mul(arm, q)), R_ONE);
+        grip_real_t sd = r_add(r_mul(est->cfg.tire_tol, r_abs(out->fy_axle[a])), r_mul(s->slope[a], asd));
+        sd = r_add(sd, r_mul(r_add(r_abs(est->fy_dmu[w0]), r_abs(est->fy_dmu[w1])), out->mu_sd));
+        out->fy_axle_sd[a] = sd;
+    }
+}

@@ -68,6 +68,7 @@ typedef struct {
     grip_real_t nis_ay;         /* QS normalized innovation squared of the ay update */
     /* bounds (est_integrity.c) */
     grip_real_t vy_sd, beta_sd; /* QS m/s, rad the outputs' standard deviations */
+    grip_real_t slope[2];       /* QL N/rad the axles' |d Fy / d alpha| summed (est_tires) */
     /* flags (1: true), by the same stages */
     uint8_t steer_ok, yaw_ok, ax_ok, ay_ok; /* fresh, or held within the hold time */
     uint8_t vs_ok;              /* vehicle speed fresh in this step */
@@ -245,6 +246,12 @@ void est_checks(grip_est_t *est, est_ctx_t *s, grip_est_output_t *out);
  * kinematic vy, which of the two the outputs take and whether they
  * disagree; the yaw rate's and mu's deviations */
 void est_integrity(grip_est_t *est, est_ctx_t *s, grip_est_output_t *out);
+/* est_integrity.c, run by est_speed: vx's deviation after the speed update
+ * (kk: the update's share of the reference v_ref, 0 without one; stand:
+ * the standstill that set vx to 0) */
+void est_bound_speed(grip_est_t *est, const est_ctx_t *s, grip_real_t kk, grip_real_t v_ref, int stand);
+/* est_integrity.c, after est_outputs: the axle forces' deviations and vx's */
+void est_bound_outputs(const grip_est_t *est, const est_ctx_t *s, grip_est_output_t *out);
 /* est_outputs.c: the outputs (the lateral ones at the updated state) */
 void est_outputs(grip_est_t *est, est_ctx_t *s, grip_est_output_t *out);
 

@@ -46,7 +46,7 @@ void est_speed(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)
     grip_real_t vy_now = est->active ? est->x[0]
                                      : r_add(r_mul(r_now, est->cfg.lr), r_div(r_mul(est->vx, s->sr), s->cr));
     grip_real_t vx_pred = r_add(est->vx, r_div(vx_rate(est, ax, r_now, vy_now, s->g_x), rate));
-    grip_real_t k = R_ZERO;
+    grip_real_t k = R_ZERO, kk = R_ZERO;
     grip_real_t vcs[4];
     int outl[4], n_good = 0;
     /* a wheel steered beyond WS_STEER_MAX tells vx only through the
@@ -191,11 +191,14 @@ void est_speed(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)
         if (vs_ok || n_ws > 0) {
             est->vx = v_ref;
             est->vx_init = 1;
+            kk = R_ONE;
         }
     } else {
-        est->vx = r_add(vx_pred, r_mul(r_min(r_div(k, rate), R_ONE), r_sub(v_ref, vx_pred)));
+        kk = r_min(r_div(k, rate), R_ONE);
+        est->vx = r_add(vx_pred, r_mul(kk, r_sub(v_ref, vx_pred)));
     }
     stand = n_ws > 0 && vmax < RC(EST_V_STAND) && vmin > RC(-EST_V_STAND) && !dead_reck; /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
+    est_bound_speed(est, s, kk, v_ref, stand && !vs_ok);
     /* the gyro reads its bias at rest: every wheel at rest and the car
      * (nearly) stopped already by the prediction (wheels locked at speed
      * are not a standstill) */

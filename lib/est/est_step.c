@@ -45,6 +45,9 @@ static EST_NOINLINE void zero_output(grip_est_output_t *out)
     out->beta_sd = R_ZERO;
     out->yaw_rate_sd = R_ZERO;
     out->mu_sd = R_ZERO;
+    out->vx_sd = R_ZERO;
+    out->fy_axle_sd[0] = R_ZERO;
+    out->fy_axle_sd[1] = R_ZERO;
     out->steer_char = 0;
     out->valid = 0;
     out->flags = 0;
@@ -78,6 +81,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     }
     est_checks(est, &s, out);
     est_outputs(est, &s, out);
+    est_bound_outputs(est, &s, out);
     out->valid = s.valid;
     out->flags = s.flags;
     return ((s.flags & GRIP_EST_F_RATE) != 0u) ? GRIP_WARN_RATE : GRIP_OK;

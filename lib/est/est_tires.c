@@ -75,6 +75,8 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
     grip_real_t umax = R_ZERO, umax_x = R_ZERO, kappa_sum = R_ZERO, umax_est = R_ZERO;
     int i, kappa_slip = 0;
 
+    s->slope[0] = R_ZERO;
+    s->slope[1] = R_ZERO;
     for (i = 0; i < 4; ++i) {
         int axle = i >> 1;
         grip_real_t cdi = axle ? s->cr : s->cd, sdi = axle ? s->sr : s->sd;
@@ -172,6 +174,7 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
         dfda = r_neg(r_mul(g, ca));                           /* d Fy / d alpha  [N/rad] */
         dfdmu = est_mu_secant(est, axle, alpha, out->fy[i]);   /* d Fy / d mu [N] */
         est->fy_dmu[i] = dfdmu; /* the output forces move along it with the updates' mu */
+        s->slope[axle] = r_add(s->slope[axle], r_abs(dfda));
         {
             grip_real_t dfy_dvy = r_mul(dady, dfda);
             grip_real_t dfy_dr = r_mul(dadr, dfda);

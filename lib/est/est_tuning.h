@@ -314,6 +314,13 @@
                               *        deviations (3: a consistent pair fails 0.3 % of steps)  */
 #define EST_SD_CAP   100.0   /* m/s    every deviation capped here: not estimated at all (its
                               *        square 1e4 within Q15.16)                               */
+#define EST_WS_TOL   0.012   /* -      deviation of a wheel-speed reference's scale: a
+                              * rolling radius within +-2 % of the one the speeds
+                              * were converted with (tread wear, pressure, load),
+                              * uniform: 0.02 / sqrt(3) (est_bound_speed)         */
+#define EST_SLIP_MAX 0.2     /* -      the reference wheels' slip counted at most this
+                              * (a tire's peak slip; beyond, the wheel is an outlier
+                              * and leaves the reference)                          */
 #define EST_SD_MIN   0.001   /* m/s    the blend's ratio q = sd_filter / sd_kinematic formed
                               *        with the kinematic deviation at least this ...          */
 #define EST_Q_MAX    100.0   /* -      ... and taken at most this (its square within Q15.16)    */

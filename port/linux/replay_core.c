@@ -380,7 +380,8 @@ static const struct {
     { "beta", "rad" },      { "yaw_rate", "rad_s" },  { "yaw_rate_ref", "rad_s" }, { "delta", "rad" },
     { "mu", "" },           { "mu_conf", "" },        { "fy_front", "N" },       { "fy_rear", "N" },
     { "util_front", "" },   { "util_rear", "" },      { "fy_margin_front", "N" }, { "yaw_rate_bias", "rad_s" },
-    { "ay_model", "m_s2" },   { "beta_sd", "rad" },     { "mu_sd", "" },
+    { "ay_model", "m_s2" },   { "beta_sd", "rad" },     { "mu_sd", "" },           { "vx_sd", "m_s" },
+    { "fy_front_sd", "N" },   { "fy_rear_sd", "N" },
 };
 #define N_EST_COLS (sizeof EST_COLS / sizeof EST_COLS[0])
 
@@ -501,6 +502,9 @@ void replay_est_values(const replay *r, double v[REPLAY_EST_REALS])
     v[13] = ((e->valid & GRIP_EST_V_AXLE) != 0u && r->mass_si > 0.0) ? fyb / r->mass_si : NAN;
     v[14] = replay_real_to_si(e->beta_sd, 0);
     v[15] = replay_real_to_si(e->mu_sd, 0);
+    v[16] = replay_real_to_si(e->vx_sd, 0);
+    v[17] = replay_real_to_si(e->fy_axle_sd[0], 1);
+    v[18] = replay_real_to_si(e->fy_axle_sd[1], 1);
 }
 
 double replay_input_value(grip_real_t v, uint32_t input)

@@ -44,7 +44,7 @@
 
 /* The estimator's real-valued output columns after est_status, est_valid,
  * est_flags (replay_est_values; ay_model NaN = an empty cell). */
-#define REPLAY_EST_REALS 16
+#define REPLAY_EST_REALS 19
 
 typedef struct {
     const char *log;

@@ -34,7 +34,8 @@ DEFAULT_MAX_STEPS = 1 << 21   # 5.8 h at 100 Hz; about 0.5 GB of rows at 9 input
 # the estimator's real-valued columns after est_flags (replay_core.h,
 # replay_est_values), in output order
 EST_REALS = ("vx", "beta", "yaw_rate", "yaw_rate_ref", "delta", "mu", "mu_conf", "fy_front", "fy_rear",
-             "util_front", "util_rear", "fy_margin_front", "yaw_rate_bias", "ay_model", "beta_sd", "mu_sd")
+             "util_front", "util_rear", "fy_margin_front", "yaw_rate_bias", "ay_model", "beta_sd", "mu_sd",
+             "vx_sd", "fy_front_sd", "fy_rear_sd")
 EST_INTS = ("est_status", "est_valid", "est_flags")
 
 _LOCK = threading.Lock()

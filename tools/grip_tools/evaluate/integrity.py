@@ -41,7 +41,7 @@ from grip_tools.reference import est as est_ref, tir
 
 DEG = 180.0 / math.pi
 V_MIN = 5.0
-FLOOR = {"beta": 1.0 / DEG, "mu": 0.1}
+FLOOR = {"beta": 1.0 / DEG, "mu": 0.1, "vx": 0.1, "fy_axle": 100.0}
 K = 3.0
 TARGET_RATE, TARGET_RUN_S, TARGET_VALID = 0.001, 0.1, 0.90
 SAT_U = 0.95
@@ -68,7 +68,8 @@ def stats(t, err, sd, ok, floor, k=K):
 def reference_run(cfg, value, valid):
     """est_ref over the inputs: arrays of the outputs the table needs."""
     outs = est_ref.run(cfg, value, valid)
-    keys = ("beta", "beta_sd", "vy", "vy_sd", "vx", "yaw_rate", "yaw_rate_sd", "mu", "mu_sd")
+    keys = ("beta", "beta_sd", "vy", "vy_sd", "vx", "vx_sd", "yaw_rate", "yaw_rate_sd", "mu", "mu_sd",
+            "fy_axle", "fy_axle_sd")
     res = {k: np.array([o[k] for o in outs]) for k in keys}
     res["valid"] = np.array([o["valid"] for o in outs], dtype=np.int64)
     res["flags"] = np.array([o["flags"] for o in outs], dtype=np.int64)
@@ -86,6 +87,16 @@ def judge_run(t, est, truth, moving, outside=None):
     r["beta"]["sd_med_deg"] = float(np.median(est["beta_sd"][vb]) * DEG) if vb.any() else None
     if truth.get("mu") is not None:
         r["mu"] = stats(t, est["mu"] - truth["mu"], est["mu_sd"], vm, FLOOR["mu"])
+    if truth.get("vx") is not None:
+        vv = ((est["valid"] & est_ref.V_VX) != 0) & moving
+        r["vx"] = stats(t, est["vx"] - truth["vx"], est["vx_sd"], vv, FLOOR["vx"])
+        r["vx"]["sd_med"] = float(np.median(est["vx_sd"][vv])) if vv.any() else None
+    if truth.get("fy_axle") is not None:
+        va = ((est["valid"] & est_ref.V_AXLE) != 0) & moving
+        per = [stats(t, est["fy_axle"][:, a] - truth["fy_axle"][:, a], est["fy_axle_sd"][:, a], va,
+                     FLOOR["fy_axle"]) for a in (0, 1)]
+        r["fy_axle"] = totals([{"x": s} for s in per], "x")
+        r["fy_axle"]["sd_med"] = float(np.median(est["fy_axle_sd"][va])) if va.any() else None
     den = moving if outside is None else (moving & outside)
     r["beta_valid_share"] = float(np.sum(vb & den) / den.sum()) if den.sum() else None
     r["kin_steps"] = int(np.sum(((est["flags"] & est_ref.F_BETA_KIN) != 0) & moving))
@@ -112,7 +123,8 @@ def own_truth(run_dir, t):
     def at(name):
         return np.interp(t, tr["time"], tr[name])
     truth = {"beta": at("beta"), "vx": at("vx"),
-             "mu": np.mean([at(f"mu_road_{w}") for w in est_eval.WHEELS], axis=0)}
+             "mu": np.mean([at(f"mu_road_{w}") for w in est_eval.WHEELS], axis=0),
+             "fy_axle": np.column_stack([at("fy_fl") + at("fy_fr"), at("fy_rl") + at("fy_rr")])}
     beta_kin = np.arctan(1.60 * np.tan(at("delta")) / 2.70)
     spin = np.abs(truth["beta"] - beta_kin) * DEG > 10.0
     if spin.any():
@@ -191,7 +203,8 @@ def independent_run(vname, mname, sname, cache):
     moving = tr["vx"] >= V_MIN
     spin = judge.spin_mask(tr, veh.l, veh.p.b, tr["vx"] >= judge.V_MOVING)
     sat = _axle_saturation(tr, lambda k: tr[k])
-    truth = {"beta": tr["beta"], "mu": tr["mu_surface"] * judge.mu_norm(veh, judge.GENERIC_TIR)}
+    truth = {"beta": tr["beta"], "mu": tr["mu_surface"] * judge.mu_norm(veh, judge.GENERIC_TIR), "vx": tr["vx"],
+             "fy_axle": np.column_stack([tr["fy_fl"] + tr["fy_fr"], tr["fy_rl"] + tr["fy_rr"]])}
     return judge_run(t, est, truth, moving, ~(spin | sat))
 
 
@@ -217,6 +230,7 @@ def judge_av21(outdir, log=None):
     full[:, :value.shape[1]], fv[:, :valid.shape[1]] = value, valid
     cfg = est_ref.config(tir.load_params(tir_path), rate_hz=est_eval.AV21_RATE_HZ, **est_eval.AV21_VEHICLE)
     est = reference_run(cfg, full, fv)
+    # no vx row: the log's vehicle speed, an estimator input, is the INS vx itself
     truth = {"beta": np.arctan2(ins["vy"], np.maximum(ins["vx"], 1e-3)), "mu": None}
     return {"road course (INS sideslip)": judge_run(t, est, truth, ins["vx"] > 10.0)}
 
@@ -262,6 +276,22 @@ def table(results):
         b, m = _cell(tb), _cell(tm)
         summary.append(f"| {j} | {len(rows)} | {b[0]} | {b[1]} | {b[2]} | {ok(tb)} | {m[0]} | {m[1]} | {m[2]} "
                        f"| {ok(tm) if tm else '-'} | {sum(s >= TARGET_VALID for s in shares)} / {len(shares)} |")
+    summary += ["", "| judge | vx valid steps | vx violations | vx longest [ms] | vx sd median [m/s] | vx target "
+                "| axle valid steps | axle violations | axle longest [ms] | axle sd median [N] | axle target |",
+                "|" + "---|" * 11]
+    for j, runs in results.items():
+        rows = list(runs.values())
+        cells = []
+        for key, fmt in (("vx", "{:.3f}"), ("fy_axle", "{:.0f}")):
+            if not any(r.get(key) for r in rows):
+                cells += ["-"] * 5
+                continue
+            tt = totals(rows, key)
+            sds = [r[key]["sd_med"] for r in rows if r.get(key) and r[key].get("sd_med") is not None]
+            c = _cell(tt)
+            met = "met" if tt["rate"] <= TARGET_RATE and tt["longest_s"] <= TARGET_RUN_S + 1e-9 else "**missed**"
+            cells += [c[0], c[1], c[2], fmt.format(float(np.median(sds))) if sds else "-", met]
+        summary.append(f"| {j} | " + " | ".join(cells) + " |")
     return "\n".join(summary) + "\n", "\n".join(lines) + "\n"
 
 

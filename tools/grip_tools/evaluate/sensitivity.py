@@ -87,6 +87,7 @@ CLASSES = {
     "EST_SAT_MU": "tuning", "EST_SAT_MU_LO": "tuning",
     "EST_ROLL_TOL": "tuning", "EST_DIS_K": "physics", "EST_SD_CAP": "format", "EST_SD_MIN": "format",
     "EST_Q_MAX": "format", "EST_KIN_Q0": "tuning", "EST_SD_VY_EDGE": "tuning",
+    "EST_WS_TOL": "sensor", "EST_SLIP_MAX": "physics",
 }
 CLASS_TEXT = {
     "physics": "a physical or statistical constant (g, a chi-square point, the tire as fitted)",

@@ -233,13 +233,13 @@ def sim_inputs():
 # ---------------------------------------------------------------------------
 
 def out_columns():
-    # (yaw_error = yaw rate - reference is not written: the files are limited to
-    # 64 columns (tests/support/golden.h) and the gyro bias took its place)
+    # (yaw_error = yaw rate - reference is not written: yaw_rate and
+    # yaw_rate_ref give it)
     cols = ["vx", "vy", "beta", "yaw_rate", "yaw_rate_ref", "yaw_rate_bias", "delta", "mu", "mu_conf"]
     for q in ("fz", "kappa", "alpha", "fx", "fy", "mz", "util"):
         cols += [f"{q}{i}" for i in range(4)]
     cols += ["fy_axle0", "fy_axle1", "util_axle0", "util_axle1", "fy_margin_front",
-             "steer_char", "valid", "flags", "beta_sd", "mu_sd"]
+             "steer_char", "valid", "flags", "beta_sd", "mu_sd", "vx_sd", "fy_axle_sd0", "fy_axle_sd1"]
     return cols
 
 
@@ -249,7 +249,8 @@ def out_row(o):
     for q in ("fz", "kappa", "alpha", "fx", "fy", "mz", "util"):
         row += list(o[q])
     row += list(o["fy_axle"]) + list(o["util_axle"]) + [o["fy_margin_front"], o["steer_char"],
-                                                         o["valid"], o["flags"], o["beta_sd"], o["mu_sd"]]
+                                                         o["valid"], o["flags"], o["beta_sd"], o["mu_sd"],
+                                                         o["vx_sd"]] + list(o["fy_axle_sd"])
     return row
 
 

@@ -280,6 +280,10 @@ SAT_MU, SAT_MU_LO = 0.1, 0.05
 TIRE_TOL, KIN_ACC, BETA_SD_MAX = 0.3, 0.10, 0.0175
 ROLL_TOL = 0.25
 DIS_K, SD_CAP = 3.0, 100.0
+# vx's bound (est_bound_speed): a wheel-speed reference's scale within +-2 %
+# (rolling radius: tread wear, pressure, load), uniform: 0.02 / sqrt(3); the
+# reference wheels' slip counted at most a tire's peak slip
+WS_TOL, SLIP_MAX = 0.012, 0.2
 # the blend's ratio q = sd_dyn / sd_k is formed with sd_k at least SD_MIN
 # [m/s] and taken at most Q_MAX; the filter's vy is taken whole below Q0
 SD_MIN, Q_MAX, Q0 = 0.001, 100.0, 0.5
@@ -421,7 +425,8 @@ class StepData:
                         kappa=np.zeros(4), alpha=np.zeros(4), fz=np.zeros(4), fx=np.zeros(4), fy=np.zeros(4),
                         mz=np.zeros(4), util=np.zeros(4), fy_axle=np.zeros(2), util_axle=np.zeros(2), mu=0.0,
                         mu_conf=0.0, yaw_rate_bias=0.0, fy_margin_front=0.0, steer_char=0,
-                        vy_sd=0.0, beta_sd=0.0, yaw_rate_sd=0.0, mu_sd=0.0)
+                        vy_sd=0.0, beta_sd=0.0, yaw_rate_sd=0.0, mu_sd=0.0, vx_sd=0.0,
+                        fy_axle_sd=np.zeros(2))
         self.flags = 0
         self.vbits = 0               # validity bits
         # wheel positions from the CG (x forward, y left): FL, FR, RL, RR
@@ -516,6 +521,7 @@ class Estimator:
         self.t_prev = None           # previous step's input time [us] (rate check)
         self.vy_k = 0.0              # kinematic vy [m/s] and its deviation (bounds)
         self.sd_k = SD_CAP
+        self.sd_vx = SD_CAP            # vx's standard deviation [m/s]
         self.no_wheel_steps = BIG
         self.dr_steps = 0
         self.ax_off = 0.0
@@ -559,6 +565,7 @@ class Estimator:
             self.bound_state(s)
         self.check_consistency(s)
         self.compute_outputs(s)
+        self.bound_outputs(s)
         o = s.out
         o["valid"] = s.vbits
         o["flags"] = s.flags
@@ -818,13 +825,17 @@ class Estimator:
             s.flags |= F_NO_WHEELS
             if self.no_wheel_steps < BIG:
                 self.no_wheel_steps += 1
+        kk = 0.0
         if not self.vx_init:
             if vs_ok or n_ws > 0:
                 self.vx = v_ref
                 self.vx_init = True
+                kk = 1.0
         else:
-            self.vx = vx_pred + min(k * dt, 1.0) * (v_ref - vx_pred)
+            kk = min(k * dt, 1.0)
+            self.vx = vx_pred + kk * (v_ref - vx_pred)
         stand = n_ws > 0 and vmax < V_STAND and vmin > -V_STAND and not dead_reck
+        self.bound_speed(s, kk, v_ref, stand and not vs_ok)
         # the gyro reads its bias at rest: every wheel at rest and the car
         # (nearly) stopped already by the prediction (wheels locked at speed
         # are not a standstill)
@@ -904,6 +915,7 @@ class Estimator:
         self._predict(s)
         self._update_yaw_rate(s)
         self._update_ay(s)
+        self._condition()
 
     def _predict(self, s):
         """The gyro bias's gate (b_ok), then the predict: vy on the measured
@@ -937,7 +949,7 @@ class Estimator:
         self.x[0], self.x[1] = vy + dvy, r + dr
         Pn = F @ self.P @ F.T
         self.P = 0.5 * (Pn + Pn.T) + np.diag(self.q)
-        self._condition()
+        self._clamp_diag()
         s.dvy, s.dr, s.a_vv, s.a_vr, s.a_vm = dvy, dr, a_vv, a_vr, a_vm
 
     def _update_yaw_rate(self, s):
@@ -948,7 +960,7 @@ class Estimator:
         if s.yaw_ok:
             self._update(np.array([0.0, 1.0, 0.0, S[3] / S[1]]), (self.hold[1] - self.x[1] - B_UNIT * self.x[3]) / S[1],
                          R_YAW, False, s.b_ok)
-            self._condition()
+            self._clamp_diag()
         s.r_updated = float(self.x[1])
 
     def _model_ay(self, s):
@@ -983,7 +995,6 @@ class Estimator:
             sig_mu = math.sqrt(self.P[2, 2]) * S[2] if (s.at_limit and not self.us_low) else 0.0
             s.nis = self._update(h, (s.ay - ay_pred) / S_AY,
                                  _ay_noise(o["util"] * (mu / (mu + AY_U_K * sig_mu)), o["fz"]), s.excited, s.b_ok)
-            self._condition()
 
     def bound_state(self, s):
         """est_lateral.c: the state's bounds after the updates and mu's
@@ -996,6 +1007,13 @@ class Estimator:
         self.x[3] = _clamp(self.x[3], -B_MAX, B_MAX)
 
     # -- Kalman pieces (scaled units) --
+    def _clamp_diag(self):
+        """est_lateral.c kf_clamp_diag: the variances alone, between the
+        predict and the updates (the correlations once per step, after the
+        last update: _condition)."""
+        for i in range(NX):
+            self.P[i, i] = _clamp(self.P[i, i], P_MIN, P_MAX)
+
     def _condition(self):
         P = self.P
         for i in range(NX):
@@ -1507,6 +1525,55 @@ class Estimator:
         s.vy_o, s.r_o = vy_o, r_o
 
     # ---- est_checks.c: consistency checks -----------------------------------
+    def bound_speed(self, s, kk, v_ref, stand):
+        """est_bound_speed (est_integrity.c): vx's standard deviation after
+        the speed update. The prediction's grows by ax's error (kin_acc_sd:
+        offset and grade; r times vy's deviation); the reference's is a
+        wheel's rolling-radius tolerance and the reference wheels' slip at
+        the measured specific force, m |ax| / (4 c_kappa) at the softer
+        axle; the update's share kk moves it to the reference's (convex:
+        a bound whatever the correlation). At standstill V_STAND.
+
+        State: reads vx, vx_init, sd_k (the previous step's), c_kappa;
+        writes sd_vx. Step: reads yaw, ax."""
+        c = self.cfg
+        if not self.vx_init:
+            self.sd_vx = SD_CAP
+            return
+        vyb = min(self.sd_k, VY_K * abs(self.vx) + 1.0)
+        acc = c.get("kin_acc_sd", KIN_ACC) + abs(s.yaw) * vyb
+        sd = min(self.sd_vx + acc * c["dt"], SD_CAP)
+        if kk > 0.0:
+            slip = c["mass"] / (4.0 * min(self.c_kappa)) * min(abs(s.ax), ACC_MAX)
+            sref = (WS_TOL + min(slip, SLIP_MAX)) * abs(v_ref)
+            sd = sd + kk * (sref - sd)
+        if stand:
+            sd = V_STAND
+        self.sd_vx = sd
+
+    def bound_outputs(self, s):
+        """est_bound_outputs (est_integrity.c): vx's deviation, and each
+        axle force's: the tire model's relative error tire_tol of the
+        force, the axle's slope (g 2 c_alpha at its load) times the slip
+        angle's deviation (beta's and the yaw rate's lever arm over vx; the
+        slope: the step's Jacobians, |d Fy / d alpha| of the axle's wheels),
+        the force's change with mu times mu's deviation; summed."""
+        c, o = self.cfg, s.out
+        o["vx_sd"] = self.sd_vx if self.vx_init else 0.0
+        o["fy_axle_sd"] = np.zeros(2)
+        if not self.active:
+            return
+        tol = c.get("tire_tol", TIRE_TOL)
+        q = o["yaw_rate_sd"] / max(abs(o["vx"]), V_OFF)
+        for a in (0, 1):
+            w = (2 * a, 2 * a + 1)
+            arm = c["lf"] if a == 0 else c["lr"]
+            asd = min(o["beta_sd"] + arm * q, 1.0)
+            slope = abs(float(s.dfda[w[0]])) + abs(float(s.dfda[w[1]]))   # this step's Jacobians
+            sd = tol * abs(float(o["fy_axle"][a])) + slope * asd
+            sd += (abs(float(s.dfdmu[w[0]])) + abs(float(s.dfdmu[w[1]]))) * o["mu_sd"]
+            o["fy_axle_sd"][a] = sd
+
     def bound_lateral(self, s):
         """est_checks.c: the standard deviations of vy (the dynamic one:
         the filter's and the tire model's at the better-observed axle; the
