@@ -22,6 +22,27 @@
 #define grip_mf_eval_batch GRIP_TYPED(grip_mf_eval_batch)
 #define grip_mf_eval_pure_batch GRIP_TYPED(grip_mf_eval_pure_batch)
 #define grip_mf_eval_prepared_batch GRIP_TYPED(grip_mf_eval_prepared_batch)
+#define grip_mf_eval_prepared_lanes GRIP_TYPED(grip_mf_eval_prepared_lanes)
+#define grip_mf_eval_pure_prepared_lanes GRIP_TYPED(grip_mf_eval_pure_prepared_lanes)
+
+/* GRIP_MF_LANES: 1 when grip_mf_eval_prepared_lanes evaluates blocks of
+ * GRIP_MF_LANES_N points side by side (lib/mf/mf_lanes.c): the float build
+ * on a target with SIMD registers (x86-64's SSE2, Arm's NEON), where the
+ * compiler turns the lanes into vector instructions; 0 (the scalar loop of
+ * grip_mf_eval_prepared_batch) in the fixed build and on targets without
+ * SIMD (the Cortex-M4F: docs/performance.md). May be set by the build
+ * (-DGRIP_MF_LANES=0 or 1; 1 is refused in the fixed build). */
+#define GRIP_MF_LANES_N 8u
+#ifndef GRIP_MF_LANES
+#if !GRIP_ARITH_FIXED && (defined(__SSE2__) || defined(__ARM_NEON))
+#define GRIP_MF_LANES 1
+#else
+#define GRIP_MF_LANES 0
+#endif
+#endif
+#if GRIP_MF_LANES && GRIP_ARITH_FIXED
+#error "GRIP_MF_LANES needs the float build (GRIP_ARITH_FIXED 0)"
+#endif
 
 /* Combined-slip Fx, Fy, Mz at in[0..n-1] into out[0..n-1]:
  * out[k] and status[k] are those of grip_mf_eval(p, &in[k], &out[k]), input
@@ -49,5 +70,24 @@ grip_status_t grip_mf_eval_pure_batch(const grip_mf_params *p, uint32_t n, const
  * that did not prepare gives GRIP_ERR_PARAM at every point. */
 grip_status_t grip_mf_eval_prepared_batch(const grip_mf_prepared *prep, uint32_t n, const grip_mf_input *in,
                                           grip_mf_output *out, grip_status_t *status);
+
+/* The same as grip_mf_eval_prepared_batch (pure: with
+ * grip_mf_eval_pure_prepared per point), evaluated GRIP_MF_LANES_N points
+ * at a time by the lane form of the equations where GRIP_MF_LANES is 1:
+ * the same statuses per point and in the summary, the same outputs within
+ * the accuracy of grip's float kernels (f32_kernels.h), which it uses
+ * whatever GRIP_FLOAT_KERNELS says: bit for bit those of
+ * grip_mf_eval_prepared in a build with GRIP_FLOAT_KERNELS=2, within
+ * 5e-6 * Fz (forces) and 5e-6 * Fz * R0 (Mz) of them at level 0 (libm;
+ * measured 3.0e-6), and within the float build's golden tolerance of the
+ * float64 reference (tests/unit/test_mf_lanes.c; docs/magic-formula-c.md
+ * section 7.2). Sets with GRIP_MF_OPT_BOOK, a set that did
+ * not prepare, the fixed build and GRIP_MF_LANES 0 take the scalar loop
+ * (then bit-identical to grip_mf_eval_prepared_batch). Bounded: blocks of
+ * GRIP_MF_LANES_N points, the last padded; no heap, no recursion. */
+grip_status_t grip_mf_eval_prepared_lanes(const grip_mf_prepared *prep, uint32_t n, const grip_mf_input *in,
+                                          grip_mf_output *out, grip_status_t *status);
+grip_status_t grip_mf_eval_pure_prepared_lanes(const grip_mf_prepared *prep, uint32_t n, const grip_mf_input *in,
+                                               grip_mf_output *out, grip_status_t *status);
 
 #endif /* GRIP_MF_BATCH_H */

@@ -62,6 +62,16 @@ def lib_cflags(arith):
     return WARN_LIB + OPT + defs(arith) + ["-I" + INCLUDE, "-I" + ARITH_INC, "-fPIC"]
 
 
+# Flags of single lib/ sources, after lib_cflags (the Makefile's
+# LANE_CFLAGS for the Magic Formula's lane evaluation).
+FILE_CFLAGS = {"lib/mf/mf_lanes.c": ["-fno-math-errno", "-fno-trapping-math"]}
+
+
+def file_cflags(rel):
+    """The extra flags of the lib/ source rel (a path from the clone's root)."""
+    return list(FILE_CFLAGS.get(rel.replace(os.sep, "/"), []))
+
+
 def port_cflags(arith):
     """Flags of the host readers (the Makefile's CFLAGS_HOST, -fPIC)."""
     return WARN_HOST + OPT + defs(arith) + ["-I" + INCLUDE, "-I" + ARITH_INC, "-I" + PORT, "-fPIC"]
