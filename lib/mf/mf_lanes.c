@@ -60,6 +60,15 @@
 
 #define MFL_N GRIP_MF_LANES_N
 
+/* clang's cost model declines the lane loop (clang 14: "vectorization is
+ * not beneficial", and the scalar lane loop is then slower than the scalar
+ * path): asked for explicitly. gcc needs no hint. */
+#if defined(__clang__)
+#define MFL_VECTORIZE _Pragma("clang loop vectorize(enable)")
+#else
+#define MFL_VECTORIZE
+#endif
+
 /* ------------------------------------------------------- lane kernels */
 
 /* grip_kf_atan without its table: the same operations and bits. */
@@ -453,8 +462,8 @@ static MF_ALWAYS_INLINE void mfl_point(const grip_mf_prepared *k, const mfl_cons
         smooth = low ? sm : smooth;
         alpha = red ? q * alpha : alpha;
     }
-    /* the reduced angle's sin, cos (the same as above where not reduced) */
-    sa = mfl_sin(alpha, &bad);
+    /* the reduced angle's cosine (the same as above where not reduced; its
+     * sine served LMUV > 0 only, which the lanes leave to the scalar path) */
     ca = mfl_cos(alpha, &bad);
     cosa = fabsf(ca);                                                            /* 4.E6 */
 
@@ -645,6 +654,7 @@ static MF_ALWAYS_INLINE grip_status_t mfl_block(const grip_mf_prepared *k, const
         vxs[l] = x->vx;
         prs[l] = x->p;
     }
+    MFL_VECTORIZE
     for (l = 0u; l < MFL_N; l++) {
         mfl_res r;
         mfl_point(k, c, kap[l], alp[l], gam[l], fzs[l], vxs[l], prs[l], mf52, pure, &r);
@@ -671,25 +681,46 @@ static MF_ALWAYS_INLINE grip_status_t mfl_block(const grip_mf_prepared *k, const
     return sum;
 }
 
-/* One function per form, so that mf52 and pure are constants in each. */
-#define MFL_RUN(name, mf52, pure)                                                                              \
-    static MF_NOINLINE grip_status_t name(const grip_mf_prepared *k, const mfl_const *c, uint32_t n,        \
-                                          const grip_mf_input *in, grip_mf_output *out, grip_status_t *status) \
-    {                                                                                                        \
-        grip_status_t sum = GRIP_OK;                                                                         \
-        uint32_t b;                                                                                          \
-        for (b = 0u; b < n; b += MFL_N) {                                                                    \
-            uint32_t m = ((n - b) < MFL_N) ? (n - b) : MFL_N;                                                \
-            sum = mfl_merge(sum, mfl_block(k, c, m, &in[b], &out[b], (status != NULL) ? &status[b] : NULL,    \
-                                           (mf52), (pure)));                                                 \
-        }                                                                                                    \
-        return sum;                                                                                          \
+/* Every block of in[0..n-1]. */
+static MF_ALWAYS_INLINE grip_status_t mfl_run(const grip_mf_prepared *k, const mfl_const *c, uint32_t n,
+                                              const grip_mf_input *in, grip_mf_output *out, grip_status_t *status,
+                                              int mf52, int pure)
+{
+    grip_status_t sum = GRIP_OK;
+    uint32_t b;
+    for (b = 0u; b < n; b += MFL_N) {
+        uint32_t m = ((n - b) < MFL_N) ? (n - b) : MFL_N;
+        sum = mfl_merge(sum, mfl_block(k, c, m, &in[b], &out[b], (status != NULL) ? &status[b] : NULL, mf52, pure));
     }
+    return sum;
+}
 
-MFL_RUN(mfl_run61, 0, 0)
-MFL_RUN(mfl_run52, 1, 0)
-MFL_RUN(mfl_run61_pure, 0, 1)
-MFL_RUN(mfl_run52_pure, 1, 1)
+/* One function per form, so that mf52 and pure are constants in each. */
+static MF_NOINLINE grip_status_t mfl_run61(const grip_mf_prepared *k, const mfl_const *c, uint32_t n,
+                                           const grip_mf_input *in, grip_mf_output *out, grip_status_t *status)
+{
+    return mfl_run(k, c, n, in, out, status, 0, 0);
+}
+
+static MF_NOINLINE grip_status_t mfl_run52(const grip_mf_prepared *k, const mfl_const *c, uint32_t n,
+                                           const grip_mf_input *in, grip_mf_output *out, grip_status_t *status)
+{
+    return mfl_run(k, c, n, in, out, status, 1, 0);
+}
+
+static MF_NOINLINE grip_status_t mfl_run61_pure(const grip_mf_prepared *k, const mfl_const *c, uint32_t n,
+                                                const grip_mf_input *in, grip_mf_output *out,
+                                                grip_status_t *status)
+{
+    return mfl_run(k, c, n, in, out, status, 0, 1);
+}
+
+static MF_NOINLINE grip_status_t mfl_run52_pure(const grip_mf_prepared *k, const mfl_const *c, uint32_t n,
+                                                const grip_mf_input *in, grip_mf_output *out,
+                                                grip_status_t *status)
+{
+    return mfl_run(k, c, n, in, out, status, 1, 1);
+}
 
 static void mfl_const_init(const grip_mf_prepared *k, mfl_const *c)
 {
