@@ -3,14 +3,19 @@
  *
  * For callers that evaluate many points with one parameter set: the four
  * wheels of an axle pair, a sweep, a table, the Python binding (grip.mf).
- * Every point gets exactly what grip_mf_eval / grip_mf_eval_pure gives it
- * (the same compiled code, bit for bit): the batch adds no second
- * implementation of the equations, only the loop, the checks of the
- * arguments done once per call, and the per-point statuses.
+ * The _batch functions give every point exactly what grip_mf_eval /
+ * grip_mf_eval_pure (_prepared) gives it (the same compiled code, bit for
+ * bit): they add no second implementation of the equations, only the
+ * loop, the checks of the arguments done once per call, and the per-point
+ * statuses. The _lanes functions (at the end) are the exception: a second
+ * implementation that evaluates 8 points side by side in SIMD
+ * instructions, with the same statuses and outputs within the float
+ * kernels' accuracy (docs/magic-formula-c.md section 7.2).
  *
- * Bounded: the loop runs exactly n times (the caller's count), no heap, no
- * recursion, no state; reentrant (different threads may evaluate different
- * slices of the same arrays with the same parameter set at the same time).
+ * Bounded: the loop runs over the caller's n points (the lanes: in blocks
+ * of GRIP_MF_LANES_N), no heap, no recursion, no state; reentrant
+ * (different threads may evaluate different slices of the same arrays
+ * with the same parameter set at the same time).
  */
 #ifndef GRIP_MF_BATCH_H
 #define GRIP_MF_BATCH_H
