@@ -205,7 +205,7 @@ def evaluate(params, kappa, alpha, gamma, fz, p=None, vx=None, arith="float", pu
     float build on x86-64 or Arm with NEON; docs/python-binding.md section
     5): the same statuses, the outputs within 2e-5 Fz (Mz: Fz R0) of the
     default path's - grip's float kernels instead of libm - and so no
-    longer bit for bit grip-tire's; about 2.3x the points per second. The
+    longer bit for bit grip-tire's; about 2.5x the points per second. The
     fixed build has no lane form: the same results either way."""
     check_arith(arith)
     if not isinstance(params, Params):
