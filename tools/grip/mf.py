@@ -239,7 +239,9 @@ def evaluate(params, kappa, alpha, gamma, fz, p=None, vx=None, arith="float", pu
     if n:
         _core.run_chunks(n, threads, piece)
     if errors == "raise":
-        _core.raise_first_error(status, "grip_mf_eval_pure" if pure else "grip_mf_eval", arith,
+        fn = ("grip_mf_eval_pure_prepared_lanes" if pure else "grip_mf_eval_prepared_lanes") if lanes else \
+            ("grip_mf_eval_pure" if pure else "grip_mf_eval")
+        _core.raise_first_error(status, fn, arith,
                                 lambda k: ", ".join(f"{nm}={float(buf[k * s])!r}"
                                                     for nm, (buf, s) in zip(_INPUTS, ins)))
     if raw:
