@@ -32,11 +32,12 @@
 
 /* GRIP_MF_LANES: 1 when grip_mf_eval_prepared_lanes evaluates blocks of
  * GRIP_MF_LANES_N points side by side (lib/mf/mf_lanes.c): the float build
- * on a target with SIMD registers (x86-64's SSE2, Arm's NEON), where the
- * compiler turns the lanes into vector instructions; 0 (the scalar loop of
- * grip_mf_eval_prepared_batch) in the fixed build and on targets without
- * SIMD (the Cortex-M4F: docs/performance.md). May be set by the build
- * (-DGRIP_MF_LANES=0 or 1; 1 is refused in the fixed build). */
+ * on a target with SIMD registers (x86-64's SSE2, Arm's NEON - the latter
+ * not measured), where the compiler turns the lanes into vector
+ * instructions; 0 (the scalar loop of grip_mf_eval_prepared_batch) in the
+ * fixed build and on targets without SIMD (the Cortex-M4F:
+ * docs/performance.md). May be set by the build (-DGRIP_MF_LANES=0 or 1;
+ * 1 is refused in the fixed build). */
 #define GRIP_MF_LANES_N 8u
 #ifndef GRIP_MF_LANES
 #if !GRIP_ARITH_FIXED && (defined(__SSE2__) || defined(__ARM_NEON))
