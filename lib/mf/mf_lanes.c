@@ -56,7 +56,7 @@
 #if GRIP_MF_LANES
 
 #include <float.h>
-#include "f32_kernels.h" /* grip-deviation: MISRA-20.1 float build only, inside the lane selection #if */
+#include "f32_kernels.h" /* float build only: inside the lane selection #if */
 
 #define MFL_N GRIP_MF_LANES_N
 
