@@ -157,6 +157,12 @@ $(BUILD)/lib/%.o: lib/%.c $(wildcard include/grip/*.h lib/*/*.h)
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_LIB) -c $< -o $@
 
+# The lane evaluation of the Magic Formula (lib/mf/mf_lanes.c) is
+# vectorized by the compiler only with sqrtf free of errno and without
+# trapping math; neither changes a result (docs/performance.md).
+LANE_CFLAGS := -fno-math-errno -fno-trapping-math
+$(BUILD)/lib/mf/mf_lanes.o $(BUILD)/pic/lib/mf/mf_lanes.o: CFLAGS_LIB += $(LANE_CFLAGS)
+
 $(LIBGRIP): $(LIB_OBJS)
 	@rm -f $@
 	ar rcs $@ $^

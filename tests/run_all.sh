@@ -43,6 +43,13 @@ for cfg in "ARITH=float" "ARITH=fixed" "ARITH=fixed DEBUG_SAT=1" \
     # shellcheck disable=SC2086
     step "unit_$name" make --no-print-directory $JOBS $cfg run-tests
 done
+# the lane evaluation of the Magic Formula against the scalar path bit for
+# bit: both on grip's float kernels (GRIP_FLOAT_KERNELS=2), gcc and clang
+for cc in gcc clang; do
+    step "unit_mf_lanes_kernels2_$cc" sh -c "make --no-print-directory $JOBS CC=$cc BUILDROOT=build/k2 \
+        DEFS='-DGRIP_ARITH_FIXED=0 -DGRIP_DEBUG_SATURATION=0 -DGRIP_FLOAT_KERNELS=2' GOLDEN=build/golden \
+        build/k2/float-$cc/tests/test_mf_lanes && sh tests/run_suite.sh build/k2/float-$cc/tests/test_mf_lanes"
+done
 step firmware make --no-print-directory $JOBS firmware
 # make install / uninstall into a staging prefix; external consumers through
 # pkg-config and CMake, on the host and (toolchain files) on emulated Cortex-M.

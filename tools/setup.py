@@ -65,7 +65,7 @@ class build_ext(_build_ext):
             objs.append(obj)
             if self.force or _newer(obj, [src] + headers):
                 os.makedirs(os.path.dirname(obj), exist_ok=True)
-                jobs.append(cc + flags + ["-c", src, "-o", obj])
+                jobs.append(cc + flags + gb.file_cflags(rel) + ["-c", src, "-o", obj])
 
         def run(cmd):
             print(" ".join(cmd), flush=True)

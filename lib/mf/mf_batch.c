@@ -72,9 +72,10 @@ grip_status_t grip_mf_eval_pure_batch(const grip_mf_params *p, uint32_t n, const
 
 /* With a prepared set: the parameter set was checked by grip_mf_prepare, so
  * the loop has nothing to check but the pointers; a set that did not
- * prepare fails every point as grip_mf_eval_prepared does. */
-grip_status_t grip_mf_eval_prepared_batch(const grip_mf_prepared *prep, uint32_t n, const grip_mf_input *in,
-                                          grip_mf_output *out, grip_status_t *status)
+ * prepare fails every point as grip_mf_eval_prepared does. Also the lane
+ * evaluation's loop for what it does not cover (mf_lanes.c). */
+grip_status_t mf_prepared_batch_scalar(const grip_mf_prepared *prep, uint32_t n, const grip_mf_input *in,
+                                       grip_mf_output *out, grip_status_t *status, int pure)
 {
     grip_status_t sum = GRIP_OK;
     uint32_t k;
@@ -85,11 +86,18 @@ grip_status_t grip_mf_eval_prepared_batch(const grip_mf_prepared *prep, uint32_t
         return GRIP_ERR_NULL;
     }
     for (k = 0u; k < n; k++) {
-        grip_status_t st = grip_mf_eval_prepared(prep, &in[k], &out[k]);
+        grip_status_t st = pure ? grip_mf_eval_pure_prepared(prep, &in[k], &out[k])
+                                : grip_mf_eval_prepared(prep, &in[k], &out[k]);
         if (status != NULL) {
             status[k] = st;
         }
         sum = mf_batch_merge(sum, st);
     }
     return sum;
+}
+
+grip_status_t grip_mf_eval_prepared_batch(const grip_mf_prepared *prep, uint32_t n, const grip_mf_input *in,
+                                          grip_mf_output *out, grip_status_t *status)
+{
+    return mf_prepared_batch_scalar(prep, n, in, out, status, 0);
 }

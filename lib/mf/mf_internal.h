@@ -341,6 +341,12 @@ grip_status_t mf_eval_core_prepared(const grip_mf_prepared *k, const grip_mf_inp
  * result of refused inputs is not used). */
 grip_real_t mf_ts_radius(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode);
 
+/* grip_mf_eval_prepared (pure: grip_mf_eval_pure_prepared) at every point
+ * of in[0..n-1], the loop of grip_mf_eval_prepared_batch (mf_batch.c). */
+#define mf_prepared_batch_scalar GRIP_TYPED(grip_mf_i_prepared_batch_scalar)
+grip_status_t mf_prepared_batch_scalar(const grip_mf_prepared *prep, uint32_t n, const grip_mf_input *in,
+                                       grip_mf_output *out, grip_status_t *status, int pure);
+
 /* x clamped to [-lim, lim]; *clamped set when it was outside. */
 static inline grip_real_t mf_clamp_sym(grip_real_t x, grip_real_t lim, int *clamped)
 {

@@ -52,6 +52,18 @@ static grip_mf_input mf_in[BENCH_INPUTS];
 static grip_mf_input mf52_in[BENCH_INPUTS];    /* mf_in at truck loads           */
 static grip_mf_prepared mf61_prep;              /* grip_mf_prepare of mf61, mf52   */
 static grip_mf_prepared mf52_prep;
+/* Points per call of the lane cases: 64 in the float build, mf_in
+ * (mf52_in) at four load levels (x 0.8, 0.9, 1.0, 1.1); 8 in the fixed
+ * build, whose lane entry point is the scalar loop (64 would make these
+ * cases 64 evaluations of ~62,000 traced Cortex-M0+ instructions each) */
+#if GRIP_ARITH_FIXED
+#define MF_BATCH_N 8
+#else
+#define MF_BATCH_N 64
+#endif
+static grip_mf_input mf_in_n[MF_BATCH_N];
+static grip_mf_input mf52_in_n[MF_BATCH_N];
+static grip_mf_output mf_out_n[MF_BATCH_N];
 static grip_mf_spin mf_ts_in[BENCH_INPUTS];    /* a turn slip for mf_in, spin estimated */
 static grip_mf_spin mf_tsw_in[BENCH_INPUTS];   /* ... with the spin given */
 static volatile grip_real_t mf_sink;
@@ -137,6 +149,13 @@ static void mf_setup(void)
         mf52_in[i] = mf_in[i];
         mf52_in[i].fz = r_mul(RC(4.0), mf_in[i].fz);
     }
+    for (i = 0; i < MF_BATCH_N; ++i) {
+        static const grip_real_t scale[4] = { RC(0.8), RC(0.9), RC(1.0), RC(1.1) };
+        mf_in_n[i] = mf_in[i % BENCH_INPUTS];
+        mf_in_n[i].fz = r_mul(scale[i / BENCH_INPUTS], mf_in_n[i].fz);
+        mf52_in_n[i] = mf52_in[i % BENCH_INPUTS];
+        mf52_in_n[i].fz = r_mul(scale[i / BENCH_INPUTS], mf52_in_n[i].fz);
+    }
     (void)grip_mf_prepare(mf61, mf61->options, &mf61_prep);
     (void)grip_mf_prepare(mf52, mf52->options, &mf52_prep);
 }
@@ -193,6 +212,32 @@ static void b_mf61_prep_batch4(int i)
     grip_mf_output out[4];
     (void)grip_mf_eval_prepared_batch(&mf61_prep, 4u, &mf_in[i & ~3], out, 0);
     mf_sink = out[3].mz;
+}
+
+/* MF_BATCH_N points per call: the count is per call, 1/MF_BATCH_N of it
+ * per point. The lane evaluation (grip_mf_eval_prepared_lanes: blocks of
+ * GRIP_MF_LANES_N points side by side where GRIP_MF_LANES is 1, else the
+ * scalar loop of grip_mf_eval_prepared_batch). The call's argument i does
+ * not change the points. */
+static void b_mf61_lanes(int i)
+{
+    (void)i;
+    (void)grip_mf_eval_prepared_lanes(&mf61_prep, MF_BATCH_N, mf_in_n, mf_out_n, 0);
+    mf_sink = mf_out_n[MF_BATCH_N - 1].mz;
+}
+
+static void b_mf61_lanes_pure(int i)
+{
+    (void)i;
+    (void)grip_mf_eval_pure_prepared_lanes(&mf61_prep, MF_BATCH_N, mf_in_n, mf_out_n, 0);
+    mf_sink = mf_out_n[MF_BATCH_N - 1].mz;
+}
+
+static void b_mf52_lanes(int i)
+{
+    (void)i;
+    (void)grip_mf_eval_prepared_lanes(&mf52_prep, MF_BATCH_N, mf52_in_n, mf_out_n, 0);
+    mf_sink = mf_out_n[MF_BATCH_N - 1].mz;
 }
 
 /* The extended outputs (grip_mf_eval_ext): the issue's set (Re, the
@@ -282,6 +327,8 @@ const bench_case bench_cases[] = {
     { "mf52_combined_fx_fy_mz", b_mf52_combined },
     { "mf61_prep_pure_fx_fy_mz", b_mf61_prep_pure }, { "mf61_prep_combined_fx_fy_mz", b_mf61_prep_combined },
     { "mf52_prep_combined_fx_fy_mz", b_mf52_prep_combined }, { "mf61_prep_batch4_combined", b_mf61_prep_batch4 },
+    { "mf61_lanes_combined", b_mf61_lanes }, { "mf61_lanes_pure", b_mf61_lanes_pure },
+    { "mf52_lanes_combined", b_mf52_lanes },
     { "mf61_ext_re_sigma_k", b_mf61_ext_re_sigma_k }, { "mf61_ext_all", b_mf61_ext_all },
     { "mf62_ext_rl", b_mf62_ext_rl }, { "mf52_ext_re_sigma_k", b_mf52_ext_re_sigma_k },
     { "mf61_ext_forces", b_mf61_ext_forces }, { "mf61_ext_turn_slip", b_mf61_ext_turn_slip },

@@ -65,6 +65,16 @@ def lib_cflags(arith):
     return WARN_LIB + OPT + defs(arith) + ["-I" + INCLUDE, "-I" + ARITH_INC, "-fPIC"]
 
 
+# Flags of single lib/ sources, after lib_cflags (the Makefile's
+# LANE_CFLAGS for the Magic Formula's lane evaluation).
+FILE_CFLAGS = {"lib/mf/mf_lanes.c": ["-fno-math-errno", "-fno-trapping-math"]}
+
+
+def file_cflags(rel):
+    """The extra flags of the lib/ source rel (a path from the clone's root)."""
+    return list(FILE_CFLAGS.get(rel.replace(os.sep, "/"), []))
+
+
 def port_cflags(arith):
     """Flags of the host readers (the Makefile's CFLAGS_HOST, -fPIC)."""
     return WARN_HOST + OPT + defs(arith) + ["-I" + INCLUDE, "-I" + ARITH_INC, "-I" + PORT, "-fPIC"]
@@ -270,7 +280,7 @@ void grip_py_to_real(size_t n, const double *si, const uint8_t *ql, grip_real_t 
 void grip_py_est_set_tire(grip_est_config_t *cfg, int axle, const grip_mf_params *p);
 const grip_mf_params *grip_py_est_tire(const grip_est_config_t *cfg, int axle);
 
-int64_t grip_py_mf_eval(const grip_mf_params *p, int pure, size_t n,
+int64_t grip_py_mf_eval(const grip_mf_params *p, int pure, int lanes, size_t n,
                         const double *kappa, size_t s_kappa, const double *alpha, size_t s_alpha,
                         const double *gamma, size_t s_gamma, const double *fz, size_t s_fz,
                         const double *pr, size_t s_pr, const double *vx, size_t s_vx,
@@ -494,13 +504,14 @@ static const grip_mf_params *grip_py_est_tire(const grip_est_config_t *cfg, int 
 
 /* The Magic Formula over n points: the inputs of a block of points are
  * converted (strided SI doubles -> grip_mf_input), the block is evaluated by
- * one grip_mf_eval_batch / grip_mf_eval_pure_batch call (grip_mf_batch.h),
+ * one grip_mf_eval_batch / grip_mf_eval_pure_batch call (grip_mf_batch.h;
+ * lanes: grip_mf_eval_prepared_lanes / _pure_prepared_lanes),
  * and the outputs are copied out. A point whose input the build cannot hold
  * is not given to the library (GRIP_ERR_INPUT, zero outputs, as grip-tire).
  * The block lives on the stack: no allocation per call. */
 #define GRIP_PY_MF_BLOCK 128u
 
-static int64_t grip_py_mf_eval(const grip_mf_params *p, int pure, size_t n,
+static int64_t grip_py_mf_eval(const grip_mf_params *p, int pure, int lanes, size_t n,
                                const double *kappa, size_t s_kappa, const double *alpha, size_t s_alpha,
                                const double *gamma, size_t s_gamma, const double *fz, size_t s_fz,
                                const double *pr, size_t s_pr, const double *vx, size_t s_vx,
@@ -512,6 +523,13 @@ static int64_t grip_py_mf_eval(const grip_mf_params *p, int pure, size_t n,
     size_t idx[GRIP_PY_MF_BLOCK];
     size_t k0;
     int64_t errors = 0;
+    grip_mf_prepared prep;
+    /* lanes: the set prepared once per call and each block through
+     * grip_mf_eval_prepared_lanes (grip_mf_batch.h); a set that does not
+     * prepare takes grip_mf_eval_batch, which reports it per point */
+    if (lanes && grip_mf_prepare(p, p->options, &prep) != GRIP_OK) {
+        lanes = 0;
+    }
     for (k0 = 0; k0 < n; k0 += GRIP_PY_MF_BLOCK) {
         size_t m = (n - k0 < GRIP_PY_MF_BLOCK) ? n - k0 : GRIP_PY_MF_BLOCK;
         uint32_t good = 0;
@@ -535,7 +553,13 @@ static int64_t grip_py_mf_eval(const grip_mf_params *p, int pure, size_t n,
             }
         }
         if (good != 0) {
-            if (pure) {
+            if (lanes) {
+                if (pure) {
+                    (void)grip_mf_eval_pure_prepared_lanes(&prep, good, in, out, st);
+                } else {
+                    (void)grip_mf_eval_prepared_lanes(&prep, good, in, out, st);
+                }
+            } else if (pure) {
                 (void)grip_mf_eval_pure_batch(p, good, in, out, st);
             } else {
                 (void)grip_mf_eval_batch(p, good, in, out, st);

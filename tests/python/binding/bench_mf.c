@@ -4,12 +4,14 @@
  * array) over the same points, in a program linked to the Makefile's
  * build/<arith>-gcc/libgrip.a. Not part of the library.
  *
- *   bench_mf TIR N REPEAT [THREADS [batch]] < points (N x 2 doubles: kappa, alpha; binary)
+ *   bench_mf TIR N REPEAT [THREADS [batch|lanes]] < points (N x 2 doubles: kappa, alpha; binary)
  *
  * THREADS (default 1): the points cut into that many slices, each evaluated
  * by its own POSIX thread (the machine's own scaling, without Python);
  * "batch": each slice through grip_mf_eval_batch in blocks of 128 points
- * (as the binding does) instead of one grip_mf_eval per point.
+ * (as the binding does) instead of one grip_mf_eval per point; "lanes": the
+ * set prepared once and each block through grip_mf_eval_prepared_lanes (as
+ * the binding's lanes=True).
  * Prints: the best wall-clock and CPU seconds of REPEAT runs, and a checksum.
  */
 #include <pthread.h>
@@ -29,7 +31,8 @@
 static grip_mf_params p;
 static const double *in;
 static grip_real_t *fx, *fy, *mz;
-static int use_batch;
+static int use_batch;     /* 1: grip_mf_eval_batch, 2: grip_mf_eval_prepared_lanes */
+static grip_mf_prepared prep;
 
 typedef struct {
     size_t a, b;
@@ -77,7 +80,11 @@ static void *run_slice(void *arg)
         for (j = 0; j < m; j++) {
             point_in(k + j, &x[j]);
         }
-        (void)grip_mf_eval_batch(&p, (uint32_t)m, x, y, st);
+        if (use_batch == 2) {
+            (void)grip_mf_eval_prepared_lanes(&prep, (uint32_t)m, x, y, st);
+        } else {
+            (void)grip_mf_eval_batch(&p, (uint32_t)m, x, y, st);
+        }
         for (j = 0; j < m; j++) {
             fx[k + j] = y[j].fx;
             fy[k + j] = y[j].fy;
@@ -97,7 +104,7 @@ int main(int argc, char **argv)
     pthread_t th[MAX_THREADS];
     slice_t sl[MAX_THREADS];
     if (argc < 4 || argc > 6 || grip_tir_read(argv[1], &p, err, sizeof err) != 0) {
-        fprintf(stderr, "usage: bench_mf TIR N REPEAT [THREADS [batch]] < points\n");
+        fprintf(stderr, "usage: bench_mf TIR N REPEAT [THREADS [batch|lanes]] < points\n");
         return 2;
     }
     n = (size_t)strtoul(argv[2], NULL, 10);
@@ -105,7 +112,13 @@ int main(int argc, char **argv)
     if (argc >= 5) {
         threads = atoi(argv[4]);
     }
-    use_batch = (argc == 6 && strcmp(argv[5], "batch") == 0);
+    use_batch = (argc == 6 && strcmp(argv[5], "batch") == 0) ? 1 : 0;
+    if (argc == 6 && strcmp(argv[5], "lanes") == 0) {
+        use_batch = 2;
+        if (grip_mf_prepare(&p, p.options, &prep) != GRIP_OK) {
+            return 2;
+        }
+    }
     if (threads < 1 || threads > MAX_THREADS) {
         return 2;
     }

@@ -1,6 +1,7 @@
 """How the binding was built: the library objects are compiled with the
 Makefile's command for lib/ (the recipe of its -fPIC objects, `make shlib`,
-less -Werror; every source, every flag), and their machine code is the
+less -Werror; every source, every flag, the per-file flags of
+lib/mf/mf_lanes.c included), and their machine code is the
 Makefile's: the largest sources of each module are compiled here with the
 recipe `make -n` prints, and the code and read-only data of the two objects
 are compared byte for byte (objdump). Also: the
@@ -32,7 +33,7 @@ def make_recipe(arith, src):
     raise AssertionError(f"no compile command for {rel} in:\n{p.stdout}")
 
 
-SAMPLE = ("lib/mf/mf_eval.c", "lib/est/est_step.c", "lib/arith/q16.c", "lib/brush/neofiala.c",
+SAMPLE = ("lib/mf/mf_eval.c", "lib/mf/mf_lanes.c", "lib/est/est_step.c", "lib/arith/q16.c", "lib/brush/neofiala.c",
           "lib/monitor/monitor.c", "lib/calib/calib.c")
 SECTIONS = (".text", ".text.unlikely", ".text.startup", ".rodata", ".rodata.cst4", ".rodata.cst8", ".rodata.cst16",
             ".rodata.str1.1", ".rodata.str1.8", ".data", ".data.rel.ro", ".data.rel.ro.local")

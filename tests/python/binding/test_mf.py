@@ -80,6 +80,38 @@ class TestMagicFormula(common.BindingTest):
         # the points reach the clamp warning as well as plain results
         self.assertTrue({grip.OK, grip.WARN_CLAMPED} <= seen, seen)
 
+    def test_lanes_against_the_default_path(self):
+        """evaluate(lanes=True) (grip_mf_eval_prepared_lanes): every status
+        the default path's; outputs within 2e-5 Fz (Mz: Fz R0, Fz after the
+        clamp) in float (grip's kernels against libm), bit for bit in fixed
+        (no lane form there). The largest difference is printed."""
+        for arith in ARITHS:
+            worst = 0.0
+            for tir in TIRS:
+                for opts in ({}, {"sae": True, "side": "right"}):
+                    params = grip.mf.load(tir, **opts)
+                    for pure in (False, True):
+                        pts = points(params, seed=3 + pure)
+                        args = (pts["kappa"], pts["alpha"], pts["gamma"], pts["fz"], pts["p"], pts["vx"])
+                        r0 = grip.mf.evaluate(params, *args, arith=arith, pure=pure)
+                        r1 = grip.mf.evaluate(params, *args, arith=arith, pure=pure, lanes=True)
+                        np.testing.assert_array_equal(r0["status"], r1["status"])
+                        if arith == "fixed":
+                            for name in ("fx", "fy", "mz"):
+                                np.testing.assert_array_equal(r0[name], r1[name])
+                            continue
+                        fz = np.minimum(np.abs(pts["fz"]), 4.0 * params.values["fnomin"])
+                        loaded = (r0["status"] >= 0) & (fz > 0)
+                        scale = {"fx": fz, "fy": fz, "mz": fz * params.values["unloaded_radius"]}
+                        for name in ("fx", "fy", "mz"):
+                            d = np.abs(r0[name] - r1[name])
+                            self.assertTrue((d[~loaded] == 0).all())
+                            if loaded.any():
+                                worst = max(worst, float(np.max(d[loaded] / scale[name][loaded])))
+            print(f"# {arith}: lanes=True against the default path: max |diff| / (Fz, Fz R0) = {worst:.2e}",
+                  flush=True)
+            self.assertLessEqual(worst, 2e-5 if arith == "float" else 0.0)
+
     def test_options_against_grip_tire(self):
         tir = os.path.join(ROOT, "tests", "data", "mfeval-tir", "MagicFormula61_Paramerters.tir")
         for arith in ARITHS:

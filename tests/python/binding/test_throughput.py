@@ -8,7 +8,10 @@ CPU; and, for reference, the same work in C (bench_mf.c, linked to the
 Makefile's libgrip.a) when the build is there: one grip_mf_eval per point,
 grip_mf_eval_batch in blocks of 128 points (what the binding calls), and
 that with one POSIX thread per CPU (the machine's own scaling, without
-Python). Also checked: the binding and the C loops give the same checksum.
+Python). The same with lanes=True (grip_mf_eval_prepared_lanes: the C
+loop "lanes"). Also checked: the binding and the C loops give the same
+checksum, and lanes=True the default path's statuses and forces within
+2e-5 Fz.
 Wall clock and CPU time per point are both printed: on a machine that runs
 other work the CPU time is the figure that does not depend on it.
 
@@ -57,7 +60,9 @@ def c_build(arith, tmp):
 
 
 def c_reference(exe, pts, threads=1, batch=False):
-    args = [exe, TIR, str(len(pts)), str(REPEAT), str(threads)] + (["batch"] if batch else [])
+    # batch: False (one call per point), True (grip_mf_eval_batch) or "lanes"
+    args = [exe, TIR, str(len(pts)), str(REPEAT), str(threads)] + \
+        (["lanes"] if batch == "lanes" else (["batch"] if batch else []))
     p = subprocess.run(args, input=pts.tobytes(), capture_output=True, check=True, timeout=600)
     secs, cpu, checksum = p.stdout.split()
     return float(secs), float(cpu), float(checksum)
@@ -80,23 +85,33 @@ class TestThroughput(common.BindingTest):
         with tempfile.TemporaryDirectory() as tmp:
             for arith in ARITHS:
                 res = {}
-                for threads in (1, 0):
-                    wall, cpu = best_of(lambda: res.__setitem__(threads, grip.mf.evaluate(
-                        tyre, k, a, 0.0, 4000.0, arith=arith, threads=threads)))
-                    label = "1 thread" if threads == 1 else f"{cpus} threads"
-                    print(line(f"{arith} binding, {label}", wall, cpu), flush=True)
-                r = res[1]
+                for lanes in (False, True):
+                    for threads in (1, 0):
+                        wall, cpu = best_of(lambda: res.__setitem__((lanes, threads), grip.mf.evaluate(
+                            tyre, k, a, 0.0, 4000.0, arith=arith, threads=threads, lanes=lanes)))
+                        label = ("1 thread" if threads == 1 else f"{cpus} threads") + (", lanes" if lanes else "")
+                        print(line(f"{arith} binding, {label}", wall, cpu), flush=True)
+                r = res[(False, 1)]
                 self.assertTrue((r["status"] == 0).all())
-                np.testing.assert_array_equal(res[0]["fx"], r["fx"])
+                np.testing.assert_array_equal(res[(False, 0)]["fx"], r["fx"])
+                np.testing.assert_array_equal(res[(True, 0)]["fx"], res[(True, 1)]["fx"])
+                np.testing.assert_array_equal(res[(True, 1)]["status"], r["status"])
+                for name in ("fx", "fy"):
+                    self.assertLessEqual(float(np.max(np.abs(res[(True, 1)][name] - r[name]))), 2e-5 * 4000.0)
                 exe = c_build(arith, tmp)
                 if exe is None:
                     print(f"# {arith:5s} C loop: build/{arith}-gcc/libgrip.a not built", flush=True)
                     continue
                 pts = np.column_stack([k, a]).astype(np.float64)
                 mine = float(np.sum(r["fx"]) + np.sum(r["fy"]) + np.sum(r["mz"]))
+                lane = res[(True, 1)]
+                mine_lanes = float(np.sum(lane["fx"]) + np.sum(lane["fy"]) + np.sum(lane["mz"]))
                 for threads, batch, what in ((1, False, "C, grip_mf_eval per point, 1 thread"),
                                              (1, True, "C, grip_mf_eval_batch, 1 thread"),
-                                             (cpus, True, f"C, grip_mf_eval_batch, {cpus} threads")):
+                                             (cpus, True, f"C, grip_mf_eval_batch, {cpus} threads"),
+                                             (1, "lanes", "C, _prepared_lanes, 1 thread"),
+                                             (cpus, "lanes", f"C, _prepared_lanes, {cpus} threads")):
                     secs, cpu, checksum = c_reference(exe, pts, threads, batch)
                     print(line(f"{arith} {what}", secs, cpu), flush=True)
-                    self.assertAlmostEqual(mine, checksum, delta=1e-9 * abs(checksum) + 1e-6)
+                    want = mine_lanes if batch == "lanes" else mine
+                    self.assertAlmostEqual(want, checksum, delta=1e-9 * abs(checksum) + 1e-6)
