@@ -242,6 +242,10 @@ typedef struct {
     /* state */
     grip_real_t vx;             /* QS */
     grip_real_t ax_off;         /* QS m/s^2 ax offset learned from the wheels (grade, accelerometer bias) */
+    grip_real_t road_gy;        /* QS m/s^2 gravity along the body's y axis beyond the configured
+                                 * plane: the road's bank, estimated (est_road.c) */
+    grip_real_t road_r;         /* QS rad/s the yaw rate of the last step (est_road.c) */
+    grip_real_t road_dr;        /* QS rad/s^2 the yaw acceleration, low-passed: quasi-steady test */
     grip_real_t x[GRIP_EST_NX]; /* QS vy [m/s], r [rad/s], mu [-], gyro bias [0.001 rad/s] */
     grip_real_t p[GRIP_EST_NX][GRIP_EST_NX]; /* QS covariance in scaled units */
     grip_real_t hold[6];        /* QS last valid steer, yaw, ax, ay, vehicle speed, rear steer */

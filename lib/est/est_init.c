@@ -236,6 +236,9 @@ grip_status_t grip_est_reset(grip_est_t *est)
     est->active = 0;
     est->vx_init = 0;
     est->psi = R_ZERO;
+    est->road_gy = R_ZERO;
+    est->road_r = R_ZERO;
+    est->road_dr = R_ZERO;
     return GRIP_OK;
 }
 

@@ -75,6 +75,15 @@
                               *        second-order complementary filter, poles near 0.2 and
                               *        4.8 /s (0.477 of a 0.5 m/s^2 offset after 15 s)      */
 #define EST_AX_OFF_MAX 1.5   /* m/s^2  bound of that offset (a 15 % grade)                  */
+/* ---- road bank (est_road.c, docs/estimator/road.md) ---------------------- */
+#define EST_ROAD_L   20.0    /* m      distance constant of the bank's integrator: its time
+                              *        constant is ROAD_L / |vx| (tuning, independent judge)   */
+#define EST_ROAD_U   0.5     /* -      the bank adapts only with the model's utilization below */
+#define EST_ROAD_RACC 0.3    /* rad/s^2 ... and the yaw acceleration (low-passed) below this     */
+#define EST_ROAD_T_DR 0.2    /* s      time constant of that low-pass                          */
+#define EST_ROAD_T_REST 0.5  /* s      time constant of the bank at rest (ay reads gravity)     */
+#define EST_ROAD_GY_MAX 4.4  /* m/s^2  bound of the bank's gravity: g sin(26.7 deg), a steep
+                              *        oval's banking (tan_bank's range, 0.5)                  */
 #define EST_DR_AX    0.5     /* m/s^2  every wheel locked or spinning while |ax| >= DR_AX:
                               *        vx integrates ax (dead reckoning; four locked wheels
                               *        at 20 m/s on snow otherwise read a standstill). Below

@@ -222,6 +222,7 @@ static const seq_t seqs[] = {
     { "est_aero_bank_100hz.txt", 0.01, 0, 1 },
     { "est_steer_offset_100hz.txt", 0.01, 0, 0 },
     { "est_rear_steer_100hz.txt", 0.01, 0, 2 },
+    { "est_road_bank_100hz.txt", 0.01, 0, 0 },
 };
 
 static void test_bicycle_100hz(void **state) { (void)state; run_sequence(&seqs[0]); }
@@ -231,6 +232,7 @@ static void test_sim_sine_dwell(void **state) { (void)state; run_sequence(&seqs[
 static void test_aero_bank_100hz(void **state) { (void)state; run_sequence(&seqs[4]); }
 static void test_steer_offset_100hz(void **state) { (void)state; run_sequence(&seqs[5]); }
 static void test_rear_steer_100hz(void **state) { (void)state; run_sequence(&seqs[6]); }
+static void test_road_bank_100hz(void **state) { (void)state; run_sequence(&seqs[7]); }
 
 int main(void)
 {
@@ -242,6 +244,7 @@ int main(void)
         cmocka_unit_test(test_aero_bank_100hz),
         cmocka_unit_test(test_steer_offset_100hz),
         cmocka_unit_test(test_rear_steer_100hz),
+        cmocka_unit_test(test_road_bank_100hz),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
