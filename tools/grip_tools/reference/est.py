@@ -126,7 +126,7 @@ NOWHEEL_T = 0.5
 # rest the accelerometer's ay with a time constant ROAD_T_REST [s]; within
 # ROAD_GY_MAX [m/s^2] (g sin 26.7 deg)
 ROAD_L, ROAD_U, ROAD_RACC, ROAD_T_DR = 20.0, 0.5, 0.3, 0.2
-ROAD_T_REST, ROAD_GY_MAX = 0.5, 4.4
+ROAD_T_REST, ROAD_GY_MAX, ROAD_D = 0.5, 4.4, 0.15
 
 # -- the lateral filter on / off (est_lateral.c)
 V_ON, V_OFF = 3.0, 2.5  # on above V_ON, off below V_OFF [m/s]
@@ -981,7 +981,10 @@ class Estimator:
             self.road_r = s.r_updated
             if (s.nis is not None and s.yaw_ok and not s.lock and not s.spin and not s.dead_reck
                     and s.vx >= V_EXC and abs(self.road_dr) < ROAD_RACC
-                    and float(np.max(s.out["util"])) < ROAD_U and not s.at_limit):
+                    and float(np.max(s.out["util"])) < ROAD_U and not s.at_limit
+                    and (abs(self.r_lin_f) <= US_R
+                         or (self.r_lin_f - s.yaw if self.r_lin_f > 0.0 else s.yaw - self.r_lin_f)
+                         < ROAD_D * abs(self.r_lin_f))):
                 gy += s.vx / ROAD_L * (float(self.x[0]) - (s.vy + s.dvy))
         else:
             self.road_r = s.yaw
