@@ -41,10 +41,17 @@ void est_road(grip_est_t *est, const est_ctx_t *s)
             grip_real_t r_lin = est->r_lin_f;
             grip_real_t short_by = (r_lin > R_ZERO) ? r_sub(r_lin, s->yaw) : r_sub(s->yaw, r_lin); /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
             int linear = (r_abs(r_lin) <= RC(EST_US_R)) || (short_by < r_mul(RC(EST_ROAD_D), r_abs(r_lin))); /* grip-deviation: MISRA-10.3 comparison result 0/1 stored in an int flag */
-            if (s->umax_est < RC(EST_ROAD_U) && !s->at_limit && linear) {
+            if (s->umax_est < RC(EST_ROAD_U) && !s->at_limit && linear && !est->misfit && !est->sat_cap) {
                 /* the ay update's correction of vy this step */
                 gy = r_add(gy, r_mul(r_mul(s->vx, RC(1.0 / EST_ROAD_L)), r_sub(est->x[0], r_add(s->vy, s->dvy))));
             }
+        }
+        /* the consistency check (est_checks.c) says the model misfits the
+         * car: the bank learned may be the misfit's, and at the limit its
+         * error runs into vy unchecked (AV-21 log: a bank of 0.43 m/s^2
+         * took beta to 40 deg); it returns to the plane over EST_ROAD_L */
+        if (est->misfit || est->sat_cap) {
+            gy = r_sub(gy, r_mul(r_mul(r_abs(s->vx), r_div(RC(1.0 / EST_ROAD_L), est->rate)), gy));
         }
     } else {
         est->road_r = s->yaw;

@@ -230,8 +230,9 @@ static double banked_run(grip_est_t *e, grip_input_sample_t *s, int n, int from,
 /* The road's bank is estimated (est_road.c): at rest from the
  * accelerometer, moving from the ay update's correction of vy. Without it
  * the bank's gravity went into vy and the gyro offset: here, where the
- * tire model is the car's, beta 0.07 deg off on the crossfall and 0.20 deg
- * on the banked turn (est_road made a no-op); on the independent judge's 8
+ * tire model is the car's, beta 0.07 deg off on the crossfall (0.06 with
+ * it) and 0.20 deg on the banked turn (0.115 with it; est_road made a
+ * no-op for the figures without); on the independent judge's 8
  * deg banked curve, with a tire model that is not the car's, 2 - 15 deg RMS,
  * flagged valid (docs/estimator/road.md). In a steady turn at constant
  * speed a gyro offset b reads as a bank b vx: the two share the kinematic

@@ -968,8 +968,12 @@ class Estimator:
         vx where the model is trusted (ay updated, yaw rate, no locked or
         spinning wheel, no dead reckoning, not at the limit, utilization
         below ROAD_U, vx >= V_EXC, the yaw acceleration low-passed over
-        ROAD_T_DR below ROAD_RACC: quasi-steady). Off and at rest: ay reads gravity alone,
-        road_gy -> -(ay + plane) with ROAD_T_REST. Within ROAD_GY_MAX.
+        ROAD_T_DR below ROAD_RACC: quasi-steady; the yaw rate short of the
+        lagged linear reference by less than ROAD_D of it; the model not
+        declared misfitting, nor capped by the saturation share). With the
+        misfit declared or that cap set, road_gy returns to the plane over
+        ROAD_L. Off and at rest: ay reads gravity alone, road_gy -> -(ay +
+        plane) with ROAD_T_REST. Within ROAD_GY_MAX.
 
         State: reads x[0], active; writes road_gy, road_r, road_dr. Step: reads vy, dvy, nis, r_updated,
         yaw_ok, lock, spin, dead_reck, at_limit, the utilizations, vx,
@@ -984,8 +988,11 @@ class Estimator:
                     and float(np.max(s.out["util"])) < ROAD_U and not s.at_limit
                     and (abs(self.r_lin_f) <= US_R
                          or (self.r_lin_f - s.yaw if self.r_lin_f > 0.0 else s.yaw - self.r_lin_f)
-                         < ROAD_D * abs(self.r_lin_f))):
+                         < ROAD_D * abs(self.r_lin_f))
+                    and not self.misfit and not self.sat_cap):
                 gy += s.vx / ROAD_L * (float(self.x[0]) - (s.vy + s.dvy))
+            if self.misfit or self.sat_cap:
+                gy -= abs(s.vx) * (dt / ROAD_L) * gy
         else:
             self.road_r = s.yaw
             self.road_dr = 0.0
