@@ -791,12 +791,6 @@ class InputTests(unittest.TestCase):
         self.assertLess(abs(o["yaw_rate_bias"] - 0.006), 0.0005)
         self.assertLess(abs(o["yaw_rate"]), 0.0005)
 
-    # Known regression (docs/estimator/road.md, section 4): at constant speed a
-    # gyro offset b and a road bank give the same kinematic imbalance b vx,
-    # and the bank's estimate (est_road.c) now takes most of it: 0.0015 rad/s
-    # of the 0.006 offset reaches the bias here (0.002 asserted). Kept as the
-    # target this behaviour should return to.
-    @unittest.expectedFailure
     def test_gyro_bias_while_driving(self):
         # the generator's run (steps, slalom, braking in a turn; much of it
         # near the limit, where the bias is frozen) with and without a
