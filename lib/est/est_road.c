@@ -8,19 +8,19 @@
  * tires carry that specific force alone (sum Fy = m ay). The kinematics the
  * lateral filter predicts vy with are dvy/dt = ay + g_y - r vx, g_y = -g
  * cos(theta) sin(phi), so g_y = dvy/dt + r vx - ay is measured wherever
- * dvy/dt is known:
- *  - below the tires' limit the ay update holds vy to the tire model: a
- *    bank the prediction lacks makes vy drift at g_y's error, and the update
- *    pulls it back every step by that amount on average. The correction,
- *    integrated, is g_y's error (the integral part of a proportional-
- *    integral loop whose proportional part is the filter's own gain);
- *  - at the limit the tire model no longer holds vy, and in a quasi-steady
- *    turn (yaw acceleration and ax small) dvy/dt is taken as 0: g_y = r vx
- *    - ay, whatever the tires.
- * The road's bank changes along it, not in time: either is followed with
- * the time constant EST_ROAD_L / |vx| (a distance). At rest the
- * accelerometer reads gravity alone (ay = -g_y). docs/estimator/road.md
- * derives it and gives the measurements.
+ * dvy/dt is known. Below the tires' limit the ay update holds vy to the
+ * tire model: a bank the prediction lacks makes vy drift at g_y's error,
+ * and the update pulls it back every step by that amount on average. The
+ * correction, integrated, is g_y's error (the integral part of a
+ * proportional-integral loop whose proportional part is the filter's own
+ * gain). The road's bank changes along it, not in time: the integrator's
+ * time constant is a distance, EST_ROAD_L / |vx|. Where the model's pull
+ * is not a bank's (at the limit, in a yaw transient, short of the linear
+ * yaw response, the model declared misfitting) the bank is held, and with
+ * a misfit declared it returns to the plane. At rest the accelerometer
+ * reads gravity alone (ay = -g_y). docs/estimator/road.md derives it and
+ * gives the measurements (taking g_y = r vx - ay at the limit, dvy/dt = 0,
+ * failed: a car sliding at its limit changes vy at a steady yaw rate).
  */
 #include "est_internal.h"
 
