@@ -166,6 +166,14 @@ extern const grip_can_table_t grip_can_table_rav4;
  * offending message or signal in *where (if where is not NULL). */
 grip_status_t grip_can_table_check(const grip_can_table_t *table, uint32_t *where);
 
+#define grip_can_table_check_detail GRIP_TYPED(grip_can_table_check_detail)
+/* The same checks, in the same order; on GRIP_ERR_PARAM *detail (may be
+ * NULL) names what failed: part "message" or "signal" with its index in
+ * the table, or "input" with the grip_input_id_t (a qualifier without a
+ * value), or "" for the table itself; the field ("id", "start", "shift",
+ * ...) and the rule it breaks (grip_types.h). */
+grip_status_t grip_can_table_check_detail(const grip_can_table_t *table, grip_check_detail_t *detail);
+
 /* ---- decoding ------------------------------------------------------------ */
 
 #define grip_can_extract GRIP_TYPED(grip_can_extract)
@@ -346,5 +354,12 @@ grip_status_t grip_can_table_text_line(grip_can_table_text_t *b, const char *lin
 /* Completes and checks the table; *table points into b. */
 grip_status_t grip_can_table_text_finish(grip_can_table_text_t *b, const grip_can_table_t **table,
                                          const char **why);
+
+#define grip_can_table_text_finish_detail GRIP_TYPED(grip_can_table_text_finish_detail)
+/* The same, with the failed consistency check of a complete table in
+ * *detail (grip_can_table_check_detail; the index of a message or signal
+ * counts the msg or sig lines of the text from 0). */
+grip_status_t grip_can_table_text_finish_detail(grip_can_table_text_t *b, const grip_can_table_t **table,
+                                                const char **why, grip_check_detail_t *detail);
 
 #endif /* GRIP_CAN_H */

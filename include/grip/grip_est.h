@@ -117,6 +117,18 @@ typedef struct {
                                 * the state's time (the inertial data's) for the tire
                                 * slip angles and the yaw reference, and to now for
                                 * alpha[], fy[] and fy_axle. 0 (default): a fresh angle */
+    /* error bounds and the consumer's limit (docs/estimator/integrity.md) */
+    grip_real_t tire_tol;      /* QS [0, 2], default 0.3: relative force error of the
+                                * tire model against the car's tires; it bounds the slip
+                                * angle an axle's force gives by tire_tol |alpha| / g,
+                                * g = max(0.05, sqrt(1 - utilization)) (0.1: a tire
+                                * fitted to this car; 0.3: a generic tire)            */
+    grip_real_t kin_acc_sd;    /* QS m/s^2 [0.01, 2], default 0.10: growth per second of
+                                * the kinematic vy's deviation (accelerometer offset,
+                                * road bank); the gyro offset's deviation times vx and
+                                * 25 % of the roll compensation are added */
+    grip_real_t beta_sd_max;   /* QS rad [0.001, 0.5], default 0.0175 (1 deg): V_BETA only
+                                * while beta_sd is at most this                       */
     grip_est_tire_t tire[2];   /* front, rear axle; the tires' lateral relaxation
                                 * length comes from the parameter set (C_alpha /
                                 * LATERAL_STIFFNESS, else PTY1 / PTY2, else none:
@@ -173,6 +185,14 @@ typedef struct {
                                                        * grip_est_step returns GRIP_WARN_RATE. No check
                                                        * while t_us is 0 or repeats.             */
 #define GRIP_EST_F_NO_REAR_STEER ((uint32_t)1u << 18) /* rear steering configured, its angle missing */
+#define GRIP_EST_F_BETA_KIN     ((uint32_t)1u << 19)  /* vy, beta from the kinematic estimate
+                                                       * (integrated ay - r vx): its bound is the
+                                                       * smaller (docs/estimator/integrity.md) */
+#define GRIP_EST_F_BETA_DISAGREE ((uint32_t)1u << 20) /* the filter's vy and the kinematic one
+                                                       * differ beyond 3 joint deviations: the
+                                                       * tire model is fitted where it is wrong;
+                                                       * V_BETA, V_AXLE, the wheel, margin and mu
+                                                       * bits not set                          */
 
 typedef struct {
     grip_real_t vx;              /* QS m/s longitudinal speed of the CG          */
@@ -197,6 +217,11 @@ typedef struct {
     grip_real_t yaw_rate_bias;   /* QS rad/s estimated yaw-rate sensor offset (removed
                                   * from yaw_rate, yaw_error); valid with V_YAW      */
     grip_real_t fy_margin_front; /* QL N mu mu0 Fz_front - |Fy_front| (AFS)        */
+    grip_real_t vy_sd;           /* QS m/s standard deviation of vy (0 with the observer off) */
+    grip_real_t beta_sd;         /* QS rad standard deviation of beta; V_BETA needs
+                                  * beta_sd <= beta_sd_max                        */
+    grip_real_t yaw_rate_sd;     /* QS rad/s the filter's standard deviation of yaw_rate */
+    grip_real_t mu_sd;           /* QS the filter's standard deviation of mu      */
     int32_t steer_char;          /* +1 understeer, -1 oversteer, 0 neutral        */
     uint32_t valid;              /* GRIP_EST_V_* */
     uint32_t flags;              /* GRIP_EST_F_* */
@@ -209,6 +234,8 @@ typedef struct {
     uint32_t magic;
     grip_est_config_t cfg;
     /* derived at init */
+    grip_mf_prepared tire_prep[2]; /* the axles' MF sets prepared (grip_mf_prepare) for the
+                                    * step's four evaluations */
     grip_real_t fz_static[2];   /* QL per wheel, front / rear  */
     grip_real_t xw[4], yw[4];   /* QS m wheel positions from the CG (x forward, y left) */
     grip_real_t c_alpha[2];     /* QL N/rad per wheel at static load */
@@ -285,6 +312,8 @@ typedef struct {
     int32_t dr_steps;           /* consecutive dead-reckoning steps */
     int32_t active;             /* lateral observer running */
     int32_t vx_init;
+    grip_real_t vy_k;           /* QS m/s kinematic vy (est_integrity.c) */
+    grip_real_t sd_k;           /* QS m/s its standard deviation, [0, EST_SD_CAP] */
 } grip_est_t;
 
 #define grip_est_config_default GRIP_TYPED(grip_est_config_default)

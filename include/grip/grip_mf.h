@@ -168,6 +168,32 @@ typedef struct {
                                 /* hold a value                             */
 } grip_mf_output_ext;
 
+/* ------------------------------------------------------------------------
+ * Prepared parameter set (grip_mf_prepare): what the evaluation needs that
+ * depends only on the parameter set and the options, formed and validated
+ * once, so that each evaluation forms only what depends on its operating
+ * point. Caller-owned (no heap; 64 B on a 32-bit target, 72 B on x86-64,
+ * in either build). It refers to the parameter set, which must stay in place and
+ * unchanged while the prepared set is used (prepare again after changing
+ * it). Its members are lib/mf's: fill it with grip_mf_prepare only.
+ */
+#define GRIP_MF_DP_N 8
+typedef struct {
+    const grip_mf_params *p; /* the set; NULL when not prepared               */
+    uint32_t options;        /* the GRIP_MF_OPT_* bits evaluated              */
+    uint32_t flags;          /* the option decisions (lib/mf)                 */
+    grip_real_t fz_max;      /* QL  GRIP_MF_FZ_MAX_REL * FNOMIN [N]           */
+    grip_real_t dpi0;        /* QS  dpi at the default pressure (p <= 0)      */
+    grip_real_t dp[GRIP_MF_DP_N]; /* QS  the pressure factors at dpi0         */
+    grip_real_t ky_mu;       /* QS  LKY / LMUY (LMUV = 0)                     */
+    grip_real_t lmux_p;      /* QS  LMUX', LMUY' (LMUV = 0)                   */
+    grip_real_t lmuy_p;
+} grip_mf_prepared;
+
+#define grip_mf_prepare GRIP_TYPED(grip_mf_prepare)
+#define grip_mf_prepare_detail GRIP_TYPED(grip_mf_prepare_detail)
+#define grip_mf_eval_prepared GRIP_TYPED(grip_mf_eval_prepared)
+#define grip_mf_eval_pure_prepared GRIP_TYPED(grip_mf_eval_pure_prepared)
 #define grip_mf_check_params GRIP_TYPED(grip_mf_check_params)
 #define grip_mf_check_params_detail GRIP_TYPED(grip_mf_check_params_detail)
 #define grip_mf_eval_pure GRIP_TYPED(grip_mf_eval_pure)
@@ -231,6 +257,33 @@ grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input
                                     uint32_t outputs, grip_mf_output_ext *out);
 grip_status_t grip_mf_eval_ext(const grip_mf_params *p, const grip_mf_input *in, uint32_t outputs,
                                grip_mf_output_ext *out);
+
+/* Prepares *prep for grip_mf_eval_prepared / grip_mf_eval_pure_prepared
+ * with the parameter set p evaluated under the option bits `options`
+ * (GRIP_MF_OPT_*: pass p->options for the set's own; p->options itself is
+ * not used): every check of grip_mf_check_params (the per-coefficient
+ * finiteness included) runs here once, with `options` in place of
+ * p->options. The use modes (GRIP_MF_OPT_TURN_SLIP, _NO_LIMITS) are
+ * grip_mf_eval_ext's and are refused. Returns GRIP_OK, GRIP_ERR_NULL (p or
+ * prep NULL) or GRIP_ERR_PARAM; on an error *prep (when not NULL) is
+ * cleared, and an evaluation with it returns GRIP_ERR_PARAM. */
+grip_status_t grip_mf_prepare(const grip_mf_params *p, uint32_t options, grip_mf_prepared *prep);
+
+/* The same; on GRIP_ERR_PARAM *detail (may be NULL) names the first field
+ * that failed, as grip_mf_check_params_detail ("options" for a use-mode or
+ * unknown bit of `options`). */
+grip_status_t grip_mf_prepare_detail(const grip_mf_params *p, uint32_t options, grip_mf_prepared *prep,
+                                     grip_check_detail_t *detail);
+
+/* grip_mf_eval and grip_mf_eval_pure with a prepared set: the same
+ * outputs and status, bit for bit, as grip_mf_eval(p, in, out) on a set
+ * whose options are prep->options (tests/unit/test_mf_prepared.c, and the
+ * golden test over every shared .tir file); per call only the inputs are
+ * checked (GRIP_ERR_NULL, GRIP_ERR_INPUT, GRIP_WARN_CLAMPED as there),
+ * and a set that did not prepare gives GRIP_ERR_PARAM. */
+grip_status_t grip_mf_eval_prepared(const grip_mf_prepared *prep, const grip_mf_input *in, grip_mf_output *out);
+grip_status_t grip_mf_eval_pure_prepared(const grip_mf_prepared *prep, const grip_mf_input *in,
+                                         grip_mf_output *out);
 
 /* The GRIP_MF_EXT_* channels the parameter set can give (0 for NULL or an
  * unusable set): Re, Omega, Rl, rho, Cz and the contact patch need

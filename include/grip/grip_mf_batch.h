@@ -21,6 +21,7 @@
 
 #define grip_mf_eval_batch GRIP_TYPED(grip_mf_eval_batch)
 #define grip_mf_eval_pure_batch GRIP_TYPED(grip_mf_eval_pure_batch)
+#define grip_mf_eval_prepared_batch GRIP_TYPED(grip_mf_eval_prepared_batch)
 
 /* Combined-slip Fx, Fy, Mz at in[0..n-1] into out[0..n-1]:
  * out[k] and status[k] are those of grip_mf_eval(p, &in[k], &out[k]), input
@@ -41,5 +42,12 @@ grip_status_t grip_mf_eval_batch(const grip_mf_params *p, uint32_t n, const grip
 /* The same with grip_mf_eval_pure (pure-slip Fx0, Fy0, Mz0) per point. */
 grip_status_t grip_mf_eval_pure_batch(const grip_mf_params *p, uint32_t n, const grip_mf_input *in,
                                       grip_mf_output *out, grip_status_t *status);
+
+/* The same with a prepared set (grip_mf_prepare): out[k] and status[k]
+ * are those of grip_mf_eval_prepared(prep, &in[k], &out[k]), bit for bit
+ * those of grip_mf_eval on the set (tests/unit/test_mf_prepared.c). A set
+ * that did not prepare gives GRIP_ERR_PARAM at every point. */
+grip_status_t grip_mf_eval_prepared_batch(const grip_mf_prepared *prep, uint32_t n, const grip_mf_input *in,
+                                          grip_mf_output *out, grip_status_t *status);
 
 #endif /* GRIP_MF_BATCH_H */

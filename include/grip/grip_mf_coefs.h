@@ -8,12 +8,19 @@
  *   field     struct member (the .tir key in lower case)
  *   KEY       .tir key; SECTION its [SECTION]
  *   FORMAT    QS or QL fixed-point format (grip_types.h); values in SI units
- *   DEFAULT   value when the key is absent (scaling factors default to 1,
- *             LMUV to 0 as in MF-Tyre, PKY4 to 2 = the MF 5.2 value). The
- *             keys of the extended outputs (grip_mf_eval_ext, from
- *             ASPECT_RATIO on) take MFeval's readTIR defaults, except
- *             RIM_RADIUS (0: no bottoming check, docs/magic-formula.md);
- *             WIDTH and the three STIFFNESS keys keep 0 = not given.
+ *   DEFAULT   value when the key is absent: MFeval's readTIR default
+ *             (the values of Pacejka's book tyre) for every coefficient of
+ *             the force and moment equations (scaling factors 1, LMUV 0 as
+ *             in MF-Tyre, PKY2 1 and PKY4 2, RBX1 20, RCX1 1, PKY6 -1, ...):
+ *             0 where MFeval has another value is a silently wrong tyre
+ *             (PKY2 = 0 divides Fz by zero inside the atan and takes the
+ *             cornering stiffness to 0; RBX1 = 0 removes the combined-slip
+ *             weighting). The keys of the extended outputs
+ *             (grip_mf_eval_ext, from ASPECT_RATIO on) take MFeval's
+ *             defaults too, except RIM_RADIUS (0: no bottoming check,
+ *             docs/magic-formula.md); WIDTH, the three STIFFNESS keys, the
+ *             *_RANGE limits and the pressures keep 0 = not given (a book
+ *             tyre's size or limits would be wrong for any other tyre).
  *             The turn-slip keys (LMP and [TURNSLIP_COEFFICIENTS], used
  *             only with GRIP_MF_USE_TURN_SLIP) default to 0 = not given
  *             (LMP to 1): a set without PHYP1 > 0 and 0 < QDRP1 < 2 cannot
@@ -78,7 +85,7 @@
     X(lmuv, LMUV, SCALING_COEFFICIENTS, QS, 0, 0) \
     X(pcx1, PCX1, LONGITUDINAL_COEFFICIENTS, QS, 0, 1) \
     X(pdx1, PDX1, LONGITUDINAL_COEFFICIENTS, QS, 0, 1) \
-    X(pdx2, PDX2, LONGITUDINAL_COEFFICIENTS, QS, 0, 0) \
+    X(pdx2, PDX2, LONGITUDINAL_COEFFICIENTS, QS, -0.15, 0) \
     X(pdx3, PDX3, LONGITUDINAL_COEFFICIENTS, QS, 0, 0) \
     X(pex1, PEX1, LONGITUDINAL_COEFFICIENTS, QS, 0, 0) \
     X(pex2, PEX2, LONGITUDINAL_COEFFICIENTS, QS, 0, 0) \
@@ -95,10 +102,10 @@
     X(ppx2, PPX2, LONGITUDINAL_COEFFICIENTS, QS, 0, 0) \
     X(ppx3, PPX3, LONGITUDINAL_COEFFICIENTS, QS, 0, 0) \
     X(ppx4, PPX4, LONGITUDINAL_COEFFICIENTS, QS, 0, 0) \
-    X(rbx1, RBX1, LONGITUDINAL_COEFFICIENTS, QS, 0, 0) \
-    X(rbx2, RBX2, LONGITUDINAL_COEFFICIENTS, QS, 0, 0) \
+    X(rbx1, RBX1, LONGITUDINAL_COEFFICIENTS, QS, 20, 0) \
+    X(rbx2, RBX2, LONGITUDINAL_COEFFICIENTS, QS, 15, 0) \
     X(rbx3, RBX3, LONGITUDINAL_COEFFICIENTS, QS, 0, 0) \
-    X(rcx1, RCX1, LONGITUDINAL_COEFFICIENTS, QS, 0, 0) \
+    X(rcx1, RCX1, LONGITUDINAL_COEFFICIENTS, QS, 1, 0) \
     X(rex1, REX1, LONGITUDINAL_COEFFICIENTS, QS, 0, 0) \
     X(rex2, REX2, LONGITUDINAL_COEFFICIENTS, QS, 0, 0) \
     X(rhx1, RHX1, LONGITUDINAL_COEFFICIENTS, QS, 0, 0) \
@@ -107,7 +114,7 @@
     X(ptx3, PTX3, LONGITUDINAL_COEFFICIENTS, QS, 0, 0) \
     X(pcy1, PCY1, LATERAL_COEFFICIENTS, QS, 0, 1) \
     X(pdy1, PDY1, LATERAL_COEFFICIENTS, QS, 0, 1) \
-    X(pdy2, PDY2, LATERAL_COEFFICIENTS, QS, 0, 0) \
+    X(pdy2, PDY2, LATERAL_COEFFICIENTS, QS, -0.15, 0) \
     X(pdy3, PDY3, LATERAL_COEFFICIENTS, QS, 0, 0) \
     X(pey1, PEY1, LATERAL_COEFFICIENTS, QS, 0, 0) \
     X(pey2, PEY2, LATERAL_COEFFICIENTS, QS, 0, 0) \
@@ -115,11 +122,11 @@
     X(pey4, PEY4, LATERAL_COEFFICIENTS, QS, 0, 0) \
     X(pey5, PEY5, LATERAL_COEFFICIENTS, QS, 0, 0) \
     X(pky1, PKY1, LATERAL_COEFFICIENTS, QS, 0, 1) \
-    X(pky2, PKY2, LATERAL_COEFFICIENTS, QS, 0, 0) \
+    X(pky2, PKY2, LATERAL_COEFFICIENTS, QS, 1, 0) \
     X(pky3, PKY3, LATERAL_COEFFICIENTS, QS, 0, 0) \
     X(pky4, PKY4, LATERAL_COEFFICIENTS, QS, 2, 0) \
     X(pky5, PKY5, LATERAL_COEFFICIENTS, QS, 0, 0) \
-    X(pky6, PKY6, LATERAL_COEFFICIENTS, QS, 0, 0) \
+    X(pky6, PKY6, LATERAL_COEFFICIENTS, QS, -1, 0) \
     X(pky7, PKY7, LATERAL_COEFFICIENTS, QS, 0, 0) \
     X(phy1, PHY1, LATERAL_COEFFICIENTS, QS, 0, 0) \
     X(phy2, PHY2, LATERAL_COEFFICIENTS, QS, 0, 0) \
@@ -133,11 +140,11 @@
     X(ppy3, PPY3, LATERAL_COEFFICIENTS, QS, 0, 0) \
     X(ppy4, PPY4, LATERAL_COEFFICIENTS, QS, 0, 0) \
     X(ppy5, PPY5, LATERAL_COEFFICIENTS, QS, 0, 0) \
-    X(rby1, RBY1, LATERAL_COEFFICIENTS, QS, 0, 0) \
-    X(rby2, RBY2, LATERAL_COEFFICIENTS, QS, 0, 0) \
+    X(rby1, RBY1, LATERAL_COEFFICIENTS, QS, 10, 0) \
+    X(rby2, RBY2, LATERAL_COEFFICIENTS, QS, 10, 0) \
     X(rby3, RBY3, LATERAL_COEFFICIENTS, QS, 0, 0) \
     X(rby4, RBY4, LATERAL_COEFFICIENTS, QS, 0, 0) \
-    X(rcy1, RCY1, LATERAL_COEFFICIENTS, QS, 0, 0) \
+    X(rcy1, RCY1, LATERAL_COEFFICIENTS, QS, 1, 0) \
     X(rey1, REY1, LATERAL_COEFFICIENTS, QS, 0, 0) \
     X(rey2, REY2, LATERAL_COEFFICIENTS, QS, 0, 0) \
     X(rhy1, RHY1, LATERAL_COEFFICIENTS, QS, 0, 0) \
@@ -145,9 +152,9 @@
     X(rvy1, RVY1, LATERAL_COEFFICIENTS, QS, 0, 0) \
     X(rvy2, RVY2, LATERAL_COEFFICIENTS, QS, 0, 0) \
     X(rvy3, RVY3, LATERAL_COEFFICIENTS, QS, 0, 0) \
-    X(rvy4, RVY4, LATERAL_COEFFICIENTS, QS, 0, 0) \
-    X(rvy5, RVY5, LATERAL_COEFFICIENTS, QS, 0, 0) \
-    X(rvy6, RVY6, LATERAL_COEFFICIENTS, QS, 0, 0) \
+    X(rvy4, RVY4, LATERAL_COEFFICIENTS, QS, 20, 0) \
+    X(rvy5, RVY5, LATERAL_COEFFICIENTS, QS, 2, 0) \
+    X(rvy6, RVY6, LATERAL_COEFFICIENTS, QS, 10, 0) \
     X(pty1, PTY1, LATERAL_COEFFICIENTS, QS, 0, 0) \
     X(pty2, PTY2, LATERAL_COEFFICIENTS, QS, 0, 0) \
     X(qbz1, QBZ1, ALIGNING_COEFFICIENTS, QS, 0, 1) \
@@ -156,7 +163,7 @@
     X(qbz4, QBZ4, ALIGNING_COEFFICIENTS, QS, 0, 0) \
     X(qbz5, QBZ5, ALIGNING_COEFFICIENTS, QS, 0, 0) \
     X(qbz6, QBZ6, ALIGNING_COEFFICIENTS, QS, 0, 0) \
-    X(qbz9, QBZ9, ALIGNING_COEFFICIENTS, QS, 0, 0) \
+    X(qbz9, QBZ9, ALIGNING_COEFFICIENTS, QS, 10, 0) \
     X(qbz10, QBZ10, ALIGNING_COEFFICIENTS, QS, 0, 0) \
     X(qcz1, QCZ1, ALIGNING_COEFFICIENTS, QS, 0, 1) \
     X(qdz1, QDZ1, ALIGNING_COEFFICIENTS, QS, 0, 1) \
@@ -165,7 +172,7 @@
     X(qdz4, QDZ4, ALIGNING_COEFFICIENTS, QS, 0, 0) \
     X(qdz6, QDZ6, ALIGNING_COEFFICIENTS, QS, 0, 0) \
     X(qdz7, QDZ7, ALIGNING_COEFFICIENTS, QS, 0, 0) \
-    X(qdz8, QDZ8, ALIGNING_COEFFICIENTS, QS, 0, 0) \
+    X(qdz8, QDZ8, ALIGNING_COEFFICIENTS, QS, -0.05, 0) \
     X(qdz9, QDZ9, ALIGNING_COEFFICIENTS, QS, 0, 0) \
     X(qdz10, QDZ10, ALIGNING_COEFFICIENTS, QS, 0, 0) \
     X(qdz11, QDZ11, ALIGNING_COEFFICIENTS, QS, 0, 0) \

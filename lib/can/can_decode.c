@@ -6,6 +6,7 @@
 
 #include "grip/grip_can.h"
 #include "can_internal.h"
+#include "../core/check_internal.h"
 
 #if !GRIP_ARITH_FIXED
 #include <math.h>
@@ -287,7 +288,77 @@ static int bits_fit(uint32_t start, uint32_t length, uint32_t order, uint32_t le
     return grip_can_extract(probe, len, start, length, order, 0u, &raw) == GRIP_OK;
 }
 
-grip_status_t grip_can_table_check(const grip_can_table_t *table, uint32_t *where)
+/* The rule a message of the table breaks ("" if none); index i. */
+static const char *table_message_rule(const grip_can_table_t *table, uint32_t i, const char **field)
+{
+    const grip_can_message_t *m = &table->messages[i];
+    const char *rule = "";
+    *field = "id";
+    if (m->id != can_id_key(m->id)) {
+        rule = "must be an 11-bit id or a 29-bit id with the extended flag";
+    } else if (i > 0u && m->id <= table->messages[i - 1u].id) {
+        rule = "must be greater than the id of the message before it (sorted, unique)";
+    } else if (m->period_us == 0u) {
+        *field = "period_us";
+        rule = "must be > 0";
+    } else if (m->len > GRIP_CAN_MAX_DATA) {
+        *field = "len";
+        rule = "must be at most 64 bytes";
+    } else if ((uint32_t)m->first_signal + m->n_signals > table->n_signals ||
+               (i > 0u && m->first_signal != table->messages[i - 1u].first_signal + table->messages[i - 1u].n_signals) ||
+               (i == 0u && m->first_signal != 0u)) {
+        *field = "first_signal";
+        rule = "the signals must follow their message, in message order";
+    } else if (!can_checksum_layout_ok(m) ||
+               (m->checksum != (uint8_t)GRIP_CAN_CSUM_NONE &&
+                !bits_fit(m->checksum_start, m->checksum_length, m->checksum_order, m->len))) {
+        *field = "checksum";
+        rule = "the checksum's bits must lie inside the payload, in the layout of its scheme";
+    } else if (m->counter_length > 8u ||
+               (m->counter_length > 0u && !bits_fit(m->counter_start, m->counter_length, m->counter_order, m->len))) {
+        *field = "counter";
+        rule = "the counter must have at most 8 bits, inside the payload";
+    } else {
+        *field = "";
+    }
+    return rule;
+}
+
+/* The rule a signal breaks ("" if none), before the per-input sums. */
+static const char *table_signal_rule(const grip_can_table_t *table, uint32_t i, const char **field)
+{
+    const grip_can_signal_t *s = &table->signals[i];
+    const char *rule = "";
+    *field = "";
+    if (s->message >= table->n_messages) {
+        *field = "message";
+        rule = "must name a message of the table";
+    } else if (s->input >= (uint8_t)GRIP_IN_COUNT) {
+        *field = "input";
+        rule = "must be an input of grip_signals.h";
+    } else if (s->role > (uint8_t)GRIP_CAN_ROLE_QUALIFIER) {
+        *field = "role";
+        rule = "must be value or qualifier";
+    } else if (s->length < 1u || s->length > 32u || s->order > (uint8_t)GRIP_CAN_MOTOROLA || s->is_signed > 1u) {
+        *field = "length";
+        rule = "must be 1..32 bits, intel or motorola, signed 0 or 1";
+    } else if (s->raw_min > s->raw_max) {
+        *field = "raw_min";
+        rule = "must not be greater than raw_max";
+    } else if (i < table->messages[s->message].first_signal ||
+               i >= (uint32_t)table->messages[s->message].first_signal + table->messages[s->message].n_signals) {
+        *field = "message";
+        rule = "the signal must lie in its message's group of signals";
+    } else if (!bits_fit(s->start, s->length, s->order, table->messages[s->message].len)) {
+        *field = "start";
+        rule = "the signal's bits must lie inside its message's payload";
+    } else {
+        /* consistent */
+    }
+    return rule;
+}
+
+grip_status_t grip_can_table_check_detail(const grip_can_table_t *table, grip_check_detail_t *detail)
 {
     uint32_t i;
     uint32_t j;
@@ -295,14 +366,19 @@ grip_status_t grip_can_table_check(const grip_can_table_t *table, uint32_t *wher
     uint32_t input_terms[GRIP_IN_COUNT];
     uint32_t input_shift[GRIP_IN_COUNT];
     uint64_t input_bound[GRIP_IN_COUNT];
+    const char *field = "";
+    const char *rule;
 
-    if (where != NULL) {
-        *where = 0u;
-    }
+    check_clear(detail);
     if (table == NULL || table->messages == NULL || table->signals == NULL) {
         return GRIP_ERR_NULL;
     }
-    if (table->n_messages > GRIP_CAN_MAX_MESSAGES || table->n_signals > GRIP_CAN_MAX_SIGNALS) {
+    if (table->n_messages > GRIP_CAN_MAX_MESSAGES) {
+        (void)check_fail(detail, "", -1, "n_messages", "must be at most GRIP_CAN_MAX_MESSAGES");
+        return GRIP_ERR_PARAM;
+    }
+    if (table->n_signals > GRIP_CAN_MAX_SIGNALS) {
+        (void)check_fail(detail, "", -1, "n_signals", "must be at most GRIP_CAN_MAX_SIGNALS");
         return GRIP_ERR_PARAM;
     }
     for (j = 0u; j < (uint32_t)GRIP_IN_COUNT; j++) {
@@ -312,60 +388,53 @@ grip_status_t grip_can_table_check(const grip_can_table_t *table, uint32_t *wher
         input_bound[j] = 0u;
     }
     for (i = 0u; i < GRIP_CAN_MAX_MESSAGES && i < table->n_messages; i++) {
-        const grip_can_message_t *m = &table->messages[i];
-        if (where != NULL) {
-            *where = i;
-        }
-        if (m->id != can_id_key(m->id) || (i > 0u && m->id <= table->messages[i - 1u].id) ||
-            m->period_us == 0u || m->len > GRIP_CAN_MAX_DATA ||
-            (uint32_t)m->first_signal + m->n_signals > table->n_signals ||
-            (i > 0u && m->first_signal != table->messages[i - 1u].first_signal + table->messages[i - 1u].n_signals) ||
-            (i == 0u && m->first_signal != 0u) ||
-            !can_checksum_layout_ok(m) ||
-            (m->checksum != (uint8_t)GRIP_CAN_CSUM_NONE &&
-             !bits_fit(m->checksum_start, m->checksum_length, m->checksum_order, m->len)) ||
-            m->counter_length > 8u ||
-            (m->counter_length > 0u && !bits_fit(m->counter_start, m->counter_length, m->counter_order, m->len))) {
+        rule = table_message_rule(table, i, &field);
+        if (rule[0] != '\0') {
+            (void)check_fail(detail, "message", (int32_t)i, field, rule);
             return GRIP_ERR_PARAM;
         }
     }
     if (table->n_messages > 0u) {
         const grip_can_message_t *last = &table->messages[table->n_messages - 1u];
         if ((uint32_t)last->first_signal + last->n_signals != table->n_signals) {
+            (void)check_fail(detail, "message", (int32_t)table->n_messages - 1, "n_signals",
+                             "the messages' signals must add up to the table's signals");
             return GRIP_ERR_PARAM;
         }
     } else if (table->n_signals != 0u) {
+        (void)check_fail(detail, "", -1, "n_signals", "must be 0 in a table without messages");
         return GRIP_ERR_PARAM;
     } /* grip-deviation: MISRA-15.7 consistent table: nothing to reject */
     for (i = 0u; i < GRIP_CAN_MAX_SIGNALS && i < table->n_signals; i++) {
         const grip_can_signal_t *s = &table->signals[i];
-        const grip_can_message_t *m;
         uint64_t term;
-        if (where != NULL) {
-            *where = i;
-        }
-        if (s->message >= table->n_messages || s->input >= (uint8_t)GRIP_IN_COUNT ||
-            s->role > (uint8_t)GRIP_CAN_ROLE_QUALIFIER || s->length < 1u || s->length > 32u ||
-            s->order > (uint8_t)GRIP_CAN_MOTOROLA || s->is_signed > 1u || s->raw_min > s->raw_max) {
-            return GRIP_ERR_PARAM;
-        }
-        m = &table->messages[s->message];
-        if (i < m->first_signal || i >= (uint32_t)m->first_signal + m->n_signals ||
-            !bits_fit(s->start, s->length, s->order, m->len)) {
+        rule = table_signal_rule(table, i, &field);
+        if (rule[0] != '\0') {
+            (void)check_fail(detail, "signal", (int32_t)i, field, rule);
             return GRIP_ERR_PARAM;
         }
         if (input_msg[s->input] != UINT32_MAX && input_msg[s->input] != s->message) {
-            return GRIP_ERR_PARAM;   /* one input, one message */
+            (void)check_fail(detail, "signal", (int32_t)i, "input",
+                             "an input must come from one message (another message feeds it)");
+            return GRIP_ERR_PARAM;
         }
         input_msg[s->input] = s->message;
         if (s->role == (uint8_t)GRIP_CAN_ROLE_QUALIFIER) {
             continue;
         }
         if (s->shift < (grip_input_is_ql(s->input) ? (uint32_t)GRIP_QL_BITS : (uint32_t)GRIP_QS_BITS) ||
-            s->shift > 62u || s->k_mul >= (1 << 30) || s->k_mul <= -(1 << 30) ||
-            mag(s->c_add) >= ((uint64_t)1u << 61) ||
-            (input_terms[s->input] > 0u && input_shift[s->input] != s->shift) ||
+            s->shift > 62u) {
+            (void)check_fail(detail, "signal", (int32_t)i, "shift", "must be in [F, 62] (F = 16 QS, 8 QL)");
+            return GRIP_ERR_PARAM;
+        }
+        if (s->k_mul >= (1 << 30) || s->k_mul <= -(1 << 30) || mag(s->c_add) >= ((uint64_t)1u << 61)) {
+            (void)check_fail(detail, "signal", (int32_t)i, "k", "|K| must be < 2^30 and |C| < 2^61");
+            return GRIP_ERR_PARAM;
+        }
+        if ((input_terms[s->input] > 0u && input_shift[s->input] != s->shift) ||
             input_terms[s->input] >= GRIP_CAN_MAX_TERMS) {
+            (void)check_fail(detail, "signal", (int32_t)i, "input",
+                             "the value signals of one input must share one shift, at most GRIP_CAN_MAX_TERMS");
             return GRIP_ERR_PARAM;
         }
         /* |raw| <= 2^length (<= 2^32), |K| < 2^30: each term < 2^62 + 2^61;
@@ -373,6 +442,8 @@ grip_status_t grip_can_table_check(const grip_can_table_t *table, uint32_t *wher
         term = ((uint64_t)1u << s->length) * mag((int64_t)s->k_mul) + mag(s->c_add);
         input_bound[s->input] += term;
         if (input_bound[s->input] >= ((uint64_t)1u << 62)) {
+            (void)check_fail(detail, "signal", (int32_t)i, "k",
+                             "the input's scaled sum could overflow (2^62)");
             return GRIP_ERR_PARAM;
         }
         input_terms[s->input]++;
@@ -380,14 +451,19 @@ grip_status_t grip_can_table_check(const grip_can_table_t *table, uint32_t *wher
     }
     for (j = 0u; j < (uint32_t)GRIP_IN_COUNT; j++) {
         if (input_msg[j] != UINT32_MAX && input_terms[j] == 0u) {
-            if (where != NULL) {
-                *where = j;
-            }
-            return GRIP_ERR_PARAM;   /* a qualifier without a value */
+            (void)check_fail(detail, "input", (int32_t)j, "role", "a qualifier needs a value signal of its input");
+            return GRIP_ERR_PARAM;
         }
     }
-    if (where != NULL) {
-        *where = 0u;
-    }
     return GRIP_OK;
+}
+
+grip_status_t grip_can_table_check(const grip_can_table_t *table, uint32_t *where)
+{
+    grip_check_detail_t d;
+    grip_status_t st = grip_can_table_check_detail(table, &d);
+    if (where != NULL) {
+        *where = (st == GRIP_ERR_PARAM && d.index >= 0) ? (uint32_t)d.index : 0u;
+    }
+    return st;
 }

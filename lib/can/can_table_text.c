@@ -23,6 +23,7 @@
 
 #include "grip/grip_can.h"
 #include "can_internal.h"
+#include "../core/check_internal.h"
 
 #define MAX_TOKENS 16u
 
@@ -421,15 +422,15 @@ grip_status_t grip_can_table_text_line(grip_can_table_text_t *b, const char *lin
     return GRIP_ERR_INPUT;
 }
 
-grip_status_t grip_can_table_text_finish(grip_can_table_text_t *b, const grip_can_table_t **table,
-                                         const char **why)
+grip_status_t grip_can_table_text_finish_detail(grip_can_table_text_t *b, const grip_can_table_t **table,
+                                                const char **why, grip_check_detail_t *detail)
 {
-    uint32_t where = 0u;
     const char *dummy;
     if (why == NULL) {
         why = &dummy;
     }
     *why = "";
+    check_clear(detail);
     if (b == NULL || table == NULL) {
         *why = "NULL argument";
         return GRIP_ERR_NULL;
@@ -439,11 +440,17 @@ grip_status_t grip_can_table_text_finish(grip_can_table_text_t *b, const grip_ca
         *why = "empty table (no grip-can-table header)";
         return GRIP_ERR_INPUT;
     }
-    if (grip_can_table_check(&b->table, &where) != GRIP_OK) {
+    if (grip_can_table_check_detail(&b->table, detail) != GRIP_OK) {
         *why = "table fails its consistency check (ids sorted and unique, bits inside the payload, "
                "scaling bounds, one message per input)";
         return GRIP_ERR_PARAM;
     }
     *table = &b->table;
     return GRIP_OK;
+}
+
+grip_status_t grip_can_table_text_finish(grip_can_table_text_t *b, const grip_can_table_t **table,
+                                         const char **why)
+{
+    return grip_can_table_text_finish_detail(b, table, why, NULL);
 }

@@ -37,13 +37,20 @@ static void misfit(grip_est_t *est, const est_ctx_t *s)
  * range and the lateral force no longer tells the slip angle, so beta is
  * dead reckoning too; nor with a tire model that does not fit the car
  * (misfit), nor with a steering angle beyond the rack's travel (no ay
- * update: dead reckoning as well). The per-wheel outputs come from the same
+ * update: dead reckoning as well), nor with the kinematic vy rejecting the
+ * filter's (est_integrity.c); the sideslip not either with its deviation
+ * beyond the consumer's limit. The per-wheel outputs come from the same
  * model. */
 static void lateral_validity(const grip_est_t *est, est_ctx_t *s)
 {
-    if (s->ay_ok && s->yaw_ok && s->ax_ok && !s->dead_reck && !est->misfit &&
+    if (s->ay_ok && s->yaw_ok && s->ax_ok && !s->dead_reck && !est->misfit && !s->disagree &&
         ((s->flags & (GRIP_EST_F_STEER_LIMIT | GRIP_EST_F_RATE)) == 0u)) {
-        s->valid |= GRIP_EST_V_BETA | GRIP_EST_V_AXLE;
+        /* the axle forces are the model's at the filter's state and the
+         * balances': beta's deviation limit is not theirs */
+        s->valid |= GRIP_EST_V_AXLE;
+        if (s->beta_sd <= est->cfg.beta_sd_max) {
+            s->valid |= GRIP_EST_V_BETA;
+        }
     }
     if (!(s->valid & GRIP_EST_V_BETA)) {
         s->valid &= ~(GRIP_EST_V_WHEEL(0) | GRIP_EST_V_WHEEL(1) | GRIP_EST_V_WHEEL(2) | GRIP_EST_V_WHEEL(3));
@@ -72,7 +79,8 @@ static void confidence(const grip_est_t *est, est_ctx_t *s, grip_est_output_t *o
     } else {
         /* model consistent */
     }
-    if (out->mu_conf >= RC(0.5) && s->ax_ok && ((s->flags & GRIP_EST_F_RATE) == 0u)) {
+    /* a filter vy the kinematic one rejects: mu absorbed the misfit */
+    if (out->mu_conf >= RC(0.5) && s->ax_ok && ((s->flags & GRIP_EST_F_RATE) == 0u) && !s->disagree) {
         s->valid |= GRIP_EST_V_MU;
     }
 }
@@ -83,6 +91,7 @@ static void confidence(const grip_est_t *est, est_ctx_t *s, grip_est_output_t *o
  * mu's confidence. */
 void est_checks(grip_est_t *est, est_ctx_t *s, grip_est_output_t *out)
 {
+    est_integrity(est, s, out);
     if (est->active) {
         if (s->ay_upd) {
             misfit(est, s);

@@ -49,6 +49,9 @@ grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_para
     cfg->latency = R_ZERO;
     cfg->steer_lag = R_ZERO;
     cfg->steer_latency = R_ZERO;
+    cfg->tire_tol = RC(0.3);
+    cfg->kin_acc_sd = RC(0.10);
+    cfg->beta_sd_max = RC(0.0175);
     cfg->tire[0].kind = GRIP_EST_TIRE_MF;
     cfg->tire[0].model.mf = tire;
     cfg->tire[1].kind = GRIP_EST_TIRE_MF;
@@ -141,6 +144,9 @@ static grip_status_t check_config(const grip_est_config_t *c, grip_check_detail_
         { "latency", c->latency, R_ZERO, RC(0.1), "in [0, 0.1] s" },
         { "steer_lag", c->steer_lag, R_ZERO, RC(0.5), "in [0, 0.5] s" },
         { "steer_latency", c->steer_latency, R_ZERO, RC(0.1), "in [0, 0.1] s" },
+        { "tire_tol", c->tire_tol, R_ZERO, RC(2.0), "in [0, 2]" },
+        { "kin_acc_sd", c->kin_acc_sd, RC(0.01), RC(2.0), "in [0.01, 2] m/s^2" },
+        { "beta_sd_max", c->beta_sd_max, RC(0.001), RC(0.5), "in [0.001, 0.5] rad" },
     };
     int a;
     if (!check_ranges(r, sizeof r / sizeof r[0], d)) {
@@ -239,6 +245,8 @@ grip_status_t grip_est_reset(grip_est_t *est)
     est->road_gy = R_ZERO;
     est->road_r = R_ZERO;
     est->road_dr = R_ZERO;
+    est->vy_k = R_ZERO;
+    est->sd_k = RC(EST_SD_CAP);
     return GRIP_OK;
 }
 
@@ -263,6 +271,14 @@ grip_status_t grip_est_init_detail(grip_est_t *est, const grip_est_config_t *cfg
         return st;
     }
     est->cfg = *cfg;
+    /* Prepared once for the step's evaluations (bit-identical to
+     * grip_mf_eval). A set that does not prepare (a use-mode bit, which
+     * check_config lets through) leaves the prepared set cleared, and its
+     * evaluations return GRIP_ERR_PARAM as grip_mf_eval's would: the
+     * static-load evaluations below refuse it. */
+    for (a = 0; a < 2; ++a) {
+        (void)grip_mf_prepare(cfg->tire[a].model.mf, cfg->tire[a].model.mf->options, &est->tire_prep[a]);
+    }
     l = r_add(cfg->lf, cfg->lr);
     m_g = r_mul(RC(EST_G * 0.5), cfg->mass);              /* half the weight [N] */
     est->fz_static[0] = r_mul(r_div(cfg->lr, l), m_g);

@@ -66,6 +66,8 @@ typedef struct {
     grip_real_t dvy, dr;        /* QS the predict's change of vy and r */
     grip_real_t r_upd;          /* QS rad/s r after the yaw-rate update (the yaw balance's) */
     grip_real_t nis_ay;         /* QS normalized innovation squared of the ay update */
+    /* bounds (est_integrity.c) */
+    grip_real_t vy_sd, beta_sd; /* QS m/s, rad the outputs' standard deviations */
     /* flags (1: true), by the same stages */
     uint8_t steer_ok, yaw_ok, ax_ok, ay_ok; /* fresh, or held within the hold time */
     uint8_t vs_ok;              /* vehicle speed fresh in this step */
@@ -79,6 +81,7 @@ typedef struct {
     uint8_t at_limit;           /* the mu-independent friction-limit test holds */
     uint8_t b_ok;               /* the gyro bias may adapt in this step */
     uint8_t ay_upd;             /* the ay update ran (nis_ay set) */
+    uint8_t disagree;           /* the filter's and the kinematic vy disagree */
 } est_ctx_t;
 
 /* ---- helpers of several stages ---- */
@@ -100,6 +103,23 @@ static inline grip_status_t tire_eval(const grip_est_tire_t *t, const grip_mf_in
     switch (t->kind) {
     case GRIP_EST_TIRE_MF:
         return grip_mf_eval(t->model.mf, in, out);
+    default:
+        out->fx = R_ZERO;
+        out->fy = R_ZERO;
+        out->mz = R_ZERO;
+        return GRIP_ERR_PARAM;
+    }
+}
+
+/* The step's tire evaluation of an axle: its prepared MF set (est_init.c),
+ * the same outputs as tire_eval, bit for bit, without the per-call checks
+ * of the set. */
+static inline grip_status_t tire_eval_axle(const grip_est_t *est, int axle, const grip_mf_input *in,
+                                           grip_mf_output *out)
+{
+    switch (est->cfg.tire[axle].kind) {
+    case GRIP_EST_TIRE_MF:
+        return grip_mf_eval_prepared(&est->tire_prep[axle], in, out);
     default:
         out->fx = R_ZERO;
         out->fy = R_ZERO;
@@ -223,6 +243,11 @@ void est_bound_state(grip_est_t *est, const est_ctx_t *s);
 /* est_checks.c: the model-consistency statistics of the ay update, the
  * lateral outputs' validity, mu's confidence */
 void est_checks(grip_est_t *est, est_ctx_t *s, grip_est_output_t *out);
+/* est_integrity.c (run by est_checks first): the standard deviations of
+ * vy (the filter's with the tire model's, the kinematic one's), the
+ * kinematic vy, which of the two the outputs take and whether they
+ * disagree; the yaw rate's and mu's deviations */
+void est_integrity(grip_est_t *est, est_ctx_t *s, grip_est_output_t *out);
 /* est_outputs.c: the outputs (the lateral ones at the updated state) */
 void est_outputs(grip_est_t *est, est_ctx_t *s, grip_est_output_t *out);
 

@@ -144,8 +144,14 @@ void est_outputs(grip_est_t *est, est_ctx_t *s, grip_est_output_t *out)
     grip_real_t mu = est->x[2];
     if (est->active) {
         out->vx = r_add(vx, r_mul(c->latency, vx_rate(est, s->ax, est->x[1], est->x[0], s->g_x)));
-        lateral_outputs(est, out, s, vx, r_sub(r_add(s->ay_ok ? s->ay : s->ay_m, s->g_y), r_mul(est->x[1], vx)),
-                        s->racc, r_sub(est->x[0], r_add(s->vy, s->dvy)));
+        grip_real_t vyd = r_sub(r_add(s->ay_ok ? s->ay : s->ay_m, s->g_y), r_mul(est->x[1], vx));
+        lateral_outputs(est, out, s, vx, vyd, s->racc, r_sub(est->x[0], r_add(s->vy, s->dvy)));
+        /* vy, beta: the kinematic vy (est_integrity.c; the filter's where
+         * that is the better) over the latency, along its own rate */
+        out->vy = sym_clamp(r_add(est->vy_k, r_mul(c->latency, vyd)), RC(EST_WS_MAX));
+        out->beta = r_atan(r_div(out->vy, r_max(out->vx, RC(EST_V_OFF))));
+        out->vy_sd = s->vy_sd;
+        out->beta_sd = s->beta_sd;
     } else {
         out->vx = vx;
         out->yaw_rate = yaw;

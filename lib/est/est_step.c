@@ -41,6 +41,10 @@ static EST_NOINLINE void zero_output(grip_est_output_t *out)
     out->mu_conf = R_ZERO;
     out->yaw_rate_bias = R_ZERO;
     out->fy_margin_front = R_ZERO;
+    out->vy_sd = R_ZERO;
+    out->beta_sd = R_ZERO;
+    out->yaw_rate_sd = R_ZERO;
+    out->mu_sd = R_ZERO;
     out->steer_char = 0;
     out->valid = 0;
     out->flags = 0;

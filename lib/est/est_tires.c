@@ -117,7 +117,7 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
         ti.fz = out->fz[i];
         ti.p = R_ZERO;
         ti.vx = vxw;
-        st = tire_eval(&c->tire[axle], &ti, &to);
+        st = tire_eval_axle(est, axle, &ti, &to);
         if (st < 0) {
             s->flags |= GRIP_EST_F_TIRE_ERROR;
             to.fx = R_ZERO;

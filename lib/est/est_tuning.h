@@ -325,4 +325,31 @@
                               *        V_MU where the share hovers at 0.1 (golden bicycle_1khz:
                               *        the fixed build's mask on 59 -> 4 of 4,000 rows)          */
 
+/* ---- error bounds (est_integrity.c, docs/estimator/integrity.md) ------- */
+/* The kinematic vy's deviation grows per second by the configured
+ * accelerometer share (kin_acc_sd), the gyro offset's deviation times vx,
+ * and ROLL_TOL of the roll compensation g roll_gradient |ay|: a car's roll
+ * gradient is known within about a quarter without a roll measurement. */
+#define EST_ROLL_TOL 0.25    /* -      share of the roll compensation taken as its error       */
+#define EST_DIS_K    3.0     /* -      filter and kinematic vy disagree beyond this many joint
+                              *        deviations (3: a consistent pair fails 0.3 % of steps)  */
+#define EST_SD_CAP   100.0   /* m/s    every deviation capped here: not estimated at all (its
+                              *        square 1e4 within Q15.16)                               */
+#define EST_SD_MIN   0.001   /* m/s    the blend's ratio q = sd_filter / sd_kinematic formed
+                              *        with the kinematic deviation at least this ...          */
+#define EST_Q_MAX    100.0   /* -      ... and taken at most this (its square within Q15.16)    */
+#define EST_KIN_Q0   0.5     /* -      the filter's vy taken whole while its deviation is at most
+                              *        this share of the kinematic one's; none from 1         */
+#define EST_SD_VY_EDGE 0.01  /* m/s    vy within this of its bound |vx| + 1 is held there, not
+                              *        estimated: the deviation is SD_CAP                      */
+
+/* ---- sensitivity study ------------------------------------------------- */
+/* `grip est-sensitivity` builds the estimator with one value changed: the
+ * header named here #undefs and redefines it. Never set in a product build;
+ * docs/estimator/sensitivity.md has each constant's class and measured
+ * sensitivity on the independent judge. */
+#ifdef GRIP_EST_TUNING_OVERRIDE
+#include GRIP_EST_TUNING_OVERRIDE
+#endif
+
 #endif

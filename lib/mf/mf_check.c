@@ -15,9 +15,10 @@ static int fittyp_known(int32_t fittyp)
     return (fittyp == 5) || (fittyp == 6) || (fittyp == 21) || (fittyp == 61) || (fittyp == 62);
 }
 
-/* The structural checks, the first failure named in *d (d may be NULL);
- * options: the option bits the evaluation accepts. */
-static int mf_params_usable_detail(const grip_mf_params *p, uint32_t options, grip_check_detail_t *d)
+/* The structural checks of p evaluated with the option bits opts, the
+ * first failure named in *d (d may be NULL); options: the option bits the
+ * evaluation accepts. */
+static int mf_params_usable_opts(const grip_mf_params *p, uint32_t opts, uint32_t options, grip_check_detail_t *d)
 {
     if (!fittyp_known(p->fittyp)) {
         return check_fail(d, "", -1, "fittyp", "one of 5, 6, 21 (MF 5.2), 61, 62 (MF 6.1, 6.2)");
@@ -25,7 +26,7 @@ static int mf_params_usable_detail(const grip_mf_params *p, uint32_t options, gr
     if ((p->tyreside != 1) && (p->tyreside != -1)) {
         return check_fail(d, "", -1, "tyreside", "+1 (left) or -1 (right)");
     }
-    if ((p->options & ~options) != 0u) {
+    if ((opts & ~options) != 0u) {
         return check_fail(d, "", -1, "options", "GRIP_MF_OPT_* bits only");
     }
     /* The comparisons are false for NaN, so NaN is rejected too. */
@@ -61,6 +62,11 @@ static int mf_params_usable_detail(const grip_mf_params *p, uint32_t options, gr
     return 1;
 }
 
+static int mf_params_usable_detail(const grip_mf_params *p, uint32_t options, grip_check_detail_t *d)
+{
+    return mf_params_usable_opts(p, p->options, options, d);
+}
+
 int mf_params_usable(const grip_mf_params *p)
 {
     return mf_params_usable_detail(p, GRIP_MF_OPT_ALL, NULL);
@@ -78,17 +84,18 @@ int mf_turn_slip_usable(const grip_mf_params *p)
     return (p->phyp1 > R_ZERO) && (p->qdrp1 > R_ZERO) && (p->qdrp1 < RC(2.0));
 }
 
-grip_status_t grip_mf_check_params_detail(const grip_mf_params *p, grip_check_detail_t *detail)
+grip_status_t mf_check_options(const grip_mf_params *p, uint32_t opts, uint32_t accepted,
+                               grip_check_detail_t *detail)
 {
     check_clear(detail);
     if (p == NULL) {
         return GRIP_ERR_NULL;
     }
-    if (!mf_params_usable_detail(p, GRIP_MF_OPT_ALL, detail)) {
+    if (!mf_params_usable_opts(p, opts, accepted, detail)) {
         return GRIP_ERR_PARAM;
     }
     /* a set that asks for turn slip must have its coefficients */
-    if ((p->options & GRIP_MF_OPT_TURN_SLIP) != 0u) {
+    if ((opts & GRIP_MF_OPT_TURN_SLIP) != 0u) {
         if (!(p->phyp1 > R_ZERO)) {
             (void)check_fail(detail, "", -1, "phyp1", "> 0 with GRIP_MF_OPT_TURN_SLIP");
             return GRIP_ERR_PARAM;
@@ -106,6 +113,11 @@ grip_status_t grip_mf_check_params_detail(const grip_mf_params *p, grip_check_de
     GRIP_MF_COEFFICIENTS(MF_CHECK_FINITE)
 #undef MF_CHECK_FINITE
     return GRIP_OK;
+}
+
+grip_status_t grip_mf_check_params_detail(const grip_mf_params *p, grip_check_detail_t *detail)
+{
+    return mf_check_options(p, (p != NULL) ? p->options : 0u, GRIP_MF_OPT_ALL, detail);
 }
 
 grip_status_t grip_mf_check_params(const grip_mf_params *p)

@@ -89,11 +89,10 @@ static MF_ALWAYS_INLINE void mf_long_pure(const grip_mf_params *p, const mf_op *
                                           grip_real_t emax, mf_long *out)
 {
     grip_real_t dfz = op->dfz;
-    grip_real_t dpi = op->dpi;
     grip_real_t shx = r_mul(r_mul(r_add(p->phx1, r_mul(p->phx2, dfz)), p->lhx), op->smooth); /* 4.E17 */
     grip_real_t kx = r_add(op->kappa, shx);                                          /* 4.E10 */
     grip_real_t cx = r_mul(p->pcx1, p->lcx);                                         /* 4.E11 */
-    grip_real_t mux = mf_mux(p, dfz, dpi, op->gmux, op->lmux_s);                     /* 4.E13 */
+    grip_real_t mux = mf_mux_dp(p, dfz, mf_dp(p, op->dp, op->dpi, MF_DP_PX_MU), op->gmux, op->lmux_s);  /* 4.E13 */
     grip_real_t dx = (ts != NULL) ? r_mul(mux, ts->z1) : mux;                        /* 4.E12 */
     grip_real_t ex = r_mul(r_mul(r_add(p->pex1, r_add(r_mul(p->pex2, dfz), r_mul(p->pex3, r_sq(dfz)))),
                                  r_sub(R_ONE, r_mul(p->pex4, r_sign(kx)))),
@@ -101,7 +100,7 @@ static MF_ALWAYS_INLINE void mf_long_pure(const grip_mf_params *p, const mf_op *
     /* Kxk / Fz: the slip stiffness per unit load, so that Bx is formed
      * without dividing two loads (4.E15, 4.E16). */
     grip_real_t kx_per = r_mul(r_mul(r_mul(r_add(p->pkx1, r_mul(p->pkx2, dfz)), r_exp(r_mul(p->pkx3, dfz))),
-                                     r_add(R_ONE, r_add(r_mul(p->ppx1, dpi), r_mul(p->ppx2, r_sq(dpi))))),
+                                     mf_dp(p, op->dp, op->dpi, MF_DP_PX_K)),
                                p->lkx);
     grip_real_t bx = mf_div_lim(kx_per, r_mul(cx, dx), MF_LIM_B);                    /* 4.E16 */
     grip_real_t svx = r_mul(r_mul(r_mul(r_add(p->pvx1, r_mul(p->pvx2, dfz)), p->lvx), op->lmux_p),
@@ -132,10 +131,9 @@ typedef struct {
 static MF_ALWAYS_INLINE void mf_lat_common_init(const grip_mf_params *p, const mf_op *op, mf_lat_common *c)
 {
     grip_real_t dfz = op->dfz;
-    grip_real_t dpi = op->dpi;
-    c->kyb = r_mul(p->pky1, r_add(R_ONE, r_mul(p->ppy1, dpi)));
-    c->kyd = r_add(R_ONE, r_mul(p->ppy2, dpi));
-    c->mub = r_mul(r_add(p->pdy1, r_mul(p->pdy2, dfz)), r_add(R_ONE, r_add(r_mul(p->ppy3, dpi), r_mul(p->ppy4, r_sq(dpi)))));
+    c->kyb = mf_dp(p, op->dp, op->dpi, MF_DP_KYB);
+    c->kyd = mf_dp(p, op->dp, op->dpi, MF_DP_KYD);
+    c->mub = r_mul(r_add(p->pdy1, r_mul(p->pdy2, dfz)), mf_dp(p, op->dp, op->dpi, MF_DP_PY_MU));
     c->svb = r_mul(r_mul(r_add(p->pvy1, r_mul(p->pvy2, dfz)), p->lvy), op->lmuy_p);
     c->shb = r_mul(r_add(p->phy1, r_mul(p->phy2, dfz)), p->lhy);
     c->eyb = r_add(p->pey1, r_mul(p->pey2, dfz));
@@ -148,7 +146,6 @@ static MF_ALWAYS_INLINE void mf_lat_body(const grip_mf_params *p, const mf_op *o
                                          grip_real_t g, const mf_ts *ts, grip_real_t emax, mf_lat *out)
 {
     grip_real_t dfz = op->dfz;
-    grip_real_t dpi = op->dpi;
     grip_real_t g2 = r_sq(g);
     /* Cornering stiffness (4.E25); the arctangent of a quotient whose
      * denominator PKY2 + PKY5 gamma^2 may pass through zero. */
@@ -160,7 +157,7 @@ static MF_ALWAYS_INLINE void mf_lat_body(const grip_mf_params *p, const mf_op *o
                             p->lky);
     grip_real_t muy = r_mul(r_mul(c->mub, r_sub(R_ONE, r_mul(p->pdy3, g2))), op->lmuy_s);         /* 4.E23 */
     grip_real_t dy = muy;                                                                         /* 4.E22 */
-    grip_real_t svyg = r_mul(r_mul(r_mul(r_add(p->pvy3, r_mul(p->pvy4, dfz)), g), op->kyc), op->lmuy_p); /* 4.E28 */
+    grip_real_t svyg = r_mul(r_mul(r_mul(r_add(p->pvy3, r_mul(p->pvy4, dfz)), g), MF_KYC(p, op)), op->lmuy_p); /* 4.E28 */
     grip_real_t svb = c->svb;
     grip_real_t svy;
     grip_real_t shy = c->shb;
@@ -187,8 +184,7 @@ static MF_ALWAYS_INLINE void mf_lat_body(const grip_mf_params *p, const mf_op *o
     } else {
         /* MF 6.x: the camber shift follows from the camber stiffness Kyg0
          * (4.E30) and SVyg (4.E27). */
-        grip_real_t kyg0 = r_mul(r_mul(r_add(p->pky6, r_mul(p->pky7, dfz)), r_add(R_ONE, r_mul(p->ppy5, dpi))),
-                                 op->kyc);
+        grip_real_t kyg0 = r_mul(r_mul(r_add(p->pky6, r_mul(p->pky7, dfz)), mf_dp(p, op->dp, op->dpi, MF_DP_PY_G)), MF_KYC(p, op));
         shy = r_add(shy, mf_div_lim(r_sub(r_mul(kyg0, g), svyg), kya, MF_LIM_SHIFT));
     }
     /* Low speed: the shifts fade out with the speed. */
@@ -215,10 +211,9 @@ static MF_ALWAYS_INLINE void mf_trail_body(const grip_mf_params *p, const mf_op 
                                            grip_real_t emax, mf_trail *out)
 {
     grip_real_t dfz = op->dfz;
-    grip_real_t dpi = op->dpi;
     grip_real_t g = op->gz;
     grip_real_t ga = r_abs(g);
-    grip_real_t ky_mu = mf_div_lim(p->lky, op->lmuy_s, MF_LIM_RATIO);       /* LKY / LMUY* */
+    grip_real_t ky_mu = op->ky_mu;                                          /* LKY / LMUY* */
     grip_real_t sht = r_add(r_add(p->qhz1, r_mul(p->qhz2, dfz)), r_mul(r_add(p->qhz3, r_mul(p->qhz4, dfz)), g));
     /* grip-deviation: clang-analyzer-core.CallAndMessage false positive: mf_lat_pure writes every field of *lat (the analyzer stops following mf_lat_body) */
     grip_real_t shf = r_add(lat->shy, mf_div_lim(lat->svy, lat->kya, MF_LIM_SHIFT));              /* 4.E38 */
@@ -239,7 +234,7 @@ static MF_ALWAYS_INLINE void mf_trail_body(const grip_mf_params *p, const mf_op 
         bt_cam = r_add(R_ONE, r_add(r_mul(p->qbz4, g), r_mul(p->qbz5, ga)));
     }
     /* Dt / R0 = (Fz / Fz0') (QDZ1 + QDZ2 dfz)(1 - PPZ1 dpi) (...) LTR  (4.E42-43) */
-    dt = r_mul(r_mul(r_mul(r_mul(op->fzp, r_add(p->qdz1, r_mul(p->qdz2, dfz))), r_sub(R_ONE, r_mul(p->ppz1, dpi))),
+    dt = r_mul(r_mul(r_mul(r_mul(op->fzp, r_add(p->qdz1, r_mul(p->qdz2, dfz))), mf_dp(p, op->dp, op->dpi, MF_DP_PZ_T)),
                      dt_cam),
                p->ltr);
     bt = r_mul(r_mul(r_add(p->qbz1, r_add(r_mul(p->qbz2, dfz), r_mul(p->qbz3, r_sq(dfz)))), bt_cam), ky_mu);
@@ -254,10 +249,10 @@ static MF_ALWAYS_INLINE void mf_trail_body(const grip_mf_params *p, const mf_op 
     out->bt = bt;
     out->br = r_add(r_mul(p->qbz9, ky_mu), r_mul(r_mul(p->qbz10, lat->by), lat->cy));            /* 4.E45 */
     /* Dr / (Fz R0)                                                         (4.E47) */
-    dr_cam = r_mul(r_mul(r_add(r_mul(r_add(p->qdz8, r_mul(p->qdz9, dfz)), r_add(R_ONE, r_mul(p->ppz2, dpi))),
+    dr_cam = r_mul(r_mul(r_add(r_mul(r_add(p->qdz8, r_mul(p->qdz9, dfz)), mf_dp(p, op->dp, op->dpi, MF_DP_PZ_R)),
                                r_mul(r_add(MF6_ONLY(op, p->qdz10), r_mul(MF6_ONLY(op, p->qdz11), dfz)), ga)),
                          g),
-                   op->kzc);
+                   MF_KZC(p, op));
     dr = r_mul(r_add(r_mul(r_add(p->qdz6, r_mul(p->qdz7, dfz)), p->lres), dr_cam), op->lmuy_s);
     /* sgn(Vcx) cos'(alpha), with |Vx| for Vx (see mf_prepare). */
     out->dr = r_mul(dr, op->cosa);
@@ -366,12 +361,59 @@ static MF_ALWAYS_INLINE grip_real_t mf_dpi(const grip_mf_params *p, grip_real_t 
 }
 
 
-/* mode: the use-mode bits of an extended evaluation (ext); the plain ones
- * take the set's options. */
-static MF_ALWAYS_INLINE grip_status_t mf_prepare(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode,
-                                                 mf_op *op, mf_io *io, int ext)
+/* FITTYP of MF 5.2 / PAC2002. */
+static MF_ALWAYS_INLINE int mf_is_52(const grip_mf_params *p)
 {
-    uint32_t opt = ext ? mode : p->options;
+    return (p->fittyp == 5) || (p->fittyp == 6) || (p->fittyp == 21);
+}
+
+/* TYRESIDE: the characteristics are those of a tyre on the left side of
+ * the vehicle (a RIGHT file is mirrored) or, with GRIP_MF_OPT_RIGHT_SIDE,
+ * on the right side (a LEFT file is mirrored); GRIP_MF_OPT_MIRROR once
+ * more. */
+static MF_ALWAYS_INLINE int mf_mirror(const grip_mf_params *p, uint32_t opt)
+{
+    return ((opt & GRIP_MF_OPT_MIRROR) != 0u) ^ (p->tyreside == (((opt & GRIP_MF_OPT_RIGHT_SIDE) != 0u) ? 1 : -1));
+}
+
+/* LMU' of LMU* (4.E8): the book's A_mu = 10, LMU' = 10 LMU* / (1 + 9 LMU*);
+ * MF-Tyre's A_mu = 1, LMU' = LMU*. */
+static MF_ALWAYS_INLINE grip_real_t mf_lmu_prime(int book, grip_real_t lmu_s)
+{
+    if (book) {
+        return mf_div_lim(r_mul(RC(10.0), lmu_s), r_add(R_ONE, r_mul(RC(9.0), lmu_s)), RC(10.0));
+    }
+    return lmu_s;
+}
+
+/* LMU* = LMU / (1 + LMUV Vs / V0), friction decaying with the slip speed
+ * Vs = |Vx| sqrt(kappa^2 + tan^2 alpha), multiplied through by |cos alpha|
+ * so that alpha = pi/2 needs no division (4.E7); LMU' (4.E8) and
+ * LKY / LMUY*. op->lmux_s, lmuy_s hold LMUX, LMUY; op->cosa, book formed. */
+static MF_ALWAYS_INLINE void mf_lmu(const grip_mf_params *p, mf_op *op, grip_real_t vx, grip_real_t kappa,
+                                    grip_real_t sa, grip_real_t ca)
+{
+    if (p->lmuv > R_ZERO) {
+        grip_real_t vs = r_mul(r_mul(p->lmuv, r_div(r_abs(vx), p->longvl)), mf_hypot(r_mul(kappa, ca), sa));
+        grip_real_t f = mf_div_lim(op->cosa, r_add(op->cosa, vs), R_ONE);
+        op->lmux_s = r_mul(f, p->lmux);
+        op->lmuy_s = r_mul(f, p->lmuy);
+    }
+    op->lmux_p = mf_lmu_prime(op->book, op->lmux_s);
+    op->lmuy_p = mf_lmu_prime(op->book, op->lmuy_s);
+    op->ky_mu = mf_div_lim(p->lky, op->lmuy_s, MF_LIM_RATIO);
+}
+
+/* mode: the use-mode bits of an extended evaluation (ext); the plain ones
+ * take the set's options. k: a prepared set (grip_mf_prepare) of p, whose
+ * decisions and constants replace the checks and the forms below (p is
+ * k->p); NULL (a constant in each caller, so that the test compiles away)
+ * for the unprepared evaluations. */
+static MF_ALWAYS_INLINE grip_status_t mf_prepare(const grip_mf_params *p, const grip_mf_prepared *k,
+                                                 const grip_mf_input *in, uint32_t mode, mf_op *op, mf_io *io,
+                                                 int ext)
+{
+    uint32_t opt = ext ? mode : ((k != NULL) ? k->options : p->options);
     int limits = 1;
     int clamped = 0;
     grip_real_t kappa = in->kappa;
@@ -386,8 +428,9 @@ static MF_ALWAYS_INLINE grip_status_t mf_prepare(const grip_mf_params *p, const 
     if (ext && ((mode & GRIP_MF_OPT_NO_LIMITS) != 0u)) {
         limits = 0;
     }
-    /* the plain evaluations refuse a set with a use mode, at no cost */
-    if (!(ext ? mf_params_usable(p) : mf_params_usable_plain(p))) {
+    /* the plain evaluations refuse a set with a use mode, at no cost; a
+     * prepared set was checked once, by grip_mf_prepare */
+    if ((k == NULL) && !(ext ? mf_params_usable(p) : mf_params_usable_plain(p))) {
         return GRIP_ERR_PARAM;
     }
     if (!r_is_finite(kappa) || !r_is_finite(alpha) || !r_is_finite(gamma) || !r_is_finite(fz) ||
@@ -396,19 +439,23 @@ static MF_ALWAYS_INLINE grip_status_t mf_prepare(const grip_mf_params *p, const 
     }
 
     /* Sign conventions -> ISO-W. */
-    io->sae = (opt & GRIP_MF_OPT_SAE) != 0u;
+    if (k != NULL) {
+        io->sae = (k->flags & MF_PF_SAE) != 0u;
+    } else {
+        io->sae = (opt & GRIP_MF_OPT_SAE) != 0u;
+    }
     if (io->sae) {
         alpha = r_neg(alpha);          /* rotation about z: z points down in SAE */
         fz = r_neg(fz);                /* a loaded tyre has Fz < 0 in SAE        */
     }
-    if ((opt & GRIP_MF_OPT_KAPPA_BRAKE) != 0u) {
+    if ((k != NULL) ? ((k->flags & MF_PF_KAPPA_BRAKE) != 0u) : ((opt & GRIP_MF_OPT_KAPPA_BRAKE) != 0u)) {
         kappa = r_neg(kappa);
     }
-    /* TYRESIDE: the characteristics are those of a tyre on the left side of
-     * the vehicle (a RIGHT file is mirrored) or, with GRIP_MF_OPT_RIGHT_SIDE,
-     * on the right side (a LEFT file is mirrored). */
-    io->mirror = ((opt & GRIP_MF_OPT_MIRROR) != 0u) ^
-                 (p->tyreside == (((opt & GRIP_MF_OPT_RIGHT_SIDE) != 0u) ? 1 : -1));
+    if (k != NULL) {
+        io->mirror = (k->flags & MF_PF_MIRROR) != 0u;
+    } else {
+        io->mirror = mf_mirror(p, opt);
+    }
     if (io->mirror) {
         alpha = r_neg(alpha);
         gamma = r_neg(gamma);
@@ -418,29 +465,46 @@ static MF_ALWAYS_INLINE grip_status_t mf_prepare(const grip_mf_params *p, const 
      * operating point is still formed, at Fz = 0, for the extended outputs
      * of the unloaded wheel. */
     io->zero = !(fz > R_ZERO);
-    op->book = (opt & GRIP_MF_OPT_BOOK) != 0u;
-    op->mf52 = (p->fittyp == 5) || (p->fittyp == 6) || (p->fittyp == 21);
+    if (k != NULL) {
+        op->book = (k->flags & MF_PF_BOOK) != 0u;
+        op->mf52 = (k->flags & MF_PF_MF52) != 0u;
+    } else {
+        op->book = (opt & GRIP_MF_OPT_BOOK) != 0u;
+        op->mf52 = mf_is_52(p);
+    }
     kappa = mf_clamp_sym(kappa, RC(GRIP_MF_KAPPA_MAX), &clamped);
     alpha = mf_clamp_sym(alpha, op->book ? RC(GRIP_MF_ALPHA_MAX_BOOK) : RC(GRIP_MF_ALPHA_MAX), &clamped);
     gamma = mf_clamp_sym(gamma, RC(GRIP_MF_GAMMA_MAX), &clamped);
     vx = mf_clamp_sym(vx, RC(GRIP_MF_VX_MAX), &clamped);
-    if (io->zero) {
-        fz = R_ZERO;
-    } else if (fz > r_mul(RC(GRIP_MF_FZ_MAX_REL), p->fnomin)) {
-        fz = r_mul(RC(GRIP_MF_FZ_MAX_REL), p->fnomin);
-        clamped = 1;
-    } else {
-        /* in the domain */
+    {
+        grip_real_t fz_max = (k != NULL) ? k->fz_max : r_mul(RC(GRIP_MF_FZ_MAX_REL), p->fnomin);
+        if (io->zero) {
+            fz = R_ZERO;
+        } else if (fz > fz_max) {
+            fz = fz_max;
+            clamped = 1;
+        } else {
+            /* in the domain */
+        }
     }
 
     op->fz_ql = fz;
     op->fz = r_div(fz, p->fnomin);
     op->fzp = r_div(op->fz, p->lfzo);                                               /* 4.E1 */
     op->dfz = r_sub(op->fzp, R_ONE);                                                /* 4.E2a */
-    op->dpi = mf_dpi(p, pr, op->mf52, &clamped);
+    if ((k != NULL) && !(pr > R_ZERO)) {
+        /* the default pressure: its dpi and factors were formed once */
+        op->dpi = k->dpi0;
+        if ((k->flags & MF_PF_DPI0_CLAMP) != 0u) {
+            clamped = 1;
+        }
+    } else {
+        op->dpi = mf_dpi(p, pr, op->mf52, &clamped);
+    }
     if (io->zero) {
         return GRIP_OK;
     }
+    op->dp = ((k != NULL) && !(pr > R_ZERO)) ? k->dp : NULL;
 
     /* Low-speed model (VXLOW), as MF-Tyre: for |Vx| <= VXLOW kappa fades
      * linearly with the speed (times |Vx| / VXLOW) and the shifts, the trail
@@ -488,25 +552,15 @@ static MF_ALWAYS_INLINE grip_status_t mf_prepare(const grip_mf_params *p, const 
         op->gamma = gamma;
     }
 
-    /* Friction decaying with slip speed, LMU* = LMU / (1 + LMUV Vs / V0) with
-     * Vs = |Vx| sqrt(kappa^2 + tan^2 alpha), multiplied through by |cos alpha|
-     * so that alpha = pi/2 needs no division (4.E7). */
     op->lmux_s = p->lmux;
     op->lmuy_s = p->lmuy;
-    if (p->lmuv > R_ZERO) {
-        grip_real_t vs = r_mul(r_mul(p->lmuv, r_div(r_abs(vx), p->longvl)), mf_hypot(r_mul(kappa, ca), sa));
-        grip_real_t f = mf_div_lim(op->cosa, r_add(op->cosa, vs), R_ONE);
-        op->lmux_s = r_mul(f, p->lmux);
-        op->lmuy_s = r_mul(f, p->lmuy);
-    }
-    if (op->book) {
-        /* A_mu = 10: LMU' = 10 LMU* / (1 + 9 LMU*) (4.E8). */
-        op->lmux_p = mf_div_lim(r_mul(RC(10.0), op->lmux_s), r_add(R_ONE, r_mul(RC(9.0), op->lmux_s)), RC(10.0));
-        op->lmuy_p = mf_div_lim(r_mul(RC(10.0), op->lmuy_s), r_add(R_ONE, r_mul(RC(9.0), op->lmuy_s)), RC(10.0));
+    if ((k != NULL) && ((k->flags & MF_PF_LMU_CONST) != 0u)) {
+        /* LMUV = 0: LMU' and LKY / LMUY* were formed once */
+        op->lmux_p = k->lmux_p;
+        op->lmuy_p = k->lmuy_p;
+        op->ky_mu = k->ky_mu;
     } else {
-        /* MF-Tyre: A_mu = 1, so LMU' = LMU*. */
-        op->lmux_p = op->lmux_s;
-        op->lmuy_p = op->lmuy_s;
+        mf_lmu(p, op, vx, kappa, sa, ca);
     }
 
     op->gmux = op->mf52 ? r_mul(gamma, p->lgax) : gamma;
@@ -514,14 +568,10 @@ static MF_ALWAYS_INLINE grip_status_t mf_prepare(const grip_mf_params *p, const 
         op->gx = r_mul(op->gamma, p->lgax);
         op->gy = r_mul(op->gamma, p->lgay);
         op->gz = r_mul(op->gamma, p->lgaz);
-        op->kyc = R_ONE;
-        op->kzc = R_ONE;
     } else {
         op->gx = op->gamma;
         op->gy = op->gamma;
         op->gz = op->gamma;
-        op->kyc = p->lkyc;
-        op->kzc = p->lkzc;
     }
     return clamped ? GRIP_WARN_CLAMPED : GRIP_OK;
 }
@@ -556,8 +606,9 @@ static grip_status_t mf_finish(const grip_mf_params *p, const mf_op *op, const m
  * otherwise; a set that asks for turn slip where the evaluation has none
  * (grip_mf_eval, grip_mf_eval_pure) or that lacks the turn-slip
  * coefficients is refused. */
-static MF_ALWAYS_INLINE grip_status_t mf_begin(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode,
-                                               const mf_ts *ts, int ext, grip_mf_output *out, mf_op *op, mf_io *io)
+static MF_ALWAYS_INLINE grip_status_t mf_begin(const grip_mf_params *p, const grip_mf_prepared *k,
+                                               const grip_mf_input *in, uint32_t mode, const mf_ts *ts, int ext,
+                                               grip_mf_output *out, mf_op *op, mf_io *io)
 {
     grip_status_t st;
     if (out == NULL) {
@@ -572,7 +623,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_begin(const grip_mf_params *p, const gr
     if (ext && ((mode & GRIP_MF_OPT_TURN_SLIP) != 0u) && ((ts == NULL) || !mf_turn_slip_usable(p))) {
         return GRIP_ERR_PARAM;
     }
-    st = mf_prepare(p, in, mode, op, io, ext);
+    st = mf_prepare(p, k, in, mode, op, io, ext);
     if ((st == GRIP_OK) && io->zero) {
         return GRIP_OK;
     }
@@ -696,7 +747,7 @@ static MF_NOINLINE int mf_ts_begin(const grip_mf_params *p, const grip_mf_input 
                                        p->lky),
                                  ts->z3);
         grip_real_t kyg0 = r_mul(r_mul(r_add(p->pky6, r_mul(p->pky7, dfz)), r_add(R_ONE, r_mul(p->ppy5, op->dpi))),
-                                 op->kyc);
+                                 MF_KYC(p, op));
         grip_real_t dhyp = r_add(p->phyp2, r_mul(p->phyp3, dfz));                             /* 4.86 */
         grip_real_t bhyp = mf_div_lim(kyg0, r_mul(r_mul(ts->one_eg, r_mul(p->phyp1, dhyp)), kya0), MF_LIM_B);
         ts->shyp = mf_sin_curve(bhyp, p->phyp1, dhyp, r_min(p->phyp4, mf_emax(mode)), u);
@@ -730,10 +781,10 @@ static MF_NOINLINE grip_real_t mf_ts_moment(const grip_mf_params *p, const mf_op
     grip_real_t x;
     grip_real_t f90 = r_mul(r_mul(m, MF_2_OVER_PI), gyk);
     if (ts->camber) {
-        kz = r_mul(r_add(r_add(p->qdz8, r_mul(p->qdz9, dfz)), r_mul(r_add(q10, r_mul(q11, dfz)), ts->gabs)), op->kzc);
+        kz = r_mul(r_add(r_add(p->qdz8, r_mul(p->qdz9, dfz)), r_mul(r_add(q10, r_mul(q11, dfz)), ts->gabs)), MF_KZC(p, op));
         arg = ts->u;
     } else {
-        kz = r_mul(r_add(r_mul(r_mul(p->qdz8, p->qdz9), dfz), r_add(q10, r_mul(r_mul(q11, dfz), ts->gabs))), op->kzc);
+        kz = r_mul(r_add(r_mul(r_mul(p->qdz8, p->qdz9), dfz), r_add(q10, r_mul(r_mul(q11, dfz), ts->gabs))), MF_KZC(p, op));
         arg = ts->ut;
     }
     den = r_mul(p->qdrp1, ddrp);
@@ -754,10 +805,10 @@ static MF_NOINLINE grip_real_t mf_ts_moment(const grip_mf_params *p, const mf_op
 
 /* Status of the evaluation; the caller returns it at once when it is an
  * error or when io.zero (Fz <= 0: zero outputs). */
-static grip_status_t mf_pure_begin(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out,
-                                   mf_pure *s)
+static MF_ALWAYS_INLINE grip_status_t mf_pure_begin_body(const grip_mf_params *p, const grip_mf_prepared *k,
+                                                         const grip_mf_input *in, grip_mf_output *out, mf_pure *s)
 {
-    grip_status_t st = mf_begin(p, in, 0u, NULL, 0, out, &s->op, &s->io);
+    grip_status_t st = mf_begin(p, k, in, 0u, NULL, 0, out, &s->op, &s->io);
     if ((st < 0) || s->io.zero) {
         return st;
     }
@@ -765,6 +816,20 @@ static grip_status_t mf_pure_begin(const grip_mf_params *p, const grip_mf_input 
     mf_lat_common_init(p, &s->op, &s->latc);
     return st;
 }
+
+static grip_status_t mf_pure_begin(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out,
+                                   mf_pure *s)
+{
+    return mf_pure_begin_body(p, NULL, in, out, s);
+}
+
+/* The same with a prepared set (p = k->p, not NULL). */
+static grip_status_t mf_pure_begin_prep(const grip_mf_prepared *k, const grip_mf_input *in, grip_mf_output *out,
+                                        mf_pure *s)
+{
+    return mf_pure_begin_body(k->p, k, in, out, s);
+}
+
 
 /* The same with the use modes of `mode` (mf_pure_begin_x), in three steps
  * called one after the other from the evaluation, so that their frames do
@@ -774,7 +839,7 @@ static grip_status_t mf_pure_begin(const grip_mf_params *p, const grip_mf_input 
 static MF_NOINLINE grip_status_t mf_begin_x(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode,
                                             const mf_ts *ts, grip_mf_output *out, mf_pure *s)
 {
-    return mf_begin(p, in, mode, ts, 1, out, &s->op, &s->io);
+    return mf_begin(p, NULL, in, mode, ts, 1, out, &s->op, &s->io);
 }
 
 static MF_NOINLINE void mf_pure_rest_x(const grip_mf_params *p, mf_pure *s, const mf_ts *ts, grip_real_t emax)
@@ -817,13 +882,16 @@ static MF_ALWAYS_INLINE const mf_lat *mf_lat_gamma0(const grip_mf_params *p, mf_
     return &s->lat0;
 }
 
-grip_status_t grip_mf_eval_pure(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out)
+/* The pure-slip evaluation, unprepared (k NULL) or with the prepared set k
+ * of p (a constant in each caller). */
+static MF_ALWAYS_INLINE grip_status_t mf_pure_eval(const grip_mf_params *p, const grip_mf_prepared *k,
+                                                   const grip_mf_input *in, grip_mf_output *out)
 {
     mf_pure s;
     grip_real_t fy_ref;
     grip_real_t t0;
     grip_real_t mz0;
-    grip_status_t st = mf_pure_begin(p, in, out, &s);
+    grip_status_t st = (k != NULL) ? mf_pure_begin_prep(k, in, out, &s) : mf_pure_begin(p, in, out, &s);
     if ((st < 0) || s.io.zero) {
         return st;
     }
@@ -831,6 +899,7 @@ grip_status_t grip_mf_eval_pure(const grip_mf_params *p, const grip_mf_input *in
     mf_trail_coefs(p, &s.op, &s.lat, &s.tc);
     /* Mz0' = -t0 Fy0 (4.E32). MF 6.x uses Fy0 at gamma = 0 (camber acts on
      * Mz through Mzr); MF 5.2 the pure lateral force itself. */
+    /* grip-deviation: clang-analyzer-core.uninitialized.Assign false positive: mf_lat_pure writes every field of s.lat and s.lat0 (the analyzer stops following mf_lat_body) */
     fy_ref = s.op.mf52 ? s.lat.fy0 : mf_lat_gamma0(p, &s, NULL, 0, R_ONE)->fy0;
     t0 = mf_trail_at(&s.op, &s.tc, s.tc.alpha_t);                          /* 4.E33 */
     if (!s.op.book) {
@@ -841,6 +910,11 @@ grip_status_t grip_mf_eval_pure(const grip_mf_params *p, const grip_mf_input *in
     mz0 = r_sub(r_mul(mf_residual_at(&s.tc, s.tc.alpha_r), s.op.cosa), r_mul(t0, fy_ref));  /* 4.E31 */
     mz0 = r_mul(mz0, s.op.smooth);                                          /* low speed */
     return mf_finish(p, &s.op, &s.io, st, s.lon.fx0, s.lat.fy0, mz0, out);
+}
+
+grip_status_t grip_mf_eval_pure(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out)
+{
+    return mf_pure_eval(p, NULL, in, out);
 }
 
 /* Magnitude of the equivalent slip angle of the combined aligning moment
@@ -867,9 +941,9 @@ static grip_real_t mf_alpha_eq(const mf_op *op, grip_real_t a, grip_real_t kxk, 
  * extended outputs (mf_core); ext (a constant in each caller): with the use
  * modes of `mode` (the _x variants); re: Re / R0 for turn slip's estimate
  * of Omega (mf_ts_radius). Inlined into its callers. */
-static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const grip_mf_input *in,
-                                                  const grip_mf_spin *spin, uint32_t mode, grip_real_t re,
-                                                  grip_mf_output *out, mf_core *x, int ext)
+static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const grip_mf_prepared *k,
+                                                  const grip_mf_input *in, const grip_mf_spin *spin, uint32_t mode,
+                                                  grip_real_t re, grip_mf_output *out, mf_core *x, int ext)
 {
     mf_pure s;
     mf_ts ts = { R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, 0 };
@@ -890,7 +964,11 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
     grip_status_t st;
     const mf_op *op = &s.op;
     ts.re = re;
-    st = ext ? mf_pure_begin_x(p, in, spin, mode, emax, out, &s, tsp) : mf_pure_begin(p, in, out, &s);
+    if (ext) {
+        st = mf_pure_begin_x(p, in, spin, mode, emax, out, &s, tsp);
+    } else {
+        st = (k != NULL) ? mf_pure_begin_prep(k, in, out, &s) : mf_pure_begin(p, in, out, &s);
+    }
     if ((x != NULL) && (st >= 0)) {
         x->op.mode = mode;
         x->op.fz_ql = s.op.fz_ql;
@@ -954,7 +1032,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
          * with mu_y at gamma = 0 (its muy_sub0; RVY3 keeps gamma); with
          * GRIP_MF_OPT_MZ52_SVYK_CAMBER the SVyk of Fy itself. */
         svyk_mz = svyk;
-        if (op->mf52 && ((p->options & GRIP_MF_OPT_MZ52_SVYK_CAMBER) == 0u)) {
+        if (op->mf52 && ((((k != NULL) ? k->options : p->options) & GRIP_MF_OPT_MZ52_SVYK_CAMBER) == 0u)) {
             grip_real_t muy0 = r_mul(s.latc.mub, op->lmuy_s);
             svyk_mz = r_mul(r_mul(r_mul(r_mul(r_mul(muy0, dvy), dva), svk), p->lvyka), op->smooth);
         }
@@ -1008,7 +1086,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
 
 grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out)
 {
-    return mf_combined(p, in, NULL, 0u, R_ZERO, out, NULL, 0);
+    return mf_combined(p, NULL, in, NULL, 0u, R_ZERO, out, NULL, 0);
 }
 
 /* The two variants of the extended evaluation, functions of their own
@@ -1017,13 +1095,13 @@ grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, gri
 grip_status_t mf_eval_core(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode, grip_mf_output *out,
                            mf_core *x)
 {
-    return mf_combined(p, in, NULL, mode, R_ZERO, out, x, 0);
+    return mf_combined(p, NULL, in, NULL, mode, R_ZERO, out, x, 0);
 }
 
 grip_status_t mf_eval_core_use(const grip_mf_params *p, const grip_mf_input *in, const grip_mf_spin *spin,
                                uint32_t mode, grip_real_t re, grip_mf_output *out, mf_core *x)
 {
-    return mf_combined(p, in, spin, mode, re, out, x, 1);
+    return mf_combined(p, NULL, in, spin, mode, re, out, x, 1);
 }
 
 grip_real_t mf_ts_radius(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode)
@@ -1037,9 +1115,107 @@ grip_real_t mf_ts_radius(const grip_mf_params *p, const grip_mf_input *in, uint3
     if (!mf_params_usable(p) || !(fz > R_ZERO)) {
         return R_ZERO;
     }
-    if ((p->fittyp == 5) || (p->fittyp == 6) || (p->fittyp == 21)) {
+    if (mf_is_52(p)) {
         mf52 = 1;
     }
     fz = r_min(fz, r_mul(RC(GRIP_MF_FZ_MAX_REL), p->fnomin));
     return mf_rolling_radius(p, kap, vx, r_div(fz, p->fnomin), mf_dpi(p, in->p, mf52, &ignored));
+}
+
+/* ------------------------------------------------------ prepared sets */
+
+/* out and prep of a prepared evaluation: GRIP_OK to go on, else the
+ * status (outputs zeroed when out is not NULL). */
+static MF_ALWAYS_INLINE grip_status_t mf_prepared_ready(const grip_mf_prepared *k, grip_mf_output *out)
+{
+    if (out == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    out->fx = R_ZERO;
+    out->fy = R_ZERO;
+    out->mz = R_ZERO;
+    if (k == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    if (k->p == NULL) {
+        return GRIP_ERR_PARAM;
+    }
+    return GRIP_OK;
+}
+
+grip_status_t grip_mf_eval_prepared(const grip_mf_prepared *prep, const grip_mf_input *in, grip_mf_output *out)
+{
+    grip_status_t st = mf_prepared_ready(prep, out);
+    if (st != GRIP_OK) {
+        return st;
+    }
+    return mf_combined(prep->p, prep, in, NULL, 0u, R_ZERO, out, NULL, 0);
+}
+
+grip_status_t grip_mf_eval_pure_prepared(const grip_mf_prepared *prep, const grip_mf_input *in,
+                                         grip_mf_output *out)
+{
+    grip_status_t st = mf_prepared_ready(prep, out);
+    if (st != GRIP_OK) {
+        return st;
+    }
+    return mf_pure_eval(prep->p, prep, in, out);
+}
+
+/* The constants of the set under `options`, each formed by the expression
+ * the unprepared evaluation uses (mf_prepare, mf_lmu, mf_dp_form), so that
+ * the prepared evaluation is bit-identical to it. */
+static void mf_prepare_fill(const grip_mf_params *p, uint32_t options, grip_mf_prepared *k)
+{
+    int i;
+    int clamped = 0;
+    int mf52 = mf_is_52(p);
+    int book = 0;
+    uint32_t f = 0u;
+    if ((options & GRIP_MF_OPT_BOOK) != 0u) {
+        book = 1;
+    }
+    f |= mf52 ? MF_PF_MF52 : 0u;
+    f |= book ? MF_PF_BOOK : 0u;
+    f |= ((options & GRIP_MF_OPT_SAE) != 0u) ? MF_PF_SAE : 0u;
+    f |= ((options & GRIP_MF_OPT_KAPPA_BRAKE) != 0u) ? MF_PF_KAPPA_BRAKE : 0u;
+    f |= mf_mirror(p, options) ? MF_PF_MIRROR : 0u;
+    k->fz_max = r_mul(RC(GRIP_MF_FZ_MAX_REL), p->fnomin);
+    k->dpi0 = mf_dpi(p, R_ZERO, mf52, &clamped);
+    f |= clamped ? MF_PF_DPI0_CLAMP : 0u;
+    for (i = 0; i < GRIP_MF_DP_N; i++) {
+        k->dp[i] = mf_dp_form(p, k->dpi0, i);
+    }
+    k->lmux_p = mf_lmu_prime(book, p->lmux);
+    k->lmuy_p = mf_lmu_prime(book, p->lmuy);
+    k->ky_mu = mf_div_lim(p->lky, p->lmuy, MF_LIM_RATIO);
+    f |= (p->lmuv > R_ZERO) ? 0u : MF_PF_LMU_CONST;
+    k->options = options;
+    k->flags = f;
+    k->p = p;
+}
+
+grip_status_t grip_mf_prepare_detail(const grip_mf_params *p, uint32_t options, grip_mf_prepared *prep,
+                                     grip_check_detail_t *detail)
+{
+    grip_status_t st;
+    if (prep != NULL) {
+        prep->p = NULL;    /* not prepared until the checks pass */
+        prep->options = 0u;
+        prep->flags = 0u;
+    }
+    if ((p == NULL) || (prep == NULL)) {
+        (void)mf_check_options(NULL, 0u, 0u, detail);   /* clears *detail */
+        return GRIP_ERR_NULL;
+    }
+    st = mf_check_options(p, options, GRIP_MF_OPT_ALL & ~(GRIP_MF_OPT_TURN_SLIP | GRIP_MF_OPT_NO_LIMITS), detail);
+    if (st == GRIP_OK) {
+        mf_prepare_fill(p, options, prep);
+    }
+    return st;
+}
+
+grip_status_t grip_mf_prepare(const grip_mf_params *p, uint32_t options, grip_mf_prepared *prep)
+{
+    return grip_mf_prepare_detail(p, options, prep, NULL);
 }

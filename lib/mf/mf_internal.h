@@ -65,11 +65,62 @@ typedef struct {
     grip_real_t gx;      /* camber as it enters Fx, Fy, Mz: gamma* (MF 6.x),   */
     grip_real_t gy;      /* gamma* * LGAX / LGAY / LGAZ (MF 5.2)               */
     grip_real_t gz;
-    grip_real_t kyc;     /* LKYC, LKZC (MF 6.x); 1 (MF 5.2)                    */
-    grip_real_t kzc;
+    grip_real_t ky_mu;   /* LKY / LMUY* (4.E40, 4.E45)                         */
+    const grip_real_t *dp; /* the prepared set's pressure factors (MF_DP_*) at */
+                         /* its default pressure; NULL: formed where used, at  */
+                         /* dpi (a table in the frame would put 32 B on the    */
+                         /* deepest stack path of grip_mf_eval_ext)            */
     int mf52;            /* FITTYP 5, 6, 21                                    */
     int book;            /* GRIP_MF_OPT_BOOK                                   */
 } mf_op;
+
+/* LKYC, LKZC (MF 6.x); 1 (MF 5.2). */
+#define MF_KYC(p, op) ((op)->mf52 ? R_ONE : (p)->lkyc)
+#define MF_KZC(p, op) ((op)->mf52 ? R_ONE : (p)->lkzc)
+
+/* The pressure factors (4.E13, 4.E15, 4.E25, 4.E23, 4.E30, 4.E43, 4.E47):
+ * polynomials in dpi alone, formed where used, or once per set for its
+ * default pressure (grip_mf_prepare). Indices of mf_op.dp and
+ * grip_mf_prepared.dp. */
+#define MF_DP_PX_MU 0    /* 1 + PPX3 dpi + PPX4 dpi^2 (mu_x)                   */
+#define MF_DP_PX_K  1    /* 1 + PPX1 dpi + PPX2 dpi^2 (Kxk)                    */
+#define MF_DP_KYB   2    /* PKY1 (1 + PPY1 dpi) (Kya)                          */
+#define MF_DP_KYD   3    /* 1 + PPY2 dpi (Kya)                                 */
+#define MF_DP_PY_MU 4    /* 1 + PPY3 dpi + PPY4 dpi^2 (mu_y)                   */
+#define MF_DP_PY_G  5    /* 1 + PPY5 dpi (Kyg0)                                */
+#define MF_DP_PZ_T  6    /* 1 - PPZ1 dpi (Dt)                                  */
+#define MF_DP_PZ_R  7    /* 1 + PPZ2 dpi (Dr)                                  */
+
+/* The pressure factor idx at dpi: one expression each, used both where
+ * the evaluation forms it and by grip_mf_prepare (so a prepared set's
+ * factors are an unprepared evaluation's bit for bit). */
+static inline grip_real_t mf_dp_form(const grip_mf_params *p, grip_real_t dpi, int idx)
+{
+    switch (idx) {
+    case MF_DP_PX_MU:
+        return r_add(R_ONE, r_add(r_mul(p->ppx3, dpi), r_mul(p->ppx4, r_sq(dpi))));
+    case MF_DP_PX_K:
+        return r_add(R_ONE, r_add(r_mul(p->ppx1, dpi), r_mul(p->ppx2, r_sq(dpi))));
+    case MF_DP_KYB:
+        return r_mul(p->pky1, r_add(R_ONE, r_mul(p->ppy1, dpi)));
+    case MF_DP_KYD:
+        return r_add(R_ONE, r_mul(p->ppy2, dpi));
+    case MF_DP_PY_MU:
+        return r_add(R_ONE, r_add(r_mul(p->ppy3, dpi), r_mul(p->ppy4, r_sq(dpi))));
+    case MF_DP_PY_G:
+        return r_add(R_ONE, r_mul(p->ppy5, dpi));
+    case MF_DP_PZ_T:
+        return r_sub(R_ONE, r_mul(p->ppz1, dpi));
+    default:
+        return r_add(R_ONE, r_mul(p->ppz2, dpi));   /* MF_DP_PZ_R */
+    }
+}
+
+/* The pressure factor idx of an evaluation: the prepared one, or formed. */
+static inline grip_real_t mf_dp(const grip_mf_params *p, const grip_real_t *dp, grip_real_t dpi, int idx)
+{
+    return (dp != NULL) ? dp[idx] : mf_dp_form(p, dpi, idx);
+}
 
 /* The use-mode bits of an evaluation (GRIP_MF_OPT_* of the set, switched
  * per call by grip_mf_eval_ext's GRIP_MF_USE_* bits). */
@@ -186,9 +237,26 @@ static inline grip_real_t mf_sign1(grip_real_t a)
 int mf_params_usable(const grip_mf_params *p);
 int mf_params_usable_plain(const grip_mf_params *p);
 
+/* The option decisions of a prepared set (grip_mf_prepared.flags). */
+#define MF_PF_MF52        0x01u  /* FITTYP 5, 6, 21                            */
+#define MF_PF_BOOK        0x02u  /* GRIP_MF_OPT_BOOK                           */
+#define MF_PF_SAE         0x04u  /* GRIP_MF_OPT_SAE                            */
+#define MF_PF_KAPPA_BRAKE 0x08u  /* GRIP_MF_OPT_KAPPA_BRAKE                    */
+#define MF_PF_MIRROR      0x10u  /* mirror alpha, gamma, Fy, Mz                */
+#define MF_PF_DPI0_CLAMP  0x20u  /* the default pressure is outside the domain */
+#define MF_PF_LMU_CONST   0x40u  /* LMUV = 0: LMU*, LMU', LKY / LMUY* constant */
+
 /* The set has what the turn-slip equations divide by: PHYP1 > 0 (C_Hyp)
  * and 0 < QDRP1 < 2 (C_Drp, sin(pi/2 C_Drp) > 0). */
 int mf_turn_slip_usable(const grip_mf_params *p);
+
+/* grip_mf_check_params_detail's checks of p evaluated with the option bits
+ * opts in place of p->options, accepting the bits of `accepted` (an option
+ * bit outside it fails as "options"); p NULL: GRIP_ERR_NULL, *detail
+ * cleared. */
+#define mf_check_options GRIP_TYPED(grip_mf_i_check_options)
+grip_status_t mf_check_options(const grip_mf_params *p, uint32_t opts, uint32_t accepted,
+                               grip_check_detail_t *detail);
 
 /* Re / R0 of MFeval's calculateRe at the operating point (kappa, vx as the
  * model takes them before the low-speed scaling, Fz / FNOMIN, dpi): the
@@ -204,6 +272,14 @@ static MF_ALWAYS_INLINE grip_real_t mf_mux(const grip_mf_params *p, grip_real_t 
     return r_mul(r_mul(r_mul(r_add(p->pdx1, r_mul(p->pdx2, dfz)),
                              r_add(R_ONE, r_add(r_mul(p->ppx3, dpi), r_mul(p->ppx4, r_sq(dpi))))),
                        r_sub(R_ONE, r_mul(p->pdx3, r_sq(gmux)))),
+                 lmux_s);
+}
+
+/* The same with its pressure factor already formed (MF_DP_PX_MU). */
+static MF_ALWAYS_INLINE grip_real_t mf_mux_dp(const grip_mf_params *p, grip_real_t dfz, grip_real_t px_mu,
+                                              grip_real_t gmux, grip_real_t lmux_s)
+{
+    return r_mul(r_mul(r_mul(r_add(p->pdx1, r_mul(p->pdx2, dfz)), px_mu), r_sub(R_ONE, r_mul(p->pdx3, r_sq(gmux)))),
                  lmux_s);
 }
 

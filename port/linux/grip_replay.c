@@ -35,6 +35,7 @@
 #include "candump.h"
 #include "can_socket.h"
 #include "csv.h"
+#include "input_rules.h"
 #include "tir_reader.h"
 
 #define EXIT_USAGE 2    /* bad command line */
@@ -76,6 +77,7 @@ typedef struct {
     int units;                 /* --units: unit suffixes in the output header */
     int skip_bad;
     int all_inputs;
+    int no_unit_check;         /* --no-unit-check: a CSV value outside input_rules.h is a range fault */
     int quiet;
     int want_fd;
     unsigned tir_flags;        /* --strict, --no-range-check: GRIP_TIR_* of the .tir reader */
@@ -211,11 +213,13 @@ static int vehicle_config(const char *name, const grip_mf_params *tire, int rate
  * lines. Keys: mass, iz, lf, lr, track (both), track_f, track_r, h_cg,
  * steer_ratio, wheel_radius, roll_split_front, roll_gradient, speed_ref_mu,
  * cla, aero_front, air_density, cda, crr, tan_bank, tan_grade, latency, steer_lag,
- * steer_latency.
+ * steer_latency, tire_tol, kin_acc_sd, beta_sd_max; rear_tire = PATH (the rear
+ * axle's .tir, relative to the vehicle file's folder; not with --estimate-rear).
  * The estimator's init checks the ranges. */
 #define VEHICLE_LINE_MAX 511
 
-static int vehicle_file(const char *path, grip_est_config_t *cfg)
+static int vehicle_file(const char *path, grip_est_config_t *cfg, char *rear_tire, size_t rear_n,
+                        unsigned long *rear_line)
 {
     /* one row per key: where it goes and in which format; "track" sets
      * both tracks */
@@ -248,6 +252,9 @@ static int vehicle_file(const char *path, grip_est_config_t *cfg)
         { "latency", offsetof(grip_est_config_t, latency), VK_QS },
         { "steer_lag", offsetof(grip_est_config_t, steer_lag), VK_QS },
         { "steer_latency", offsetof(grip_est_config_t, steer_latency), VK_QS },
+        { "tire_tol", offsetof(grip_est_config_t, tire_tol), VK_QS },
+        { "kin_acc_sd", offsetof(grip_est_config_t, kin_acc_sd), VK_QS },
+        { "beta_sd_max", offsetof(grip_est_config_t, beta_sd_max), VK_QS },
     };
     const size_t nkeys = sizeof keys / sizeof keys[0];
     static char line[VEHICLE_LINE_MAX + 1];
@@ -297,6 +304,38 @@ static int vehicle_file(const char *path, grip_est_config_t *cfg)
         }
         memcpy(key, p, n);
         key[n] = '\0';
+        if (strcmp(key, "rear_tire") == 0) {
+            /* a path, not a number: the rear axle's .tir, relative to the
+             * vehicle file's folder unless absolute */
+            const char *v0 = eq + 1;
+            const char *slash = strrchr(path, '/');
+            size_t vn, dn;
+            while (*v0 == ' ' || *v0 == '\t') {
+                v0++;
+            }
+            dn = (slash != NULL && v0[0] != '/') ? (size_t)(slash - path) + 1u : 0u;
+            vn = strlen(v0);
+            while (vn > 0 && (v0[vn - 1] == ' ' || v0[vn - 1] == '\t' || v0[vn - 1] == '\r' || v0[vn - 1] == '\n')) {
+                vn--;
+            }
+            if (*rear_line != 0) {
+                fprintf(stderr, "grip-replay: %s:%lu: key 'rear_tire' given twice (first on line %lu)\n", path,
+                        lineno, *rear_line);
+                csv_reader_close(f);
+                return -1;
+            }
+            if (vn == 0 || dn + vn >= rear_n) {
+                fprintf(stderr, "grip-replay: %s:%lu: rear_tire: %s\n", path, lineno,
+                        vn == 0 ? "empty (a .tir file path)" : "path too long");
+                csv_reader_close(f);
+                return -1;
+            }
+            memcpy(rear_tire, path, dn);
+            memcpy(rear_tire + dn, v0, vn);
+            rear_tire[dn + vn] = '\0';
+            *rear_line = lineno;
+            continue;
+        }
         errno = 0;
         v = strtod(eq + 1, &end);
         while (*end == ' ' || *end == '\t' || *end == '\r' || *end == '\n') {
@@ -441,7 +480,8 @@ static void usage(FILE *f)
             "                         track track_f track_r h_cg steer_ratio wheel_radius\n"
             "                         roll_split_front roll_gradient speed_ref_mu (0/1) cla aero_front\n"
             "                         air_density cda crr tan_bank tan_grade latency steer_lag\n"
-            "                         steer_latency [s]\n"
+            "                         steer_latency [s] tire_tol kin_acc_sd [m/s^2] beta_sd_max [rad];\n"
+            "                         rear_tire = PATH (the rear axle's .tir, relative to F's folder)\n"
             "      --csv FILE         estimator inputs from FILE ('-' = stdin) instead of CAN: one row per\n"
             "                         estimator step (every --step-ms), '#' lines skipped, a header row\n"
             "                         naming the columns: t_s [s], wheel_speed_fl wheel_speed_fr\n"
@@ -454,7 +494,10 @@ static void usage(FILE *f)
             "                         known and ignored: step, NAME_fault, comment. Any other\n"
             "                         column is an error. The rows' time step must be --step-ms\n"
             "                         (within 1 %%). Needs -e.\n"
+            "                         A value outside its input's plausible range (a unit error:\n"
+            "                         a steering angle in degrees, a speed in km/h) is an error.\n"
             "      --ignore-columns A,B  --csv: also ignore these columns\n"
+            "      --no-unit-check    --csv: take such a value as a range fault (not valid)\n"
             "  -q, --quiet            no summary\n"
             "output: t_s, step, per input NAME and NAME_fault, with -e the estimator's columns;\n"
             "  with -e the measured yaw rate is yaw_rate_in (yaw_rate is the estimate)\n"
@@ -546,6 +589,9 @@ static int parse_args(int argc, char **argv, options *o)
             takes = 0;
         } else if (strcmp(a, "--all-inputs") == 0) {
             o->all_inputs = 1;
+            takes = 0;
+        } else if (strcmp(a, "--no-unit-check") == 0) {
+            o->no_unit_check = 1;
             takes = 0;
         } else if (strcmp(a, "--reorder") == 0) {
             o->sort_log = 1;
@@ -695,6 +741,11 @@ static grip_can_table_text_t text_table;
 static int load_table(const char *path, const grip_can_table_t **table)
 {
     static char line[GRIP_CAN_TEXT_LINE_MAX + 1];
+    /* the line of each msg and sig line, to name what the consistency
+     * check refuses */
+    static unsigned long msg_line[GRIP_CAN_MAX_MESSAGES];
+    static unsigned long sig_line[GRIP_CAN_MAX_SIGNALS];
+    grip_check_detail_t d;
     char err[700];
     const char *why = "";
     csv_reader rd;
@@ -709,10 +760,18 @@ static int load_table(const char *path, const grip_can_table_t **table)
     }
     grip_can_table_text_init(&text_table);
     while ((rc = csv_read_line(&rd, err, sizeof err)) == 1) {
+        uint16_t nm = text_table.table.n_messages;
+        uint16_t ns = text_table.table.n_signals;
         if (grip_can_table_text_line(&text_table, line, (uint32_t)rd.len, &why) != GRIP_OK) {
             fprintf(stderr, "grip-replay: %s:%lu: %s\n", rd.path, rd.lineno, why);
             csv_reader_close(&rd);
             return -1;
+        }
+        if (text_table.table.n_messages > nm && nm < GRIP_CAN_MAX_MESSAGES) {
+            msg_line[nm] = rd.lineno;
+        }
+        if (text_table.table.n_signals > ns && ns < GRIP_CAN_MAX_SIGNALS) {
+            sig_line[ns] = rd.lineno;
         }
     }
     csv_reader_close(&rd);
@@ -720,8 +779,26 @@ static int load_table(const char *path, const grip_can_table_t **table)
         fprintf(stderr, "grip-replay: signal table: %s\n", err);
         return -1;
     }
-    if (grip_can_table_text_finish(&text_table, table, &why) != GRIP_OK) {
-        fprintf(stderr, "grip-replay: %s: %s\n", path, why);
+    if (grip_can_table_text_finish_detail(&text_table, table, &why, &d) != GRIP_OK) {
+        if (d.rule[0] != '\0') {
+            /* the refused message or signal by its line and name */
+            const grip_can_table_t *t = &text_table.table;
+            int msg = strcmp(d.part, "message") == 0 && d.index >= 0 && d.index < (int32_t)t->n_messages;
+            int sig = strcmp(d.part, "signal") == 0 && d.index >= 0 && d.index < (int32_t)t->n_signals;
+            if (msg || sig) {
+                fprintf(stderr, "grip-replay: %s:%lu: %s %s: %s: %s (the table's consistency check)\n", path,
+                        msg ? msg_line[d.index] : sig_line[d.index], d.part,
+                        msg ? t->messages[d.index].name : t->signals[d.index].name, d.field, d.rule);
+            } else if (strcmp(d.part, "input") == 0 && d.index >= 0) {
+                fprintf(stderr, "grip-replay: %s: input %s: %s: %s (the table's consistency check)\n", path,
+                        grip_input_name((uint32_t)d.index), d.field, d.rule);
+            } else {
+                fprintf(stderr, "grip-replay: %s: %s: %s (the table's consistency check)\n", path, d.field,
+                        d.rule);
+            }
+        } else {
+            fprintf(stderr, "grip-replay: %s: %s\n", path, why);
+        }
         return -1;
     }
     return 0;
@@ -755,7 +832,7 @@ static const struct {
     { "beta", "rad" },      { "yaw_rate", "rad_s" },  { "yaw_rate_ref", "rad_s" }, { "delta", "rad" },
     { "mu", "" },           { "mu_conf", "" },        { "fy_front", "N" },       { "fy_rear", "N" },
     { "util_front", "" },   { "util_rear", "" },      { "fy_margin_front", "N" }, { "yaw_rate_bias", "rad_s" },
-    { "ay_model", "m_s2" },
+    { "ay_model", "m_s2" },   { "beta_sd", "rad" },     { "mu_sd", "" },
 };
 #define N_EST_COLS (sizeof EST_COLS / sizeof EST_COLS[0])
 
@@ -883,6 +960,7 @@ static void emit(replay *r, const grip_input_sample_t *s)
         if ((e->valid & GRIP_EST_V_AXLE) != 0u && r->mass_si > 0.0) {
             fprintf(r->csv, "%.6g", fyb / r->mass_si);
         }
+        fprintf(r->csv, ",%.6g,%.6g", real_to_si(e->beta_sd, 0), real_to_si(e->mu_sd, 0));
     }
     if (fprintf(r->csv, "\n") < 0) {
         r->write_failed = 1;
@@ -1236,6 +1314,25 @@ static int to_input(double v, uint32_t input, grip_real_t *out)
     return 1;
 }
 
+/* The plausible range of each input in a CSV file (input_rules.h). */
+typedef struct {
+    double lo;
+    double hi;
+    const char *hint;
+    double hint_max;
+} input_rule;
+
+static input_rule input_rules[GRIP_IN_COUNT];
+
+static void input_rules_init(void)
+{
+#define INPUT_RULE(id, lo_, hi_, hint_, hint_max_) \
+    input_rules[id].lo = (lo_); input_rules[id].hi = (hi_); input_rules[id].hint = (hint_); \
+    input_rules[id].hint_max = (hint_max_);
+    GRIP_INPUT_RULES(INPUT_RULE)
+#undef INPUT_RULE
+}
+
 /* 1 if name is in the comma-separated list. */
 static int in_list(const char *list, const char *name)
 {
@@ -1493,6 +1590,18 @@ static int csv_row(csv_ctx *c, char **cell, int ncol, const int *col, int t_col,
         if (isnan(v)) {
             continue;
         }
+        if (isfinite(v) && (v < input_rules[id].lo || v > input_rules[id].hi)) {
+            const input_rule *q = &input_rules[id];
+            if (!r->opt->no_unit_check) {
+                csv_error(c, "%s:%lu: column %s: %g is outside [%g, %g] %s%s; --no-unit-check takes it as a "
+                          "range fault", c->path, line, grip_input_name(id), v, q->lo, q->hi, grip_input_unit(id),
+                          fabs(v) <= q->hint_max ? q->hint : "");
+                bad = 1;
+            }
+            s->value[id] = 0;
+            s->fault[id] = GRIP_SIG_RANGE;
+            continue;
+        }
         if (!isfinite(v) || !to_input(v, id, &s->value[id])) {
             s->value[id] = 0;
             s->fault[id] = GRIP_SIG_RANGE;
@@ -1578,6 +1687,7 @@ static int run_csv(replay *r)
     csv_ctx c;
     int rc = 0;
     int k;
+    input_rules_init();
     if (csv_reader_open(&rd, r->opt->csv_in, line, CSV_LINE_MAX, 1, err, sizeof err) != 0) {
         fprintf(stderr, "grip-replay: %s\n", err);
         return EXIT_INPUT;
@@ -1902,8 +2012,29 @@ estimator:
             ecfg.tire[1].kind = GRIP_EST_TIRE_MF;
             ecfg.tire[1].model.mf = &r.tire_rear;
         }
-        if (o.vehicle_file != NULL && vehicle_file(o.vehicle_file, &ecfg) != 0) {
-            return EXIT_USAGE;
+        if (o.vehicle_file != NULL) {
+            static char rear_path[1024];
+            unsigned long rear_line = 0;
+            if (vehicle_file(o.vehicle_file, &ecfg, rear_path, sizeof rear_path, &rear_line) != 0) {
+                return EXIT_USAGE;
+            }
+            if (rear_line != 0) {
+                grip_tir_options to;
+                if (o.est_tir_rear != NULL) {
+                    fprintf(stderr, "grip-replay: %s:%lu: rear_tire: the rear tire is also given by --estimate-rear\n",
+                            o.vehicle_file, rear_line);
+                    return EXIT_USAGE;
+                }
+                grip_tir_options_init(&to);
+                to.flags = o.tir_flags;
+                to.warn = print_tir_warning;
+                if (grip_tir_read_opts(rear_path, &to, &r.tire_rear, err, sizeof err) != 0) {
+                    fprintf(stderr, "grip-replay: %s:%lu: rear_tire: %s\n", o.vehicle_file, rear_line, err);
+                    return EXIT_USAGE;
+                }
+                ecfg.tire[1].kind = GRIP_EST_TIRE_MF;
+                ecfg.tire[1].model.mf = &r.tire_rear;
+            }
         }
         r.mass_si = real_to_si(ecfg.mass, 1);
         {

@@ -34,6 +34,7 @@
 #include "grip/grip_mf.h"
 #include "grip/grip_types.h"
 #include "brush_params.h"
+#include "channel_rules.h"
 #include "csv.h"
 #include "tir_reader.h"
 
@@ -41,11 +42,14 @@
 #define EXIT_ROWS_FAILED 1   /* some rows malformed or rejected by the model */
 #define EXIT_USAGE 2         /* bad command line */
 #define EXIT_MODEL 3         /* the model's parameters could not be loaded */
-#define EXIT_HEADER 4        /* no header, or a required column missing */
+#define EXIT_HEADER 4        /* input not CSV grip-tire reads, or implausible in SI units */
 #define EXIT_IO 5            /* reading stdin or writing stdout failed */
 
 /* Status written for a row that could not be read (not a grip_status_t). */
 #define ROW_MALFORMED (-100)
+/* Status written for a row with a value outside its column's plausible
+ * range (channel_rules.h): a unit error, not evaluated. */
+#define ROW_IMPLAUSIBLE (-101)
 
 /* Longest input line, bytes (without the line end): rows are read into a
  * fixed buffer, so memory does not grow with the input (/dev/zero, a 1 GiB
@@ -63,6 +67,27 @@ static const char *const OUT_NAMES[N_OUT] = { "fx", "fy", "mz" };
 /* fixed-point format of each: 1 = QL (forces, pressure), 0 = QS */
 static const int IN_QL[N_IN] = { 0, 0, 0, 1, 1, 0, 0, 0 };
 static const int OUT_QL[N_OUT] = { 1, 1, 1 };
+/* SI unit of each input, as a header may declare it: "fz[N]" */
+static const char *const IN_UNITS[N_IN] = { "-", "rad", "rad", "N", "Pa", "m/s", "1/m", "rad/s" };
+
+/* Physical plausibility of the inputs: the table grip-tire shares with the
+ * Python tools (channel_rules.h). A value outside its range is a unit
+ * error (an angle in degrees), not a point of the model's domain: the
+ * model's own valid domain (ALPMIN, FZMAX, ...) is narrower and clamps. */
+typedef struct {
+    const char *name;
+    const char *unit;
+    double lo;
+    double hi;
+    const char *what;
+    const char *hint;
+    double hint_max;
+} channel_rule;
+
+#define CHANNEL_RULE(n, u, l, h, w, hi, hm) { #n, u, l, h, w, hi, hm },
+static const channel_rule CHANNEL_RULES[] = { GRIP_CHANNELS(CHANNEL_RULE) };
+#undef CHANNEL_RULE
+#define N_CHANNEL_RULES ((int)(sizeof CHANNEL_RULES / sizeof CHANNEL_RULES[0]))
 
 /* The Magic Formula's extended channels (--outputs), in the column order
  * of grip_mf_output_ext; names as MFeval's, units in the column name. */
@@ -117,6 +142,7 @@ typedef struct {
     int dump_params;
     const char *prefix;
     unsigned tir_flags;    /* GRIP_TIR_STRICT, GRIP_TIR_NO_RANGE_CHECK */
+    int no_unit_check;     /* --no-unit-check: no plausibility check of the inputs */
 } cli_options;
 
 /* Everything a model keeps between rows. */
@@ -124,6 +150,7 @@ typedef struct {
     int pure;
     int sae;            /* brush family: convert SAE <-> ISO-W here */
     int kappa_braking;  /* brush family: kappa given positive in braking */
+    double fz_nominal;  /* the tyre's nominal load [N] (FNOMIN), 0 if the model has none */
     union {
         grip_mf_params mf;
         grip_brush_tool brush;
@@ -173,6 +200,7 @@ static int mf_setup(const cli_options *o, model_ctx *m, char *err, size_t errlen
             grip_tir_convert(o->tir, &vals, &m->u.mf, err, errlen) != 0) {
             return -1;
         }
+        m->fz_nominal = vals.v[GRIP_TIR_I_fnomin];
     }
     if (o->sae) {
         m->u.mf.options |= GRIP_MF_OPT_SAE;
@@ -346,10 +374,13 @@ static void usage(FILE *f)
             "                 [--sae] [--kappa-braking] [--mz52-svyk-camber] [--outputs LIST]\n"
             "                 [--use-mode NNN] [--turn-slip] [--ts-camber]\n"
             "                 [--no-status] [--prefix STR] [--dump-params] [--strict]\n"
-            "                 [--no-range-check] < in.csv > out.csv\n"
+            "                 [--no-range-check] [--no-unit-check] < in.csv > out.csv\n"
             "\n"
             "Reads CSV with the columns kappa,alpha,gamma,fz,p,vx (SI, rad; any order;\n"
             "other columns passed through) and appends fx,fy,mz,status. Build: %s.\n"
+            "A header may declare the units (fz[N], alpha[rad]); any other unit is\n"
+            "refused. Values that are not plausible in the SI unit are refused: a slip\n"
+            "angle beyond 1.5 rad (degrees?), a largest load below FNOMIN/10 (kN?).\n"
             "\n"
             "  --model NAME      tire model (default mf):\n",
             GRIP_ARITH_NAME);
@@ -390,9 +421,13 @@ static void usage(FILE *f)
             "                    in another section, an empty value)\n"
             "  --no-range-check  .tir: accept coefficients outside their plausible ranges\n"
             "                    (docs/tools.md); the hard checks stay\n"
+            "  --no-unit-check   evaluate inputs outside their plausible ranges (a slip\n"
+            "                    angle of 5 rad, loads all below FNOMIN/10) as given\n"
             "\n"
             "exit status: 0 all rows evaluated; 1 some rows malformed or rejected\n"
-            "(status < 0); 2 usage; 3 parameters not loaded; 4 header; 5 I/O error\n");
+            "(status < 0); 2 usage; 3 parameters not loaded; 4 input not readable\n"
+            "(header, bytes) or its values implausible in SI units (a unit error;\n"
+            "status -101 on the rows); 5 I/O error\n");
 }
 
 /* --outputs LIST: comma-separated channel names, or "all". */
@@ -509,6 +544,8 @@ static int parse_args(int argc, char **argv, cli_options *o)
             o->tir_flags |= GRIP_TIR_STRICT;
         } else if (strcmp(a, "--no-range-check") == 0) {
             o->tir_flags |= GRIP_TIR_NO_RANGE_CHECK;
+        } else if (strcmp(a, "--no-unit-check") == 0) {
+            o->no_unit_check = 1;
         } else if (strcmp(a, "--prefix") == 0 && i + 1 < argc) {
             o->prefix = argv[++i];
         } else {
@@ -535,8 +572,62 @@ static int name_eq(const char *a, const char *b)
     return *a == *b;
 }
 
+/* A header field "name" or "name[unit]" (blanks around either allowed):
+ * 1 if its name is `name` (any letter case), with the unit, if declared,
+ * in unit[] ("" if not). */
+static int column_is(const char *field, const char *name, char *unit, size_t unitlen)
+{
+    const char *open = strchr(field, '[');
+    size_t n = (open != NULL) ? (size_t)(open - field) : strlen(field);
+    char base[64];
+    unit[0] = '\0';
+    while (n > 0 && (field[n - 1] == ' ' || field[n - 1] == '\t')) {
+        n--;
+    }
+    if (n >= sizeof base) {
+        return 0;
+    }
+    memcpy(base, field, n);
+    base[n] = '\0';
+    if (!name_eq(base, name)) {
+        return 0;
+    }
+    if (open != NULL) {
+        const char *u = open + 1;
+        const char *close = strchr(u, ']');
+        size_t k;
+        while (*u == ' ') {
+            u++;
+        }
+        k = (close != NULL) ? (size_t)(close - u) : strlen(u);
+        while (k > 0 && u[k - 1] == ' ') {
+            k--;
+        }
+        if (k >= unitlen) {
+            k = unitlen - 1;
+        }
+        memcpy(unit, u, k);
+        unit[k] = '\0';
+        if (k == 0) {
+            unit[0] = '?';   /* "name[]": declared, but no unit */
+            unit[1] = '\0';
+        }
+    }
+    return 1;
+}
+
+/* The declared unit is the input's SI unit (kappa: "-", "1" or "") */
+static int unit_ok(int input, const char *unit)
+{
+    if (unit[0] == '\0' || strcmp(unit, IN_UNITS[input]) == 0) {
+        return 1;
+    }
+    return input == IN_KAPPA && strcmp(unit, "1") == 0;
+}
+
 typedef struct {
     int col[N_IN];        /* column of each input */
+    int rule[N_IN];       /* its plausibility rule in CHANNEL_RULES, -1: none */
     int ncols;
 } header_map;
 
@@ -568,8 +659,23 @@ static int read_header(const char *line, const cli_options *o, header_map *h)
     h->ncols = rec.n;
     for (i = 0; i < N_IN; i++) {
         h->col[i] = -1;
+        h->rule[i] = -1;
+        for (j = 0; j < N_CHANNEL_RULES; j++) {
+            if (strcmp(CHANNEL_RULES[j].name, IN_NAMES[i]) == 0) {
+                h->rule[i] = j;
+            }
+        }
         for (j = 0; j < rec.n; j++) {
-            if (name_eq(rec.field[j], IN_NAMES[i])) {
+            char unit[32];
+            if (column_is(rec.field[j], IN_NAMES[i], unit, sizeof unit)) {
+                if (!unit_ok(i, unit)) {
+                    fprintf(stderr,
+                            "grip-tire: <stdin>:1: header: column %d '%s': unit [%s], but grip-tire reads %s "
+                            "in [%s] (convert the column: nothing is converted here)\n",
+                            j + 1, rec.field[j], unit, IN_NAMES[i], IN_UNITS[i]);
+                    free(work);
+                    return -1;
+                }
                 if (h->col[i] >= 0) {
                     fprintf(stderr, "grip-tire: <stdin>:1: header: column '%s' appears twice (%d and %d)\n",
                             IN_NAMES[i], h->col[i] + 1, j + 1);
@@ -625,14 +731,94 @@ static int read_header(const char *line, const cli_options *o, header_map *h)
 typedef struct {
     unsigned long rows;
     unsigned long malformed;
+    unsigned long implausible; /* ROW_IMPLAUSIBLE */
     unsigned long errors;     /* status < 0 */
     unsigned long warnings;   /* status > 0 */
+    double fz_max;            /* largest load (ISO, N) of the rows read, and its line */
+    unsigned long fz_line;
+    double p_max;             /* largest positive pressure [Pa], and its line (0: none) */
+    unsigned long p_line;
 } run_stats;
+
+/* Messages of implausible rows printed per run; the summary counts the rest. */
+#define IMPLAUSIBLE_MESSAGES 10
+
+/* One row's inputs (SI doubles, as given) against the plausibility table:
+ * 0, or -1 with the message printed if `print`. */
+static int check_row_units(const cli_options *o, const header_map *h, const double in[N_IN],
+                           unsigned long lineno, int print)
+{
+    int i;
+    for (i = 0; i < N_IN; i++) {
+        const channel_rule *r;
+        double v = in[i];
+        if (h->rule[i] < 0 || h->col[i] < 0) {
+            continue;
+        }
+        r = &CHANNEL_RULES[h->rule[i]];
+        if (i == IN_FZ && o->sae) {
+            v = -v;   /* the table's loads are ISO: positive when loaded */
+        }
+        if (i == IN_P && v <= 0.0) {
+            continue;   /* p <= 0: the tyre's nominal pressure (docs/tools.md) */
+        }
+        if (v < r->lo || v > r->hi) {
+            double a = (in[i] < 0.0) ? -in[i] : in[i];
+            if (!print) {
+                return -1;
+            }
+            fprintf(stderr,
+                    "grip-tire: <stdin>:%lu: column '%s': %g %s is outside the plausible range of the %s "
+                    "[%g, %g] %s%s; --no-unit-check evaluates it as given\n",
+                    lineno, IN_NAMES[i], in[i], r->unit, r->what, (i == IN_FZ && o->sae) ? -r->hi : r->lo,
+                    (i == IN_FZ && o->sae) ? -r->lo : r->hi, r->unit,
+                    (r->hint_max > 0.0 && a <= r->hint_max) ? r->hint : "");
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* The whole-column rules of channel_rules.h, after the last row: loads
+ * all below GRIP_CHANNEL_FZ_KN_N newtons or a tenth of FNOMIN (kN labelled
+ * N), pressures all below GRIP_CHANNEL_P_BAR_PA (bar or psi). The rows are
+ * written by then; the exit status says the output cannot be used.
+ * 0, or -1 with the message printed. */
+static int check_columns(const model_ctx *m, const run_stats *rs)
+{
+    int bad = 0;
+    double fz_min = GRIP_CHANNEL_FZ_KN_N;
+    if (GRIP_CHANNEL_FZ_KN_FNOMIN * m->fz_nominal > fz_min) {
+        fz_min = GRIP_CHANNEL_FZ_KN_FNOMIN * m->fz_nominal;
+    }
+    if (rs->fz_line > 0 && rs->fz_max > 0.0 && rs->fz_max < fz_min) {
+        if (m->fz_nominal > 0.0) {
+            fprintf(stderr,
+                    "grip-tire: <stdin>:%lu: column 'fz': the largest load is %g N, below a tenth of the tyre's "
+                    "FNOMIN = %g N: a load in kN labelled N? (--no-unit-check evaluates it as given)\n",
+                    rs->fz_line, rs->fz_max, m->fz_nominal);
+        } else {
+            fprintf(stderr,
+                    "grip-tire: <stdin>:%lu: column 'fz': the largest load is %g N, below %g N: a load in kN "
+                    "labelled N? (--no-unit-check evaluates it as given)\n",
+                    rs->fz_line, rs->fz_max, fz_min);
+        }
+        bad = 1;
+    }
+    if (rs->p_line > 0 && rs->p_max < GRIP_CHANNEL_P_BAR_PA) {
+        fprintf(stderr,
+                "grip-tire: <stdin>:%lu: column 'p': the largest pressure is %g Pa, below %g Pa: bar, psi or kPa "
+                "labelled Pa? (0 takes the nominal pressure; --no-unit-check evaluates it as given)\n",
+                rs->p_line, rs->p_max, GRIP_CHANNEL_P_BAR_PA);
+        bad = 1;
+    }
+    return bad ? -1 : 0;
+}
 
 /* One data row. Writes the output row; returns the status written. */
 static int process_row(const tire_model *model, const model_ctx *m, const cli_options *o,
                        const header_map *h, const char *line, unsigned long lineno,
-                       char *work, size_t worklen, FILE *out)
+                       char *work, size_t worklen, run_stats *rs, FILE *out)
 {
     csv_record rec;
     const char *why = NULL;
@@ -675,6 +861,21 @@ static int process_row(const tire_model *model, const model_ctx *m, const cli_op
             goto write;
         }
     }
+    if (!o->no_unit_check) {
+        double fz_iso = o->sae ? -in[IN_FZ] : in[IN_FZ];
+        if (check_row_units(o, h, in, lineno, rs->implausible < IMPLAUSIBLE_MESSAGES) != 0) {
+            status = ROW_IMPLAUSIBLE;
+            goto write;
+        }
+        if (rs->fz_line == 0 || fz_iso > rs->fz_max) {
+            rs->fz_max = fz_iso;
+            rs->fz_line = lineno;
+        }
+        if (in[IN_P] > 0.0 && (rs->p_line == 0 || in[IN_P] > rs->p_max)) {
+            rs->p_max = in[IN_P];
+            rs->p_line = lineno;
+        }
+    }
     for (i = 0; i < N_IN; i++) {
         if (grip_tir_to_real(in[i], IN_QL[i], &rin[i]) != 0) {
             fprintf(stderr, "grip-tire: <stdin>:%lu: column '%s': %g is not representable in the %s build\n",
@@ -698,7 +899,7 @@ static int process_row(const tire_model *model, const model_ctx *m, const cli_op
     }
 write:
     fputs(line, out);
-    if (status == ROW_MALFORMED) {
+    if (status == ROW_MALFORMED || status == ROW_IMPLAUSIBLE) {
         for (i = 0; i < N_OUT; i++) {
             fputs(",", out);   /* empty: nothing was computed */
         }
@@ -708,7 +909,7 @@ write:
         }
     }
     for (i = 0; i < o->n_ext; i++) {
-        if (status != ROW_MALFORMED && ext_ok[i]) {
+        if (status != ROW_MALFORMED && status != ROW_IMPLAUSIBLE && ext_ok[i]) {
             fprintf(out, ",%.9g", ext[i] + 0.0);
         } else {
             fputs(",", out);   /* empty: not available at this row */
@@ -862,10 +1063,12 @@ int main(int argc, char **argv)
         if (rd.len == 0) {
             continue;   /* blank line: not a row */
         }
-        st = process_row(model, &m, &o, &h, rd.line, rd.lineno, workbuf, sizeof workbuf, stdout);
+        st = process_row(model, &m, &o, &h, rd.line, rd.lineno, workbuf, sizeof workbuf, &rs, stdout);
         rs.rows++;
         if (st == ROW_MALFORMED) {
             rs.malformed++;
+        } else if (st == ROW_IMPLAUSIBLE) {
+            rs.implausible++;
         } else if (st < 0) {
             rs.errors++;
         } else if (st > 0) {
@@ -876,9 +1079,22 @@ int main(int argc, char **argv)
         fprintf(stderr, "grip-tire: writing the output failed: %s\n", strerror(errno));
         return EXIT_IO;
     }
-    if (rs.malformed > 0 || rs.errors > 0 || rs.warnings > 0) {
-        fprintf(stderr, "grip-tire: %lu rows: %lu malformed, %lu rejected by the model, %lu with warnings\n",
-                rs.rows, rs.malformed, rs.errors, rs.warnings);
+    {
+        int units_bad = (rs.implausible > 0);
+        if (!o.no_unit_check && check_columns(&m, &rs) != 0) {
+            units_bad = 1;
+        }
+        if (rs.malformed > 0 || rs.implausible > 0 || rs.errors > 0 || rs.warnings > 0 || units_bad) {
+            fprintf(stderr,
+                    "grip-tire: %lu rows: %lu malformed, %lu implausible in SI units%s, %lu rejected by the model, "
+                    "%lu with warnings%s\n",
+                    rs.rows, rs.malformed, rs.implausible,
+                    (rs.implausible > IMPLAUSIBLE_MESSAGES) ? " (the first 10 reported)" : "", rs.errors, rs.warnings,
+                    units_bad ? "; the input looks like another unit: the output is not usable" : "");
+        }
+        if (units_bad) {
+            return EXIT_HEADER;
+        }
     }
     return (rs.malformed > 0 || rs.errors > 0) ? EXIT_ROWS_FAILED : 0;
 }

@@ -946,6 +946,16 @@ static int check_keys(const tir_text *t, const err_ctx *e)
             }
         } else if (known_section && !key_known(x->key)) {
             const char *near = nearest_key(x->key);
+            int ci = (near != NULL) ? grip_tir_coef_index(near) : -1;
+            if (ci >= 0 && strcmp(COEFS[ci].section, x->section) == 0 &&
+                find_entry(t, COEFS[ci].section, near) == NULL) {
+                /* a misspelling of a coefficient the file does not give:
+                 * its value would be lost and the default read instead */
+                return fail(e, x->line, x->key,
+                            "unknown key in [%s]: a misspelling of %s? The file does not give %s, which would "
+                            "take its default %g: rename the key, or give %s",
+                            x->section, near, near, COEFS[ci].def, near);
+            }
             if (near != NULL) {
                 rc = warn(e, x->line, x->key, "unknown key in [%s]: ignored (did you mean %s?)", x->section, near);
             } else {

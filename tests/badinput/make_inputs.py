@@ -84,6 +84,15 @@ def main():
     write("long_line.sigtab", ["grip-can-table 1 rav4", "# " + "x" * 600])
     write("unknown_input.sigtab", ["grip-can-table 1 t", "msg KINEMATICS 0x24 8 12000 none 0 0 0 intel",
                                    "sig YAW_RATE yaw_rte value 1 10 motorola 0 37 585297991 -299845282323 43 981"])
+    # tables every line of which parses, but that fail the consistency check
+    kin = ["grip-can-table 1 t", "msg KINEMATICS 0x24 8 12000 none 0 0 0 intel",
+           "sig YAW_RATE yaw_rate value 1 10 motorola 0 37 585297991 -299845282323 43 981",
+           "sig ACCEL_X ax value 17 10 motorola 0 34 -616585505 315680096256 95 929"]
+    write("table_dup_id.sigtab", kin + ["msg STEER_ANGLE_SENSOR 0x24 8 12000 none 0 0 0 intel",
+                                        "sig STEER_ANGLE steer_angle value 3 12 motorola 1 35 899535847 0 -333 333"])
+    write("table_bits.sigtab", kin[:3] + [kin[3].replace(" value 17 10 ", " value 70 10 ")])
+    write("table_two_msgs.sigtab", kin + ["msg STEER_ANGLE_SENSOR 0x25 8 12000 none 0 0 0 intel",
+                                          "sig ACCEL_Y ax value 3 12 motorola 1 34 -616585505 315680096256 95 929"])
     write("dup_key.veh", ["mass = 1600", "iz = 2600", "mass = 1700"])
     write("unknown_key.veh", ["mass = 1600", "wheelbase = 2.7"])
     write("not_number.veh", ["mass = 1600 kg"])
@@ -135,6 +144,13 @@ def main():
     write("tire_short_row.csv", [th, row, "0,0.01,0"])
     write("tire_quote.csv", [th + ",note", row + ',"open'])
     write("tire_empty.csv", [])
+    # unit errors: loads in kN, slip angles in degrees, pressure in bar,
+    # camber in degrees, a header that declares another unit
+    write("tire_kn.csv", [th] + [f"0,{a / 100:.2f},0,{fz},0,10" for fz in (2, 4, 6) for a in (-4, 0, 4)])
+    write("tire_degrees.csv", [th] + [f"0,{a},0,4000,0,10" for a in (0.5, 1, 2, 4, 8)])
+    write("tire_bar.csv", [th, "0,0.01,0,4000,2.2,10", "0,0.01,0,4000,2.4,10"])
+    write("tire_camber_deg.csv", [th, "0,0.01,3,4000,0,10"])
+    write("tire_declared_kn.csv", ["kappa,alpha[rad],gamma,fz[kN],p,vx", "0,0.01,0,4,0,10"])
     # ---- .tir files the library rejects after the reader accepted them,
     # and brush-model parameter files (grip-tire --model ... --params)
     with open(os.path.join(HERE, "..", "data", "tir", "minimal.tir")) as f:
@@ -145,6 +161,7 @@ def main():
     write("brush_mu.txt", ["model = fiala", "mu = 4"])
     write("brush_mu_order.txt", ["model = sakai", "mu_s = 0.5", "mu_d = 0.9"])
     write("brush_default_fz.txt", ["model = neofiala", "fz_min = 20000"])
+    write("brush_ok.txt", ["model = neofiala"])
     write("veh_mass.veh", ["mass = 0.5"])
     write("veh_steer.veh", ["steer_ratio = 200"])
     # ---- measured-data CSV for the Python tools (grip fit-mf, grip analyze)
@@ -154,6 +171,9 @@ def main():
     write("fit_nan.csv", fy[:4] + ["4000,nan,0,100"] + fy[5:])
     write("fit_kn.csv", [fy[0]] + [f"{fz},{a / 100:.3f},0,{-fz * a * 50:.1f}" for fz in (2, 4, 6)
                                    for a in range(-20, 21, 2)])
+    # loads of a few hundred newtons: kN to a tyre with FNOMIN in the kN (a tenth of FNOMIN)
+    write("fit_kn_fnomin.csv", [fy[0]] + [f"{fz},{a / 100:.3f},0,{-fz * a / 20:.1f}" for fz in (200, 300, 350)
+                                          for a in range(-20, 21, 2)])
     write("fit_degrees.csv", [l.replace(",0.200,", ",20.0,") for l in fy])
     write("fit_typo.csv", [fy[0].replace("alpha[rad]", "alpah")] + fy[1:])
     write("fit_negative_load.csv", [l.replace("2000,", "-2000,") for l in fy])
@@ -163,6 +183,9 @@ def main():
     write("an_good.csv", t)
     write("an_time_back.csv", t[:10] + ["0.05,0.01,4000,-500"] + t[11:])
     write("an_no_output.csv", ["t[s],alpha[rad],fz[N]", "0,0.01,4000", "0.01,0.01,4000"])
+    write("an_degrees.csv", [t[0]] + [f"{i * 0.01:.2f},{(i - 25) * 0.3:.1f},4000,{(25 - i) * 60}" for i in range(50)])
+    write("an_kn.csv", [t[0]] + [f"{i * 0.01:.2f},0.01,4,-500" for i in range(50)])
+    write("an_header_only.csv", t[:1])
 
 
 if __name__ == "__main__":

@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "grip/grip_mf.h"
+#include "grip/grip_mf_batch.h"
 #include "grip/grip_q16.h"
 #include "arith.h"
 #include "mf_params.h"
@@ -48,6 +49,9 @@ static const grip_mf_params *mf61;
 static const grip_mf_params *mf52;
 static const grip_mf_params *mf62;
 static grip_mf_input mf_in[BENCH_INPUTS];
+static grip_mf_input mf52_in[BENCH_INPUTS];    /* mf_in at truck loads           */
+static grip_mf_prepared mf61_prep;              /* grip_mf_prepare of mf61, mf52   */
+static grip_mf_prepared mf52_prep;
 static grip_mf_spin mf_ts_in[BENCH_INPUTS];    /* a turn slip for mf_in, spin estimated */
 static grip_mf_spin mf_tsw_in[BENCH_INPUTS];   /* ... with the spin given */
 static volatile grip_real_t mf_sink;
@@ -130,7 +134,11 @@ static void mf_setup(void)
         mf_ts_in[i].phit = (i % 4 == 0) ? R_ZERO : ((i % 4 == 1) ? RC(0.5) : ((i % 4 == 2) ? RC(-1.0) : RC(2.0)));
         mf_tsw_in[i] = mf_ts_in[i];
         mf_tsw_in[i].omega = r_mul(r_add(R_ONE, mf_in[i].kappa), RC(20.0 / 0.3865));   /* (1 + kappa) vx / Re */
+        mf52_in[i] = mf_in[i];
+        mf52_in[i].fz = r_mul(RC(4.0), mf_in[i].fz);
     }
+    (void)grip_mf_prepare(mf61, mf61->options, &mf61_prep);
+    (void)grip_mf_prepare(mf52, mf52->options, &mf52_prep);
 }
 
 static void b_mf61_pure(int i)
@@ -154,6 +162,37 @@ static void b_mf52_combined(int i)
     in.fz = r_mul(RC(4.0), in.fz);   /* truck loads */
     (void)grip_mf_eval(mf52, &in, &out);
     mf_sink = out.mz;
+}
+
+/* The same with a prepared set (grip_mf_prepare, done once in mf_setup). */
+static void b_mf61_prep_pure(int i)
+{
+    grip_mf_output out;
+    (void)grip_mf_eval_pure_prepared(&mf61_prep, &mf_in[i], &out);
+    mf_sink = out.mz;
+}
+
+static void b_mf61_prep_combined(int i)
+{
+    grip_mf_output out;
+    (void)grip_mf_eval_prepared(&mf61_prep, &mf_in[i], &out);
+    mf_sink = out.mz;
+}
+
+static void b_mf52_prep_combined(int i)
+{
+    grip_mf_output out;
+    (void)grip_mf_eval_prepared(&mf52_prep, &mf52_in[i], &out);
+    mf_sink = out.mz;
+}
+
+/* Four wheels per call (grip_mf_eval_prepared_batch): the count is per
+ * call, a quarter of it per evaluation. */
+static void b_mf61_prep_batch4(int i)
+{
+    grip_mf_output out[4];
+    (void)grip_mf_eval_prepared_batch(&mf61_prep, 4u, &mf_in[i & ~3], out, 0);
+    mf_sink = out[3].mz;
 }
 
 /* The extended outputs (grip_mf_eval_ext): the issue's set (Re, the
@@ -218,6 +257,8 @@ static void b_mf52_ext_re_sigma_k(int i)
 const bench_case bench_cases[] = {
     { "mf61_pure_fx_fy_mz", b_mf61_pure }, { "mf61_combined_fx_fy_mz", b_mf61_combined },
     { "mf52_combined_fx_fy_mz", b_mf52_combined },
+    { "mf61_prep_pure_fx_fy_mz", b_mf61_prep_pure }, { "mf61_prep_combined_fx_fy_mz", b_mf61_prep_combined },
+    { "mf52_prep_combined_fx_fy_mz", b_mf52_prep_combined }, { "mf61_prep_batch4_combined", b_mf61_prep_batch4 },
     { "mf61_ext_re_sigma_k", b_mf61_ext_re_sigma_k }, { "mf61_ext_all", b_mf61_ext_all },
     { "mf62_ext_rl", b_mf62_ext_rl }, { "mf52_ext_re_sigma_k", b_mf52_ext_re_sigma_k },
     { "mf61_ext_forces", b_mf61_ext_forces }, { "mf61_ext_turn_slip", b_mf61_ext_turn_slip },

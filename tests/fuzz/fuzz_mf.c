@@ -246,6 +246,33 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     /* in mode 111 grip_mf_eval_ext's forces are grip_mf_eval's */
     check_ext(s3, &oe, req, pristine, finite_in && (want_ext != GRIP_ERR_INPUT), &p, &in,
               ((mode | p.options) & (GRIP_MF_OPT_TURN_SLIP | GRIP_MF_OPT_NO_LIMITS)) == 0u, want_ext, s2, &o2);
+    /* the prepared set (grip_mf_prepare with the set's own options): the
+     * same bits and status as the unprepared evaluations when it
+     * prepares; refused (GRIP_ERR_PARAM, zero outputs) when it does not */
+    {
+        grip_mf_prepared prep;
+        grip_mf_output op1;
+        grip_mf_output op2;
+        grip_status_t sp = grip_mf_prepare(&p, p.options, &prep);
+        grip_status_t sp1 = grip_mf_eval_pure_prepared(&prep, &in, &op1);
+        grip_status_t sp2 = grip_mf_eval_prepared(&prep, &in, &op2);
+        FZ_CHECK(sp == GRIP_OK || sp == GRIP_ERR_PARAM, "prepare status %d", (int)sp);
+        if (sp == GRIP_OK) {
+            FZ_CHECK(sp1 == s1 && memcmp(&op1, &o1, sizeof op1) == 0, "prepared pure differs (%d vs %d)", (int)sp1,
+                     (int)s1);
+            FZ_CHECK(sp2 == s2 && memcmp(&op2, &o2, sizeof op2) == 0, "prepared combined differs (%d vs %d)",
+                     (int)sp2, (int)s2);
+        } else {
+            FZ_CHECK(sp1 == GRIP_ERR_PARAM && sp2 == GRIP_ERR_PARAM, "unprepared set evaluated (%d, %d)", (int)sp1,
+                     (int)sp2);
+            FZ_CHECK(op2.fx == 0 && op2.fy == 0 && op2.mz == 0, "unprepared set: non-zero outputs");
+            /* grip_mf_check_params refuses what grip_mf_prepare refuses,
+             * unless the set asks for a use mode (prepare refuses those) */
+            FZ_CHECK(grip_mf_check_params(&p) != GRIP_OK ||
+                         (p.options & (GRIP_MF_OPT_TURN_SLIP | GRIP_MF_OPT_NO_LIMITS)) != 0u,
+                     "prepare refused a set grip_mf_check_params accepts");
+        }
+    }
     /* NULL arguments */
     FZ_CHECK(grip_mf_eval(NULL, &in, &o1) == GRIP_ERR_NULL, "NULL params");
     FZ_CHECK(grip_mf_eval(&p, NULL, &o1) == GRIP_ERR_NULL, "NULL input");

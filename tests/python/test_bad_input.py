@@ -119,6 +119,16 @@ class BadInputCorpus(unittest.TestCase):
         print(f"\n# bad-input corpus (Python tools): {len(CASES) - len(failures)} of {len(CASES)} refused as expected")
         self.assertEqual(failures, [])
 
+    def test_help_states_the_exit_codes(self):
+        for command in ("fit-mf", "analyze", "tir2c"):
+            out = io.StringIO()
+            with contextlib.redirect_stdout(out), self.assertRaises(SystemExit) as cm:
+                cli.main([command, "--help"])
+            self.assertEqual(cm.exception.code, 0)
+            text = " ".join(out.getvalue().split())
+            for words in ("exit status:", "2 usage", "3 data"):
+                self.assertIn(words, text, command)
+
 
 class ReaderMutationFuzz(unittest.TestCase):
     """Seeded mutations of a valid file: the reader returns a table or raises

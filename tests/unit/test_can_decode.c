@@ -454,6 +454,64 @@ static void test_table_check_rejects_broken_tables(void **state)
     assert_int_equal(grip_can_table_check(NULL, NULL), GRIP_ERR_NULL);
 }
 
+/* The detail form names the message, signal or input and the field that
+ * failed, and agrees with the plain check's status and index. */
+static void expect_detail(const char *part, int32_t index, const char *field)
+{
+    grip_check_detail_t d;
+    uint32_t where = 99;
+    assert_int_equal(grip_can_table_check_detail(&tt, &d), GRIP_ERR_PARAM);
+    assert_string_equal(d.part, part);
+    assert_int_equal(d.index, index);
+    assert_string_equal(d.field, field);
+    assert_true(d.rule[0] != '\0');
+    assert_int_equal(grip_can_table_check(&tt, &where), GRIP_ERR_PARAM);
+    assert_int_equal(where, (uint32_t)(index < 0 ? 0 : index));
+}
+
+static void test_table_check_detail_names_the_member(void **state)
+{
+    grip_check_detail_t d;
+    (void)state;
+    make_valid_table();
+    assert_int_equal(grip_can_table_check_detail(&tt, &d), GRIP_OK);
+    assert_string_equal(d.field, "");
+    assert_string_equal(d.rule, "");
+    make_valid_table();
+    tm[1].id = 0x20;
+    expect_detail("message", 1, "id");
+    make_valid_table();
+    tm[0].period_us = 0;
+    expect_detail("message", 0, "period_us");
+    make_valid_table();
+    tm[1].checksum_start = 64;
+    expect_detail("message", 1, "checksum");
+    make_valid_table();
+    ts[1].shift = 36;
+    expect_detail("signal", 1, "input");
+    make_valid_table();
+    ts[2].start = 60;
+    expect_detail("signal", 2, "start");
+    make_valid_table();
+    ts[2].length = 33;
+    expect_detail("signal", 2, "length");
+    make_valid_table();
+    ts[0].k_mul = 1 << 30;
+    expect_detail("signal", 0, "k");
+    make_valid_table();
+    ts[2].input = GRIP_IN_STEER_ANGLE;
+    expect_detail("signal", 2, "input");
+    make_valid_table();
+    tt.n_signals = 2;
+    expect_detail("message", 1, "first_signal");
+    make_valid_table();
+    tt.n_messages = 0;
+    expect_detail("", -1, "n_signals");
+    assert_int_equal(grip_can_table_check_detail(NULL, NULL), GRIP_ERR_NULL);
+    make_valid_table();
+    assert_int_equal(grip_can_table_check_detail(&tt, NULL), GRIP_OK);
+}
+
 /* ---- text tables ---------------------------------------------------------------------- */
 
 static grip_can_table_text_t tb;
@@ -614,6 +672,7 @@ int main(void)
         cmocka_unit_test(test_toyota_checksum_detects_every_single_bit_error),
         cmocka_unit_test(test_find_message),
         cmocka_unit_test(test_table_check_rejects_broken_tables),
+        cmocka_unit_test(test_table_check_detail_names_the_member),
         cmocka_unit_test(test_text_table_equals_compiled_table),
         cmocka_unit_test(test_text_table_malformed_lines),
         cmocka_unit_test(test_input_names_round_trip),

@@ -77,7 +77,7 @@ enum {
     O_VX = 0, O_VY, O_BETA, O_YAW, O_YAWREF, O_YAWBIAS, O_DELTA, O_MU, O_MUCONF,
     O_FZ = 9, O_KAPPA = 13, O_ALPHA = 17, O_FX = 21, O_FY = 25, O_MZ = 29, O_UTIL = 33,
     O_FYAX = 37, O_UTILAX = 39, O_MARGIN = 41, O_STEERCHAR = 42, O_VALID = 43, O_FLAGS = 44,
-    O_COUNT = 45
+    O_BETASD = 45, O_MUSD = 46, O_COUNT = 47
 };
 
 static const grip_mf_params *tire(void)
@@ -99,7 +99,7 @@ static void run_sequence(const seq_t *sq)
     grip_est_t est;
     grip_est_output_t out;
     grip_input_sample_t in;
-    err_stats e_vx, e_beta, e_yaw, e_bias, e_ref, e_mu, e_conf, e_fz, e_fy, e_alpha, e_kappa, e_fx;
+    err_stats e_vx, e_beta, e_yaw, e_bias, e_ref, e_mu, e_conf, e_fz, e_fy, e_alpha, e_kappa, e_fx, e_bsd, e_musd;
     double fy_peak = 0.0;
     long rows = 0, mask_diff = 0;
     int n, i;
@@ -144,6 +144,8 @@ static void run_sequence(const seq_t *sq)
     err_init(&e_fx, "Fx", 1000.0);
     err_init(&e_alpha, "alpha", 0.01);
     err_init(&e_kappa, "kappa", 0.01);
+    err_init(&e_bsd, "beta_sd", 0.01);
+    err_init(&e_musd, "mu_sd", 0.01);
     while ((n = golden_next(&g)) > 0) {
         double mask;
         unsigned long m;
@@ -170,6 +172,8 @@ static void run_sequence(const seq_t *sq)
         err_add(&e_ref, from_qs(out.yaw_rate_ref), W(O_YAWREF), golden_num(&g, C_T), 0, 0);
         err_add(&e_mu, from_qs(out.mu), W(O_MU), golden_num(&g, C_T), 0, 0);
         err_add(&e_conf, from_qs(out.mu_conf), W(O_MUCONF), golden_num(&g, C_T), 0, 0);
+        err_add(&e_bsd, from_qs(out.beta_sd), W(O_BETASD), golden_num(&g, C_T), 0, 0);
+        err_add(&e_musd, from_qs(out.mu_sd), W(O_MUSD), golden_num(&g, C_T), 0, 0);
         for (i = 0; i < 4; ++i) {
             err_add(&e_fz, from_ql(out.fz[i]), W(O_FZ + i), golden_num(&g, C_T), i, 0);
             err_add(&e_fy, from_ql(out.fy[i]), W(O_FY + i), golden_num(&g, C_T), i, 0);
@@ -201,6 +205,8 @@ static void run_sequence(const seq_t *sq)
     err_print(&e_fy, "N");
     err_print(&e_alpha, "rad");
     err_print(&e_kappa, "-");
+    err_print(&e_bsd, "rad");
+    err_print(&e_musd, "-");
     printf("# saturations: %lu\n", (unsigned long)grip_debug_saturation_count());
     assert_true(rows > 100);
     assert_true(e_vx.max_abs <= TOL(2e-4, 3e-3));
@@ -209,6 +215,8 @@ static void run_sequence(const seq_t *sq)
     assert_true(e_bias.max_abs <= TOL(5e-6, 2e-4));
     assert_true(e_ref.max_abs <= TOL(1e-4, 3e-3));
     assert_true(e_mu.max_abs <= TOL(2e-4, 6e-3));
+    assert_true(e_bsd.max_abs <= TOL(5e-5, 3e-3));
+    assert_true(e_musd.max_abs <= TOL(2e-4, 6e-3));
     assert_true(e_fz.max_abs <= TOL(0.02, 0.5));
     assert_true(e_fy.max_abs <= TOL(0.001, 0.003) * fy_peak);
     assert_true((double)mask_diff <= TOL(0.0, 0.01) * (double)rows);

@@ -1,7 +1,9 @@
 /*
  * test_mf_golden.c - lib/mf against the float64 reference (grip_tools.reference.mf):
  * every row of build/golden/mf_<tyre>.txt for every shared .tir file
- * (tests/support/mf_params.h), pure (Fx0, Fy0, Mz0) and combined (Fx, Fy, Mz).
+ * (tests/support/mf_params.h), pure (Fx0, Fy0, Mz0) and combined (Fx, Fy, Mz);
+ * the prepared set of each file (grip_mf_prepare) must give the same bits
+ * and status on every row.
  *
  * Tolerances (docs/magic-formula-c.md, "Accuracy"):
  *   float build  |err| <= 1e-4 * Fz          for forces [N]
@@ -137,6 +139,8 @@ static int check_tire(const grip_test_tire *t)
     int i;
     int j;
     long bad_status = 0;
+    long prep_differs = 0;   /* rows where the prepared set's outputs differ */
+    grip_mf_prepared prep;
     int failures;
     uint32_t sat;
 
@@ -153,6 +157,7 @@ static int check_tire(const grip_test_tire *t)
         snprintf(label[j], sizeof(label[j]), "%s %s", t->name, out_names[j]);
         err_init(&st[j], label[j], 1.0);
     }
+    assert_int_equal(grip_mf_prepare(t->params, t->params->options, &prep), GRIP_OK);
     grip_debug_saturation_reset();
     for (i = 0; i < n; i++) {
         row_t *r = &rows[i];
@@ -169,6 +174,16 @@ static int check_tire(const grip_test_tire *t)
         in.vx = to_qs(r->in[5]);
         s1 = grip_mf_eval_pure(t->params, &in, &pure);
         s2 = grip_mf_eval(t->params, &in, &comb);
+        /* the prepared set (grip_mf_prepare): the same bits and status */
+        {
+            grip_mf_output pp;
+            grip_mf_output pc;
+            grip_status_t s3 = grip_mf_eval_pure_prepared(&prep, &in, &pp);
+            grip_status_t s4 = grip_mf_eval_prepared(&prep, &in, &pc);
+            if (s3 != s1 || s4 != s2 || memcmp(&pp, &pure, sizeof pp) != 0 || memcmp(&pc, &comb, sizeof pc) != 0) {
+                prep_differs++;
+            }
+        }
         /* Every row is inside the valid domain: no clamping, no error. */
         if (s1 != GRIP_OK || s2 != GRIP_OK) {
             if (bad_status < 5) {
@@ -235,9 +250,12 @@ static int check_tire(const grip_test_tire *t)
     }
     printf("# %s: max |err| / D (Fz >= 0.05 FNOMIN, D >= 1): Fx0 %.2e Fy0 %.2e Mz0 %.2e Fx %.2e Fy %.2e Mz %.2e\n", t->name,
            worst_rel_d[0], worst_rel_d[1], worst_rel_d[2], worst_rel_d[3], worst_rel_d[4], worst_rel_d[5]);
+    printf("# %s: prepared set (grip_mf_eval_prepared, _pure_prepared): %ld of %d rows differ from the above\n",
+           t->name, prep_differs, n);
     printf("# %s: %d rows, %lu saturations%s%s\n", t->name, n, (unsigned long)sat, sat ? ", first: " : "",
            sat ? grip_debug_saturation_first() : "");
     failures = (bad_status != 0) ? 1 : 0;
+    failures += (prep_differs != 0) ? 1 : 0;
     for (j = 0; j < NOUT; j++) {
         if (over[j] != 0) {
             printf("# FAIL %s %s: %ld rows beyond the tolerance (worst %.2f x)\n", t->name, out_names[j], over[j],

@@ -187,6 +187,23 @@ static void test_minimal_and_side_option(void **state)
     check_value(&p, "PKY4", 2.0);     /* default of the list */
     check_value(&p, "LFZO", 1.0);     /* scaling factors default to 1 */
     check_value(&p, "LONGVL", 16.7);
+    /* absent coefficients take MFeval's readTIR defaults, not 0: PKY2 = 0
+     * would take the cornering stiffness to 0, RBX1 = RCX1 = 0 would
+     * remove the combined-slip weighting */
+    check_value(&p, "PKY2", 1.0);
+    check_value(&p, "PKY6", -1.0);
+    check_value(&p, "PDX2", -0.15);
+    check_value(&p, "PDY2", -0.15);
+    check_value(&p, "RBX1", 20.0);
+    check_value(&p, "RBX2", 15.0);
+    check_value(&p, "RCX1", 1.0);
+    check_value(&p, "RBY1", 10.0);
+    check_value(&p, "RCY1", 1.0);
+    check_value(&p, "RVY4", 20.0);
+    check_value(&p, "QBZ9", 10.0);
+    check_value(&p, "QDZ8", -0.05);
+    check_value(&p, "FZMAX", 0.0);    /* limits stay "not given" */
+    check_value(&p, "PHYP1", 0.0);    /* turn slip stays "not given" */
     /* FITTYP from PROPERTY_FILE_FORMAT when absent */
     assert_int_equal(grip_tir_read(FIX "fittyp_from_format.tir", &p, err, sizeof err), 0);
     assert_int_equal(p.fittyp, 62);
@@ -253,6 +270,7 @@ typedef struct {
 } bad_case;
 
 static const bad_case BAD[] = {
+    { "typo_key.tir", "RBX1X", "RBX1X = 12.0", "a misspelling of RBX1? The file does not give RBX1, which would take its default 20" },
     { "missing_fnomin.tir", "FNOMIN", "[VERTICAL]", "missing required key" },
     { "missing_fittyp.tir", "FITTYP", "[MODEL]", "missing required key" },
     { "missing_section.tir", "QBZ1", NULL, "missing required key in [ALIGNING_COEFFICIENTS]" },

@@ -19,12 +19,14 @@ header declares a unit.
 import array
 import difflib
 import os
+import re
 import sys
 from dataclasses import dataclass
 
 import numpy as np
 
 from grip_tools.errors import DataError
+from grip_tools.paths import REPO_ROOT
 
 # Resource caps: a reader never holds more than this (docs/guarantees.md).
 MAX_FILE_BYTES = 64 * 1024 * 1024
@@ -42,25 +44,34 @@ class Channel:
     lo: float            # physical range in the SI unit (inclusive)
     hi: float
     what: str
+    hint: str = ""       # what values outside the range probably are ...
+    hint_max: float = 0.0  # ... when the column's largest |value| is at most this
 
 
-CHANNELS = {
-    "t": Channel("s", -1e9, 1e9, "time"),
-    "kappa": Channel("-", -1.5, 1.5, "longitudinal slip ratio (-1 = locked wheel)"),
-    "alpha": Channel("rad", -1.5, 1.5, "slip angle"),
-    "gamma": Channel("rad", -0.5, 0.5, "inclination (camber) angle"),
-    "fz": Channel("N", -500.0, 1e5, "vertical load, positive when loaded"),
-    "p": Channel("Pa", 0.0, 1.5e6, "inflation pressure"),
-    "vx": Channel("m/s", -150.0, 150.0, "longitudinal speed"),
-    "vy": Channel("m/s", -100.0, 100.0, "lateral speed"),
-    "fx": Channel("N", -1e5, 1e5, "longitudinal force"),
-    "fy": Channel("N", -1e5, 1e5, "lateral force"),
-    "mz": Channel("Nm", -1e4, 1e4, "aligning moment"),
-    "r": Channel("rad/s", -10.0, 10.0, "yaw rate"),
-    "ay": Channel("m/s2", -50.0, 50.0, "lateral acceleration"),
-    "delta": Channel("rad", -1.5, 1.5, "road-wheel steering angle"),
-    "t_road": Channel("degC", -50.0, 150.0, "road temperature"),
-}
+# The table is port/linux/channel_rules.h, which grip-tire compiles: one
+# rule for the C program and the Python tools.
+RULES_HEADER = os.path.join(REPO_ROOT, "port", "linux", "channel_rules.h")
+_CHANNEL_RE = re.compile(r'X\(\s*(\w+)\s*,\s*"([^"]*)"\s*,\s*([-+0-9.eE]+)\s*,\s*([-+0-9.eE]+)\s*,'
+                         r'\s*"([^"]*)"\s*,\s*"([^"]*)"\s*,\s*([-+0-9.eE]+)\s*\)')
+_DEFINE_RE = re.compile(r"#define\s+GRIP_CHANNEL_(FZ_KN_N|FZ_KN_FNOMIN|P_BAR_PA)\s+([-+0-9.eE]+)")
+
+
+def _read_rules(path=RULES_HEADER):
+    with open(path) as f:
+        text = f.read()
+    table = {m.group(1): Channel(m.group(2), float(m.group(3)), float(m.group(4)), m.group(5), m.group(6),
+                                 float(m.group(7)))
+             for m in _CHANNEL_RE.finditer(text)}
+    consts = {m.group(1): float(m.group(2)) for m in _DEFINE_RE.finditer(text)}
+    if not table or len(consts) != 3:
+        raise RuntimeError(f"{path}: the channel table or its constants were not found")
+    return table, consts
+
+
+CHANNELS, _CONSTS = _read_rules()
+FZ_KN_N = _CONSTS["FZ_KN_N"]              # a largest load below this [N] is kN labelled N
+FZ_KN_FNOMIN = _CONSTS["FZ_KN_FNOMIN"]    # ... or below this fraction of FNOMIN, when known
+P_BAR_PA = _CONSTS["P_BAR_PA"]            # a largest pressure below this [Pa] is bar, psi or kPa
 
 # Spellings of the same SI unit.
 UNIT_SYNONYMS = {"nm": "Nm", "n m": "Nm", "n.m": "Nm", "m/s^2": "m/s2", "m/s²": "m/s2", "°c": "degC",
@@ -130,21 +141,16 @@ def _header(path, line_no, text, known_only):
 
 def _looks_like(name, values):
     """What out-of-range values of a channel probably are."""
+    ch = CHANNELS[name]
     m = float(np.max(np.abs(values)))
-    if name in ("alpha", "gamma", "delta") and m <= 90.0:
-        return " (degrees?)"
-    if name == "kappa" and m <= 100.0:
-        return " (percent?)"
-    if name == "p" and m <= 20.0:
-        return " (bar?)"
-    if name in ("vx", "vy") and m <= 600.0:
-        return " (km/h?)"
-    return ""
+    return ch.hint if ch.hint_max > 0.0 and m <= ch.hint_max else ""
 
 
-def check_ranges(path, table):
+def check_ranges(path, table, fz_nominal=None):
     """Physical plausibility of every known channel; also catches a load in
-    kN or a pressure in bar or psi labelled in SI units."""
+    kN or a pressure in bar or psi labelled in SI units. fz_nominal: the
+    tyre's FNOMIN [N] when the tool knows it (loads all below a tenth of it
+    are kN labelled N, as grip-tire's rule)."""
     for n in table.names:
         ch = CHANNELS.get(n)
         if ch is None:
@@ -159,14 +165,19 @@ def check_ranges(path, table):
     if "fz" in table.columns:
         fz = table.columns["fz"]
         top = float(np.max(fz))
-        if 0.0 < top < 100.0:
+        if 0.0 < top < FZ_KN_N:
             i = int(np.argmax(fz))
             raise DataError(path, int(table.row_lines[i]), "fz",
                             f"the largest load is {top:g} N: a tire load in kN labelled N?")
+        if fz_nominal and 0.0 < top < FZ_KN_FNOMIN * fz_nominal:
+            i = int(np.argmax(fz))
+            raise DataError(path, int(table.row_lines[i]), "fz",
+                            f"the largest load is {top:g} N, below a tenth of the tyre's FNOMIN = "
+                            f"{fz_nominal:g} N: a tire load in kN labelled N?")
     if "p" in table.columns:
         p = table.columns["p"]
         pos = p[p > 0.0]
-        if pos.size and float(np.max(pos)) < 20e3:
+        if pos.size and float(np.max(pos)) < P_BAR_PA:
             i = int(np.flatnonzero(p == np.max(pos))[0])
             raise DataError(path, int(table.row_lines[i]), "p",
                             f"the largest pressure is {float(np.max(pos)):g} Pa: bar, psi or kPa labelled Pa?")
@@ -179,10 +190,11 @@ def check_ranges(path, table):
                             f"time does not increase: {t[i]:g} s after {t[i - 1]:g} s")
 
 
-def read_table(path, required=(), known_only=False, check=True, quiet=False):
+def read_table(path, required=(), known_only=False, check=True, quiet=False, fz_nominal=None):
     """Read a measured-data CSV into a Table, or raise DataError. required:
     columns that must be present; known_only: refuse columns that are not
-    known channels (instead of keeping unit-declared extras)."""
+    known channels (instead of keeping unit-declared extras); fz_nominal:
+    the tyre's FNOMIN [N], if known (check_ranges)."""
     size = os.path.getsize(path) if os.path.isfile(path) else 0
     if size > MAX_FILE_BYTES:
         raise DataError(path, None, None, f"{size} bytes: larger than the cap of {MAX_FILE_BYTES} bytes")
@@ -244,5 +256,5 @@ def read_table(path, required=(), known_only=False, check=True, quiet=False):
             hint = f" (is '{near[0]}' meant to be '{n}'?)" if near else ""
             raise DataError(path, header_line, n, f"required column missing{hint}")
     if check:
-        check_ranges(path, table)
+        check_ranges(path, table, fz_nominal)
     return table

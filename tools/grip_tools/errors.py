@@ -12,6 +12,10 @@ A module raises DataError (or a subclass) for bad input; the command line
 EXIT_USAGE = 2
 EXIT_DATA = 3
 
+# The exit codes as a command's --help states them (argparse epilog).
+EXIT_HELP = ("exit status: 0 done; 2 usage (a bad option, a file that cannot be opened); "
+             "3 data (a file read but not usable: the message names file, line and field)")
+
 
 class UsageError(Exception):
     """The command was called wrongly (exit 2)."""

@@ -6,8 +6,8 @@ The file is a generated rig record (benchmark.generate('pressure_heating',
 recovering in rests), written as CSV and analysed through the command
 (`grip analyze FILE --tir ... --holdout forward:0.3`, 2 processes): reading,
 the sanity stage, the grammar's screening and refinement, the named forms,
-the blocks:8 re-fit of the chosen effect and the report. The wall and CPU
-times are printed with the load beside them, not asserted (a timing
+the second split (the best accepted candidates re-fitted on blocks:8) and
+the report. The wall and CPU times are printed with the load beside them, not asserted (a timing
 threshold fails on a loaded machine, not on slow code: 66.9 s at load 4 in
 a full `make check`, 20.9 s alone); docs/measured-data-loop.md holds the
 measured figures. OneBlasThread checks

@@ -100,6 +100,21 @@ class Behaviour(unittest.TestCase):
         print(f"\n  under a 64 MiB address-space limit: the drive, 5x the drive ({os.path.getsize(big) >> 20} MB), "
               "with --reorder and with -e: exit 0")
 
+    def test_no_unit_check_takes_range_faults(self):
+        # a steering angle in degrees: refused; with --no-unit-check every
+        # cell is a range fault (not valid, no value), never used as radians
+        path = os.path.join(INPUTS, "steer_degrees.csv")
+        rc, _, err = replay("-e", TIR, "--csv", path)
+        self.assertEqual(rc, 4)
+        self.assertIn("column steer_angle: 45 is outside [-20, 20] rad (degrees?)", err)
+        rc, out, err = replay("-q", "-e", TIR, "--no-unit-check", "--csv", path)
+        self.assertEqual(rc, 0, err)
+        rows = list(csv.DictReader(io.StringIO(out)))
+        self.assertGreater(len(rows), 20)
+        self.assertEqual({r["steer_angle_fault"] for r in rows}, {"range"})
+        self.assertEqual({r["steer_angle"] for r in rows}, {""})
+        self.assertEqual({r["wheel_speed_fl_fault"] for r in rows}, {"ok"})
+
     def test_reorder_sorts(self):
         shuffled = os.path.join(INPUTS, "shuffled.log")
         with open(shuffled) as f:

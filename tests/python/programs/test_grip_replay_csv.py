@@ -168,7 +168,14 @@ class CsvModeTests(unittest.TestCase):
         print(f"\n  grip-replay --estimate-rear: max |beta - est_ref| {err_rear:.2e} rad; "
               f"the rear tire moves beta by up to {float(np.max(np.abs(r - same))):.4f} rad")
         self.assertLessEqual(err_rear, TOL["float"]["beta"] + 1e-6 * float(np.max(np.abs(r))))
-        self.assertGreater(float(np.max(np.abs(r - same))), 100 * TOL["float"]["beta"])
+        # the tire was applied: the rear axle force moves (beta follows the
+        # kinematic vy where the tire model's bound is the larger, so it
+        # moves less: 0.00025 rad)
+        # the yaw-rate reference takes the axles' stiffnesses directly
+        yr, yr_same = (np.array([o["yaw_rate_ref"] for o in x]) for x in (ref, self.ref))
+        print(f"  the rear tire moves the yaw-rate reference by up to {float(np.max(np.abs(yr - yr_same))):.4f} rad/s")
+        self.assertGreater(float(np.max(np.abs(yr - yr_same))), 100 * TOL["float"]["yaw_rate_ref"])
+        self.assertLessEqual(float(np.nanmax(np.abs(col(rows, "yaw_rate_ref") - yr))), TOL["float"]["yaw_rate_ref"])
 
     def test_float(self):
         self.check_build("float")
@@ -190,8 +197,8 @@ class CsvModeTests(unittest.TestCase):
         err_beta = np.max(np.abs(col(rows, "beta") - np.array([o["beta"] for o in ref])))
         self.assertLessEqual(err_beta, TOL["float"]["beta"])
         # a different mass changes the estimate (the file was applied)
-        base = np.array([o["beta"] for o in self.ref])
-        self.assertGreater(np.max(np.abs(col(rows, "beta") - base)), 10 * TOL["float"]["beta"])
+        base = np.array([o["fy_axle"][0] for o in self.ref])
+        self.assertGreater(np.nanmax(np.abs(col(rows, "fy_front") - base)), 0.02 * np.max(np.abs(base)))
         # the vehicle-level keys: road plane, downforce, drag, rolling
         # resistance, sensor latency, steering lag
         veh2 = os.path.join(d, "car2.txt")

@@ -256,8 +256,9 @@ class CsvHandling(unittest.TestCase):
 
     def test_rejected_input_keeps_row(self):
         # a slip ratio beyond the fixed-point range is reported, not wrapped
+        # (--no-unit-check: without it the unit check refuses it first)
         text = self.HEAD + "\n1e9,0,0,4000,220000,20\n0,0,0,4000,220000,20\n"
-        rc, out, err = run(["--tir", self.TIR], text)
+        rc, out, err = run(["--tir", self.TIR, "--no-unit-check"], text)
         head, rows = parse_out(out)
         self.assertEqual(len(rows), 2)
         self.assertEqual(rows[1][-1], "0")
@@ -267,6 +268,60 @@ class CsvHandling(unittest.TestCase):
         if st < 0:
             self.assertEqual(rc, 1)
             self.assertIn("<stdin>:2:", err)
+
+    def test_units_implausible(self):
+        # a slip angle in degrees: the row is refused (-101, no forces), exit 4
+        text = self.HEAD + "\n0,0.02,0,4000,220000,20\n0,5,0,4000,220000,20\n"
+        rc, out, err = run(["--tir", self.TIR], text)
+        head, rows = parse_out(out)
+        self.assertEqual(rc, 4)
+        self.assertEqual([r[-1] for r in rows], ["0", "-101"])
+        self.assertEqual(rows[1][-4:-1], ["", "", ""])
+        self.assertIn("<stdin>:3: column 'alpha': 5 rad is outside the plausible range", err)
+        self.assertIn("(degrees?)", err)
+        # loads in kN: every row is evaluated, then the column is refused
+        fnomin = tir.read_tir(self.TIR).params()["fnomin"]
+        text = self.HEAD + "\n0,0.02,0,3.5,220000,20\n0,0.02,0,4.2,220000,20\n0,0.02,0,-0.1,220000,20\n"
+        rc, out, err = run(["--tir", self.TIR], text)
+        self.assertEqual(rc, 4)
+        self.assertEqual(len(parse_out(out)[1]), 3)
+        self.assertIn(f"<stdin>:3: column 'fz': the largest load is 4.2 N, below a tenth of the tyre's "
+                      f"FNOMIN = {fnomin:g} N: a load in kN labelled N?", err)
+        # just above a tenth of FNOMIN is a light load, not a unit error
+        light = 0.1 * fnomin + 1.0
+        rc, out, err = run(["--tir", self.TIR], self.HEAD + f"\n0,0.02,0,{light},220000,20\n")
+        self.assertEqual(rc, 0, err)
+        # in the SAE axes a load is negative: the same rule on -fz
+        rc, out, err = run(["--tir", self.TIR, "--sae"], self.HEAD + "\n0,0.02,0,-4.2,220000,20\n")
+        self.assertEqual(rc, 4)
+        self.assertIn("the largest load is 4.2 N", err)
+        rc, out, err = run(["--tir", self.TIR, "--sae"], self.HEAD + "\n0,0.02,0,-4000,220000,20\n")
+        self.assertEqual(rc, 0, err)
+        # a pressure in bar; p <= 0 is the nominal pressure, not a unit error
+        rc, out, err = run(["--tir", self.TIR], self.HEAD + "\n0,0.02,0,4000,2.2,20\n")
+        self.assertEqual(rc, 4)
+        self.assertIn("<stdin>:2: column 'p': the largest pressure is 2.2 Pa", err)
+        rc, out, err = run(["--tir", self.TIR], self.HEAD + "\n0,0.02,0,4000,-1,20\n")
+        self.assertEqual(rc, 0, err)
+        # the override evaluates them as given
+        rc, out, err = run(["--tir", self.TIR, "--no-unit-check"], self.HEAD + "\n0,5,0,4.2,2.2,20\n")
+        self.assertIn(rc, (0, 1))
+        self.assertNotEqual(parse_out(out)[1][0][-1], "-101")
+
+    def test_units_declared(self):
+        ok = "kappa[-],alpha[rad],gamma[rad],fz[N],p[Pa],vx[m/s]\n0,0.02,0,4000,220000,20\n"
+        rc, out, err = run(["--tir", self.TIR], ok)
+        self.assertEqual(rc, 0, err)
+        self.assertEqual(parse_out(out)[0][:6], ok.splitlines()[0].split(","))
+        rc, out, err = run(["--tir", self.TIR], ok.replace("fz[N]", "fz[kN]"))
+        self.assertEqual(rc, 4)
+        self.assertIn("<stdin>:1: header: column 4 'fz[kN]': unit [kN], but grip-tire reads fz in [N]", err)
+        rc, out, err = run(["--tir", self.TIR, "--no-unit-check"], ok.replace("alpha[rad]", "ALPHA [deg]"))
+        self.assertEqual(rc, 4)   # a declared unit is never overridden
+        self.assertIn("column 2 'ALPHA [deg]': unit [deg]", err)
+        rc, out, err = run(["--tir", self.TIR], ok.replace("fz[N]", "fz[N],FZ"))
+        self.assertEqual(rc, 4)
+        self.assertIn("'fz' appears twice", err)
 
 
 def grid(params, n, seed):

@@ -42,6 +42,65 @@ class CoefficientList(unittest.TestCase):
         self.assertEqual(by["LFZO"].default, 1.0)
 
 
+# MFeval 4.0's readTIR defaults (the values of Pacejka's book tyre) of every
+# coefficient of the force and moment equations whose default is not 0: a
+# key a file leaves out must take these, as MFeval and MF-Tyre evaluate it.
+MFEVAL_DEFAULTS = {
+    "LONGVL": 16.7, "VXLOW": 1.0, "PCX1": 1.65, "PDX1": 1.3, "PDX2": -0.15, "PKX1": 20.0,
+    "RBX1": 20.0, "RBX2": 15.0, "RCX1": 1.0, "QSX4": 5.0, "QSX5": 1.0, "QSX6": 10.0, "QSX9": 0.4,
+    "QSX11": 5.0, "PCY1": 1.3, "PDY1": 1.1, "PDY2": -0.15, "PKY1": -20.0, "PKY2": 1.0, "PKY4": 2.0,
+    "PKY6": -1.0, "RBY1": 10.0, "RBY2": 10.0, "RCY1": 1.0, "RVY4": 20.0, "RVY5": 2.0, "RVY6": 10.0,
+    "QSY1": 0.01, "QSY3": 4.0e-4, "QSY4": 4.0e-5, "QSY7": 0.85, "QSY8": -0.4, "QBZ1": 10.0, "QBZ9": 10.0,
+    "QCZ1": 1.1, "QDZ1": 0.12, "QDZ8": -0.05, "Q_RE0": 1.0, "Q_FZ2": 1.0e-4, "BREFF": 8.4, "DREFF": 0.27,
+    "FREFF": 0.07, "BOTTOM_OFFST": 0.01, "ASPECT_RATIO": 0.6, "Q_RA1": 0.5, "Q_RA2": 1.0, "Q_RB1": 1.0,
+    "Q_RB2": -1.0,
+}
+# Keys whose default stays 0 = not given, with the reason (docs/tools.md):
+# the book tyre's size, stiffnesses, limits and pressures would be wrong for
+# any other tyre, and turn slip without the file's coefficients is refused.
+GRIP_NOT_GIVEN = ("WIDTH", "RIM_RADIUS", "INFLPRES", "NOMPRES", "VERTICAL_STIFFNESS", "LONGITUDINAL_STIFFNESS",
+                  "LATERAL_STIFFNESS", "PRESMIN", "PRESMAX", "FZMIN", "FZMAX")
+
+
+class Defaults(unittest.TestCase):
+    def test_defaults_are_mfevals(self):
+        by = {c.key: c for c in tir.coefficients()}
+        for key, want in MFEVAL_DEFAULTS.items():
+            c = by[key]
+            if not c.required:
+                self.assertEqual(c.default, want, key)
+        for c in tir.coefficients():
+            if c.required or c.key in MFEVAL_DEFAULTS:
+                continue
+            if c.section == "SCALING_COEFFICIENTS":
+                self.assertEqual(c.default, 0.0 if c.key == "LMUV" else 1.0, c.key)
+            elif c.key in GRIP_NOT_GIVEN or c.section == "TURNSLIP_COEFFICIENTS" or c.section.endswith("_RANGE"):
+                continue
+            else:
+                self.assertEqual(c.default, 0.0, f"{c.key}: MFeval's default is 0")
+
+    def test_missing_pky2_keeps_the_cornering_stiffness(self):
+        # minimal.tir gives only the required keys: before, PKY2 = 0 made
+        # Kya = PKY1 Fz0 sin(PKY4 atan(Fz / 0)) = 0 and Fy 0.0003 N at 0.05 rad
+        from grip_tools.reference import mf
+        import numpy as np
+        t = tir.read_tir(os.path.join(FIXTURES, "minimal.tir"))
+        self.assertEqual(t.lines["PKY2"], 0)
+        p = t.params()
+        self.assertEqual(p["pky2"], 1.0)
+        with open(os.path.join(FIXTURES, "minimal.tir")) as f:
+            text = f.read()
+        with tempfile.TemporaryDirectory() as d:
+            q = os.path.join(d, "explicit.tir")
+            with open(q, "w") as f:
+                f.write(text.replace("PKY1 = -15.324", "PKY1 = -15.324\nPKY2 = 1"))
+            explicit = tir.read_tir(q).params()
+        args = (np.array([0.0]), np.array([0.05]), np.array([0.0]), np.array([4000.0]))
+        fy = mf.evaluate(p, *args)["fy"][0]
+        self.assertEqual(fy, mf.evaluate(explicit, *args)["fy"][0])
+        self.assertGreater(abs(fy), 0.3 * 4000.0 * 0.05 * 15.324 * 0.5)
+
+
 class SharedFiles(unittest.TestCase):
     def test_every_shared_file_both_line_endings(self):
         files = shared_files()
@@ -341,7 +400,15 @@ class Validation(unittest.TestCase):
         self.assertEqual(len(warns), 2)
         self.assertIn(":29: RBX1X: unknown key in [LONGITUDINAL_COEFFICIENTS]: ignored (did you mean RBX1?)",
                       warns[0])
-        self.assertEqual(t.values["RBX1"], 0.0)          # ignored, not guessed
+        self.assertEqual(t.lines["RBX1"], 31)            # ignored: RBX1 comes from its own line
+        # the same misspelling in a file without RBX1 would lose its value
+        # (RBX1 would take its default): refused, strict or not
+        for strict in (False, True):
+            with self.assertRaises(tir.TirError) as cm:
+                quiet_read(os.path.join(FIXTURES, "typo_key.tir"), strict=strict)
+            self.assertEqual((cm.exception.line, cm.exception.key), (29, "RBX1X"))
+            self.assertIn("a misspelling of RBX1? The file does not give RBX1, which would take its default 20",
+                          cm.exception.message)
         with self.assertRaises(tir.TirError) as cm:
             quiet_read(os.path.join(FIXTURES, "warn_unknown_key.tir"), strict=True)
         self.assertEqual((cm.exception.line, cm.exception.key), (29, "RBX1X"))

@@ -13,6 +13,7 @@ variant; the M4F's FPU divide takes 14).
 Writes build/bench/bench.csv and build/bench/bench.md and prints the table.
 """
 import argparse
+import bisect
 import csv
 import os
 import re
@@ -33,7 +34,54 @@ def host_ns(arith):
     return {row["case"]: float(row["ns_per_call"]) for row in csv.DictReader(out.splitlines())}
 
 
+# The math kernels of an evaluation: libm's functions (float build, GRIP_FLOAT_KERNELS
+# 0; grip's float kernels are inlined into their callers and cannot be told apart) and
+# the Q15.16 functions behind r_sqrt ... r_log (fixed build).
+MATH_KERNEL_FN = re.compile(r"^grip_q16_(sqrt|atan|atan2|sin|cos|exp|log)$")
+CG_NAME = re.compile(r"^\((\d+)\)(?: (.*))?$")
+
+
+def callgrind_split(lines):
+    """Self cost (Ir) of a callgrind output file: (total, inside the math kernels)."""
+    obs, fns = {}, {}
+    ob, fn = "", ""
+    total = kern = 0
+    skip = False
+
+    def name(table, text):
+        m = CG_NAME.match(text.strip())
+        if not m:
+            return text.strip()
+        if m.group(2) is not None:
+            table[m.group(1)] = m.group(2)
+        return table.get(m.group(1), "")
+
+    for line in lines:
+        if skip:            # the inclusive cost of the call named on the line before
+            skip = False
+            continue
+        if line.startswith("ob="):
+            ob = name(obs, line[3:])
+        elif line.startswith("cob="):
+            name(obs, line[4:])
+        elif line.startswith("fn="):
+            fn = name(fns, line[3:])
+        elif line.startswith("cfn="):
+            name(fns, line[4:])
+        elif line.startswith("calls="):
+            skip = True
+        elif line[:1] in "0123456789+-*":
+            parts = line.split()
+            if len(parts) >= 2:
+                c = int(parts[1])
+                total += c
+                if "libm" in os.path.basename(ob) or MATH_KERNEL_FN.match(fn):
+                    kern += c
+    return total, kern
+
+
 def callgrind_ir(arith, case, n=1600):
+    """Mean instructions per call: (total, inside the math kernels)."""
     exe = os.path.join(ROOT, f"build/{arith}-gcc/bench/bench_host")
     with tempfile.TemporaryDirectory() as d:
         out = os.path.join(d, "cg.out")
@@ -41,16 +89,47 @@ def callgrind_ir(arith, case, n=1600):
                         f"--callgrind-out-file={out}", exe, case, str(n)],
                        check=True, capture_output=True)
         with open(out) as f:
-            for line in f:
-                if line.startswith("totals:"):
-                    return int(line.split()[1]) / n
-    raise RuntimeError("callgrind: no totals line in its output")
+            lines = f.readlines()
+    totals = [int(l.split()[1]) for l in lines if l.startswith("totals:")]
+    if not totals:
+        raise RuntimeError("callgrind: no totals line in its output")
+    total, kern = callgrind_split(lines)
+    if total != totals[0]:
+        raise RuntimeError(f"callgrind: self costs add up to {total}, totals line {totals[0]}")
+    return totals[0] / n, kern / n
+
+
+# The math kernels in a Cortex-M image: newlib's single-precision functions and their
+# internal helpers (float), grip's Q15.16 functions and the helpers of lib/arith/q16.c
+# (fixed). libgcc's helpers (__aeabi_*, __muldi3, ...) count where they are called
+# from: with the function executed last before them that is not a libgcc helper.
+M_KERNEL_FN = re.compile(r"^(atanf|atan2f|sinf|cosf|sincosf|expf|logf|sqrtf|fabsf|floorf|scalbnf|copysignf"
+                         r"|__ieee754_\w+|__kernel_\w+|__math_\w+|__sin\w*|__cos\w*|__exp\w*|__log\w*"
+                         r"|grip_q16_(sqrt|atan|atan2|sin|cos|exp|log)"
+                         r"|horner_q30|odd_poly_q30|q30_to_q16|msb64|atan_mag_q30|phase_q32|sin_of_phase)$")
+M_HELPER_FN = re.compile(r"^(__aeabi_\w+|__\w+(di|si)\d|__clz\w+|__ctz\w+|__gnu_\w+)$")
+
+
+def symbol_classes(elf):
+    """Sorted function starts and, per start, 1 kernel / 0 other / None libgcc helper."""
+    nm = subprocess.run(["arm-none-eabi-nm", "-S", "--defined-only", elf], check=True,
+                        capture_output=True, text=True).stdout
+    syms = []
+    for l in nm.splitlines():
+        p = l.split()
+        if len(p) == 4 and p[2] in "tTwW":
+            cls = 1 if M_KERNEL_FN.match(p[3]) else (None if M_HELPER_FN.match(p[3]) else 0)
+            syms.append((int(p[0], 16) & ~1, int(p[1], 16), cls))
+    syms.sort()
+    return [s[0] for s in syms], syms
 
 
 def qemu_counts(target, machine):
+    """Per case: (mean, max, mean inside the math kernels) instructions per call."""
     elf = os.path.join(ROOT, f"build/{target}/grip-bench.elf")
     nm = subprocess.run(["arm-none-eabi-nm", elf], check=True, capture_output=True, text=True).stdout
     mark = next(int(l.split()[0], 16) & ~1 for l in nm.splitlines() if l.endswith(" bench_mark"))
+    starts, syms = symbol_classes(elf)
     with tempfile.TemporaryDirectory() as d:
         log = os.path.join(d, "trace.log")
         run = subprocess.run(["qemu-system-arm", "-M", machine, "-nographic", "-singlestep",
@@ -61,26 +140,37 @@ def qemu_counts(target, machine):
             raise RuntimeError(f"qemu {target}: exit {run.returncode}: {run.stdout[-500:]}")
         # semihosting SYS_WRITE0 output arrives on stderr
         names = [l[len("bench: "):] for l in (run.stdout + run.stderr).splitlines() if l.startswith("bench: ")]
-        counts, since = [], None
+        counts, kcounts, since, ksince = [], [], None, 0
+        cls_last = 0
         with open(log) as f:
             for line in f:
                 m = TRACE_PC.match(line)
                 if not m:
                     continue
-                if int(m.group(1), 16) == mark:
+                pc = int(m.group(1), 16)
+                if pc == mark:
                     if since is not None:
                         counts.append(since)
-                    since = 0
+                        kcounts.append(ksince)
+                    since, ksince = 0, 0
                 elif since is not None:
                     since += 1
+                    i = bisect.bisect_right(starts, pc) - 1
+                    if i >= 0 and pc < syms[i][0] + max(syms[i][1], 2):
+                        if syms[i][2] is not None:
+                            cls_last = syms[i][2]
+                    else:
+                        cls_last = 0
+                    ksince += cls_last
     # marks come in pairs (start, end): keep the start->end intervals
     spans = counts[0::2]
+    kspans = kcounts[0::2]
     per = len(spans) // len(names)
     out = {}
     empty = statistics.mean(spans[0:per])
     for k, name in enumerate(names[1:], start=1):
         vals = [v - empty for v in spans[k * per:(k + 1) * per]]
-        out[name] = (statistics.mean(vals), max(vals))
+        out[name] = (statistics.mean(vals), max(vals), statistics.mean(kspans[k * per:(k + 1) * per]))
     return out
 
 
@@ -98,16 +188,20 @@ def main(argv=None):
     cases = [c for c in ns["float"] if re.search(args.cases, c)]
     ir = {a: {c: callgrind_ir(a, c) for c in cases} for a in ("float", "fixed")}
     targets = [t for t in args.targets.split(",") if t]
-    none = {c: (float("nan"), float("nan")) for c in cases}
+    none = {c: (float("nan"), float("nan"), float("nan")) for c in cases}
     m4f = qemu_counts("m4f-float", "mps2-an386") if "m4f" in targets else none
     m0p = qemu_counts("m0p-fixed", "mps2-an385") if "m0p" in targets else none
     header = ["case", "host ns float", "host ns fixed", "x86 instr float", "x86 instr fixed",
-              "M4F instr mean", "M4F instr max", "M0+ instr mean", "M0+ instr max"]
+              "x86 float in kernels", "x86 fixed in kernels",
+              "M4F instr mean", "M4F instr max", "M4F in kernels", "M0+ instr mean", "M0+ instr max",
+              "M0+ in kernels"]
     rows = []
     for c in cases:
         rows.append([c, f"{ns['float'][c]:.1f}", f"{ns['fixed'][c]:.1f}",
-                     f"{ir['float'][c]:.0f}", f"{ir['fixed'][c]:.0f}",
-                     f"{m4f[c][0]:.0f}", f"{m4f[c][1]:.0f}", f"{m0p[c][0]:.0f}", f"{m0p[c][1]:.0f}"])
+                     f"{ir['float'][c][0]:.0f}", f"{ir['fixed'][c][0]:.0f}",
+                     f"{ir['float'][c][1]:.0f}", f"{ir['fixed'][c][1]:.0f}",
+                     f"{m4f[c][0]:.0f}", f"{m4f[c][1]:.0f}", f"{m4f[c][2]:.0f}",
+                     f"{m0p[c][0]:.0f}", f"{m0p[c][1]:.0f}", f"{m0p[c][2]:.0f}"])
     with open(os.path.join(args.outdir, "bench.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(header)
@@ -118,7 +212,10 @@ def main(argv=None):
     with open(os.path.join(args.outdir, "bench.md"), "w") as f:
         f.write(text)
     print(text)
-    print("x86 instr: valgrind callgrind, mean over the 16 input sets; M4F/M0+ instr: "
+    print("x86 instr: valgrind callgrind, mean over the 16 input sets; 'in kernels': the part of it in "
+          "libm's functions (float) or grip_q16_sqrt/atan/atan2/sin/cos/exp/log (fixed), the rest is outside; "
+          "M4F/M0+ instr: (in kernels: newlib's float functions, grip_q16_* and their helpers, libgcc "
+          "counted with its caller) "
           "qemu-system-arm trace, mean and max over the 16 input sets; host ns: median of 5 runs",
           file=sys.stderr)
     return 0

@@ -153,6 +153,8 @@ def estimate(run_dir):
     res["fyr"] = np.array([o["fy_axle"][1] for o in outs])
     res["valid"] = np.array([o["valid"] for o in outs], dtype=np.int64)
     res["vx"] = np.array([o["vx"] for o in outs])
+    res["beta_sd"] = np.array([o["beta_sd"] for o in outs])
+    res["flags"] = np.array([o["flags"] for o in outs], dtype=np.int64)
     return res
 
 
@@ -170,18 +172,22 @@ def write_input_csv(path, t, value, valid):
 
 def read_replay(text):
     """grip-replay's output CSV (estimator columns) -> the arrays estimate() returns."""
-    import csv
     import io
-    rows = list(csv.DictReader(io.StringIO(text)))
-
-    def col(k):
-        return np.array([float(r[k]) if r[k] != "" else np.nan for r in rows])
-    return {"time": col("t_s"), "beta": col("beta"), "mu": col("mu"), "mu_conf": col("mu_conf"),
-            "fyf": col("fy_front"), "fyr": col("fy_rear"), "vx": col("vx"), "yaw_rate": col("yaw_rate"),
-            "yaw_rate_ref": col("yaw_rate_ref"), "yaw_rate_bias": col("yaw_rate_bias"),
-            "ay_model": col("ay_model"), "est_status": col("est_status"),
-            "valid": np.array([int(r["est_valid"]) for r in rows], dtype=np.int64),
-            "flags": np.array([int(r["est_flags"]) for r in rows], dtype=np.int64)}
+    import pyarrow as pa
+    import pyarrow.csv as pcsv
+    want = {"t_s": "time", "beta": "beta", "mu": "mu", "mu_conf": "mu_conf", "fy_front": "fyf", "fy_rear": "fyr",
+            "vx": "vx", "yaw_rate": "yaw_rate", "yaw_rate_ref": "yaw_rate_ref", "yaw_rate_bias": "yaw_rate_bias",
+            "ay_model": "ay_model", "est_status": "est_status", "beta_sd": "beta_sd", "mu_sd": "mu_sd"}
+    # only the estimator's columns, as float64 (an empty cell is NaN) and
+    # the two bit masks as int64; the input and fault columns are not read
+    types = {k: pa.float64() for k in want}
+    types.update(est_valid=pa.int64(), est_flags=pa.int64())
+    tab = pcsv.read_csv(io.BytesIO(text.encode()), read_options=pcsv.ReadOptions(use_threads=False),
+                        convert_options=pcsv.ConvertOptions(column_types=types, include_columns=list(types)))
+    out = {v: tab.column(k).to_numpy(zero_copy_only=False).astype(float) for k, v in want.items()}
+    out["valid"] = tab.column("est_valid").to_numpy(zero_copy_only=False).astype(np.int64)
+    out["flags"] = tab.column("est_flags").to_numpy(zero_copy_only=False).astype(np.int64)
+    return out
 
 
 def run_c(binary, tir_path, csv_path, vehicle="generic", vehicle_lines=(), step_ms=10.0):
@@ -324,9 +330,12 @@ def evaluate(run_dir, est):
     r["beta_rms_deg"] = float(np.sqrt(np.mean(e ** 2)))
     r["beta_max_deg"] = float(np.max(np.abs(e)))
     r["beta_true_max_deg"] = float(np.max(np.abs(beta_t[ok])) * DEG)
+    # the axle forces over the rows their own bit (V_AXLE) vouches for, as
+    # the independent judge counts them (V_BETA further needs beta's bound)
+    ok_a = ((est["valid"] & est_ref.V_AXLE) != 0) & (vx_t > 5.0)
     for name, est_f, tru_f in (("front", est["fyf"], fyf_t), ("rear", est["fyr"], fyr_t)):
-        peak = float(np.max(np.abs(tru_f[ok])))
-        rms = float(np.sqrt(np.mean((est_f - tru_f)[ok] ** 2)))
+        peak = float(np.max(np.abs(tru_f[ok_a]))) if ok_a.any() else 0.0
+        rms = float(np.sqrt(np.mean((est_f - tru_f)[ok_a] ** 2))) if ok_a.any() else 0.0
         r[f"fy_{name}_peak_N"] = peak
         # a straight run (peak below 200 N) has no meaningful percentage
         r[f"fy_{name}_rms_pct"] = 100.0 * rms / peak if peak >= 200.0 else None
@@ -713,7 +722,18 @@ def main(argv=None):
     ap.add_argument("--vehicles", nargs="+", help="--independent: only these vehicles")
     ap.add_argument("--manoeuvres", nargs="+", help="--independent: only these manoeuvres")
     ap.add_argument("--surfaces", nargs="+", help="--independent: only these surfaces")
+    ap.add_argument("--integrity", action="store_true",
+                    help="the validity flags' integrity on every judge (est_ref): <out>/integrity_table.md, .json")
+    ap.add_argument("--judges", default=",".join(("own", "mismatch", "independent", "av21")),
+                    help="--integrity: comma-separated subset of own, mismatch, independent, av21")
+    ap.add_argument("--const", action="append", default=[], metavar="NAME=VALUE",
+                    help="--integrity: an est_ref constant changed for the run (sensitivity: TIRE_TOL, KIN_ACC, ...)")
     a = ap.parse_args(argv)
+    if a.integrity:
+        from grip_tools.evaluate import integrity
+        integrity.run(a.out, judges=[j for j in a.judges.split(",") if j], runs_dir=a.runs_dir, full=a.full,
+                      av21_log=a.av21, consts=a.const)
+        return 0
     if a.independent:
         from grip_tools.sim.independent import judge
         judge.run(a.out, full=a.full, vehicles=a.vehicles, manoeuvres=a.manoeuvres, surfaces=a.surfaces,

@@ -728,7 +728,11 @@ def main(argv=None):
         ap.error("the measured CSV is required (or --synthetic)")
     ch = "fy" if args.model in ("mf89", "fy") else args.model
     slip = "kappa" if args.model == "fx" else "alpha"
-    table = read_table(args.csv, required=("fz", ch, slip))
+    # the base .tir first: its FNOMIN tells a load in kN from a light load
+    base_tir = _base_params(args.tir, args.fittyp, 0.0, args.r0, args.side) \
+        if args.tir and args.model != "mf89" else None
+    fz_nominal = base_tir["fnomin"] if base_tir is not None else args.fnomin
+    table = read_table(args.csv, required=("fz", ch, slip), fz_nominal=fz_nominal)
     data = table.columns
     fix = [s.strip().lower() for s in args.fix.split(",") if s.strip()]
     if args.model == "mf89":
@@ -737,7 +741,7 @@ def main(argv=None):
     else:
         fz_levels = _levels(data["fz"], 0.02 * float(np.max(data["fz"])))
         fnomin = args.fnomin or float(fz_levels[len(fz_levels) // 2])
-        base = _base_params(args.tir, args.fittyp, fnomin, args.r0, args.side)
+        base = base_tir if base_tir is not None else _base_params(None, args.fittyp, fnomin, args.r0, args.side)
         n_free = len([nm for nm in identifiable(args.model, data, base) if nm not in fix])
         check_fit_data(args.csv, table, ch, slip, n_free)
         res = fit_mf_group(data, args.model, base, constraints=args.constraints, method=args.method,

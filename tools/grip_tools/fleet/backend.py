@@ -32,7 +32,7 @@ CSV_INPUTS = ("wheel_speed_fl", "wheel_speed_fr", "wheel_speed_rl", "wheel_speed
 # the estimator's output columns (grip-replay -e, after the inputs)
 EST_COLS = ("est_status", "est_valid", "est_flags", "vx", "beta", "yaw_rate", "yaw_rate_ref", "delta", "mu",
             "mu_conf", "fy_front", "fy_rear", "util_front", "util_rear", "fy_margin_front", "yaw_rate_bias",
-            "ay_model")
+            "ay_model", "beta_sd", "mu_sd")
 INT_COLS = ("step", "est_status", "est_valid", "est_flags")
 
 

@@ -259,7 +259,7 @@ def out_columns():
     for q in ("fz", "kappa", "alpha", "fx", "fy", "mz", "util"):
         cols += [f"{q}{i}" for i in range(4)]
     cols += ["fy_axle0", "fy_axle1", "util_axle0", "util_axle1", "fy_margin_front",
-             "steer_char", "valid", "flags"]
+             "steer_char", "valid", "flags", "beta_sd", "mu_sd"]
     return cols
 
 
@@ -269,7 +269,7 @@ def out_row(o):
     for q in ("fz", "kappa", "alpha", "fx", "fy", "mz", "util"):
         row += list(o[q])
     row += list(o["fy_axle"]) + list(o["util_axle"]) + [o["fy_margin_front"], o["steer_char"],
-                                                         o["valid"], o["flags"]]
+                                                         o["valid"], o["flags"], o["beta_sd"], o["mu_sd"]]
     return row
 
 

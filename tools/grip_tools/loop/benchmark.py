@@ -225,18 +225,22 @@ def _vs(ch):
     return np.abs(ch["vx"]) * np.hypot(ch["kappa"], np.tan(ch["alpha"]))
 
 
-def _thermal(rng, ch, model, node, dT_target, make_over, iters=3):
+def _thermal(rng, ch, model, node, dT_target, make_over, iters=3, eta_ch=None):
     """Solve forces and temperatures together: the heat is eta |F| Vs of the
     forces the heated tyre produces. make_over(Ts, Tc) -> (over dict,
-    coefficients changed). Returns outputs, Ts, Tc, params."""
+    coefficients changed). eta: the node's peak reaches dT_target on the
+    base model's heat on the plan eta_ch (default: ch). Returns outputs, Ts,
+    Tc, params."""
     taus = dict(tau_sc=rng.uniform(5, 20), tau_sa=rng.uniform(20, 60), tau_cs=rng.uniform(40, 120),
                 tau_ca=rng.uniform(100, 300))
+    e_ch = ch if eta_ch is None else eta_ch
+    o1 = model.predict(e_ch)
+    Ts1, Tc1 = two_node(e_ch["t"], np.hypot(o1["fx"], o1["fy"]) * _vs(e_ch), eta=1.0, **taus)
+    ref = (Ts1 if node == "s" else Tc1) - T_AMB
+    eta = dT_target / max(float(np.max(ref)), 1e-9)
     out = model.predict(ch)
     vs = _vs(ch)
     q = np.hypot(out["fx"], out["fy"]) * vs
-    Ts1, Tc1 = two_node(ch["t"], q, eta=1.0, **taus)
-    ref = (Ts1 if node == "s" else Tc1) - T_AMB
-    eta = dT_target / max(float(np.max(ref)), 1e-9)
     for _ in range(iters):
         Ts, Tc = two_node(ch["t"], q, eta=eta, **taus)
         over = make_over(Ts, Tc)
@@ -271,16 +275,8 @@ def _butter_lowpass(y, rate, fc):
     return lfilter(b, a, y - y[0]) + y[0]
 
 
-def generate(kind, seed, duration=150.0, rate=40.0, noise=None, plan_seed=None):
-    """(Dataset, Truth) of one benchmark set. plan_seed: another test plan
-    (and noise) for the same tyre and effect (the effect's parameters come
-    from seed)."""
-    if kind not in KINDS:
-        raise ValueError(f"unknown benchmark kind {kind!r}; kinds: {', '.join(KINDS)}")
-    rng = np.random.default_rng(seed)
-    prng = rng if plan_seed is None else np.random.default_rng(plan_seed)
-    P = datasets.base_params()
-    fz0, nom = float(P["fnomin"]), float(P["nompres"])
+def _rig_plan(kind, prng, duration, rate, fz0, nom):
+    """The test plan of a kind: (inputs, rate, duration, camber, pressure)"""
     camber = kind == "camber_thrust" or (kind not in ("pressure_sensitivity",) and prng.uniform() < 0.4)
     pressure = kind == "pressure_sensitivity" or (kind not in ("pressure_heating", "camber_thrust")
                                                   and prng.uniform() < 0.3)
@@ -291,6 +287,25 @@ def generate(kind, seed, duration=150.0, rate=40.0, noise=None, plan_seed=None):
     if kind == "sensor_lowpass":
         dyn = 0.5
     ch = plan(prng, duration, r, fz0, nom, camber=camber, pressure=pressure, speed=speed, dynamic=dyn)
+    return ch, r, duration, camber, pressure
+
+
+def generate(kind, seed, duration=150.0, rate=40.0, noise=None, plan_seed=None):
+    """(Dataset, Truth) of one benchmark set. plan_seed: another test plan
+    (and noise) for the same tyre and effect (the effect's parameters come
+    from seed)."""
+    if kind not in KINDS:
+        raise ValueError(f"unknown benchmark kind {kind!r}; kinds: {', '.join(KINDS)}")
+    rng = np.random.default_rng(seed)
+    prng = rng if plan_seed is None else np.random.default_rng(plan_seed)
+    P = datasets.base_params()
+    fz0, nom = float(P["fnomin"]), float(P["nompres"])
+    ch, r, duration, camber, pressure = _rig_plan(kind, prng, duration, rate, fz0, nom)
+    # the thermal kinds scale the heat input eta to the peak temperature on
+    # the plan; another plan of the same tyre keeps the eta of the seed's own
+    # plan (eta is the tyre's, not the plan's)
+    eta_ch = None if plan_seed in (None, seed) else _rig_plan(kind, np.random.default_rng(seed), duration, rate,
+                                                               fz0, nom)[0]
     t = ch["t"]
     model = TireModel(P)
     rec = {k: v.copy() for k, v in ch.items() if k != "block"}      # what the rig records
@@ -331,7 +346,7 @@ def generate(kind, seed, duration=150.0, rate=40.0, noise=None, plan_seed=None):
             def mk(Ts, Tc):
                 return {"ltr": np.maximum(1.0 - b * (Ts - T_AMB) / 50.0, 0.05)}
             node, prm = "s", dict(b=b, drop=drop)
-        out, Ts, Tc, tp = _thermal(rng, ch, model, node, dT, mk)
+        out, Ts, Tc, tp = _thermal(rng, ch, model, node, dT, mk, eta_ch=eta_ch)
         prm.update(tp, dT_peak=float(np.max((Ts if node == "s" else Tc) - T_AMB)))
     elif kind == "load_power":
         q = rng.uniform(-0.3, -0.12)
@@ -505,7 +520,8 @@ def assess(ds, truth, res):
                    res.correction.summary() if res.correction is not None else "",
                    [{"name": d.name, "family": list(d.family), "families": [list(f) for f in d.families],
                      "k": d.k, "score": d.score, "ic": d.ic, "kind": d.kind, "accepted": d.accepted,
-                     "ho_rms": dict(d.ho_rms)} for d in res.ranked], float(res.search.get("n_eff", 0.0)))
+                     "score2": d.score2, "ic2": d.ic2, "ho_rms": dict(d.ho_rms)} for d in res.ranked],
+                   float(res.search.get("n_eff", 0.0)))
 
 
 def run_one(args):
@@ -632,7 +648,9 @@ def reselect(path, rules=(("ic", 6.0), ("ic", 2.0), ("ic", 20.0), ("best", 0.0),
     of attribution._select, ("best", 0) the lowest IC alone, ("score", f)
     ties within a share f of the best score; each then with the fewest
     parameters, a constant change first, and the named-form replacement of
-    attribution._select. Returns {rule: named}, and the recorded count under
+    attribution._select. Candidates confirmed on the second split (ic2
+    recorded, attribution._confirm) are ranked by the sum of both ICs, as
+    the tool does. Returns {rule: named}, and the recorded count under
     None."""
     from grip_tools.loop.attribution import SPECIAL_TOL
     with open(path) as f:
@@ -644,6 +662,10 @@ def reselect(path, rules=(("ic", 6.0), ("ic", 2.0), ("ic", 20.0), ("best", 0.0),
             acc = sorted((c for c in s["ranked"] if c["accepted"]), key=lambda c: c["ic"])
             if not acc:
                 continue
+            conf = [c for c in acc if not math.isnan(c.get("ic2", float("nan")))]
+            if conf:                      # the tool's second split: the sum of both ICs
+                both = [dict(c, ic=c["ic"] + c["ic2"]) for c in conf if c["ic2"] < 0.0]
+                acc = sorted(both, key=lambda c: c["ic"]) if both else conf
             if kind == "ic":
                 band = [c for c in acc if c["ic"] <= acc[0]["ic"] + val]
             elif kind == "score":

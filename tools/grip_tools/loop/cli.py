@@ -11,11 +11,12 @@ undeclared-effect data set, or the AV-21 log (axle forces from the motion).
   analyze --benchmark N [--out DIR] [--seed S] [--duration T] [--rate HZ] [--jobs J]
 
 --holdout blocks:N (default blocks:8, interleaved) or forward:F (fit on the
-first 1-F of the record, judge on the last F); the chosen effect is also
-re-fitted and scored on the other of blocks:8 / forward:0.3, and both are
-reported. `apply` predicts with a fitted update (update.json of an earlier
-run; state effects run over the whole new record) and writes the corrected
-model's output next to the measured channels, with RMS before / after.
+first 1-F of the record, judge on the last F); tyre models: the best
+accepted candidates are also re-fitted and scored on the other of blocks:8 /
+forward:0.3 and chosen on both splits; both scores are reported. `apply`
+predicts with a fitted update (update.json of an earlier run; state effects
+run over the whole new record) and writes the corrected model's output next
+to the measured channels, with RMS before / after.
 Tyre models are searched with the candidate grammar (loop/grammar.py);
 --named-only restricts the search to the named effects. --derived lists
 channels derived from vehicle motion rather than measured at the tyre
@@ -27,6 +28,7 @@ import argparse
 import sys
 import time
 
+from grip_tools.errors import EXIT_HELP
 from grip_tools.loop import attribution, io, report
 from grip_tools.loop.effects import TireModel
 
@@ -125,7 +127,7 @@ def main(argv=None):
     if argv and argv[0] == "apply":
         return apply_main(argv[1:])
     from grip_tools.reference import tir
-    ap = argparse.ArgumentParser(prog="grip analyze", description=__doc__,
+    ap = argparse.ArgumentParser(prog="grip analyze", description=__doc__, epilog=EXIT_HELP,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("data", nargs="?")
     ap.add_argument("--tir")

@@ -994,6 +994,20 @@ def refine(ctx, sc, train, scale, x0=None, max_nfev=30):
     return unpack(z)
 
 
+def refit(model, ds, base, specs, train, scale):
+    """Predictions of the given pairs fitted (screened, then refined) on
+    another split's training rows (the states' u_ref from those rows)."""
+    ctx = Context(model, ds, base, train)
+    test = ~train if (~train).any() else train
+    rows, _ = screen(ctx, specs, train, test, scale)
+    by = {sc.spec.name: sc for sc in rows}
+    out = []
+    for sp in specs:
+        sc = by.get(sp.name)
+        out.append(sp.predict(ctx, refine(ctx, sc, train, scale)) if sc is not None else dict(base))
+    return out
+
+
 class GrammarEffect:
     """A grammar candidate behind the interface of effects.Effect (fit,
     predict, applicable), for the second hold-out split and `grip analyze

@@ -239,13 +239,19 @@ def write(res, ds, model, outdir, title="Residual analysis", prefix=""):
               f"model ({sr.get('wall_refine_s', 0.0):.1f} s), named forms {sr.get('wall_named_s', 0.0):.1f} s; "
               f"analysis {sr.get('wall_s', 0.0):.1f} s wall. Criterion: held-out BIC, IC = N_eff ln(S/S_0) + k ln N_eff, "
               f"N_eff = {sr.get('n_eff', 0.0):.0f}; accepted when IC < 0 and the score is at most "
-              f"{1 - attribution.MIN_GAIN:.2f}.", "",
+              f"{1 - attribution.MIN_GAIN:.2f}."
+              + (f" The best {len(sr['second']['score'])} accepted re-fitted and scored on "
+                 f"{sr['second']['split']} (N_eff = {sr['second']['n_eff']:.0f}) and chosen on the sum of "
+                 "both ICs." if sr.get("second") else ""), "",
               "Best screened pairs (linear held-out score): "
               + ", ".join(f"{n} {s:.3f}" for n, s, _ in sr.get("screen_top", [])[:12]) + "."]
         L += ["", "## Ranking (held-out BIC relative to the base model; score 1.0 = baseline)", "",
-              "| effect | kind | k | score | IC | accepted | parameters | what |", "|---|---|---|---|---|---|---|---|"]
+              "| effect | kind | k | score | IC | second split: score, IC | accepted | parameters | what |",
+              "|---|---|---|---|---|---|---|---|---|"]
         for c in res.ranked:
-            L.append(f"| {c.name} | {c.kind} | {c.k} | {c.score:.3f} | {c.ic:.1f} | {'yes' if c.accepted else 'no'} | "
+            two = "-" if c.score2 != c.score2 else f"{c.score2:.3f}, {c.ic2:.1f}"
+            L.append(f"| {c.name} | {c.kind} | {c.k} | {c.score:.3f} | {c.ic:.1f} | {two} | "
+                     f"{'yes' if c.accepted else 'no'} | "
                      + ", ".join(f"{k}={v:.4g}" for k, v in c.params.items())
                      + f" | {c.description or c.onboard} |")
     else:
@@ -255,7 +261,7 @@ def write(res, ds, model, outdir, title="Residual analysis", prefix=""):
             L.append(f"| {c.name} | {c.k} | {c.score:.3f} | {c.penalised:.3f} | {'yes' if c.accepted else 'no'} | "
                      + ", ".join(f"{k}={v:.4g}" for k, v in c.params.items()) + f" | {c.onboard} |")
     for n, why in res.skipped:
-        L.append(f"| {n} | - | - | - | - | skipped | {why} | |" if res.search else
+        L.append(f"| {n} | - | - | - | - | - | skipped | {why} | |" if res.search else
                  f"| {n} | - | - | - | skipped | {why} | |")
     k = getattr(res, "correction", None)
     if k is not None:

@@ -70,6 +70,8 @@ F_MODEL_MISFIT = 1 << 15
 F_INPUT_DEGRADED = 1 << 16   # set by grip_monitor_gate (monitor_ref.gate), not by the estimator
 F_RATE = 1 << 17             # the step's period (input times) disagrees with rate_hz
 F_NO_REAR_STEER = 1 << 18    # rear steering configured, its angle missing beyond the hold time
+F_BETA_KIN = 1 << 19         # vy, beta from the kinematic estimate (its bound the smaller)
+F_BETA_DISAGREE = 1 << 20    # the dynamic and kinematic vy disagree beyond their joint bound
 
 
 def V_WHEEL(i):
@@ -259,6 +261,48 @@ SAT_U, SAT_HI, SAT_LO, CONF_MISFIT = 0.95, 0.7, 0.1, 0.45
 SAT_MU, SAT_MU_LO = 0.1, 0.05
 
 
+# -- error bounds (est_checks.c, docs/estimator/integrity.md)
+# Two estimates of vy, each with a standard deviation:
+# dynamic   the filter's vy. Its deviation: the filter's own (P) and the
+#           tire model's. A relative force error tire_tol of an axle's
+#           model moves the slip angle the filter infers from that axle's
+#           force by tire_tol |F| / |dF/dalpha| <= tire_tol |alpha| / g, g
+#           = max(G_MIN, sqrt(1 - u)) the axle's slope factor at
+#           utilization u (the Jacobians' form); vy = vx times that. Either
+#           axle determines vy, so the better-observed one counts; with both
+#           near saturation neither does and the deviation grows without
+#           the filter's covariance knowing. vy at its bound |vx| + 1 is not
+#           estimated at all: SD_CAP.
+# kinematic vy integrated from ay + g_y - r vx and moved to the dynamic
+#           vy by the share c = (1 - q) / (1 - Q0) in [0, 1], q = sd_dyn /
+#           sd_k: the dynamic vy whole while its deviation is at most half
+#           the kinematic one's, the kinematic vy alone once the dynamic is
+#           the worse, a continuous blend between (value and deviation).
+#           An offset drifts it linearly, so its deviation grows by a rate
+#           per second: the accelerometer's (kin_acc_sd: the +-0.1 m/s^2
+#           offset of an ESC cluster, uniform: 0.058, and 0.5 deg of road
+#           bank, 0.086, root sum square 0.10 m/s^2), the gyro offset's
+#           left in the filter (vx sigma_b) and the roll compensation's,
+#           ROLL_TOL of g roll_gradient |ay| (a roll gradient known within
+#           25 %).
+# The outputs take the blended vy and its deviation (F_BETA_KIN while
+# c < 0.5). A dynamic vy beyond DIS_K joint deviations of the kinematic
+# one, with c < 1, is not taken: the tire model is being fitted where it
+# is wrong (F_BETA_DISAGREE), V_BETA, the force bits and V_MU are
+# withheld. V_BETA further needs beta_sd <= beta_sd_max, the consumer's
+# limit (default 1 deg: with the 3 sigma test, |beta error| <= 3 deg).
+# Every deviation is capped at SD_CAP [m/s] (its square within Q15.16).
+TIRE_TOL, KIN_ACC, BETA_SD_MAX = 0.3, 0.10, 0.0175
+ROLL_TOL = 0.25
+DIS_K, SD_CAP = 3.0, 100.0
+# the blend's ratio q = sd_dyn / sd_k is formed with sd_k at least SD_MIN
+# [m/s] and taken at most Q_MAX; the filter's vy is taken whole below Q0
+SD_MIN, Q_MAX, Q0 = 0.001, 100.0, 0.5
+# the bounds' use (off only to measure what they do, IntegrityTests): the
+# kinematic vy carried, the disagreement and beta_sd gating the bits
+INTEGRITY = True
+
+
 # ---------------------------------------------------------------------------
 # Configuration (est_init.c) and helpers
 
@@ -270,6 +314,7 @@ def config(tire_front, tire_rear=None, rate_hz=100, **kw):
              rate_hz=int(rate_hz),
              dt=1.0 / int(rate_hz),
              speed_ref_mu=0, rear_steer=0,
+             tire_tol=TIRE_TOL, kin_acc_sd=KIN_ACC, beta_sd_max=BETA_SD_MAX,
              cla=0.0, aero_front=0.5, air_density=1.2, cda=0.0, crr=0.0, tan_bank=0.0, tan_grade=0.0,
              tire=(tire_front, tire_rear if tire_rear is not None else tire_front))
     c.update(kw)
@@ -390,7 +435,8 @@ class StepData:
         self.out = dict(vx=0.0, vy=0.0, beta=0.0, yaw_rate=0.0, yaw_rate_ref=0.0, yaw_error=0.0, delta=0.0,
                         kappa=np.zeros(4), alpha=np.zeros(4), fz=np.zeros(4), fx=np.zeros(4), fy=np.zeros(4),
                         mz=np.zeros(4), util=np.zeros(4), fy_axle=np.zeros(2), util_axle=np.zeros(2), mu=0.0,
-                        mu_conf=0.0, yaw_rate_bias=0.0, fy_margin_front=0.0, steer_char=0)
+                        mu_conf=0.0, yaw_rate_bias=0.0, fy_margin_front=0.0, steer_char=0,
+                        vy_sd=0.0, beta_sd=0.0, yaw_rate_sd=0.0, mu_sd=0.0)
         self.flags = 0
         self.vbits = 0               # validity bits
         # wheel positions from the CG (x forward, y left): FL, FR, RL, RR
@@ -483,6 +529,8 @@ class Estimator:
         self.hold = [0.0] * 6
         self.age = [BIG] * 6
         self.t_prev = None           # previous step's input time [us] (rate check)
+        self.vy_k = 0.0              # kinematic vy [m/s] and its deviation (bounds)
+        self.sd_k = SD_CAP
         self.no_wheel_steps = BIG
         self.dr_steps = 0
         self.ax_off = 0.0
@@ -1433,8 +1481,14 @@ class Estimator:
         if active and VX_AT_OUTPUT:
             vx_o = vx + c.get("latency", 0.0) * self._vx_rate(s.ax, float(self.x[1]), float(self.x[0]), s.g_x)
         o["vx"] = vx_o
+        if active and s.use_kin:
+            # the kinematic vy over the latency (its own rate: ay - r vx)
+            vyd = (s.ay if s.ay_ok else s.ay_m) + s.g_y - float(self.x[1]) * vx
+            s.vy_o = _clamp(self.vy_k + c.get("latency", 0.0) * vyd, -WS_MAX, WS_MAX)
         o["vy"] = s.vy_o if active else 0.0
         o["beta"] = math.atan(s.vy_o / max(vx_o, V_OFF)) if active else 0.0
+        o["vy_sd"] = s.vy_sd
+        o["beta_sd"] = s.beta_sd if active else 0.0
         o["yaw_rate"] = s.r_o if active else yaw
         if s.yaw_ok:
             s.vbits |= V_YAW
@@ -1517,6 +1571,76 @@ class Estimator:
         s.vy_o, s.r_o = vy_o, r_o
 
     # ---- est_checks.c: consistency checks -----------------------------------
+    def bound_lateral(self, s):
+        """est_checks.c: the standard deviations of vy (the dynamic one:
+        the filter's and the tire model's at the better-observed axle; the
+        kinematic one: growing by its drift rate since the dynamic one was
+        better), the kinematic vy integrated, which of the two the outputs
+        take (F_BETA_KIN) and whether they disagree (F_BETA_DISAGREE); the
+        yaw rate's and mu's deviations (the filter's).
+
+        State: reads x, P; writes vy_k, sd_k. Step: reads vx, ay, g_y,
+        the model's slip angles and axle utilization; writes use_kin,
+        disagree, vy_sd, beta_sd, the flags."""
+        c, o = self.cfg, s.out
+        s.use_kin, s.disagree, s.vy_sd, s.beta_sd = False, False, 0.0, 0.0
+        o["yaw_rate_sd"] = S[1] * math.sqrt(self.P[1, 1]) if self.active else 0.0
+        o["mu_sd"] = S[2] * math.sqrt(self.P[2, 2])
+        if not self.active:
+            self.vy_k, self.sd_k = 0.0, SD_CAP
+            return
+        vx = s.vx
+        tol = c.get("tire_tol", TIRE_TOL)
+        # the tire model's share: the better-observed axle's slip-angle
+        # error [rad] times |vx|
+        da = SD_CAP
+        for ax in (0, 1):
+            u = min(float(o["util_axle"][ax]), 1.0)
+            g = max(G_MIN, math.sqrt(1.0 - u))
+            a = 0.5 * abs(float(o["alpha"][2 * ax]) + float(o["alpha"][2 * ax + 1]))
+            da = min(da, tol * a / g)
+        sd_m = min(da * abs(vx), SD_CAP)
+        if abs(float(self.x[0])) >= VY_K * abs(vx) + 1.0 - 0.01:
+            sd_m = SD_CAP            # vy held at its bound: not estimated there
+        sd_f = S[0] * math.sqrt(self.P[0, 0])
+        sd_dyn = min(math.sqrt(sd_f * sd_f + sd_m * sd_m), SD_CAP)
+        ay = s.ay if s.ay_ok else s.ay_m
+        self.vy_k = _clamp(self.vy_k + (ay + s.g_y - float(self.x[1]) * vx) * c["dt"], -WS_MAX, WS_MAX)
+        # drift rate [m/s^2]: accelerometer offset and bank, the gyro
+        # offset's remaining deviation times vx, the roll compensation
+        sb = S[3] * math.sqrt(self.P[3, 3])
+        ka = c.get("kin_acc_sd", KIN_ACC)
+        rate = math.sqrt(ka * ka + (vx * sb) ** 2) + ROLL_TOL * G * c["roll_gradient"] * abs(ay)
+        self.sd_k = min(self.sd_k + rate * c["dt"], SD_CAP)
+        x0 = float(self.x[0])
+        # the filter's share c: 1 while its deviation is at most Q0 of the
+        # kinematic one's, 0 from where it is the larger, linear between
+        # (continuous, so that neither estimate's last bit picks a branch);
+        # the deviation moves by the same share, a convex combination of
+        # two bounds being a bound whatever their correlation
+        q = min(sd_dyn / max(self.sd_k, SD_MIN), Q_MAX)
+        c = _clamp((1.0 - q) / (1.0 - Q0), 0.0, 1.0)
+        j = min(math.sqrt(sd_dyn * sd_dyn + self.sd_k * self.sd_k), SD_CAP)
+        if not INTEGRITY:
+            self.vy_k, self.sd_k = x0, sd_dyn
+        elif c < 1.0 and abs(x0 - self.vy_k) > DIS_K * j:
+            # the filter's vy outside the joint bound of the two: the tire
+            # model is fitted where it is wrong; the kinematic vy carries
+            s.disagree = True
+            s.flags |= F_BETA_DISAGREE
+        else:
+            self.vy_k = self.vy_k + c * (x0 - self.vy_k)
+            self.sd_k = self.sd_k + c * (sd_dyn - self.sd_k)
+        if INTEGRITY and c < 0.5:
+            s.flags |= F_BETA_KIN
+        s.use_kin = INTEGRITY
+        s.vy_sd = self.sd_k
+        # beta's deviation at the state's vy (the outputs' differs by the
+        # latency's few mm/s): d atan(vy / vx) / d vy = cos^2(beta) / vx
+        vxd = max(vx, V_OFF)
+        tb = _clamp(self.vy_k / vxd, -100.0, 100.0)
+        s.beta_sd = s.vy_sd / vxd / (1.0 + tb * tb)
+
     def check_consistency(self, s):
         """est_checks.c, before the outputs: with the lateral filter on, the
         model-consistency (misfit) statistics of the step's ay update and
@@ -1531,6 +1655,7 @@ class Estimator:
         Step: reads nis, vx, the model's utilization, at_limit, the inputs'
         flags, dead_reck, excited; writes out mu_conf, validity and flags."""
         o = s.out
+        self.bound_lateral(s)
         if self.active:
             if s.nis is not None:
                 # model consistency (docs/estimator.md): the low-passed ay
@@ -1563,9 +1688,14 @@ class Estimator:
             # too: the wheel loads (load transfer), vx through braking and the
             # slip ratios rest on it; and a step period off the configured
             # rate (F_RATE) breaks the filter's per-step gains
+            # (the axle forces are the model's at the filter's state and the
+            # balances': beta's deviation limit is not theirs, the
+            # disagreement is)
             if (s.ay_ok and s.yaw_ok and s.ax_ok and not s.dead_reck and not self.misfit
-                    and s.steer_in_range and not (s.flags & F_RATE)):
-                s.vbits |= V_BETA | V_AXLE
+                    and s.steer_in_range and not (s.flags & F_RATE) and not s.disagree):
+                s.vbits |= V_AXLE
+                if s.beta_sd <= self.cfg.get("beta_sd_max", BETA_SD_MAX) or not INTEGRITY:
+                    s.vbits |= V_BETA
             if not (s.vbits & V_BETA):
                 s.vbits &= ~(V_WHEEL(0) | V_WHEEL(1) | V_WHEEL(2) | V_WHEEL(3))
             if s.excited:
@@ -1582,7 +1712,8 @@ class Estimator:
             # confidence in mu while the evidence builds up (the check is
             # low-passed over 2 s and would declare the misfit late)
             o["mu_conf"] = min(o["mu_conf"], CONF_MISFIT)
-        if o["mu_conf"] >= 0.5 and s.ax_ok and not (s.flags & F_RATE):
+        if o["mu_conf"] >= 0.5 and s.ax_ok and not (s.flags & F_RATE) and not s.disagree:
+            # a dynamic vy the kinematic one rejects: mu absorbed the misfit
             s.vbits |= V_MU
 
 

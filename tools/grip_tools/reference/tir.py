@@ -36,7 +36,7 @@ import stat
 import sys
 import tempfile
 
-from grip_tools.errors import DataError
+from grip_tools.errors import EXIT_HELP, DataError
 from grip_tools.paths import REPO_ROOT
 COEFS_HEADER = os.path.join(REPO_ROOT, "include", "grip", "grip_mf_coefs.h")
 RULES_HEADER = os.path.join(REPO_ROOT, "port", "linux", "tir_rules.h")
@@ -565,6 +565,7 @@ def _check_keys(t, warn):
         own_section.setdefault(key, sec)
     known_sections = set(r.sections) | {c.section for c in coefficients()}
     known_keys = set(r.known_keys)
+    coefs = {c.key: c for c in coefficients()}
     for section, e in t.entries:
         own = own_section.get(e.key)
         known_section = section in known_sections
@@ -575,6 +576,13 @@ def _check_keys(t, warn):
                                     "this value is ignored")
         elif known_section and e.key not in known_keys:
             near = nearest_key(e.key)
+            c = coefs.get(near)
+            if c is not None and c.section == section and near not in t.sections.get(section, {}):
+                # a misspelling of a coefficient the file does not give: its
+                # value would be lost and the default read instead
+                raise TirError(t.path, e.line, e.key,
+                               f"unknown key in [{section}]: a misspelling of {near}? The file does not give "
+                               f"{near}, which would take its default {c.default:g}: rename the key, or give {near}")
             warn(e.line, e.key, f"unknown key in [{section}]: ignored" + (f" (did you mean {near}?)" if near else ""))
 
 
@@ -944,7 +952,8 @@ C_RESERVED = frozenset(("auto break case char const continue default do double e
 
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="grip tir2c",
-                                 description="Emit a grip_mf_params C definition from a .tir file.")
+                                 description="Emit a grip_mf_params C definition from a .tir file.",
+                                 epilog=EXIT_HELP + "; nothing is written on any error")
     ap.add_argument("tir")
     ap.add_argument("--name", required=True, help="C identifier of the parameter set")
     ap.add_argument("-o", "--output", required=True, help="the .c file to write")

@@ -351,11 +351,10 @@ def _read_est(o):
     return o
 
 
-def run_one(job):
-    """Simulates one vehicle x manoeuvre x surface, samples the sensors,
-    runs every configuration x build; returns the result dict."""
-    vname, mname, sname, configs, bins, run_dir = job
-    t_start = time.time()
+def simulate_run(vname, mname, sname, run_dir):
+    """Simulates one vehicle x manoeuvre x surface and samples the sensors;
+    writes run_dir/truth.csv and inputs.csv (the estimator's inputs) and
+    returns (veh, scenario, sim, t, meas, truth, value, valid)."""
     veh = mb.Vehicle(vname)
     factor = mb.SURFACES[sname]
     sc = man_mod.build(mname, veh, factor)
@@ -365,8 +364,17 @@ def run_one(job):
     os.makedirs(run_dir, exist_ok=True)
     sensors.write_csv(os.path.join(run_dir, "truth.csv"), tr)
     value, valid = sensors.estimator_inputs(t, meas, est_eval.IN_COLS)
-    inputs = os.path.join(run_dir, "inputs.csv")
-    est_eval.write_input_csv(inputs, t, value, valid)
+    est_eval.write_input_csv(os.path.join(run_dir, "inputs.csv"), t, value, valid)
+    return veh, sc, sim, t, meas, tr, value, valid
+
+
+def run_one(job):
+    """Simulates one vehicle x manoeuvre x surface, samples the sensors,
+    runs every configuration x build; returns the result dict."""
+    vname, mname, sname, configs, bins, run_dir = job
+    t_start = time.time()
+    veh, sc, sim, t, meas, tr, value, valid = simulate_run(vname, mname, sname, run_dir)
+    factor = mb.SURFACES[sname]
     geom = dict(l=veh.l, lr=veh.p.b)
     res = {"vehicle": vname, "manoeuvre": mname, "surface": sname, "surface_factor": factor,
            "duration_s": sc.duration, "simulated_s": float(sim["t"][-1]), "ended": sim["ended"], "meta": {k: (float(v) if isinstance(v, (int, float)) else v)

@@ -1,0 +1,100 @@
+/*
+ * est_integrity.c - the error bounds of the lateral outputs
+ * (docs/estimator/integrity.md). Two estimates of vy, each with a standard
+ * deviation:
+ *   filter     the EKF's vy; its deviation is the covariance's together
+ *              with the tire model's: a relative force error tire_tol of an
+ *              axle's model moves the slip angle the filter infers from
+ *              that axle's force by at most tire_tol |alpha| / g, g the
+ *              axle's slope factor max(G_MIN, sqrt(1 - u)) (the Jacobians'
+ *              form). Either axle fixes vy, so the better-observed one
+ *              counts; with both near saturation neither does, and the
+ *              covariance does not know it.
+ *   kinematic  vy integrated from ay + g_y - r vx; an offset
+ *              drifts it linearly, so its deviation grows by a rate per
+ *              second (accelerometer offset and bank, the gyro offset's
+ *              deviation times vx, the roll compensation's error).
+ * The kinematic vy moves to the filter's by a share that is 1 while the
+ * filter's deviation is at most half the kinematic one's and 0 once it is
+ * the larger (linear between); the outputs take it and its deviation
+ * (F_BETA_KIN while the kinematic side weighs more). A filter vy beyond
+ * EST_DIS_K joint deviations of the kinematic one (share below 1) is not
+ * taken: the tire model is fitted where it is wrong (F_BETA_DISAGREE):
+ * est_checks withholds V_BETA, the force bits and V_MU. V_BETA further
+ * needs beta_sd <= beta_sd_max.
+ * Reference: bound_lateral in tools/grip_tools/reference/est.py.
+ */
+#include "est_internal.h"
+
+/* The filter's vy deviation [m/s]: the covariance's and the tire model's
+ * at the better-observed axle; EST_SD_CAP with vy held at its bound. */
+static grip_real_t filter_sd(const grip_est_t *est, const est_ctx_t *s, const grip_est_output_t *out)
+{
+    grip_real_t da = RC(EST_SD_CAP), sd_m, sd_f;
+    int a;
+    for (a = 0; a < 2; ++a) {
+        grip_real_t u = r_min(out->util_axle[a], R_ONE);
+        grip_real_t g = r_max(RC(EST_G_MIN), r_sqrt(r_sub(R_ONE, u)));
+        grip_real_t al = r_mul(RC(0.5), r_abs(r_add(out->alpha[a + a], out->alpha[a + a + 1])));
+        da = r_min(da, r_div(r_mul(est->cfg.tire_tol, al), g));
+    }
+    sd_m = r_min(r_mul(da, r_abs(s->vx)), RC(EST_SD_CAP));
+    if (r_abs(est->x[0]) >= r_sub(r_add(r_mul(RC(EST_VY_K), r_abs(s->vx)), R_ONE), RC(EST_SD_VY_EDGE))) {
+        sd_m = RC(EST_SD_CAP);
+    }
+    sd_f = r_mul(RC(EST_S_VY), r_sqrt(est->p[0][0]));
+    return r_min(r_sqrt(r_add(r_sq(sd_f), r_sq(sd_m))), RC(EST_SD_CAP));
+}
+
+void est_integrity(grip_est_t *est, est_ctx_t *s, grip_est_output_t *out)
+{
+    const grip_est_config_t *c = &est->cfg;
+    grip_real_t sd_dyn, ay, sb, rate, vxd, tb, q, w, j;
+    s->disagree = 0u;
+    s->vy_sd = R_ZERO;
+    s->beta_sd = R_ZERO;
+    out->mu_sd = r_mul(RC(EST_S_MU), r_sqrt(est->p[2][2]));
+    if (!est->active) {
+        out->yaw_rate_sd = R_ZERO;
+        est->vy_k = R_ZERO;
+        est->sd_k = RC(EST_SD_CAP);
+        return;
+    }
+    out->yaw_rate_sd = r_mul(RC(EST_S_R), r_sqrt(est->p[1][1]));
+    sd_dyn = filter_sd(est, s, out);
+    ay = s->ay_ok ? s->ay : s->ay_m;
+    est->vy_k = sym_clamp(r_add(est->vy_k, r_div(r_sub(r_add(ay, s->g_y), r_mul(est->x[1], s->vx)), est->rate)),
+                          RC(EST_WS_MAX));
+    /* drift rate [m/s^2]: accelerometer offset and bank, the gyro offset's
+     * remaining deviation times vx, the roll compensation's error */
+    sb = r_mul(RC(EST_S_B), r_sqrt(est->p[3][3]));
+    rate = r_add(r_sqrt(r_add(r_sq(c->kin_acc_sd), r_sq(r_mul(s->vx, sb)))),
+                 r_mul(r_mul(RC(EST_ROLL_TOL * EST_G), c->roll_gradient), r_abs(ay)));
+    est->sd_k = r_min(r_add(est->sd_k, r_div(rate, est->rate)), RC(EST_SD_CAP));
+    /* the filter's share w: 1 while its deviation is at most EST_KIN_Q0 of
+     * the kinematic one's, 0 from where it is the larger, linear between
+     * (continuous: neither build's last bit picks a branch); the deviation
+     * moves by the same share, a convex combination of two bounds being a
+     * bound whatever their correlation */
+    q = r_min(r_div(sd_dyn, r_max(est->sd_k, RC(EST_SD_MIN))), RC(EST_Q_MAX));
+    w = r_clamp(r_mul(r_sub(R_ONE, q), RC(1.0 / (1.0 - EST_KIN_Q0))), R_ZERO, R_ONE);
+    j = r_min(r_sqrt(r_add(r_sq(sd_dyn), r_sq(est->sd_k))), RC(EST_SD_CAP));
+    if (w < R_ONE && r_abs(r_sub(est->x[0], est->vy_k)) > r_mul(RC(EST_DIS_K), j)) {
+        /* the filter's vy outside the joint bound: the tire model is fitted
+         * where it is wrong; the kinematic vy carries */
+        s->disagree = 1u;
+        s->flags |= GRIP_EST_F_BETA_DISAGREE;
+    } else {
+        est->vy_k = r_add(est->vy_k, r_mul(w, r_sub(est->x[0], est->vy_k)));
+        est->sd_k = r_add(est->sd_k, r_mul(w, r_sub(sd_dyn, est->sd_k)));
+    }
+    if (w < RC(0.5)) {
+        s->flags |= GRIP_EST_F_BETA_KIN;
+    }
+    s->vy_sd = est->sd_k;
+    /* beta's deviation at the state's vy: d atan(vy / vx) / d vy =
+     * cos^2(beta) / vx */
+    vxd = r_max(s->vx, RC(EST_V_OFF));
+    tb = sym_clamp(r_div(est->vy_k, vxd), RC(100.0));
+    s->beta_sd = r_div(r_div(s->vy_sd, vxd), r_add(R_ONE, r_sq(tb)));
+}

@@ -1,0 +1,66 @@
+"""grip_tools.evaluate.bench: the split of callgrind's self costs into
+inside and outside the math kernels (make bench's "in kernels" columns)."""
+import unittest
+
+from grip_tools.evaluate import bench
+
+# A callgrind output in its compressed form: names given once as "(id) name"
+# and later as "(id)"; the line after "calls=" is the call's inclusive cost,
+# which must not be counted again; positions relative (+n, -n, *) or absolute.
+CG = """\
+# callgrind format
+version: 1
+positions: line
+events: Ir
+
+ob=(1) /work/build/bench_host
+fl=(1) lib/mf/mf_eval.c
+fn=(1) grip_mf_eval_f32
+10 100
++2 50
+cob=(2) /usr/lib/x86_64-linux-gnu/libm.so.6
+cfl=(2) s_atanf.c
+cfn=(2) atanf
+calls=3 20
+* 999
+-1 7
+
+ob=(2)
+fl=(2)
+fn=(2)
+20 60
+* 3
+
+ob=(1)
+fl=(3) lib/arith/q16.c
+fn=(3) grip_q16_atan
+5 40
+fn=(4) grip_q16_mul
+6 11
+fn=(1)
+12 4
+totals: 275
+"""
+
+
+class CallgrindSplit(unittest.TestCase):
+    def test_split(self):
+        total, kern = bench.callgrind_split(CG.splitlines(True))
+        # grip_mf_eval 100 + 50 + 7 + 4, atanf 60 + 3, grip_q16_atan 40, grip_q16_mul 11
+        self.assertEqual(total, 275)
+        self.assertEqual(kern, 63 + 40)
+
+    def test_kernel_names(self):
+        for name in ("grip_q16_atan", "grip_q16_atan2", "grip_q16_exp", "grip_q16_sqrt"):
+            self.assertTrue(bench.MATH_KERNEL_FN.match(name), name)
+        for name in ("grip_q16_mul", "grip_q16_div", "grip_mf_eval_f32"):
+            self.assertFalse(bench.MATH_KERNEL_FN.match(name), name)
+        for name in ("atanf", "__ieee754_atan2f", "__kernel_sinf", "sin_of_phase", "grip_q16_cos"):
+            self.assertTrue(bench.M_KERNEL_FN.match(name), name)
+        for name in ("__aeabi_lmul", "__muldi3", "__clzsi2"):
+            self.assertTrue(bench.M_HELPER_FN.match(name), name)
+        self.assertFalse(bench.M_KERNEL_FN.match("grip_mf_eval_prepared_f32"))
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,311 @@
+"""Integrity of the estimator's validity flags: what a valid flag promises,
+measured on every judge with a truth.
+
+    grip est-eval --integrity [--out docs/estimator] [--judges own,mismatch,independent,av21]
+
+For each output with a standard deviation (beta: beta_sd, mu: mu_sd) and
+each run: over the steps the output is flagged valid (V_BETA, V_MU) with
+the true speed above 5 m/s, the share whose true error exceeds
+max(floor, 3 sd) (beta: 1 deg, mu: 0.1) and the longest such run [s];
+beside it the share of moving steps outside spins and full saturation
+(both axles of the truth at >= 95 % of their friction) that are flagged
+valid. Targets (docs/estimator/integrity.md): at most 0.1 % of valid
+steps, no run longer than 100 ms; beta valid on >= 90 % of moving steps
+outside spins and full saturation on the independent simulator.
+
+Judges, all through the float64 reference (grip_tools.reference.est):
+  own          the project's simulator (est_eval --simulate's 15 runs),
+               the estimator's own tire (in family)
+  mismatch     the project's simulator in a steady turn near the limit
+               (step steer 90 deg at 65 km/h, dry, 8 s, ay 7.5 m/s^2) with
+               the estimator's rear tire at 0.4 x the car's cornering
+               stiffness (LKY): the generic-tire run-away
+  independent  CommonRoad's multi-body model (sim/independent), the
+               reduced set (BMW 320i, every manoeuvre and surface), the
+               generic configuration (PacejkaBook_Defaults on both axles)
+  av21         the Dallara AV-21 road course (476 s), sideslip from the INS
+               (est_eval --av21's stand-in tire and preset)
+The RAV4 log has no sideslip or friction truth and the fault table no
+truth of beta, so neither is a judge of this table.
+"""
+import json
+import math
+import os
+import sys
+
+import numpy as np
+
+from grip_tools.evaluate import est_eval
+from grip_tools.golden import est as golden_est
+from grip_tools.reference import est as est_ref, tir
+
+DEG = 180.0 / math.pi
+V_MIN = 5.0
+FLOOR = {"beta": 1.0 / DEG, "mu": 0.1}
+K = 3.0
+TARGET_RATE, TARGET_RUN_S, TARGET_VALID = 0.001, 0.1, 0.90
+SAT_U = 0.95
+JUDGES = ("own", "mismatch", "independent", "av21")
+MISMATCH_LKY = 0.4
+
+
+def stats(t, err, sd, ok, floor, k=K):
+    """Integrity of one output over the steps flagged valid (ok): the number
+    of them whose true |err| exceeds max(floor, k sd), their share and the
+    longest such run [s] (a run of n steps lasts n steps' periods)."""
+    t, err, sd, ok = (np.asarray(a) for a in (t, err, sd, ok))
+    bad = ok & ~(np.abs(err) <= np.maximum(floor, k * sd))   # a NaN error counts as bad
+    n_ok = int(ok.sum())
+    dt = float(np.median(np.diff(t))) if len(t) > 1 else 0.0
+    longest, run = 0, 0
+    for b in bad:
+        run = run + 1 if b else 0
+        longest = max(longest, run)
+    return dict(valid_steps=n_ok, violations=int(bad.sum()), rate=(float(bad.sum()) / n_ok if n_ok else 0.0),
+                longest_s=longest * dt)
+
+
+def reference_run(cfg, value, valid):
+    """est_ref over the inputs: arrays of the outputs the table needs."""
+    outs = est_ref.run(cfg, value, valid)
+    keys = ("beta", "beta_sd", "vy", "vy_sd", "vx", "yaw_rate", "yaw_rate_sd", "mu", "mu_sd")
+    res = {k: np.array([o[k] for o in outs]) for k in keys}
+    res["valid"] = np.array([o["valid"] for o in outs], dtype=np.int64)
+    res["flags"] = np.array([o["flags"] for o in outs], dtype=np.int64)
+    return res
+
+
+def judge_run(t, est, truth, moving, outside=None):
+    """One run's row: beta's and mu's integrity and beta's valid share over
+    the moving steps outside spins and full saturation (outside)."""
+    vb = ((est["valid"] & est_ref.V_BETA) != 0) & moving
+    vm = ((est["valid"] & est_ref.V_MU) != 0) & moving
+    r = {"moving_steps": int(moving.sum())}
+    r["beta"] = stats(t, est["beta"] - truth["beta"], est["beta_sd"], vb, FLOOR["beta"])
+    r["beta"]["true_err_max_deg"] = float(np.max(np.abs(est["beta"] - truth["beta"])[vb]) * DEG) if vb.any() else None
+    r["beta"]["sd_med_deg"] = float(np.median(est["beta_sd"][vb]) * DEG) if vb.any() else None
+    if truth.get("mu") is not None:
+        r["mu"] = stats(t, est["mu"] - truth["mu"], est["mu_sd"], vm, FLOOR["mu"])
+    den = moving if outside is None else (moving & outside)
+    r["beta_valid_share"] = float(np.sum(vb & den) / den.sum()) if den.sum() else None
+    r["kin_steps"] = int(np.sum(((est["flags"] & est_ref.F_BETA_KIN) != 0) & moving))
+    r["disagree_steps"] = int(np.sum(((est["flags"] & est_ref.F_BETA_DISAGREE) != 0) & moving))
+    return r
+
+
+def _axle_saturation(tr, at):
+    """Both axles of the truth at >= SAT_U of their friction."""
+    sat = []
+    for ws in (("fl", "fr"), ("rl", "rr")):
+        u = 0.0
+        for w in ws:
+            fz = np.maximum(at(f"fz_{w}"), 1.0)
+            peak = np.maximum(np.maximum(at(f"mux_{w}"), at(f"muy_{w}")), 1e-3)
+            u = np.maximum(u, np.hypot(at(f"fx_{w}"), at(f"fy_{w}")) / (peak * fz))
+        sat.append(u >= SAT_U)
+    return sat[0] & sat[1]
+
+
+def own_truth(run_dir, t):
+    tr = est_eval.read_csv(os.path.join(run_dir, "truth.csv"))
+
+    def at(name):
+        return np.interp(t, tr["time"], tr[name])
+    truth = {"beta": at("beta"), "vx": at("vx"),
+             "mu": np.mean([at(f"mu_road_{w}") for w in est_eval.WHEELS], axis=0)}
+    beta_kin = np.arctan(1.60 * np.tan(at("delta")) / 2.70)
+    spin = np.abs(truth["beta"] - beta_kin) * DEG > 10.0
+    if spin.any():
+        spin[int(np.argmax(spin)):] = True
+    return truth, ~(spin | _axle_saturation(tr, at))
+
+
+def own_run(run_dir, cfg):
+    cols = est_eval.read_csv(os.path.join(run_dir, "sensors.csv"))
+    t, value, valid = est_ref.inputs_from_sensors(cols)
+    est = reference_run(cfg, value, valid)
+    truth, outside = own_truth(run_dir, t)
+    return judge_run(t, est, truth, truth["vx"] > V_MIN, outside)
+
+
+def judge_own(runs_dir):
+    dirs = est_eval.simulate_runs(runs_dir, ("step-steer", "ramp-steer", "sine-dwell", "brake-in-turn", "mu-step"),
+                                  ("dry", "wet", "snow"))
+    cfg = est_eval.est_config()
+    return {os.path.basename(d): own_run(d, cfg) for d in dirs}
+
+
+def mismatch_config(lky=MISMATCH_LKY):
+    """est_eval's configuration with the rear tire's cornering stiffness
+    (LKY) at lky x the car's."""
+    p = golden_est.tire_params()
+    rear = dict(p, lky=p["lky"] * lky)
+    return est_ref.config(p, tire_rear=rear, rate_hz=100, **est_eval.est_vehicle())
+
+
+def mismatch_run_dir(runs_dir):
+    """The steady turn near the limit (simulated once into runs_dir)."""
+    from grip_tools.sim import cli
+    d = os.path.join(runs_dir, "runs", "step-steer-90deg-65kmh_dry")
+    if not os.path.exists(os.path.join(d, "sensors.csv")):
+        cli.main(["-m", "step-steer", "-s", "dry", "--speed", "65", "--duration", "8", "--amplitude", "90",
+                  "-o", d, "--no-plot"])
+    return d
+
+
+def judge_mismatch(runs_dir):
+    return {"step-steer 90 deg, rear LKY x 0.4": own_run(mismatch_run_dir(runs_dir), mismatch_config())}
+
+
+def independent_run(vname, mname, sname, cache):
+    """One independent-judge run (simulated and sampled as judge.run_one
+    does, cached in cache/<run>/) through est_ref in the generic
+    configuration."""
+    from grip_tools.sim.independent import judge, mb, manoeuvres as man_mod, sensors
+    veh = mb.Vehicle(vname)
+    d = os.path.join(cache, f"{vname}_{mname}_{sname}")
+    inputs, truth_csv = os.path.join(d, "inputs.csv"), os.path.join(d, "truth.csv")
+    if not (os.path.exists(inputs) and os.path.exists(truth_csv)):
+        factor = mb.SURFACES[sname]
+        sim = mb.simulate(veh, man_mod.build(mname, veh, factor), factor)
+        t, meas = sensors.measure(sim, veh, seed=judge._seed(vname, mname, sname))
+        tr = sensors.truth(sim, veh, t)
+        os.makedirs(d, exist_ok=True)
+        sensors.write_csv(truth_csv, tr)
+        value, valid = sensors.estimator_inputs(t, meas, est_eval.IN_COLS)
+        est_eval.write_input_csv(inputs, t, value, valid)
+    cols = est_eval.read_csv(inputs)
+    t = cols["t_s"]
+    value = np.zeros((len(t), est_ref.N_IN))
+    valid = np.zeros((len(t), est_ref.N_IN), dtype=np.uint8)
+    for i, c in enumerate(est_eval.IN_COLS):
+        v = cols[c]
+        valid[:, i] = np.isfinite(v)
+        value[:, i] = np.where(np.isfinite(v), v, 0.0)
+    tr = est_eval.read_csv(truth_csv)
+    n = min(len(t), len(tr["time"]))
+    tr = {k: v[:n] for k, v in tr.items()}
+    t, value, valid = t[:n], value[:n], valid[:n]
+    cfg = est_ref.config(golden_est.tire_params(), rate_hz=100, **judge.oem_vehicle(veh))
+    est = reference_run(cfg, value, valid)
+    moving = tr["vx"] >= V_MIN
+    spin = judge.spin_mask(tr, veh.l, veh.p.b, tr["vx"] >= judge.V_MOVING)
+    sat = _axle_saturation(tr, lambda k: tr[k])
+    truth = {"beta": tr["beta"], "mu": tr["mu_surface"] * judge.mu_norm(veh, judge.GENERIC_TIR)}
+    return judge_run(t, est, truth, moving, ~(spin | sat))
+
+
+def judge_independent(cache, full=False):
+    from grip_tools.sim.independent import judge
+    sel = judge.FULL_SET if full else judge.DEFAULT_SET
+    out = {}
+    for v in sel["vehicles"]:
+        for m in sel["manoeuvres"]:
+            for s in sel["surfaces"]:
+                out[f"{v} {m} {s}"] = independent_run(v, m, s, cache)
+                print(f"integrity: independent {v} {m} {s}: {out[f'{v} {m} {s}']['beta']}", file=sys.stderr)
+    return out
+
+
+def judge_av21(outdir, log=None):
+    log = log or est_eval.av21_log.LOG
+    tir_path = os.path.join(outdir, "av21_standin.tir")
+    est_eval.av21_standin_tir(tir_path)
+    t, value, valid, ins = est_eval.av21_inputs(log)
+    full = np.zeros((len(t), est_ref.N_IN))
+    fv = np.zeros((len(t), est_ref.N_IN), dtype=np.uint8)
+    full[:, :value.shape[1]], fv[:, :valid.shape[1]] = value, valid
+    cfg = est_ref.config(tir.load_params(tir_path), rate_hz=est_eval.AV21_RATE_HZ, **est_eval.AV21_VEHICLE)
+    est = reference_run(cfg, full, fv)
+    truth = {"beta": np.arctan2(ins["vy"], np.maximum(ins["vx"], 1e-3)), "mu": None}
+    return {"road course (INS sideslip)": judge_run(t, est, truth, ins["vx"] > 10.0)}
+
+
+def _pct(x):
+    return "-" if x is None else f"{100.0 * x:.2f}"
+
+
+def _cell(s):
+    if s is None:
+        return "-", "-", "-"
+    return f"{s['valid_steps']}", f"{s['violations']} ({_pct(s['rate'])} %)", f"{1000.0 * s['longest_s']:.0f}"
+
+
+def totals(rows, key):
+    v = sum(r[key]["valid_steps"] for r in rows if r.get(key))
+    b = sum(r[key]["violations"] for r in rows if r.get(key))
+    lg = max([r[key]["longest_s"] for r in rows if r.get(key)] or [0.0])
+    return dict(valid_steps=v, violations=b, rate=(b / v if v else 0.0), longest_s=lg)
+
+
+def table(results):
+    lines = ["| judge | run | beta valid steps | beta violations | beta longest [ms] | beta valid share [%] "
+             "| beta sd median [deg] | kinematic / disagree steps | mu valid steps | mu violations "
+             "| mu longest [ms] |", "|" + "---|" * 11]
+    summary = ["| judge | runs | beta valid steps | beta violations | beta longest [ms] | beta target "
+               "| mu valid steps | mu violations | mu longest [ms] | mu target | beta valid >= 90 % (runs) |",
+               "|" + "---|" * 11]
+    for j, runs in results.items():
+        for name, r in runs.items():
+            b, m = _cell(r["beta"]), _cell(r.get("mu"))
+            sd = "-" if r["beta"]["sd_med_deg"] is None else f"{r['beta']['sd_med_deg']:.2f}"
+            lines.append(f"| {j} | {name} | {b[0]} | {b[1]} | {b[2]} | {_pct(r['beta_valid_share'])} | {sd} "
+                         f"| {r['kin_steps']} / {r['disagree_steps']} | {m[0]} | {m[1]} | {m[2]} |")
+        rows = list(runs.values())
+        tb = totals(rows, "beta")
+        has_mu = any(r.get("mu") for r in rows)
+        tm = totals(rows, "mu") if has_mu else None
+        shares = [r["beta_valid_share"] for r in rows if r["beta_valid_share"] is not None]
+
+        def ok(tt):
+            return "met" if tt["rate"] <= TARGET_RATE and tt["longest_s"] <= TARGET_RUN_S + 1e-9 else "**missed**"
+        b, m = _cell(tb), _cell(tm)
+        summary.append(f"| {j} | {len(rows)} | {b[0]} | {b[1]} | {b[2]} | {ok(tb)} | {m[0]} | {m[1]} | {m[2]} "
+                       f"| {ok(tm) if tm else '-'} | {sum(s >= TARGET_VALID for s in shares)} / {len(shares)} |")
+    return "\n".join(summary) + "\n", "\n".join(lines) + "\n"
+
+
+def run(out, judges=JUDGES, runs_dir=None, full=False, av21_log=None, consts=()):
+    """consts: "NAME=VALUE" pairs, est_ref module constants changed for the
+    run (the sensitivity of TIRE_TOL, KIN_ACC, ROLL_TOL, DIS_K, ...)."""
+    from unittest import mock
+    runs_dir = runs_dir or os.path.join(est_eval.ROOT, "build", "est_eval")
+    os.makedirs(out, exist_ok=True)
+    patches = []
+    for spec in consts:
+        name, _, value = spec.partition("=")
+        if not hasattr(est_ref, name):
+            raise ValueError(f"--const {spec}: est_ref has no constant {name}")
+        patches.append(mock.patch.object(est_ref, name, float(value)))
+    for p in patches:
+        p.start()
+    try:
+        return _run(out, judges, runs_dir, full, av21_log, consts)
+    finally:
+        for p in patches:
+            p.stop()
+
+
+def _run(out, judges, runs_dir, full, av21_log, consts):
+    res = {}
+    for j in judges:
+        if j == "own":
+            res[j] = judge_own(runs_dir)
+        elif j == "mismatch":
+            res[j] = judge_mismatch(runs_dir)
+        elif j == "independent":
+            res[j] = judge_independent(os.path.join(runs_dir, "independent"), full=full)
+        elif j == "av21":
+            res[j] = judge_av21(out, av21_log)
+        else:
+            raise ValueError(f"unknown judge {j!r} (have {', '.join(JUDGES)})")
+        print(f"integrity: {j} done", file=sys.stderr)
+    summary, detail = table(res)
+    with open(os.path.join(out, "integrity.json"), "w") as f:
+        json.dump({"consts": list(consts), "judges": res}, f, indent=1)
+    note = f" with {', '.join(consts)}" if consts else ""
+    with open(os.path.join(out, "integrity_table.md"), "w") as f:
+        f.write(f"<!-- written by `grip est-eval --integrity`{note}; do not edit -->\n\n## Summary\n\n" + summary
+                + "\n## Every run\n\n" + detail)
+    print(summary)
+    return res
