@@ -27,6 +27,9 @@
 void est_road(grip_est_t *est, const est_ctx_t *s)
 {
     grip_real_t gy = est->road_gy;
+    if (!est->cfg.bank_est) {
+        return; /* the configured plane only: road_gy stays 0 */
+    }
     if (est->active) {
         /* the yaw acceleration, low-passed over EST_ROAD_T_DR */
         grip_real_t k_ds = r_div(RC(1.0 / EST_ROAD_T_DR), est->rate);
@@ -47,11 +50,13 @@ void est_road(grip_est_t *est, const est_ctx_t *s)
             }
         }
         /* the consistency check (est_checks.c) says the model misfits the
-         * car: the bank learned may be the misfit's, and at the limit its
-         * error runs into vy unchecked (AV-21 log: a bank of 0.43 m/s^2
-         * took beta to 40 deg); it returns to the plane over EST_ROAD_L */
+         * car: the bank learned moving may be the misfit's, and at the
+         * limit its error runs into vy unchecked (AV-21 log: a bank of
+         * 0.43 m/s^2 took beta to 40 deg); it returns over EST_ROAD_L to
+         * what the accelerometer measured at the last standstill, which
+         * owes nothing to the tire model (to the plane before one) */
         if (est->misfit || est->sat_cap) {
-            gy = r_sub(gy, r_mul(r_mul(r_abs(s->vx), r_div(RC(1.0 / EST_ROAD_L), est->rate)), gy));
+            gy = r_sub(gy, r_mul(r_mul(r_abs(s->vx), r_div(RC(1.0 / EST_ROAD_L), est->rate)), r_sub(gy, est->road_g0)));
         }
     } else {
         est->road_r = s->yaw;
@@ -60,6 +65,7 @@ void est_road(grip_est_t *est, const est_ctx_t *s)
             /* at rest the accelerometer reads gravity alone: ay = -(plane + road_gy) */
             grip_real_t plane = r_sub(s->g_y, gy);
             gy = r_add(gy, r_mul(r_div(RC(1.0 / EST_ROAD_T_REST), est->rate), r_sub(r_neg(r_add(s->ay, plane)), gy)));
+            est->road_g0 = sym_clamp(gy, RC(EST_ROAD_GY_MAX));
         }
     }
     est->road_gy = sym_clamp(gy, RC(EST_ROAD_GY_MAX));

@@ -211,7 +211,7 @@ static int vehicle_config(const char *name, const grip_mf_params *tire, int rate
 
 /* Reads a vehicle file: lines `key = value` (SI units), '#' comments, blank
  * lines. Keys: mass, iz, lf, lr, track (both), track_f, track_r, h_cg,
- * steer_ratio, wheel_radius, roll_split_front, roll_gradient, speed_ref_mu,
+ * steer_ratio, wheel_radius, roll_split_front, roll_gradient, speed_ref_mu, bank_est,
  * cla, aero_front, air_density, cda, crr, tan_bank, tan_grade, latency, steer_lag,
  * steer_latency, tire_tol, kin_acc_sd, beta_sd_max; rear_tire = PATH (the rear
  * axle's .tir, relative to the vehicle file's folder; not with --estimate-rear).
@@ -242,6 +242,7 @@ static int vehicle_file(const char *path, grip_est_config_t *cfg, char *rear_tir
         { "roll_split_front", offsetof(grip_est_config_t, roll_split_front), VK_QS },
         { "roll_gradient", offsetof(grip_est_config_t, roll_gradient), VK_QS },
         { "speed_ref_mu", offsetof(grip_est_config_t, speed_ref_mu), VK_FLAG },
+        { "bank_est", offsetof(grip_est_config_t, bank_est), VK_FLAG },
         { "cla", offsetof(grip_est_config_t, cla), VK_QS },
         { "aero_front", offsetof(grip_est_config_t, aero_front), VK_QS },
         { "air_density", offsetof(grip_est_config_t, air_density), VK_QS },
@@ -478,7 +479,7 @@ static void usage(FILE *f)
             "      --vehicle NAME     estimator vehicle: rav4 (default), av21 or generic\n"
             "      --vehicle-file F   override vehicle values: lines `key = value` (SI): mass iz lf lr\n"
             "                         track track_f track_r h_cg steer_ratio wheel_radius\n"
-            "                         roll_split_front roll_gradient speed_ref_mu (0/1) cla aero_front\n"
+            "                         roll_split_front roll_gradient speed_ref_mu bank_est (0/1) cla aero_front\n"
             "                         air_density cda crr tan_bank tan_grade latency steer_lag\n"
             "                         steer_latency [s] tire_tol kin_acc_sd [m/s^2] beta_sd_max [rad];\n"
             "                         rear_tire = PATH (the rear axle's .tir, relative to F's folder)\n"

@@ -89,7 +89,7 @@ typedef struct {
     const char *file;
     double dt;
     int optional;
-    int aero_bank;   /* 1: the AERO_BANK configuration of tools/grip_tools/golden/est.py; 2: rear_steer = 1 */
+    int aero_bank;   /* 1: the AERO_BANK configuration of tools/grip_tools/golden/est.py; 2: rear_steer = 1; 3: bank_est = 1 */
 } seq_t;
 
 static void run_sequence(const seq_t *sq)
@@ -129,6 +129,9 @@ static void run_sequence(const seq_t *sq)
     }
     if (sq->aero_bank == 2) {
         cfg.rear_steer = 1u;
+    }
+    if (sq->aero_bank == 3) {
+        cfg.bank_est = 1u;
     }
     assert_int_equal(grip_est_init(&est, &cfg), GRIP_OK);
     grip_debug_saturation_reset();
@@ -230,7 +233,7 @@ static const seq_t seqs[] = {
     { "est_aero_bank_100hz.txt", 0.01, 0, 1 },
     { "est_steer_offset_100hz.txt", 0.01, 0, 0 },
     { "est_rear_steer_100hz.txt", 0.01, 0, 2 },
-    { "est_road_bank_100hz.txt", 0.01, 0, 0 },
+    { "est_road_bank_100hz.txt", 0.01, 0, 3 },
 };
 
 static void test_bicycle_100hz(void **state) { (void)state; run_sequence(&seqs[0]); }

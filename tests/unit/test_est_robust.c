@@ -237,6 +237,14 @@ static double banked_run(grip_est_t *e, grip_input_sample_t *s, int n, int from,
  * flagged valid (docs/estimator/road.md). In a steady turn at constant
  * speed a gyro offset b reads as a bank b vx: the two share the kinematic
  * imbalance (here 0.167 m/s^2, 12 %, went to the offset). */
+static void make_bank_est(grip_est_t *e)
+{
+    grip_est_config_t cfg;
+    assert_int_equal(grip_est_config_default(&cfg, tire()), GRIP_OK);
+    cfg.bank_est = 1u;
+    assert_int_equal(grip_est_init(e, &cfg), GRIP_OK);
+}
+
 static void test_banked_road(void **state)
 {
     grip_est_t e;
@@ -249,6 +257,9 @@ static void test_banked_road(void **state)
     make_est(&e);
     banked(&s, 0.0, 0.0, 0.0873);
     run(&e, &s, 200, &o);
+    assert_true(dq(e.road_gy) == 0.0);      /* bank_est 0 (default): the configured plane only */
+    make_bank_est(&e);
+    run(&e, &s, 200, &o);
     printf("# at rest on 5 deg: road_gy %.3f m/s^2 (gravity -0.853)\n", dq(e.road_gy));
     assert_true(fabs(dq(e.road_gy) + 9.80665 * sin(0.0873)) < 0.05);
     banked(&s, 20.0, 0.0, 0.0873);
@@ -259,7 +270,7 @@ static void test_banked_road(void **state)
     assert_true(worst < 0.1 / 57.2958);
     /* a turn of R = 80 m at 20 m/s banked 8 deg towards its centre (left
      * turn: left edge down), the bank unknown when the car enters it */
-    make_est(&e);
+    make_bank_est(&e);
     circle(&s, 20.0, 0.0);
     run(&e, &s, 200, &o);
     banked(&s, 20.0, 0.25, -0.1396);

@@ -11,7 +11,8 @@ Input sequences (the C test replays exactly the same rows):
                   stale flags, NaN/Inf values (valid flag set), saturated
                   values, a locked wheel, standstill, reversing
   road_bank_100hz the internal generator on a road banked 0.1 + 0.04 sin(2 pi
-                  t / 6 s) rad that the configuration does not give
+                  t / 6 s) rad that the configuration does not give, run
+                  with bank_est = 1 (the bank estimated)
   aero_bank_100hz the internal generator at 26 m/s, run with the vehicle-level
                   effects on: downforce C_L A = 2.5 m^2 (front share 0.42,
                   rho 1.2), road bank tan = 0.04 (rise to the left) and grade
@@ -337,7 +338,8 @@ def write_golden(outdir):
                    rear_steer=1)
     t, v, ok, _ = road_bank_inputs()
     write_sequence(outdir, "road_bank_100hz", 0.01, t, v, ok,
-                   "internal generator, mu 1.0, half steering, road bank 5.7 +- 2.3 deg along the run, not configured")
+                   "internal generator, mu 1.0, half steering, road bank 5.7 +- 2.3 deg along the run, not configured, bank_est = 1",
+                   bank_est=1)
     sim = sim_inputs()
     path = os.path.join(outdir, "est_sim_sine_dwell.txt")
     if sim is not None:

@@ -313,7 +313,7 @@ def config(tire_front, tire_rear=None, rate_hz=100, **kw):
              steer_ratio=15.5, wheel_radius=0.30, roll_split_front=0.60, roll_gradient=0.0088,
              rate_hz=int(rate_hz),
              dt=1.0 / int(rate_hz),
-             speed_ref_mu=0, rear_steer=0,
+             speed_ref_mu=0, rear_steer=0, bank_est=0,
              tire_tol=TIRE_TOL, kin_acc_sd=KIN_ACC, beta_sd_max=BETA_SD_MAX,
              cla=0.0, aero_front=0.5, air_density=1.2, cda=0.0, crr=0.0, tan_bank=0.0, tan_grade=0.0,
              tire=(tire_front, tire_rear if tire_rear is not None else tire_front))
@@ -535,6 +535,7 @@ class Estimator:
         self.dr_steps = 0
         self.ax_off = 0.0
         self.road_gy = 0.0           # gravity along the body's y beyond the plane: the bank [m/s^2]
+        self.road_g0 = 0.0           # the bank measured at the last standstill [m/s^2]
         self.road_r = 0.0            # the yaw rate of the last step [rad/s]
         self.road_dr = 0.0           # the yaw acceleration, low-passed [rad/s^2]
         self.r_lin_f = 0.0
@@ -1019,13 +1020,17 @@ class Estimator:
         ROAD_T_DR below ROAD_RACC: quasi-steady; the yaw rate short of the
         lagged linear reference by less than ROAD_D of it; the model not
         declared misfitting, nor capped by the saturation share). With the
-        misfit declared or that cap set, road_gy returns to the plane over
-        ROAD_L. Off and at rest: ay reads gravity alone, road_gy -> -(ay +
-        plane) with ROAD_T_REST. Within ROAD_GY_MAX.
+        misfit declared or that cap set, road_gy returns over ROAD_L to
+        road_g0, the bank measured at the last standstill (the plane before
+        one). Off and at rest: ay reads gravity alone, road_gy -> -(ay +
+        plane) with ROAD_T_REST, and road_g0 takes it. Within ROAD_GY_MAX.
+        Only with the configuration's bank_est = 1; else road_gy stays 0.
 
-        State: reads x[0], active; writes road_gy, road_r, road_dr. Step: reads vy, dvy, nis, r_updated,
+        State: reads x[0], active; writes road_gy, road_g0, road_r, road_dr. Step: reads vy, dvy, nis, r_updated,
         yaw_ok, lock, spin, dead_reck, at_limit, the utilizations, vx,
         at_rest, ay_ok, ay, g_y."""
+        if not self.cfg.get("bank_est", 0):
+            return
         gy = self.road_gy
         dt = self.cfg["dt"]
         if self.active:
@@ -1040,13 +1045,14 @@ class Estimator:
                     and not self.misfit and not self.sat_cap):
                 gy += s.vx / ROAD_L * (float(self.x[0]) - (s.vy + s.dvy))
             if self.misfit or self.sat_cap:
-                gy -= abs(s.vx) * (dt / ROAD_L) * gy
+                gy -= abs(s.vx) * (dt / ROAD_L) * (gy - self.road_g0)
         else:
             self.road_r = s.yaw
             self.road_dr = 0.0
             if s.at_rest and s.ay_ok:
                 plane = s.g_y - gy
                 gy += dt / ROAD_T_REST * (-(s.ay + plane) - gy)
+                self.road_g0 = _clamp(gy, -ROAD_GY_MAX, ROAD_GY_MAX)
         self.road_gy = _clamp(gy, -ROAD_GY_MAX, ROAD_GY_MAX)
 
     def bound_state(self, s):
