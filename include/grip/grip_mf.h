@@ -194,6 +194,7 @@ typedef struct {
 #define grip_mf_prepare_detail GRIP_TYPED(grip_mf_prepare_detail)
 #define grip_mf_eval_prepared GRIP_TYPED(grip_mf_eval_prepared)
 #define grip_mf_eval_pure_prepared GRIP_TYPED(grip_mf_eval_pure_prepared)
+#define grip_mf_eval_ext_prepared GRIP_TYPED(grip_mf_eval_ext_prepared)
 #define grip_mf_check_params GRIP_TYPED(grip_mf_check_params)
 #define grip_mf_check_params_detail GRIP_TYPED(grip_mf_check_params_detail)
 #define grip_mf_eval_pure GRIP_TYPED(grip_mf_eval_pure)
@@ -284,6 +285,17 @@ grip_status_t grip_mf_prepare_detail(const grip_mf_params *p, uint32_t options, 
 grip_status_t grip_mf_eval_prepared(const grip_mf_prepared *prep, const grip_mf_input *in, grip_mf_output *out);
 grip_status_t grip_mf_eval_pure_prepared(const grip_mf_prepared *prep, const grip_mf_input *in,
                                          grip_mf_output *out);
+
+/* grip_mf_eval_ext with a prepared set: Fx, Fy, Mz of grip_mf_eval_prepared
+ * and the channels requested in `outputs` (GRIP_MF_EXT_* bits only), bit
+ * for bit those of grip_mf_eval_ext(p, in, outputs, out) on a set whose
+ * options are prep->options (tests/unit/test_mf_prepared.c). The spin is
+ * estimated (omega = 0) and a prepared set has no use mode: a GRIP_MF_USE_*
+ * or unknown bit in `outputs` is GRIP_ERR_INPUT; for turn slip or the
+ * given spin call grip_mf_eval_ext_spin. A set that did not prepare gives
+ * GRIP_ERR_PARAM; on every error all outputs are zero and valid is 0. */
+grip_status_t grip_mf_eval_ext_prepared(const grip_mf_prepared *prep, const grip_mf_input *in, uint32_t outputs,
+                                        grip_mf_output_ext *out);
 
 /* The GRIP_MF_EXT_* channels the parameter set can give (0 for NULL or an
  * unusable set): Re, Omega, Rl, rho, Cz and the contact patch need

@@ -1104,6 +1104,12 @@ grip_status_t mf_eval_core_use(const grip_mf_params *p, const grip_mf_input *in,
     return mf_combined(p, NULL, in, spin, mode, re, out, x, 1);
 }
 
+grip_status_t mf_eval_core_prepared(const grip_mf_prepared *k, const grip_mf_input *in, grip_mf_output *out,
+                                    mf_core *x)
+{
+    return mf_combined(k->p, k, in, NULL, k->options, R_ZERO, out, x, 0);
+}
+
 grip_real_t mf_ts_radius(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode)
 {
     int ignored = 0;

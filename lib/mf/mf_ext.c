@@ -810,12 +810,11 @@ static inline void ext_finite(grip_real_t *v, uint32_t bit, uint32_t outputs, ui
 
 /* The inputs as the model saw them, before the low-speed scaling: the
  * conventions and clamps of mf_prepare (mf_eval.c) for kappa, gamma, vx. */
-static int ext_inputs(const grip_mf_params *p, const grip_mf_input *in, const grip_mf_spin *spin, const mf_io *io,
-                      ext_ctx *e)
+static int ext_inputs(uint32_t mode, const grip_mf_input *in, const grip_mf_spin *spin, const mf_io *io, ext_ctx *e)
 {
     int clamped = 0;
     int om_clamped = 0;
-    grip_real_t kap = ((p->options & GRIP_MF_OPT_KAPPA_BRAKE) != 0u) ? r_neg(in->kappa) : in->kappa;
+    grip_real_t kap = ((mode & GRIP_MF_OPT_KAPPA_BRAKE) != 0u) ? r_neg(in->kappa) : in->kappa;
     grip_real_t gam = io->mirror ? r_neg(in->gamma) : in->gamma;
     e->kap = mf_clamp_sym(kap, RC(GRIP_MF_KAPPA_MAX), &clamped);
     e->gam = mf_clamp_sym(gam, RC(GRIP_MF_GAMMA_MAX), &clamped);
@@ -833,83 +832,42 @@ grip_status_t grip_mf_eval_ext(const grip_mf_params *p, const grip_mf_input *in,
     return grip_mf_eval_ext_spin(p, in, NULL, outputs, out);
 }
 
-grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input *in, const grip_mf_spin *spin,
-                                    uint32_t outputs, grip_mf_output_ext *out)
+/* The requested channels of one evaluation (c: its intermediates, st: its
+ * status, not an error; out: the forces written, the channels EXT_ZERO). */
+static grip_status_t ext_channels(const grip_mf_params *p, mf_core *c, const grip_mf_input *in,
+                                  const grip_mf_spin *spin, uint32_t mode, uint32_t outputs, grip_status_t st,
+                                  grip_mf_output_ext *out)
 {
-    mf_core c;
     ext_ctx e;
-    grip_mf_output base;
-    grip_status_t st;
     uint32_t valid = 0u;
-    uint32_t mode;
     int ok;
     grip_real_t fzr0;
     grip_real_t kxk = R_ZERO;
     grip_real_t kya = R_ZERO;
     int kxk_ok = 1;
     int kya_ok = 1;
-    if (out == NULL) {
-        return GRIP_ERR_NULL;
-    }
-    *out = EXT_ZERO;
-    if ((p == NULL) || (in == NULL)) {
-        return GRIP_ERR_NULL;
-    }
-    if (((outputs & ~(GRIP_MF_EXT_ALL | GRIP_MF_USE_ALL)) != 0u) ||
-        ((outputs & (GRIP_MF_USE_TURN_SLIP | GRIP_MF_USE_NO_TURN_SLIP)) ==
-         (GRIP_MF_USE_TURN_SLIP | GRIP_MF_USE_NO_TURN_SLIP)) ||
-        ((outputs & (GRIP_MF_USE_LIMITS | GRIP_MF_USE_NO_LIMITS)) == (GRIP_MF_USE_LIMITS | GRIP_MF_USE_NO_LIMITS))) {
-        return GRIP_ERR_INPUT;
-    }
-    if (spin == NULL) {
-        spin = &SPIN_ZERO;
-    }
-    mode = mf_mode_use(p->options, outputs);
-    outputs &= GRIP_MF_EXT_ALL;
-    /* the spin and the turn slip (float build: NaN and infinities) */
-    if (!r_is_finite(spin->omega) || (((mode & GRIP_MF_OPT_TURN_SLIP) != 0u) && !r_is_finite(spin->phit))) {
-        return GRIP_ERR_INPUT;
-    }
-    if (((mode | p->options) & (GRIP_MF_OPT_TURN_SLIP | GRIP_MF_OPT_NO_LIMITS)) == 0u) {
-        /* no use mode in the set or the call: the plain variant, the cost
-         * of before the use modes */
-        st = mf_eval_core(p, in, mode, &base, &c);
-    } else {
-        st = mf_eval_core_use(p, in, spin, mode,
-                              (((mode & GRIP_MF_OPT_TURN_SLIP) != 0u) && (spin->omega == R_ZERO))
-                                  ? mf_ts_radius(p, in, mode)
-                                  : R_ZERO,
-                              &base, &c);
-    }
-    out->fx = base.fx;
-    out->fy = base.fy;
-    out->mz = base.mz;
-    if (st < 0) {
-        return st;
-    }
-
     e.p = p;
-    e.c = &c;
-    if (ext_inputs(p, in, spin, &c.io, &e) && (st == GRIP_OK)) {
+    e.c = c;
+    if (ext_inputs(mode, in, spin, &c->io, &e) && (st == GRIP_OK)) {
         st = GRIP_WARN_CLAMPED;
     }
-    e.loaded = c.io.zero ? 0 : 1;
+    e.loaded = c->io.zero ? 0 : 1;
     if (!e.loaded) {
-        c.fx = R_ZERO;
-        c.fy = R_ZERO;
-        c.t = R_ZERO;
-        c.mzr = R_ZERO;
-        c.kxk = R_ZERO;
-        c.kya = R_ZERO;
-        c.muy = R_ZERO;
+        c->fx = R_ZERO;
+        c->fy = R_ZERO;
+        c->t = R_ZERO;
+        c->mzr = R_ZERO;
+        c->kxk = R_ZERO;
+        c->kya = R_ZERO;
+        c->muy = R_ZERO;
     }
-    e.fz = c.op.fz;
-    e.fx0 = r_mul(c.fx, e.fz);
-    e.fy0 = r_mul(c.fy, e.fz);
+    e.fz = c->op.fz;
+    e.fx0 = r_mul(c->fx, e.fz);
+    e.fy0 = r_mul(c->fy, e.fz);
     e.kq = MF_QS_MAX;
     if (((outputs & (GRIP_MF_EXT_KXK | GRIP_MF_EXT_KYA | GRIP_MF_EXT_SIGMAX | GRIP_MF_EXT_SIGMAY)) != 0u) &&
-        (c.op.fz_ql > MF_QL_SMALL)) {
-        e.kq = r_div(MF_QL_MAX, c.op.fz_ql);
+        (c->op.fz_ql > MF_QL_SMALL)) {
+        e.kq = r_div(MF_QL_MAX, c->op.fz_ql);
     }
     e.has_cz = 0;
     e.r = R_ZERO;
@@ -921,7 +879,7 @@ grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input
                     GRIP_MF_EXT_LENGTH | GRIP_MF_EXT_WIDTH)) != 0u) {
         /* the vertical stiffness at the pressure, times R0, over FNOMIN */
         ok = 1;
-        e.czp = mf_times_ql(r_add(R_ONE, r_mul(p->pfz1, c.op.dpi)), p->vertical_stiffness, &ok);
+        e.czp = mf_times_ql(r_add(R_ONE, r_mul(p->pfz1, c->op.dpi)), p->vertical_stiffness, &ok);
         e.r0czp = mf_times_ql(p->unloaded_radius, e.czp, &ok);
         e.cz_r0 = R_ZERO;
         e.c0 = R_ZERO;
@@ -934,7 +892,7 @@ grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input
             e.has_cz = 1;
         }
     }
-    fzr0 = r_mul(p->unloaded_radius, c.op.fz_ql);                      /* Fz R0 [N m] */
+    fzr0 = r_mul(p->unloaded_radius, c->op.fz_ql);                      /* Fz R0 [N m] */
 
     if ((outputs & (GRIP_MF_EXT_RE | GRIP_MF_EXT_OMEGA | GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ)) != 0u) {
         ext_radius(&e);
@@ -966,29 +924,29 @@ grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input
         ext_patch(&e, outputs, out, &valid);
     }
     if ((outputs & GRIP_MF_EXT_T) != 0u) {
-        out->t = r_mul(c.t, p->unloaded_radius);
+        out->t = r_mul(c->t, p->unloaded_radius);
         valid |= GRIP_MF_EXT_T;
     }
     if ((outputs & GRIP_MF_EXT_MZR) != 0u) {
         ok = 1;
-        out->mzr = mf_times_ql(c.mzr, fzr0, &ok);
-        out->mzr = (c.io.mirror != c.io.sae) ? r_neg(out->mzr) : out->mzr;
+        out->mzr = mf_times_ql(c->mzr, fzr0, &ok);
+        out->mzr = (c->io.mirror != c->io.sae) ? r_neg(out->mzr) : out->mzr;
         valid |= ok ? GRIP_MF_EXT_MZR : 0u;
     }
     if ((outputs & GRIP_MF_EXT_MUX) != 0u) {
-        out->mux = e.loaded ? mf_mux(p, c.op.dfz, c.op.dpi, c.op.gmux, c.op.lmux_s) : R_ZERO;
+        out->mux = e.loaded ? mf_mux(p, c->op.dfz, c->op.dpi, c->op.gmux, c->op.lmux_s) : R_ZERO;
         valid |= GRIP_MF_EXT_MUX;
     }
     if ((outputs & GRIP_MF_EXT_MUY) != 0u) {
         /* MFeval reports |mu_y| in its limits mode (1xx), mu_y in 2xx */
-        out->muy = ((mode & GRIP_MF_OPT_NO_LIMITS) != 0u) ? c.muy : r_abs(c.muy);
+        out->muy = ((mode & GRIP_MF_OPT_NO_LIMITS) != 0u) ? c->muy : r_abs(c->muy);
         valid |= GRIP_MF_EXT_MUY;
     }
     if ((outputs & (GRIP_MF_EXT_KXK | GRIP_MF_EXT_SIGMAX)) != 0u) {
         kxk_ok = 0;
-        if (r_abs(c.kxk) <= e.kq) {
+        if (r_abs(c->kxk) <= e.kq) {
             kxk_ok = 1;
-            kxk = r_mul(c.kxk, c.op.fz_ql);
+            kxk = r_mul(c->kxk, c->op.fz_ql);
         }
         if (kxk_ok && ((outputs & GRIP_MF_EXT_KXK) != 0u)) {
             out->kxk = kxk;
@@ -997,9 +955,9 @@ grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input
     }
     if ((outputs & (GRIP_MF_EXT_KYA | GRIP_MF_EXT_SIGMAY)) != 0u) {
         kya_ok = 0;
-        if (r_abs(c.kya) <= e.kq) {
+        if (r_abs(c->kya) <= e.kq) {
             kya_ok = 1;
-            kya = r_mul(c.kya, c.op.fz_ql);
+            kya = r_mul(c->kya, c->op.fz_ql);
         }
         if (kya_ok && ((outputs & GRIP_MF_EXT_KYA) != 0u)) {
             out->kya = kya;
@@ -1012,7 +970,7 @@ grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input
     if ((outputs & GRIP_MF_EXT_MX) != 0u) {
         ok = 1;
         out->mx = e.loaded ? mf_times_ql(ext_mx(&e), fzr0, &ok) : R_ZERO;
-        out->mx = c.io.mirror ? r_neg(out->mx) : out->mx;
+        out->mx = c->io.mirror ? r_neg(out->mx) : out->mx;
         valid |= ok ? GRIP_MF_EXT_MX : 0u;
     }
     if ((outputs & GRIP_MF_EXT_MY) != 0u) {
@@ -1021,7 +979,7 @@ grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input
         if (e.loaded) {
             my = mf_times_ql(ext_my(&e, &ok), r_div_keep(fzr0, RC(64.0)), &ok);
         }
-        out->my = c.io.sae ? r_neg(my) : my;
+        out->my = c->io.sae ? r_neg(my) : my;
         valid |= ok ? GRIP_MF_EXT_MY : 0u;
     }
     /* a non-finite coefficient that only a channel uses (grip_mf_check_params
@@ -1050,4 +1008,82 @@ grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input
     }
     out->valid = valid;
     return st;
+}
+
+grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input *in, const grip_mf_spin *spin,
+                                    uint32_t outputs, grip_mf_output_ext *out)
+{
+    mf_core c;
+    grip_mf_output base;
+    grip_status_t st;
+    uint32_t mode;
+    if (out == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    *out = EXT_ZERO;
+    if ((p == NULL) || (in == NULL)) {
+        return GRIP_ERR_NULL;
+    }
+    if (((outputs & ~(GRIP_MF_EXT_ALL | GRIP_MF_USE_ALL)) != 0u) ||
+        ((outputs & (GRIP_MF_USE_TURN_SLIP | GRIP_MF_USE_NO_TURN_SLIP)) ==
+         (GRIP_MF_USE_TURN_SLIP | GRIP_MF_USE_NO_TURN_SLIP)) ||
+        ((outputs & (GRIP_MF_USE_LIMITS | GRIP_MF_USE_NO_LIMITS)) == (GRIP_MF_USE_LIMITS | GRIP_MF_USE_NO_LIMITS))) {
+        return GRIP_ERR_INPUT;
+    }
+    if (spin == NULL) {
+        spin = &SPIN_ZERO;
+    }
+    mode = mf_mode_use(p->options, outputs);
+    /* the spin and the turn slip (float build: NaN and infinities) */
+    if (!r_is_finite(spin->omega) || (((mode & GRIP_MF_OPT_TURN_SLIP) != 0u) && !r_is_finite(spin->phit))) {
+        return GRIP_ERR_INPUT;
+    }
+    if (((mode | p->options) & (GRIP_MF_OPT_TURN_SLIP | GRIP_MF_OPT_NO_LIMITS)) == 0u) {
+        /* no use mode in the set or the call: the plain variant, the cost
+         * of before the use modes */
+        st = mf_eval_core(p, in, mode, &base, &c);
+    } else {
+        st = mf_eval_core_use(p, in, spin, mode,
+                              (((mode & GRIP_MF_OPT_TURN_SLIP) != 0u) && (spin->omega == R_ZERO))
+                                  ? mf_ts_radius(p, in, mode)
+                                  : R_ZERO,
+                              &base, &c);
+    }
+    out->fx = base.fx;
+    out->fy = base.fy;
+    out->mz = base.mz;
+    if (st < 0) {
+        return st;
+    }
+    return ext_channels(p, &c, in, spin, mode, outputs & GRIP_MF_EXT_ALL, st, out);
+}
+
+grip_status_t grip_mf_eval_ext_prepared(const grip_mf_prepared *prep, const grip_mf_input *in, uint32_t outputs,
+                                        grip_mf_output_ext *out)
+{
+    mf_core c;
+    grip_mf_output base;
+    grip_status_t st;
+    if (out == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    *out = EXT_ZERO;
+    if ((prep == NULL) || (in == NULL)) {
+        return GRIP_ERR_NULL;
+    }
+    if (prep->p == NULL) {
+        return GRIP_ERR_PARAM;
+    }
+    /* channels only: the use modes are grip_mf_eval_ext_spin's */
+    if ((outputs & ~GRIP_MF_EXT_ALL) != 0u) {
+        return GRIP_ERR_INPUT;
+    }
+    st = mf_eval_core_prepared(prep, in, &base, &c);
+    out->fx = base.fx;
+    out->fy = base.fy;
+    out->mz = base.mz;
+    if (st < 0) {
+        return st;
+    }
+    return ext_channels(prep->p, &c, in, &SPIN_ZERO, prep->options, outputs, st, out);
 }

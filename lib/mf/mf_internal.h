@@ -326,6 +326,11 @@ grip_status_t mf_eval_core(const grip_mf_params *p, const grip_mf_input *in, uin
                            mf_core *x);
 grip_status_t mf_eval_core_use(const grip_mf_params *p, const grip_mf_input *in, const grip_mf_spin *spin,
                                uint32_t mode, grip_real_t re, grip_mf_output *out, mf_core *x);
+/* mf_eval_core with a prepared set (k->p not NULL, checked by the caller):
+ * grip_mf_eval_prepared's evaluation, bit for bit, with the intermediates;
+ * x->op.mode holds k->options (no use mode: a prepared set has none). */
+grip_status_t mf_eval_core_prepared(const grip_mf_prepared *k, const grip_mf_input *in, grip_mf_output *out,
+                                    mf_core *x);
 
 /* Re / R0 at kappa, Vx, Fz and the pressure as mf_prepare takes them (with
  * the sign conventions of mode): the rolling radius of turn slip's estimate

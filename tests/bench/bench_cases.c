@@ -254,6 +254,29 @@ static void b_mf52_ext_re_sigma_k(int i)
     mf_sink = out.sigmay;
 }
 
+/* The same with a prepared set (grip_mf_eval_ext_prepared): against
+ * mf61_prep_combined_fx_fy_mz, the cost of the channels alone. */
+static void b_mf61_prep_ext_forces(int i)
+{
+    grip_mf_output_ext out;
+    (void)grip_mf_eval_ext_prepared(&mf61_prep, &mf_in[i], 0u, &out);
+    mf_sink = out.mz;
+}
+
+static void b_mf61_prep_ext_re_sigma_k(int i)
+{
+    grip_mf_output_ext out;
+    (void)grip_mf_eval_ext_prepared(&mf61_prep, &mf_in[i], MF_EXT_RE_SIGMA_K, &out);
+    mf_sink = out.sigmay;
+}
+
+static void b_mf52_prep_ext_re_sigma_k(int i)
+{
+    grip_mf_output_ext out;
+    (void)grip_mf_eval_ext_prepared(&mf52_prep, &mf52_in[i], MF_EXT_RE_SIGMA_K, &out);
+    mf_sink = out.sigmay;
+}
+
 const bench_case bench_cases[] = {
     { "mf61_pure_fx_fy_mz", b_mf61_pure }, { "mf61_combined_fx_fy_mz", b_mf61_combined },
     { "mf52_combined_fx_fy_mz", b_mf52_combined },
@@ -263,6 +286,8 @@ const bench_case bench_cases[] = {
     { "mf62_ext_rl", b_mf62_ext_rl }, { "mf52_ext_re_sigma_k", b_mf52_ext_re_sigma_k },
     { "mf61_ext_forces", b_mf61_ext_forces }, { "mf61_ext_turn_slip", b_mf61_ext_turn_slip },
     { "mf61_ext_turn_slip_omega", b_mf61_ext_turn_slip_omega },
+    { "mf61_prep_ext_forces", b_mf61_prep_ext_forces }, { "mf61_prep_ext_re_sigma_k", b_mf61_prep_ext_re_sigma_k },
+    { "mf52_prep_ext_re_sigma_k", b_mf52_prep_ext_re_sigma_k },
     { "r_mul", b_r_mul }, { "r_div", b_r_div }, { "r_sqrt", b_r_sqrt },
     { "r_atan2", b_r_atan2 }, { "r_sin", b_r_sin }, { "r_exp", b_r_exp },
     { "r_atan", b_r_atan }, { "r_cos", b_r_cos },

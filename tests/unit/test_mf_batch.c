@@ -18,6 +18,7 @@
 
 #include "grip/grip_mf.h"
 #include "grip/grip_mf_batch.h"
+#include "mf_grid.h"
 #include "mf_params.h"
 
 #if GRIP_ARITH_FIXED
@@ -34,32 +35,11 @@ static grip_mf_input g_in[NPTS];
 static grip_mf_output g_out[NPTS + 1];
 static grip_status_t g_st[NPTS + 1];
 
-/* A deterministic grid: kappa, alpha, gamma, Fz, p, vx each cycling through
- * values inside, at and beyond the domain's limits (grip_mf.h). */
+/* A deterministic grid (mf_grid.h) and, in the float build, non-finite
+ * points, which only fail. */
 static void fill_points(grip_real_t fnomin, grip_real_t nompres)
 {
-    static const double kap[] = { 0.0, 0.02, -0.12, 0.6, -1.0, 1.5, 2.0, -0.003 };
-    static const double alp[] = { 0.0, 0.03, -0.12, 0.35, -1.5, 1.5707963, 1.7, 0.004, -0.6 };
-    static const double gam[] = { 0.0, -0.01, 0.03, 0.2, -0.6 };
-    static const double fzr[] = { 1.0, 0.25, 0.0, -0.1, 1.7, 4.5, 0.01 };
-    static const double prr[] = { 0.0, 1.0, 0.4, 2.5, 1.3, -1.0 };
-    static const double vxs[] = { 20.0, 0.0, 0.3, -5.0, 16.7, 350.0, 1.0, 60.0, -0.2, 2.0, 8.0 };
-    int k;
-#if GRIP_ARITH_FIXED
-    double fn = (double)fnomin / 256.0;
-    double pn = (double)nompres / 256.0;
-#else
-    double fn = (double)fnomin;
-    double pn = (double)nompres;
-#endif
-    for (k = 0; k < NPTS; k++) {
-        g_in[k].kappa = qs(kap[k % 8]);
-        g_in[k].alpha = qs(alp[(k / 3) % 9]);
-        g_in[k].gamma = qs(gam[(k / 7) % 5]);
-        g_in[k].fz = ql(fzr[(k / 5) % 7] * fn);
-        g_in[k].p = ql(prr[(k / 11) % 6] * pn);
-        g_in[k].vx = qs(vxs[(k / 13) % 11]);
-    }
+    mf_grid_fill(g_in, NPTS, fnomin, nompres);
 #if !GRIP_ARITH_FIXED
     /* non-finite inputs: those points only fail */
     g_in[17].kappa = NAN;

@@ -22,16 +22,15 @@
 
 #include "grip/grip_mf.h"
 #include "grip/grip_mf_batch.h"
+#include "mf_grid.h"
 #include "mf_params.h"
 
 #if GRIP_ARITH_FIXED
 static grip_real_t qs(double v) { return (grip_real_t)lround(v * 65536.0); }
 static grip_real_t ql(double v) { return (grip_real_t)lround(v * 256.0); }
-static double from_ql(grip_real_t v) { return (double)v / 256.0; }
 #else
 static grip_real_t qs(double v) { return (grip_real_t)v; }
 static grip_real_t ql(double v) { return (grip_real_t)v; }
-static double from_ql(grip_real_t v) { return (double)v; }
 #endif
 
 #define NPTS 2048
@@ -41,29 +40,10 @@ static grip_mf_output g_out[NPTS];
 static grip_mf_output g_ref[NPTS];
 static grip_status_t g_st[NPTS];
 
-/* kappa, alpha, gamma, Fz, p, vx each cycling through values inside, at
- * and beyond the domain's limits (grip_mf.h); p: 0 and -1 select the
- * default pressure, the others are multiples of NOMPRES (0.4 and 2.5 are
- * clamped). */
+/* The grid of mf_grid.h and, in the float build, non-finite points. */
 static void fill_points(grip_real_t fnomin, grip_real_t nompres)
 {
-    static const double kap[] = { 0.0, 0.02, -0.12, 0.6, -1.0, 1.5, 2.0, -0.003 };
-    static const double alp[] = { 0.0, 0.03, -0.12, 0.35, -1.5, 1.5707963, 1.7, 0.004, -0.6 };
-    static const double gam[] = { 0.0, -0.01, 0.03, 0.2, -0.6 };
-    static const double fzr[] = { 1.0, 0.25, 0.0, -0.1, 1.7, 4.5, 0.01 };
-    static const double prr[] = { 0.0, 1.0, 0.4, 2.5, 1.3, -1.0 };
-    static const double vxs[] = { 20.0, 0.0, 0.3, -5.0, 16.7, 350.0, 1.0, 60.0, -0.2, 2.0, 8.0 };
-    double fn = from_ql(fnomin);
-    double pn = from_ql(nompres);
-    int k;
-    for (k = 0; k < NPTS; k++) {
-        g_in[k].kappa = qs(kap[k % 8]);
-        g_in[k].alpha = qs(alp[(k / 3) % 9]);
-        g_in[k].gamma = qs(gam[(k / 7) % 5]);
-        g_in[k].fz = ql(fzr[(k / 5) % 7] * fn);
-        g_in[k].p = ql(prr[(k / 11) % 6] * pn);
-        g_in[k].vx = qs(vxs[(k / 13) % 11]);
-    }
+    mf_grid_fill(g_in, NPTS, fnomin, nompres);
 #if !GRIP_ARITH_FIXED
     g_in[17].kappa = NAN;
     g_in[400].fz = INFINITY;
@@ -88,6 +68,11 @@ static int check_set(const grip_mf_params *p, uint32_t options, const char *name
     int k;
     int n_clamped = 0;
     int n_default_p = 0;
+    int n_ext_valid = 0;
+    int m;
+    /* every channel, and what the estimator asks for (Re, sigma, K) */
+    const uint32_t ext_sets[2] = { GRIP_MF_EXT_ALL, GRIP_MF_EXT_RE | GRIP_MF_EXT_SIGMAX | GRIP_MF_EXT_SIGMAY |
+                                                        GRIP_MF_EXT_KXK | GRIP_MF_EXT_KYA };
     q.options = options;
     assert_int_equal(grip_mf_prepare(p, options, &prep), GRIP_OK);
     fill_points(p->fnomin, p->nompres);
@@ -111,6 +96,17 @@ static int check_set(const grip_mf_params *p, uint32_t options, const char *name
             fail_msg("%s options 0x%x point %d: prepared pure differs (status %d vs %d)", name, (unsigned)options,
                      k, (int)s4, (int)s3);
         }
+        for (m = 0; m < 2; m++) {
+            grip_mf_output_ext e1;
+            grip_mf_output_ext e2;
+            grip_status_t s5 = grip_mf_eval_ext(&q, &g_in[k], ext_sets[m], &e1);
+            grip_status_t s6 = grip_mf_eval_ext_prepared(&prep, &g_in[k], ext_sets[m], &e2);
+            if (s5 != s6 || memcmp(&e1, &e2, sizeof e1) != 0) {
+                fail_msg("%s options 0x%x point %d outputs 0x%x: prepared extended differs (status %d vs %d)",
+                         name, (unsigned)options, k, (unsigned)ext_sets[m], (int)s6, (int)s5);
+            }
+            n_ext_valid += (s5 >= 0) && (e1.valid != 0u);
+        }
         if (g_st[k] != s1 || !same(&g_out[k], &one) || !same(&g_ref[k], &one)) {
             fail_msg("%s options 0x%x point %d: batch differs (status %d, single %d)", name, (unsigned)options, k,
                      (int)g_st[k], (int)s1);
@@ -120,6 +116,7 @@ static int check_set(const grip_mf_params *p, uint32_t options, const char *name
     }
     assert_true(n_clamped > 0);
     assert_true(n_default_p > 0);
+    assert_true(n_ext_valid > 0);
     return NPTS;
 }
 
@@ -133,7 +130,7 @@ static void test_every_tire(void **s)
         const grip_mf_params *p = grip_test_tires[t].params;
         n += check_set(p, p->options, grip_test_tires[t].name);
     }
-    printf("# %d parameter sets, %ld points, combined, pure and batch: prepared bit-identical to unprepared\n",
+    printf("# %d parameter sets, %ld points, combined, pure, extended and batch: prepared bit-identical to unprepared\n",
            grip_test_tire_count, n);
 }
 
@@ -223,6 +220,13 @@ static void expect_refused(const grip_mf_params *p, uint32_t options, const char
     assert_true(out.fx == 0 && out.fy == 0 && out.mz == 0);
     assert_int_equal(grip_mf_eval_pure_prepared(&prep, &in, &out), GRIP_ERR_PARAM);
     assert_int_equal(grip_mf_eval_prepared_batch(&prep, 1u, &in, &out, NULL), GRIP_ERR_PARAM);
+    {
+        grip_mf_output_ext ext;
+        ext.fx = (grip_real_t)1;
+        ext.valid = 1u;
+        assert_int_equal(grip_mf_eval_ext_prepared(&prep, &in, GRIP_MF_EXT_ALL, &ext), GRIP_ERR_PARAM);
+        assert_true(ext.fx == 0 && ext.valid == 0u);
+    }
 }
 
 static void test_bad_sets(void **s)
@@ -282,6 +286,23 @@ static void test_bad_sets(void **s)
         assert_int_equal(grip_mf_eval_prepared_batch(NULL, 1u, &in, &out, NULL), GRIP_ERR_NULL);
         assert_int_equal(grip_mf_eval_prepared_batch(&prep, 1u, NULL, &out, NULL), GRIP_ERR_NULL);
         assert_int_equal(grip_mf_eval_prepared_batch(&prep, 1u, &in, NULL, NULL), GRIP_ERR_NULL);
+    }
+    {
+        /* the extended outputs: NULLs, and no use mode with a prepared set */
+        grip_mf_output_ext ext;
+        grip_mf_input in = { qs(0.05), qs(0.02), 0, ql(3000.0), 0, qs(20.0) };
+        assert_int_equal(grip_mf_eval_ext_prepared(&prep, &in, GRIP_MF_EXT_ALL, NULL), GRIP_ERR_NULL);
+        assert_int_equal(grip_mf_eval_ext_prepared(NULL, &in, GRIP_MF_EXT_ALL, &ext), GRIP_ERR_NULL);
+        assert_true(ext.valid == 0u);
+        assert_int_equal(grip_mf_eval_ext_prepared(&prep, NULL, GRIP_MF_EXT_ALL, &ext), GRIP_ERR_NULL);
+        assert_int_equal(grip_mf_eval_ext_prepared(&prep, &in, GRIP_MF_EXT_ALL | GRIP_MF_USE_TURN_SLIP, &ext),
+                         GRIP_ERR_INPUT);
+        assert_int_equal(grip_mf_eval_ext_prepared(&prep, &in, GRIP_MF_EXT_ALL | GRIP_MF_USE_NO_LIMITS, &ext),
+                         GRIP_ERR_INPUT);
+        assert_int_equal(grip_mf_eval_ext_prepared(&prep, &in, 0x40000000u, &ext), GRIP_ERR_INPUT);
+        assert_true(ext.fx == 0 && ext.valid == 0u);
+        assert_int_equal(grip_mf_eval_ext_prepared(&prep, &in, GRIP_MF_EXT_RE, &ext), GRIP_OK);
+        assert_true(ext.fy != 0 && ext.valid == GRIP_MF_EXT_RE && ext.re > 0);
     }
 }
 

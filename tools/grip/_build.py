@@ -16,6 +16,9 @@ What goes into each extension:
     reach the library code;
   * port/linux/tir_reader.c and brush_params.c, the readers of `grip-tire`
     (host code, CFLAGS_HOST), used only when grip_tools cannot read a file;
+  * port/linux/replay_core.c with csv.c, candump.c and vehicle_config.c:
+    grip-replay's replay of a log (grip._replay, the fleet's in-process
+    backend);
   * the wrapper below (C_SOURCE): loops over N points / samples that call
     the library once per point (the Magic Formula: once per block of points,
     grip_mf_eval_batch), and the conversions SI <-> the build's
@@ -73,7 +76,11 @@ def lib_sources():
 
 
 def port_sources():
-    return [os.path.join(PORT, "tir_reader.c"), os.path.join(PORT, "brush_params.c")]
+    """The host code of the programs that the binding runs: the readers of
+    grip-tire and the replay of grip-replay (replay_core.c with the CSV and
+    candump readers and the vehicle configuration it calls)."""
+    return [os.path.join(PORT, n) for n in ("tir_reader.c", "brush_params.c", "csv.c", "candump.c",
+                                            "vehicle_config.c", "replay_core.c")]
 
 
 def check_tree():
@@ -291,6 +298,19 @@ int grip_py_tir_parse(const char *path, double *v, int n, int32_t *fittyp, int32
                       size_t errlen);
 int grip_py_brush_parse(const char *text, const char *name, int *kind, void *params, size_t size, char *err,
                         size_t errlen);
+
+typedef struct {
+    double *rows;
+    size_t n;
+    size_t ncol;
+    char *text;
+    size_t text_len;
+    int capped;
+    uint8_t write_input[64];
+} grip_py_replay_out;
+#define GRIP_PY_REPLAY_EST_REALS ...
+int grip_py_replay_run(int argc, char **argv, size_t max_rows, grip_py_replay_out *out);
+void grip_py_replay_free(grip_py_replay_out *out);
 """
 
 C_SOURCE = r"""
@@ -313,6 +333,7 @@ C_SOURCE = r"""
 #include "grip/grip_convert.h"
 #include "tir_reader.h"
 #include "brush_params.h"
+#include "replay_core.h"
 
 /* 0: "float" or "fixed", 1: the library version, 2: the struct table
  * (JSON, parsed from the headers at build time), 3: how this extension was
@@ -705,6 +726,146 @@ static int grip_py_brush_parse(const char *text, const char *name, int *kind, vo
     }
     free(t);
     return rc;
+}
+/* ---- grip-replay's replay of a log (port/linux/replay_core.c) ---------- */
+
+/* The rows of one replay: per step t_s, step, (value, fault) of each
+ * input the output writes, est_status, est_valid, est_flags and the
+ * REPLAY_EST_REALS outputs, as the doubles a reader of grip-replay's text
+ * gets (the same formats, read back); NaN = an empty cell. text: every
+ * message and the summary, as grip-replay prints them on stderr. */
+typedef struct {
+    double *rows;
+    size_t n;
+    size_t ncol;
+    char *text;
+    size_t text_len;
+    int capped;               /* more steps than max_rows: the rest not kept */
+    uint8_t write_input[64];
+} grip_py_replay_out;
+
+typedef char grip_py_replay_inputs_fit[(GRIP_IN_COUNT <= 64) ? 1 : -1];
+
+#define GRIP_PY_REPLAY_EST_REALS REPLAY_EST_REALS
+
+typedef struct {
+    grip_py_replay_out *out;
+    size_t cap;
+    size_t max_rows;
+    int failed;
+} grip_py_replay_sink;
+
+static void grip_py_replay_row(void *ctx, const replay *r, const grip_input_sample_t *s)
+{
+    grip_py_replay_sink *k = (grip_py_replay_sink *)ctx;
+    grip_py_replay_out *o = k->out;
+    double ev[REPLAY_EST_REALS];
+    double *p;
+    uint32_t i;
+    size_t c = 0;
+    if (k->failed) {
+        return;
+    }
+    if (o->ncol == 0) {
+        o->ncol = 2 + 3 + REPLAY_EST_REALS;
+        for (i = 0; i < (uint32_t)GRIP_IN_COUNT; i++) {
+            o->ncol += r->write_input[i] ? 2u : 0u;
+        }
+    }
+    if (o->n == k->cap) {
+        size_t cap = (k->cap == 0) ? 1024 : 2 * k->cap;
+        double *q;
+        if (cap > k->max_rows) {
+            cap = k->max_rows;
+        }
+        if (o->n >= cap) {
+            k->failed = 1;
+            o->capped = 1;
+            return;
+        }
+        q = (double *)realloc(o->rows, cap * o->ncol * sizeof *q);
+        if (q == NULL) {
+            k->failed = 1;
+            o->capped = 1;
+            return;
+        }
+        o->rows = q;
+        k->cap = cap;
+    }
+    p = o->rows + o->n * o->ncol;
+    p[c++] = replay_time_value(s->t_us);
+    p[c++] = (double)s->step;
+    for (i = 0; i < (uint32_t)GRIP_IN_COUNT; i++) {
+        if (r->write_input[i]) {
+            p[c++] = s->valid[i] ? replay_input_value(s->value[i], i) : NAN;
+            p[c++] = (double)s->fault[i];
+        }
+    }
+    p[c++] = (double)r->est_status;
+    p[c++] = (double)r->est_out.valid;
+    p[c++] = (double)r->est_out.flags;
+    replay_est_values(r, ev);
+    for (i = 0; i < (uint32_t)REPLAY_EST_REALS; i++) {
+        p[c++] = isnan(ev[i]) ? NAN : replay_as_printed(ev[i], REPLAY_DIGITS_EST);
+    }
+    o->n++;
+}
+
+/* grip-replay ARGS (argv[0] the program's name) for a log file or --csv
+ * file with -e, in this process: the rows into out (at most max_rows),
+ * the messages into out->text. Returns grip-replay's exit status. Not
+ * reentrant (replay_core's static buffers): the caller holds a lock. */
+static int grip_py_replay_run(int argc, char **argv, size_t max_rows, grip_py_replay_out *out)
+{
+    replay_options o;
+    replay *r = NULL;
+    grip_py_replay_sink sink;
+    FILE *msg;
+    int status;
+    uint32_t i;
+    memset(out, 0, sizeof *out);
+    memset(&sink, 0, sizeof sink);
+    sink.out = out;
+    sink.max_rows = max_rows;
+    msg = open_memstream(&out->text, &out->text_len);
+    if (msg == NULL) {
+        return -1;
+    }
+    status = replay_parse_args(argc, argv, &o, msg);
+    if (status != 0) {
+        status = EXIT_USAGE;
+    } else if (o.iface != NULL || o.est_tir == NULL || o.out != NULL || o.dump != NULL) {
+        fprintf(msg, "grip-replay: the in-process replay takes a log or --csv file with -e, no -i, -o or --dump\n");
+        status = EXIT_USAGE;
+    } else if ((r = (replay *)calloc(1, sizeof *r)) == NULL) {
+        fprintf(msg, "grip-replay: out of memory\n");
+        status = EXIT_OUTPUT;
+    } else {
+        r->opt = &o;
+        r->msg = msg;
+        status = replay_setup(r);
+        if (status == 0) {
+            r->source = (o.csv_in != NULL) ? o.csv_in : o.log;
+            r->row = grip_py_replay_row;
+            r->row_ctx = &sink;
+            status = replay_run(r);
+            for (i = 0; i < (uint32_t)GRIP_IN_COUNT; i++) {
+                out->write_input[i] = (uint8_t)(r->write_input[i] != 0);
+            }
+        }
+        free(r);
+    }
+    fclose(msg);
+    return status;
+}
+
+static void grip_py_replay_free(grip_py_replay_out *out)
+{
+    free(out->rows);
+    free(out->text);
+    out->rows = NULL;
+    out->text = NULL;
+    out->n = 0;
 }
 """
 

@@ -1,8 +1,11 @@
 """grip fleet on a small simulated fleet: a 2-worker LocalCluster gives the
-same tables as a run in one process (bit for bit), a rerun does no work, a
+same tables as a run in one process (bit for bit; both through the
+in-process binding backend when it is built), a rerun does no work, a
 changed log is recomputed, a corrupt log is an error row, a killed worker
 loses no result; analyze and report read the results; the candump and
-Parquet inputs; the replay summary parser.
+Parquet inputs; the binding and subprocess backends give the same rows bit
+for bit on logs of every kind (and the same error message for corrupt
+ones); the replay summary parser.
 
 The fleet: grip sim-fleet 50 logs of 2.5 s from three simulated step
 steers (dry, wet, snow: one simulator batch), 17 sensor variants each, plus
@@ -33,6 +36,18 @@ except ImportError:
 
 _DIR = None
 _CLIENT = None
+
+
+def binding_missing():
+    """Why the fleet's binding backend cannot run here (None: it can)."""
+    if not HAVE_DEPS:
+        return "no dask"
+    from grip_tools.fleet import backend
+    return backend.binding_available(("float", "fixed"))
+
+
+# the backend of the cluster tests: the binding when it is built
+BACKEND = ("--backend", "binding") if not binding_missing() else ("--backend", "subprocess")
 
 
 def setUpModule():
@@ -110,9 +125,9 @@ class FleetRunTests(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.serial = os.path.join(_DIR, "serial")
-        cls.info_serial = run(cls.serial, "--workers", "0", "--steps")
+        cls.info_serial = run(cls.serial, "--workers", "0", "--steps", *BACKEND)
         cls.dask = os.path.join(_DIR, "dask")
-        cls.info_dask = run(cls.dask, "--steps", cl=client())
+        cls.info_dask = run(cls.dask, "--steps", *BACKEND, cl=client())
 
     def test_a_every_log_has_a_row(self):
         import pyarrow.parquet as pq
@@ -127,6 +142,7 @@ class FleetRunTests(unittest.TestCase):
         # the loop's attribution ran on every log (2.5 s moving: enough samples)
         self.assertTrue(ok["attr_scores"].notna().all(), ok["attr_note"].unique())
         self.assertEqual(self.info_dask["computed"], N + 1)
+        self.assertEqual(self.info_dask["backend"], "binding" if BACKEND[1] == "binding" else "grip-replay")
 
     def test_b_cluster_equals_one_process(self):
         """Bit for bit: the logs and bands tables (all columns but the task's
@@ -154,7 +170,7 @@ class FleetRunTests(unittest.TestCase):
 
     def test_d_rerun_does_no_work(self):
         before = table(os.path.join(self.dask, "logs.parquet"), drop=())
-        info = run(self.dask, "--steps", cl=client())
+        info = run(self.dask, "--steps", *BACKEND, cl=client())
         self.assertEqual(info["computed"], 0)
         self.assertEqual(info["skipped"], N + 1)
         self.assertTrue(same_bits(before, table(os.path.join(self.dask, "logs.parquet"), drop=())))
@@ -167,13 +183,13 @@ class FleetRunTests(unittest.TestCase):
         try:
             with open(path, "a") as f:
                 f.write("# a comment: same inputs, other bytes\n")
-            info = run(out, "--workers", "0", "--steps")
+            info = run(out, "--workers", "0", "--steps", *BACKEND)
         finally:
             with open(path, "w") as f:
                 f.write(original)
         self.assertEqual(info["computed"], 1)
         # a different option (no per-step table) changes every hash
-        info = run(out, "--workers", "0", "--no-attribution")
+        info = run(out, "--workers", "0", "--no-attribution", *BACKEND)
         self.assertEqual(info["computed"], N + 1)
 
     def test_f_killed_worker_loses_no_result(self):
@@ -187,7 +203,7 @@ class FleetRunTests(unittest.TestCase):
                 addr = sorted(pids)[0]
                 os.kill(pids[addr], signal.SIGKILL)
                 killed.append(addr)
-        info = run(out, "--steps", cl=cl, on_result=kill_one)
+        info = run(out, "--steps", *BACKEND, cl=cl, on_result=kill_one)
         self.assertTrue(killed)
         self.assertEqual(info["rows"], N + 1)
         self.assertTrue(same_bits(table(os.path.join(self.serial, "logs.parquet")),
@@ -206,9 +222,9 @@ class FleetRunTests(unittest.TestCase):
             if len(seen) == 10:
                 raise KeyboardInterrupt
         with self.assertRaises(KeyboardInterrupt):
-            run(out, "--workers", "0", "--steps", on_result=stop)
+            run(out, "--workers", "0", "--steps", *BACKEND, on_result=stop)
         self.assertFalse(os.path.exists(os.path.join(out, "logs.parquet")))
-        info = run(out, "--workers", "0", "--steps")
+        info = run(out, "--workers", "0", "--steps", *BACKEND)
         self.assertEqual((info["computed"], info["skipped"]), (N + 1 - 10, 10))
         self.assertFalse(os.path.exists(os.path.join(out, "_journal")))
         self.assertTrue(same_bits(table(os.path.join(self.serial, "logs.parquet")),
@@ -290,6 +306,99 @@ class FleetInputsTests(unittest.TestCase):
         self.assertEqual(r["steps"], 5999)
         fx = t.loc[("rav4", "fixed")]
         self.assertLess(fx["dev_beta_max_rad"], 1e-3)
+
+
+@unittest.skipUnless(HAVE_DEPS, "dask, distributed, pandas, pyarrow not installed")
+@unittest.skipUnless(os.path.exists(BIN["float"]) and os.path.exists(BIN["fixed"]), "grip-replay not built")
+@unittest.skipIf(binding_missing(), f"the binding backend cannot run: {binding_missing()}")
+class BackendsTests(unittest.TestCase):
+    """The binding and the subprocess backend on logs of every kind, both
+    arithmetics: the same logs, bands and per-step tables bit for bit (all
+    columns but the backend's name and identity and the task's time and
+    memory), the same error message for a corrupt log."""
+
+    def test_binding_equals_subprocess(self):
+        import pandas as pd
+        import pyarrow.parquet as pq
+        d = tempfile.mkdtemp(prefix="grip-fleet-backends-", dir=_DIR)
+        fleet = os.path.join(_DIR, "fleet")
+        src = os.path.join(fleet, "logs", "sim000003.csv")
+        pd.read_csv(src).to_parquet(os.path.join(d, "sim3.parquet"), index=False)
+        for i in ("000", "021", "042"):
+            shutil.copy(os.path.join(fleet, "logs", f"sim000{i}.csv"), d)
+        shutil.copy(RAV4_LOG, os.path.join(d, "rav4.log"))
+        with open(src) as f:                                 # a bad cell on line 4
+            text = f.read().replace("\n0.02,", "\n0.02,x", 1)
+        with open(os.path.join(d, "bad.csv"), "w") as f:
+            f.write(text)
+        with open(RAV4_LOG) as f:                            # a malformed frame on line 5
+            lines = f.readlines()[:400]
+        lines[4] = "(1.0) can0 12#GG\n"
+        with open(os.path.join(d, "bad.log"), "w") as f:
+            f.writelines(lines)
+        vf = os.path.join(fleet, "vehicle.txt")
+        table = os.path.join(os.path.dirname(RAV4_LOG), "rav4.sigtab")
+        rows = [("csv0", "sim000000.csv", "generic", vf, None), ("csv21", "sim000021.csv", "av21", None, None),
+                ("csv42", "sim000042.csv", "rav4", vf, None), ("pq3", "sim3.parquet", "generic", vf, None),
+                ("rav4", "rav4.log", "rav4", None, None), ("rav4tab", "rav4.log", "av21", None, table),
+                ("badcsv", "bad.csv", "generic", vf, None), ("badlog", "bad.log", "rav4", None, None)]
+        pd.DataFrame({"log_id": [r[0] for r in rows], "path": [r[1] for r in rows], "preset": [r[2] for r in rows],
+                      "vehicle_file": [r[3] for r in rows], "table": [r[4] for r in rows]}).to_csv(
+            os.path.join(d, "manifest.csv"), index=False)
+        from grip_tools.fleet import run as fr
+        out = {}
+        for be in ("binding", "subprocess"):
+            out[be] = os.path.join(d, be)
+            a = fr.parse_args([d, "--out", out[be], "--arith", "both", "--workers", "0", "--no-progress", "--steps",
+                               "--backend", be])
+            fr.run_fleet(a)
+        drop = ("wall_s", "cpu_s", "rss_peak_mb", "backend", "replay_id")
+        for name in ("logs.parquet", "bands.parquet"):
+            self.assertTrue(same_bits(table_of(out["binding"], name, drop), table_of(out["subprocess"], name, drop)),
+                            name)
+        t = pq.read_table(os.path.join(out["binding"], "logs.parquet")).to_pandas().set_index(["log_id", "arith"])
+        self.assertEqual(len(t), 2 * len(rows))
+        good = t.drop(index=["badcsv", "badlog"], level=0)
+        self.assertTrue((good["status"] == "ok").all(), good["error"].dropna().tolist())
+        self.assertEqual(set(t["backend"]), {"binding"})
+        for arith in ("float", "fixed"):
+            e = t.loc[("badcsv", arith)]
+            self.assertEqual((e["status"], e["stage"]), ("error", "decode"))
+            # the file's last message (the row's error column is the same in
+            # both backends: compared above)
+            self.assertRegex(e["error"], r"^grip-replay exit 4: .*bad\.csv:\d+: column ")
+            e = t.loc[("badlog", arith)]
+            self.assertEqual((e["status"], e["stage"]), ("error", "decode"))
+            self.assertRegex(e["error"], r"^grip-replay exit 4: .*bad\.log:5: ")
+        n = 0
+        for arith in ("float", "fixed"):
+            ids = sorted(os.listdir(os.path.join(out["subprocess"], "steps", f"arith={arith}")))
+            self.assertEqual(ids, sorted(os.listdir(os.path.join(out["binding"], "steps", f"arith={arith}"))))
+            for i in ids:
+                p = os.path.join("steps", f"arith={arith}", i, "part-0.parquet")
+                self.assertTrue(same_bits(pq.read_table(os.path.join(out["binding"], p)),
+                                          pq.read_table(os.path.join(out["subprocess"], p))), p)
+                n += 1
+        self.assertEqual(n, 2 * (len(rows) - 2))
+
+    def test_step_cap(self):
+        """More steps than --max-steps: an error row, not a truncated log."""
+        from grip_tools.fleet import backend
+        from grip_tools.fleet.run import default_tir
+        job = backend.ReplayJob(kind="csv", tir=default_tir(), path=os.path.join(_DIR, "fleet", "logs", "sim000000.csv"))
+        self.assertEqual(len(backend.BindingReplay("float", max_steps=251).run(job).columns["t_s"]), 251)
+        with self.assertRaisesRegex(backend.ReplayError, r"^grip-replay exit 5: more than 250 steps"):
+            backend.BindingReplay("float", max_steps=250).run(job)
+
+    def test_identity_differs_between_backends(self):
+        from grip_tools.fleet import backend
+        ids = {backend.BindingReplay("float").identity(), backend.BindingReplay("fixed").identity(),
+               backend.SubprocessReplay(BIN["float"]).identity(), backend.SubprocessReplay(BIN["fixed"]).identity()}
+        self.assertEqual(len(ids), 4)
+
+
+def table_of(folder, name, drop):
+    return table(os.path.join(folder, name), drop=drop)
 
 
 class ReplayParserTests(unittest.TestCase):

@@ -210,7 +210,7 @@ def run_c(binary, tir_path, csv_path, vehicle="generic", vehicle_lines=(), step_
     return read_replay(p.stdout)
 
 
-# grip-replay's --vehicle presets (port/linux/grip_replay.c, vehicle_config)
+# grip-replay's --vehicle presets (port/linux/vehicle_config.c, vehicle_preset)
 # beyond grip_est_config_default ("generic"), for the binding
 VEHICLE_PRESETS = {"generic": {}}
 
@@ -477,13 +477,13 @@ AV21_RATE_HZ = 100
 # Fz0' = 2000 N; static loads 2253 N front, 1622 N rear) and its friction
 # raised to a dry racing slick's (LMUX = LMUY = 1.5, an assumption).
 AV21_STANDIN = {"LFZO": "0.5", "LMUX": "1.5", "LMUY": "1.5"}
-# grip-replay's `--vehicle av21` preset (port/linux/grip_replay.c) as est_ref
+# grip-replay's `--vehicle av21` preset (port/linux/vehicle_config.c) as est_ref
 # configuration keys (tests/python/programs/test_grip_replay_csv.py checks the two agree);
 # steer_lag is the value steer_lag_fit identified on the log
 AV21_VEHICLE = dict(mass=av21_log.MASS, iz=1000.0, lf=av21_log.LF, lr=av21_log.LR, track_f=1.6, track_r=1.6, h_cg=0.30,
                     steer_ratio=1.0, wheel_radius=0.30, roll_split_front=0.5, roll_gradient=0.001,
                     steer_lag=0.28)
-# grip-replay --vehicle av21 (port/linux/grip_replay.c), for the binding
+# grip-replay --vehicle av21 (port/linux/vehicle_config.c), for the binding
 VEHICLE_PRESETS["av21"] = AV21_VEHICLE
 
 

@@ -189,8 +189,16 @@ def run_dirs(vehicles, manoeuvres, surfaces, runs_dir, resimulate=False):
     return out
 
 
-def load_run(d):
-    return est_eval.read_csv(os.path.join(d, "truth.csv")), est_eval.read_csv(os.path.join(d, "inputs.csv"))
+def load_run(v, d):
+    """What scoring a run needs besides the estimate, read and derived once:
+    truth, inputs and the judge's generic configuration of the vehicle."""
+    from grip_tools.sim.independent import judge, mb
+    veh = mb.Vehicle(v)
+    values = judge.oem_vehicle(veh)
+    return dict(truth=est_eval.read_csv(os.path.join(d, "truth.csv")),
+                meas=est_eval.read_csv(os.path.join(d, "inputs.csv")),
+                lines=judge.vehicle_lines(values), norm=judge.mu_norm(veh, judge.GENERIC_TIR),
+                bicycle=judge.bicycle_params(values), geom=dict(l=veh.l, lr=veh.p.b))
 
 
 # the runs' truth and inputs, read once and shared with the forked workers
@@ -199,17 +207,14 @@ _LOADED = {}
 
 def score(exe, runs, loaded):
     """The judge's metrics of one build over the runs; a summary dict."""
-    from grip_tools.sim.independent import judge, mb
+    from grip_tools.sim.independent import judge
     per_run = []
     bad = valid_steps = 0
     for (v, m, s, d) in runs:
-        tr, meas = loaded[d]
-        veh = mb.Vehicle(v)
-        values = judge.oem_vehicle(veh)
-        lines = [f"{k} = {x!r}" for k, x in values.items()]
-        est = est_eval.run_c(exe, judge.GENERIC_TIR, os.path.join(d, "inputs.csv"), vehicle_lines=lines)
-        norm = judge.mu_norm(veh, judge.GENERIC_TIR)
-        r = judge.metrics(tr, meas, est, norm, judge.bicycle_params(values), dict(l=veh.l, lr=veh.p.b))
+        run = loaded[d]
+        tr = run["truth"]
+        est = est_eval.run_c(exe, judge.GENERIC_TIR, os.path.join(d, "inputs.csv"), vehicle_lines=run["lines"])
+        r = judge.metrics(tr, run["meas"], est, run["norm"], run["bicycle"], run["geom"])
         n = min(len(tr["time"]), len(est["time"]))
         vb = ((est["valid"][:n] & est_ref.V_BETA) != 0) & (tr["vx"][:n] >= judge.V_MOVING)
         e = np.abs(est["beta"][:n] - tr["beta"][:n]) * DEG
@@ -238,9 +243,6 @@ def _variant_job(a):
     work, base_obj, tag, overrides, runs = a
     t0 = _cpu()
     exe = build_variant(work, base_obj, tag, overrides)
-    for (_, _, _, d) in runs:
-        if d not in _LOADED:
-            _LOADED[d] = load_run(d)
     res = score(exe, runs, _LOADED)
     shutil.rmtree(os.path.join(work, tag), ignore_errors=True)
     res["cpu_s"] = _cpu() - t0
@@ -326,8 +328,8 @@ def main(argv=None):
     os.makedirs(a.out, exist_ok=True)
     runs = run_dirs(a.vehicles, a.manoeuvres, a.surfaces, a.runs_dir, a.resimulate)
     base_obj = prepare_base(a.work)
-    for (_, _, _, d) in runs:
-        _LOADED[d] = load_run(d)
+    for (v, _, _, d) in runs:
+        _LOADED[d] = load_run(v, d)   # before the pool forks: its workers share it
     jobs = [(a.work, base_obj, "baseline", {}, runs)]
     for n, v in study:
         for f in a.factors:

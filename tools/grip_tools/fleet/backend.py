@@ -3,15 +3,24 @@
 A backend turns one log (a candump file, an estimator-input CSV, or the
 input columns already in memory) into the estimator's per-step outputs and
 the replay's counters. The fleet code only calls `Backend.run(job)` and
-`Backend.identity()`, so the `grip-replay` subprocess used here can be
-replaced by an in-process binding of the library with no change elsewhere:
-such a backend returns the same `ReplayResult` (the same column names) and
-an identity that changes whenever its results could.
+`Backend.identity()`. Two backends run the same C code on the same
+arguments:
+
+    BindingReplay(arith)       grip-replay's replay (port/linux/replay_core.c)
+                               inside this process, through the grip binding
+                               (grip.replay): no process start, no text
+                               output parsed; the default
+    SubprocessReplay(binary)   the grip-replay program, one process per log
+                               (stdout CSV parsed, stderr summary)
+
+Both return the same ReplayResult, bit for bit (the binding gives each
+number as the double that reading the program's text gives;
+tests/python/fleet/test_fleet.py compares the two on every kind of log),
+with the same error message for a log that fails.
 
     ReplayJob     what to run: source kind and path (or columns), .tir,
                   vehicle preset and vehicle file, signal table, step
     ReplayResult  columns (name -> numpy array), counters (dict), text
-    SubprocessReplay(binary)   grip-replay -q? -e TIR ... (stdout CSV, stderr summary)
 """
 import hashlib
 import io
@@ -195,6 +204,101 @@ class Backend:
         raise NotImplementedError
 
 
+def replay_args(job, src):
+    """grip-replay's arguments (without the program) for a job whose log
+    is the file src."""
+    a = ["-e", job.tir, "--vehicle", job.preset, "--step-ms", repr(float(job.step_ms))]
+    if job.vehicle_file:
+        a += ["--vehicle-file", job.vehicle_file]
+    if job.kind == "candump":
+        if job.table:
+            a += ["-t", job.table]
+        if job.skip_bad:
+            a += ["--skip-bad"]
+        a += [src]
+    else:
+        a += ["--csv", src]
+    return a
+
+
+def replay_error(status, stderr, job, src):
+    """The ReplayError of a replay that ended with a non-zero status."""
+    msg = error_line(stderr) or f"exit status {status}"
+    if msg.startswith("grip-replay: "):
+        msg = msg[len("grip-replay: "):]
+    if src != job.path and job.path is None:
+        msg = msg.replace(src, "<columns>")
+    return ReplayError(f"grip-replay exit {status}: {msg}", "decode" if status in (3, 4) else "estimate")
+
+
+class _Source:
+    """The job's log as a file: its path, or a temporary grip-replay --csv
+    file of its columns (kind 'columns')."""
+
+    def __init__(self, job):
+        self.job = job
+        self.dir = None
+
+    def __enter__(self):
+        if self.job.kind != "columns":
+            return self.job.path
+        self.dir = tempfile.TemporaryDirectory(prefix="grip-fleet-")
+        src = os.path.join(self.dir.name, "inputs.csv")
+        write_columns_csv(src, self.job.columns)
+        return src
+
+    def __exit__(self, *exc):
+        if self.dir is not None:
+            self.dir.cleanup()
+
+
+class BindingReplay(Backend):
+    """grip-replay's replay in this process (grip.replay, one arithmetic).
+    No timeout (the C loop cannot be stopped halfway; its time is bounded
+    by the log's length); the rows are capped at max_steps instead."""
+    name = "binding"
+
+    def __init__(self, arith, max_steps=None):
+        import grip.replay
+        why = grip.replay.available(arith)
+        if why:
+            raise ImportError(why)
+        self.arith = arith
+        self.max_steps = max_steps or grip.replay.DEFAULT_MAX_STEPS
+        self._id = None
+
+    def identity(self):
+        """'binding:' + sha256 of the compiled extension: any rebuild that
+        changes the code changes it, and rows made by the grip-replay
+        program (whose identity is its own file's sha256) are not taken
+        for this backend's (see docs/fleet.md, "Backends")."""
+        if self._id is None:
+            from grip import _core
+            self._id = "binding:" + file_sha256(_core.backend(self.arith).path)
+        return self._id
+
+    def run(self, job):
+        import grip.replay
+        with _Source(job) as src:
+            res = grip.replay.run(replay_args(job, src), self.arith, self.max_steps)
+            if res.status != 0:
+                raise replay_error(res.status, res.text, job, src)
+        return ReplayResult(res.columns, parse_summary(res.text), res.text)
+
+
+def binding_available(ariths):
+    """None when BindingReplay works for every arithmetic, else why not."""
+    try:
+        import grip.replay
+    except ImportError as e:
+        return f"the grip binding does not import ({e})"
+    for a in ariths:
+        why = grip.replay.available(a)
+        if why:
+            return why
+    return None
+
+
 class SubprocessReplay(Backend):
     """The C estimator as the grip-replay program (one process per log)."""
     name = "grip-replay"
@@ -211,38 +315,17 @@ class SubprocessReplay(Backend):
         return self._id
 
     def args(self, job, src):
-        a = [self.binary, "-e", job.tir, "--vehicle", job.preset, "--step-ms", repr(float(job.step_ms))]
-        if job.vehicle_file:
-            a += ["--vehicle-file", job.vehicle_file]
-        if job.kind == "candump":
-            if job.table:
-                a += ["-t", job.table]
-            if job.skip_bad:
-                a += ["--skip-bad"]
-            a += [src]
-        else:
-            a += ["--csv", src]
-        return a
+        return [self.binary] + replay_args(job, src)
 
     def run(self, job):
         if not os.path.exists(self.binary):
             raise ReplayError(f"{self.binary}: not built", "estimate")
-        with tempfile.TemporaryDirectory(prefix="grip-fleet-") as d:
-            src = job.path
-            if job.kind == "columns":
-                src = os.path.join(d, "inputs.csv")
-                write_columns_csv(src, job.columns)
+        with _Source(job) as src:
             args = self.args(job, src)
             try:
                 p = subprocess.run(args, capture_output=True, text=True, timeout=job.timeout_s)
             except subprocess.TimeoutExpired:
                 raise ReplayError(f"grip-replay did not finish within {job.timeout_s:g} s", "estimate")
-        if p.returncode != 0:
-            msg = error_line(p.stderr) or f"exit status {p.returncode}"
-            if msg.startswith("grip-replay: "):
-                msg = msg[len("grip-replay: "):]
-            if src != job.path and job.path is None:
-                msg = msg.replace(src, "<columns>")
-            raise ReplayError(f"grip-replay exit {p.returncode}: {msg}",
-                              "decode" if p.returncode in (3, 4) else "estimate")
+            if p.returncode != 0:
+                raise replay_error(p.returncode, p.stderr, job, src)
         return ReplayResult(parse_output(p.stdout), parse_summary(p.stderr), p.stderr)

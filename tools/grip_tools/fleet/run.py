@@ -1,12 +1,16 @@
 """grip fleet run: the C estimator over many logs, one Dask task per log.
 
     grip fleet run SOURCE... --out DIR [--arith float|fixed|both] [--steps]
+                   [--backend binding|subprocess]
                    [--scheduler tcp://HOST:8786 | --workers N]
 
 SOURCE: a folder, a glob or a manifest (grip_tools/fleet/manifest.py).
 Per log: decode (candump logs through the signal table; estimator-input
-CSV; Parquet) and estimate with grip-replay of each arithmetic asked for,
-then the log's summary (fleet/summary.py): validity shares per bit and
+CSV; Parquet) and estimate with grip-replay's C code of each arithmetic
+asked for (--backend: in the worker's process through the grip binding,
+the default when it imports, or the grip-replay program as a subprocess;
+both give the same rows bit for bit, fleet/backend.py), then the log's
+summary (fleet/summary.py): validity shares per bit and
 flag, mu and beta statistics, model-misfit share, the replay's decode and
 timing counters, residuals, est_eval's accuracy metrics where the log has
 a truth, the measured-data loop's attribution of the residual.
@@ -18,7 +22,9 @@ DIR/steps/ (per-step outputs, --steps), DIR/run.json.
 A rerun skips every log whose rows exist with the same input hash (the
 bytes of the log, its truth, tire, vehicle file and signal table, and the
 settings) and the same grip version (grip_tools.__version__ and the
-sha256 of each grip-replay binary). A log that fails becomes an error row
+backend's identity: the sha256 of the grip binding's extension, or of the
+grip-replay program, of each arithmetic; rows of one backend are not
+reused by the other). A log that fails becomes an error row
 (status 'error', stage and message) and the run goes on; a worker that dies
 has its tasks run again elsewhere (Dask).
 """
@@ -67,6 +73,8 @@ def log_schema():
 # The task (runs on a worker; must not raise: every failure is a row)
 
 _BIN_IDS = {}
+_BACKENDS = {}
+BACKENDS = ("binding", "subprocess")
 
 
 def _cpu():
@@ -98,8 +106,31 @@ def _error(row, stage, msg):
 
 
 def make_backend(arith, opts):
-    """The replay backend of an arithmetic (the place to plug a binding in)."""
-    return B.SubprocessReplay(opts["bins"][arith])
+    """The replay backend of an arithmetic (one per process and setting)."""
+    key = (opts["backend"], arith, opts["bins"].get(arith))
+    be = _BACKENDS.get(key)
+    if be is None:
+        if opts["backend"] == B.BindingReplay.name:
+            be = B.BindingReplay(arith, opts.get("max_steps"))
+        else:
+            be = B.SubprocessReplay(opts["bins"][arith])
+        _BACKENDS[key] = be
+    return be
+
+
+def _check_backend(arith, opts):
+    """The backend on this worker is the client's (same program or
+    extension bytes), else a ReplayError."""
+    if opts["backend"] == B.BindingReplay.name:
+        try:
+            ident = make_backend(arith, opts).identity()
+        except ImportError as e:
+            raise B.ReplayError(f"the grip binding ({arith}) does not work on this worker: {e}", "estimate")
+        if ident != opts["replay_ids"][arith]:
+            raise B.ReplayError(f"the grip binding ({arith}) on this worker differs from the client's", "estimate")
+    elif opts["bins"].get(arith) and _binary_id(opts["bins"][arith]) != opts["replay_ids"][arith]:
+        raise B.ReplayError(f"grip-replay ({arith}) on this worker differs from the client's "
+                            f"({opts['bins'][arith]})", "estimate")
 
 
 def read_parquet_inputs(path):
@@ -155,9 +186,7 @@ def _run_ariths(spec, opts, rows, out):
         row = rows[a]
         stage = "decode"
         try:
-            if opts["bins"].get(a) and _binary_id(opts["bins"][a]) != opts["replay_ids"][a]:
-                raise B.ReplayError(f"grip-replay ({a}) on this worker differs from the client's "
-                                    f"({opts['bins'][a]})", "estimate")
+            _check_backend(a, opts)
             if spec["format"] == "parquet":
                 job.kind, job.path, job.columns = "columns", None, read_parquet_inputs(spec["path"])
             res = make_backend(a, opts).run(job)
@@ -216,8 +245,12 @@ def parse_args(argv):
     ap.add_argument("sources", nargs="+", help="folders, globs, files or manifests (manifest.csv)")
     ap.add_argument("--out", "-o", required=True, help="results folder (created; a rerun resumes)")
     ap.add_argument("--arith", default="float", choices=("float", "fixed", "both"))
+    ap.add_argument("--backend", choices=BACKENDS, default=None,
+                    help="how the C code runs: 'binding' (in the worker's process, through the grip binding; "
+                         "the default when it imports) or 'subprocess' (one grip-replay process per log)")
     ap.add_argument("--replay-bin", action="append", default=[], metavar="ARITH=PATH",
-                    help="grip-replay of an arithmetic (default build/<arith>-gcc/bin/grip-replay)")
+                    help="--backend subprocess: grip-replay of an arithmetic "
+                         "(default build/<arith>-gcc/bin/grip-replay)")
     ap.add_argument("--tir", default=None, help="tire of the estimator (default PacejkaBook_Defaults.tir)")
     ap.add_argument("--preset", default="generic", choices=manifest.PRESETS,
                     help="grip-replay --vehicle where the manifest gives none")
@@ -227,7 +260,11 @@ def parse_args(argv):
     ap.add_argument("--steps", action="store_true", help="also write the per-step table (DIR/steps/)")
     ap.add_argument("--no-attribution", action="store_true", help="skip the residual attribution per log")
     ap.add_argument("--skip-bad", action="store_true", help="candump: skip malformed lines (counted)")
-    ap.add_argument("--timeout", type=float, default=600.0, help="per log and arithmetic [s]")
+    ap.add_argument("--timeout", type=float, default=600.0,
+                    help="--backend subprocess: per log and arithmetic [s]")
+    ap.add_argument("--max-steps", type=int, default=None,
+                    help="--backend binding: most estimator steps kept per log (default 2097152; more: an "
+                         "error row)")
     ap.add_argument("--retries", type=int, default=2, help="Dask retries of a task that raised")
     ap.add_argument("--force", action="store_true", help="recompute every log")
     ap.add_argument("--flush", type=int, default=200, help="journal the rows every N logs")
@@ -244,16 +281,39 @@ def options(a):
             raise UsageError(f"--replay-bin {s}: give float=PATH or fixed=PATH")
         bins[k] = os.path.abspath(v)
     bins = {k: bins[k] for k in ariths}
-    for k, v in bins.items():
-        if not os.path.exists(v):
-            raise UsageError(f"{v}: not built (make ARITH={k} progs)")
+    if getattr(a, "max_steps", None) is not None and a.max_steps < 1:
+        raise UsageError(f"--max-steps {a.max_steps}: give a number of steps >= 1")
+    backend = getattr(a, "backend", None)
+    if backend is None:
+        why = B.binding_available(ariths)
+        backend = "subprocess" if why else "binding"
+        if why:
+            print(f"grip fleet run: {why}; running grip-replay as a subprocess per log", file=sys.stderr)
+    elif backend == "binding":
+        why = B.binding_available(ariths)
+        if why:
+            raise UsageError(f"--backend binding: {why}")
+    if backend == "binding":
+        ids = {k: B.BindingReplay(k).identity() for k in ariths}
+        backend_name, bins = B.BindingReplay.name, {}
+    else:
+        for k, v in bins.items():
+            if not os.path.exists(v):
+                raise UsageError(f"{v}: not built (make ARITH={k} progs)")
+        ids = {k: B.file_sha256(v) for k, v in bins.items()}
+        backend_name = B.SubprocessReplay.name
     steps_dir = os.path.join(os.path.abspath(a.out), store.STEPS) if a.steps else None
-    return {"ariths": ariths, "bins": bins, "replay_ids": {k: B.file_sha256(v) for k, v in bins.items()},
-            "grip_version": __version__, "backend": B.SubprocessReplay.name, "steps_dir": steps_dir,
+    return {"ariths": ariths, "bins": bins, "replay_ids": ids, "max_steps": getattr(a, "max_steps", None),
+            "grip_version": __version__, "backend": backend_name, "steps_dir": steps_dir,
             "attribution": not a.no_attribution, "skip_bad": a.skip_bad, "timeout": a.timeout,
             "force": a.force,
             "hash_options": {"summary_version": summary.SUMMARY_VERSION, "steps": bool(a.steps), "attribution": not a.no_attribution,
                              "skip_bad": bool(a.skip_bad)}}
+
+
+def _extension_path(arith):
+    from grip import _core
+    return _core.backend(arith).path
 
 
 def run_fleet(a, specs=None, client=None, on_result=None):
@@ -330,7 +390,11 @@ def run_fleet(a, specs=None, client=None, on_result=None):
     logs = res.compact([s.log_id for s in specs], schema)
     status = logs.column("status").to_pylist() if logs is not None else []
     info = {"grip_version": __version__, "backend": opts["backend"],
-            "replay": {k: {"binary": opts["bins"][k], "sha256": opts["replay_ids"][k]} for k in opts["ariths"]},
+            # per arithmetic: the program or the extension that ran, its sha256
+            # (the identity is "binding:" + sha256 for the extension)
+            "replay": {k: ({"binary": opts["bins"][k], "sha256": opts["replay_ids"][k]} if opts["bins"] else
+                           {"extension": _extension_path(k), "sha256": opts["replay_ids"][k].split(":")[-1]})
+                       for k in opts["ariths"]},
             "sources": [os.path.abspath(s) for s in a.sources], "options": opts["hash_options"],
             "logs": len(specs), "computed": counts["computed"], "skipped": counts["skipped"],
             "rows": len(status), "error_rows": status.count("error"),
