@@ -17,10 +17,13 @@
  * time constant is a distance, EST_ROAD_L / |vx|. Where the model's pull
  * is not a bank's (at the limit, in a yaw transient, short of the linear
  * yaw response, the model declared misfitting) the bank is held, and with
- * a misfit declared it returns to the plane. At rest the accelerometer
- * reads gravity alone (ay = -g_y). docs/estimator/road.md derives it and
- * gives the measurements (taking g_y = r vx - ay at the limit, dvy/dt = 0,
- * failed: a car sliding at its limit changes vy at a steady yaw rate).
+ * a misfit declared it returns to the bank measured at the last standstill
+ * (road_g0; the plane before one). At rest the accelerometer reads gravity
+ * alone (ay = -g_y). Only with the configuration's bank_est = 1 (off by
+ * default: a tire model that misfits the car is learned as bank, AV-21
+ * log). docs/estimator/road.md derives it and gives the measurements
+ * (taking g_y = r vx - ay at the limit, dvy/dt = 0, failed: a car sliding
+ * at its limit changes vy at a steady yaw rate).
  */
 #include "est_internal.h"
 
