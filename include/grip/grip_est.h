@@ -81,6 +81,12 @@ typedef struct {
                                 * lateral observer stops as without the steering).
                                 * 0 (default): the rear angle is used when given, else 0.
                                 * Range |angle| <= 0.25 rad (beyond: F_STEER_LIMIT). */
+    uint32_t bank_est;         /* 1: estimate the road's bank beyond tan_bank (est_road.c,
+                                * docs/estimator/road.md): at rest from the accelerometer,
+                                * moving from the ay update's correction of vy. 0
+                                * (default): the configured plane only, as without it.
+                                * Off by default: with a tire model that misfits the car
+                                * the bank learns the misfit (AV-21 log). */
     /* vehicle-level effects of the residual tool (docs/estimator.md); all 0 =
      * without them (grip_est_config_default) */
     grip_real_t cla;           /* QS m^2 aerodynamic downforce coefficient C_L A, [0, 20]:
@@ -272,6 +278,11 @@ typedef struct {
     /* state */
     grip_real_t vx;             /* QS */
     grip_real_t ax_off;         /* QS m/s^2 ax offset learned from the wheels (grade, accelerometer bias) */
+    grip_real_t road_gy;        /* QS m/s^2 gravity along the body's y axis beyond the configured
+                                 * plane: the road's bank, estimated (est_road.c) */
+    grip_real_t road_g0;        /* QS m/s^2 the bank measured at the last standstill (est_road.c) */
+    grip_real_t road_r;         /* QS rad/s the yaw rate of the last step (est_road.c) */
+    grip_real_t road_dr;        /* QS rad/s^2 the yaw acceleration, low-passed: quasi-steady test */
     grip_real_t x[GRIP_EST_NX]; /* QS vy [m/s], r [rad/s], mu [-], gyro bias [0.001 rad/s] */
     grip_real_t p[GRIP_EST_NX][GRIP_EST_NX]; /* QS covariance in scaled units */
     grip_real_t hold[6];        /* QS last valid steer, yaw, ax, ay, vehicle speed, rear steer */

@@ -39,6 +39,7 @@ grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_para
     cfg->rate_hz = 100u;
     cfg->speed_ref_mu = 0u;
     cfg->rear_steer = 0u;
+    cfg->bank_est = 0u;
     cfg->cla = R_ZERO;
     cfg->aero_front = RC(0.5);
     cfg->air_density = RC(1.2);
@@ -164,6 +165,10 @@ static grip_status_t check_config(const grip_est_config_t *c, grip_check_detail_
         (void)check_fail(d, "", -1, "rear_steer", "0 or 1");
         return GRIP_ERR_PARAM;
     }
+    if (c->bank_est > 1u) {
+        (void)check_fail(d, "", -1, "bank_est", "0 or 1");
+        return GRIP_ERR_PARAM;
+    }
     if (!check_ranges(r2, sizeof r2 / sizeof r2[0], d)) {
         return GRIP_ERR_PARAM;
     }
@@ -242,6 +247,10 @@ grip_status_t grip_est_reset(grip_est_t *est)
     est->active = 0;
     est->vx_init = 0;
     est->psi = R_ZERO;
+    est->road_gy = R_ZERO;
+    est->road_g0 = R_ZERO;
+    est->road_r = R_ZERO;
+    est->road_dr = R_ZERO;
     est->vy_k = R_ZERO;
     est->sd_k = RC(EST_SD_CAP);
     est->sd_vx = RC(EST_SD_CAP);

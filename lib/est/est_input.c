@@ -74,13 +74,13 @@ static void road_plane(grip_est_t *est, est_ctx_t *s)
 {
     const grip_est_config_t *c = &est->cfg;
     s->g_x = R_ZERO;
-    s->g_y = R_ZERO;
+    s->g_y = est->road_gy;
     if (est->plane) {
         grip_real_t cp = r_cos(est->psi), sp = r_sin(est->psi);
         grip_real_t sx = r_add(r_mul(c->tan_grade, cp), r_mul(c->tan_bank, sp));
         grip_real_t sy = r_sub(r_mul(c->tan_bank, cp), r_mul(c->tan_grade, sp));
         s->g_x = r_neg(r_div(r_mul(RC(EST_G), sx), r_sqrt(r_add(R_ONE, r_sq(sx)))));
-        s->g_y = r_neg(r_div(r_mul(RC(EST_G), sy), r_sqrt(r_add(R_ONE, r_sq(sy)))));
+        s->g_y = r_sub(s->g_y, r_div(r_mul(RC(EST_G), sy), r_sqrt(r_add(R_ONE, r_sq(sy)))));
         est->psi = r_add(est->psi, r_div(s->yaw, est->rate));
         if (est->psi > RC(3.14159265358979)) {
             est->psi = r_sub(est->psi, RC(6.28318530717959));

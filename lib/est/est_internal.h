@@ -232,6 +232,9 @@ void est_friction_tests(grip_est_t *est, est_ctx_t *s, const grip_est_output_t *
 void est_lateral_update(grip_est_t *est, est_ctx_t *s, const grip_est_output_t *out);
 /* est_outputs.c: the yaw and lateral balances */
 void est_balances(grip_est_t *est, const est_ctx_t *s);
+/* est_road.c: the road's bank from the ay update's correction of vy (observer
+ * running), or from the accelerometer at rest */
+void est_road(grip_est_t *est, const est_ctx_t *s);
 /* est_friction.c: the ax update, then mu's bounds */
 void est_friction_update(grip_est_t *est, const est_ctx_t *s);
 /* est_lateral.c: the bounds of vy, r and the gyro bias */

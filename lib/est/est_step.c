@@ -75,9 +75,12 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     if (est->active) {
         est_friction_tests(est, &s, out);
         est_lateral_update(est, &s, out);
+        est_road(est, &s);
         est_balances(est, &s);
         est_friction_update(est, &s);
         est_bound_state(est, &s);
+    } else {
+        est_road(est, &s);
     }
     est_checks(est, &s, out);
     est_outputs(est, &s, out);

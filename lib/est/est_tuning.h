@@ -83,6 +83,27 @@
 #define EST_DR_T     2.0     /* s      vx stays valid this long in dead reckoning (tuning)   */
 #define EST_NOWHEEL_T 0.5    /* s      ... and this long with no wheel speed at all (tuning) */
 
+/* ---- road bank (est_road.c, docs/estimator/road.md) ---------------------- */
+#define EST_ROAD_L   20.0    /* m      distance constant of the bank's integrator, time constant
+                              *        ROAD_L / |vx|: superelevation runs in over tens of metres
+                              *        (the independent judge's banked curve: 8 deg over 40 m)   */
+#define EST_ROAD_U   0.5     /* -      the bank adapts only with the model's utilization below
+                              *        this (0.8: circle ramp wet, generic tire, 1.34 deg RMS;
+                              *        0.5: 1.24; banked curve snow 0.49 -> 0.40)             */
+#define EST_ROAD_RACC 0.3    /* rad/s^2 ... the yaw acceleration (low-passed) below this:
+                              *        quasi-steady (transients carry the model's lag errors)  */
+#define EST_ROAD_T_DR 0.2    /* s      time constant of that low-pass                          */
+#define EST_ROAD_D   0.15    /* -      ... and the yaw rate short of the linear reference by
+                              *        less than this share (the understeer test's d): a car
+                              *        nearing its limit on an unknown low friction pulls vy as
+                              *        a bank does (simulator ramp steer snow, reference: beta
+                              *        0.50 deg RMS without, 0.26 / 0.34 / 0.46 at 0.1 / 0.15 /
+                              *        0.2; banked curve snow, fitted tire: 6.9 deg at 0.1, 0.75
+                              *        at 0.15)                                                */
+#define EST_ROAD_T_REST 0.5  /* s      time constant of the bank at rest (ay reads gravity)     */
+#define EST_ROAD_GY_MAX 4.4  /* m/s^2  bound of the bank's gravity: g sin(26.7 deg), a steep
+                              *        oval's banking (tan_bank's range, 0.5)                  */
+
 /* ---- lateral observer on / off (est_lateral.c) ------------------------- */
 #define EST_V_ON     3.0     /* m/s    the lateral observer starts above ...                 */
 #define EST_V_OFF    2.5     /* m/s    ... and stops below (hysteresis; tuning); also the

@@ -82,7 +82,7 @@ static void usage(FILE *f)
             "      --vehicle NAME     estimator vehicle: rav4 (default), av21 or generic\n"
             "      --vehicle-file F   override vehicle values: lines `key = value` (SI): mass iz lf lr\n"
             "                         track track_f track_r h_cg steer_ratio wheel_radius\n"
-            "                         roll_split_front roll_gradient speed_ref_mu (0/1) cla aero_front\n"
+            "                         roll_split_front roll_gradient speed_ref_mu bank_est (0/1) cla aero_front\n"
             "                         air_density cda crr tan_bank tan_grade latency steer_lag\n"
             "                         steer_latency [s] tire_tol kin_acc_sd [m/s^2] beta_sd_max [rad];\n"
             "                         rear_tire = PATH (the rear axle's .tir, relative to F's folder)\n"

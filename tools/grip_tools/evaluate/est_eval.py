@@ -120,13 +120,18 @@ def sim_resistance():
     return dict(cda=float(veh.cda), air_density=float(veh.rho), crr=float(qsy1))
 
 
+# estimator settings every run of this invocation adds (--bank-est: {"bank_est": 1})
+EXTRA = {}
+
+
 def est_vehicle():
     """The estimator settings for the simulator's runs beyond the passenger
     car of est_ref.config / grip-replay's `generic`: the simulator's IMU
     and steering-angle latencies and its car's drag and rolling resistance. (The simulator sends
     no vehicle-speed signal, so speed_ref_mu stays 0: the longitudinal mu
-    update runs only while braking with a wheel at 15 % slip or more.)"""
-    return dict(latency=sim_imu_latency(), steer_latency=sim_steer_latency(), **sim_resistance())
+    update runs only while braking with a wheel at 15 % slip or more.)
+    Plus EXTRA."""
+    return dict(latency=sim_imu_latency(), steer_latency=sim_steer_latency(), **sim_resistance(), **EXTRA)
 
 
 def est_config():
@@ -600,7 +605,8 @@ def av21_report(log, outdir, bins):
           f"preset steer_lag {AV21_VEHICLE['steer_lag']}", file=sys.stderr)
     outs = {}
     for a, b in bins.items():
-        outs[a] = o = run_est(b, tir_path, t, value, valid, vehicle="av21", step_ms=1000.0 / AV21_RATE_HZ)
+        outs[a] = o = run_est(b, tir_path, t, value, valid, vehicle="av21", vehicle_values=dict(EXTRA),
+                              step_ms=1000.0 / AV21_RATE_HZ)
         moving = ins["vx"] > 5.0
         num = [k for k in o if k not in ("valid", "flags")]
         finite = all(np.all(np.isfinite(o[k][~np.isnan(o[k])])) for k in num) and \
@@ -713,6 +719,9 @@ def main(argv=None):
                     help="run this grip-replay program for ARITH instead of the binding (another build of "
                          "the C code)")
     ap.add_argument("--no-c", action="store_true", help="evaluate est_ref only")
+    ap.add_argument("--bank-est", action="store_true",
+                    help="every run with the estimator's bank_est = 1 (the road's bank estimated, "
+                         "docs/estimator/road.md); default the configuration's 0")
     ap.add_argument("--av21", nargs="?", const=av21_log.LOG, default=None, metavar="LOG",
                     help="also run the C builds on the Dallara AV-21 log (default %(const)s): <out>/av21.json, "
                          "av21.png, av21_standin.tir")
@@ -729,6 +738,9 @@ def main(argv=None):
     ap.add_argument("--const", action="append", default=[], metavar="NAME=VALUE",
                     help="--integrity: an est_ref constant changed for the run (sensitivity: TIRE_TOL, KIN_ACC, ...)")
     a = ap.parse_args(argv)
+    EXTRA.clear()
+    if a.bank_est:
+        EXTRA["bank_est"] = 1
     if a.integrity:
         from grip_tools.evaluate import integrity
         integrity.run(a.out, judges=[j for j in a.judges.split(",") if j], runs_dir=a.runs_dir, full=a.full,
@@ -737,7 +749,7 @@ def main(argv=None):
     if a.independent:
         from grip_tools.sim.independent import judge
         judge.run(a.out, full=a.full, vehicles=a.vehicles, manoeuvres=a.manoeuvres, surfaces=a.surfaces,
-                  c_bins=a.c_bin)
+                  c_bins=a.c_bin, vehicle_extra=dict(EXTRA))
         return 0
     os.makedirs(a.out, exist_ok=True)
     runs = list(a.runs)

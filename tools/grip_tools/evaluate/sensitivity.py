@@ -88,6 +88,8 @@ CLASSES = {
     "EST_ROLL_TOL": "tuning", "EST_DIS_K": "physics", "EST_SD_CAP": "format", "EST_SD_MIN": "format",
     "EST_Q_MAX": "format", "EST_KIN_Q0": "tuning", "EST_SD_VY_EDGE": "tuning",
     "EST_WS_TOL": "sensor", "EST_SLIP_MAX": "physics",
+    "EST_ROAD_L": "tuning", "EST_ROAD_U": "tuning", "EST_ROAD_RACC": "tuning", "EST_ROAD_T_DR": "tuning",
+    "EST_ROAD_D": "tuning", "EST_ROAD_T_REST": "tuning", "EST_ROAD_GY_MAX": "range",
 }
 CLASS_TEXT = {
     "physics": "a physical or statistical constant (g, a chi-square point, the tire as fitted)",

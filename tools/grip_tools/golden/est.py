@@ -10,6 +10,9 @@ Input sequences (the C test replays exactly the same rows):
   faults_100hz    the generator's signals with faults injected: invalid and
                   stale flags, NaN/Inf values (valid flag set), saturated
                   values, a locked wheel, standstill, reversing
+  road_bank_100hz the internal generator on a road banked 0.1 + 0.04 sin(2 pi
+                  t / 6 s) rad that the configuration does not give, run
+                  with bank_est = 1 (the bank estimated)
   aero_bank_100hz the internal generator at 26 m/s, run with the vehicle-level
                   effects on: downforce C_L A = 2.5 m^2 (front share 0.42,
                   rho 1.2), road bank tan = 0.04 (rise to the left) and grade
@@ -72,13 +75,16 @@ def tire_params():
 # internal generator: single-track model with Magic Formula axle forces
 
 def bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED, v0=22.0, steer_gain=1.0,
-                   brake_demand=3.0, rear_gain=0.0):
+                   brake_demand=3.0, rear_gain=0.0, bank=None):
     """A nonlinear single-track run (steer steps, slalom, braking in a turn).
     mu_road: (mu of the first half, mu of the second half), as a scale of the
     tire's friction (LMUX, LMUY); steer_gain scales the steering-wheel angle,
     brake_demand [m/s^2] the braking in the turn, rear_gain the rear
     road-wheel angle as a share of the front one (negative: opposite phase;
-    0: no rear steering, the input not given). Returns time, value (N, 18), valid (N, 18)
+    0: no rear steering, the input not given), bank a function of time that
+    gives the road's bank [rad, left edge up positive] (gravity then pulls
+    the car by -g sin(bank) along y, and the accelerometer, reading specific
+    force, gives the tires' force over the mass). Returns time, value (N, 18), valid (N, 18)
     and the truth dict (vx, vy, r, mu)."""
     P0 = tire_params()
     cfg = est_ref.config(P0)
@@ -136,7 +142,9 @@ def bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED, v0=22.
         ax = -brake * min(1.0, mu)
         vyd = (fyf * math.cos(delta) + fyr * math.cos(dr_)) / m - r * vx
         rd = (lf * fyf * math.cos(delta) - lr * fyr * math.cos(dr_)) / iz
-        ay = vyd + r * vx
+        ay = vyd + r * vx                   # specific force: the tires' force over the mass
+        if bank is not None:
+            vyd -= 9.80665 * math.sin(bank(tk))
         truth["vx"][k], truth["vy"][k], truth["r"][k], truth["mu"][k] = vx, vy, r, mu
         tf, tr = cfg["track_f"], cfg["track_r"]
         slip = -0.02 * brake / 3.0
@@ -159,6 +167,19 @@ def bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED, v0=22.
         vy += vyd * dt
         r += rd * dt
     return t, value, valid, truth
+
+
+def road_bank(t):
+    """The road_bank_100hz sequence's bank [rad] at time t: 0.1 rad (5.7 deg)
+    plus 0.04 rad over a 6 s period, as a road whose bank changes along it."""
+    return 0.10 + 0.04 * math.sin(2.0 * math.pi * t / 6.0)
+
+
+def road_bank_inputs():
+    """The internal generator on a banked road the estimator is not told
+    of (tan_bank = 0): mu 1.0, half the steering, light braking in the turn."""
+    return bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 1.0), seed=SEED + 4, steer_gain=0.5,
+                          brake_demand=1.0, bank=road_bank)
 
 
 def steer_offset_inputs():
@@ -316,6 +337,10 @@ def write_golden(outdir):
     write_sequence(outdir, "rear_steer_100hz", 0.01, t, v, ok,
                    "internal generator at 9 m/s, rear wheels steered opposite to the front (0.3 x), rear_steer = 1",
                    rear_steer=1)
+    t, v, ok, _ = road_bank_inputs()
+    write_sequence(outdir, "road_bank_100hz", 0.01, t, v, ok,
+                   "internal generator, mu 1.0, half steering, road bank 5.7 +- 2.3 deg along the run, not configured, bank_est = 1",
+                   bank_est=1)
     sim = sim_inputs()
     path = os.path.join(outdir, "est_sim_sine_dwell.txt")
     if sim is not None:

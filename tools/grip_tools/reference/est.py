@@ -25,6 +25,12 @@ one method each, in a section named after the C file that holds the stage:
     estimate_friction      est_friction.c  the ax update (when excited), mu's
                                            bounds
     bound_state            est_lateral.c   the bounds of vy, r and b
+    road                   est_road.c      the road's bank: the ay update's
+                                           correction of vy integrated over
+                                           a distance (at rest: the
+                                           accelerometer); it runs right
+                                           after lateral_filter, or with the
+                                           filter off
     then:
     check_consistency      est_checks.c    model misfit (F_MODEL_MISFIT caps
                                            mu_conf), the validity resting on it
@@ -114,6 +120,15 @@ K_SLIP, K_OFF, AX_OFF_MAX = 0.2, 1.0, 1.5
 WS_STEER_MAX = 0.2
 DR_AX, DR_T = 0.5, 2.0
 NOWHEEL_T = 0.5
+
+# -- the road's bank (est_road.c, docs/estimator/road.md): the ay update's
+# correction of vy integrated over ROAD_L [m] of travel, where the model's
+# utilization is below ROAD_U and the yaw acceleration low-passed over
+# ROAD_T_DR [s] below ROAD_RACC [rad/s^2]; at
+# rest the accelerometer's ay with a time constant ROAD_T_REST [s]; within
+# ROAD_GY_MAX [m/s^2] (g sin 26.7 deg)
+ROAD_L, ROAD_U, ROAD_RACC, ROAD_T_DR = 20.0, 0.5, 0.3, 0.2
+ROAD_T_REST, ROAD_GY_MAX, ROAD_D = 0.5, 4.4, 0.15
 
 # -- the lateral filter on / off (est_lateral.c)
 V_ON, V_OFF = 3.0, 2.5  # on above V_ON, off below V_OFF [m/s]
@@ -302,7 +317,7 @@ def config(tire_front, tire_rear=None, rate_hz=100, **kw):
              steer_ratio=15.5, wheel_radius=0.30, roll_split_front=0.60, roll_gradient=0.0088,
              rate_hz=int(rate_hz),
              dt=1.0 / int(rate_hz),
-             speed_ref_mu=0, rear_steer=0,
+             speed_ref_mu=0, rear_steer=0, bank_est=0,
              tire_tol=TIRE_TOL, kin_acc_sd=KIN_ACC, beta_sd_max=BETA_SD_MAX,
              cla=0.0, aero_front=0.5, air_density=1.2, cda=0.0, crr=0.0, tan_bank=0.0, tan_grade=0.0,
              tire=(tire_front, tire_rear if tire_rear is not None else tire_front))
@@ -525,6 +540,10 @@ class Estimator:
         self.no_wheel_steps = BIG
         self.dr_steps = 0
         self.ax_off = 0.0
+        self.road_gy = 0.0           # gravity along the body's y beyond the plane: the bank [m/s^2]
+        self.road_g0 = 0.0           # the bank measured at the last standstill [m/s^2]
+        self.road_r = 0.0            # the yaw rate of the last step [rad/s]
+        self.road_dr = 0.0           # the yaw acceleration, low-passed [rad/s^2]
         self.r_lin_f = 0.0
         self.delta_f = 0.0
         self.delta_prev = 0.0        # road-wheel angle of the previous step (steering latency)
@@ -560,9 +579,12 @@ class Estimator:
         if self.active:
             self.friction_tests(s)
             self.lateral_filter(s)
+            self.road(s)
             self.update_balances(s)
             self.estimate_friction(s)
             self.bound_state(s)
+        else:
+            self.road(s)
         self.check_consistency(s)
         self.compute_outputs(s)
         self.bound_outputs(s)
@@ -687,14 +709,15 @@ class Estimator:
         yaw = self.hold[1] - B_UNIT * self.x[3] if yaw_ok else 0.0
         ax = self.hold[2] if ax_ok else 0.0
         ay = self.ay_fac * self.hold[3] if ay_ok else 0.0
-        # road plane: gravity along the body axes at the heading since reset
-        g_x = g_y = 0.0
+        # road plane: gravity along the body axes at the heading since reset,
+        # plus the estimated bank (road)
+        g_x, g_y = 0.0, self.road_gy
         if self.plane:
             cp, sp = math.cos(self.psi), math.sin(self.psi)
             sx = c["tan_grade"] * cp + c["tan_bank"] * sp
             sy = c["tan_bank"] * cp - c["tan_grade"] * sp
             g_x = -G * sx / math.sqrt(1.0 + sx * sx)
-            g_y = -G * sy / math.sqrt(1.0 + sy * sy)
+            g_y -= G * sy / math.sqrt(1.0 + sy * sy)
             self.psi += yaw * dt
             if self.psi > math.pi:
                 self.psi -= 2.0 * math.pi
@@ -995,6 +1018,53 @@ class Estimator:
             sig_mu = math.sqrt(self.P[2, 2]) * S[2] if (s.at_limit and not self.us_low) else 0.0
             s.nis = self._update(h, (s.ay - ay_pred) / S_AY,
                                  _ay_noise(o["util"] * (mu / (mu + AY_U_K * sig_mu)), o["fz"]), s.excited, s.b_ok)
+
+    # ---- est_road.c: the road's bank ----------------------------------------
+    def road(self, s):
+        """The bank as gravity along the body's y axis beyond the configured
+        plane (road_gy). With the filter on: the ay update's correction of
+        vy this step (x[0] against the predict's vy + dvy), an acceleration
+        the kinematics lacked, integrated with the time constant ROAD_L /
+        vx where the model is trusted (ay updated, yaw rate, no locked or
+        spinning wheel, no dead reckoning, not at the limit, utilization
+        below ROAD_U, vx >= V_EXC, the yaw acceleration low-passed over
+        ROAD_T_DR below ROAD_RACC: quasi-steady; the yaw rate short of the
+        lagged linear reference by less than ROAD_D of it; the model not
+        declared misfitting, nor capped by the saturation share). With the
+        misfit declared or that cap set, road_gy returns over ROAD_L to
+        road_g0, the bank measured at the last standstill (the plane before
+        one). Off and at rest: ay reads gravity alone, road_gy -> -(ay +
+        plane) with ROAD_T_REST, and road_g0 takes it. Within ROAD_GY_MAX.
+        Only with the configuration's bank_est = 1; else road_gy stays 0.
+
+        State: reads x[0], active; writes road_gy, road_g0, road_r, road_dr. Step: reads vy, dvy, nis, r_updated,
+        yaw_ok, lock, spin, dead_reck, at_limit, the utilizations, vx,
+        at_rest, ay_ok, ay, g_y."""
+        if not self.cfg.get("bank_est", 0):
+            return
+        gy = self.road_gy
+        dt = self.cfg["dt"]
+        if self.active:
+            self.road_dr += dt / ROAD_T_DR * ((s.r_updated - self.road_r) / dt - self.road_dr)
+            self.road_r = s.r_updated
+            if (s.nis is not None and s.yaw_ok and not s.lock and not s.spin and not s.dead_reck
+                    and s.vx >= V_EXC and abs(self.road_dr) < ROAD_RACC
+                    and float(np.max(s.out["util"])) < ROAD_U and not s.at_limit
+                    and (abs(self.r_lin_f) <= US_R
+                         or (self.r_lin_f - s.yaw if self.r_lin_f > 0.0 else s.yaw - self.r_lin_f)
+                         < ROAD_D * abs(self.r_lin_f))
+                    and not self.misfit and not self.sat_cap):
+                gy += s.vx / ROAD_L * (float(self.x[0]) - (s.vy + s.dvy))
+            if self.misfit or self.sat_cap:
+                gy -= abs(s.vx) * (dt / ROAD_L) * (gy - self.road_g0)
+        else:
+            self.road_r = s.yaw
+            self.road_dr = 0.0
+            if s.at_rest and s.ay_ok:
+                plane = s.g_y - gy
+                gy += dt / ROAD_T_REST * (-(s.ay + plane) - gy)
+                self.road_g0 = _clamp(gy, -ROAD_GY_MAX, ROAD_GY_MAX)
+        self.road_gy = _clamp(gy, -ROAD_GY_MAX, ROAD_GY_MAX)
 
     def bound_state(self, s):
         """est_lateral.c: the state's bounds after the updates and mu's

@@ -630,9 +630,11 @@ def find_bins(specs=()):
 
 
 def run(out, full=False, vehicles=None, manoeuvres=None, surfaces=None, jobs=None, runs_dir=None,
-        c_bins=(), fitted=True, step_checks=True, plots=True):
+        c_bins=(), fitted=True, step_checks=True, plots=True, vehicle_extra=None):
     """The whole judge; writes out/independent.json and .md (and PNGs).
-    Returns the JSON dict."""
+    vehicle_extra: estimator settings added to every configuration's
+    vehicle values (est-eval --bank-est: {"bank_est": 1}). Returns the JSON
+    dict."""
     t_start = time.time()
     sel = dict(FULL_SET if full else DEFAULT_SET)
     if vehicles:
@@ -662,7 +664,7 @@ def run(out, full=False, vehicles=None, manoeuvres=None, surfaces=None, jobs=Non
         per_vehicle = {}
         for v in sel["vehicles"]:
             veh = mb.Vehicle(v)
-            values = oem_vehicle(veh)
+            values = dict(oem_vehicle(veh), **(vehicle_extra or {}))
             bp = bicycle_params(values)
             per_vehicle[v] = {"generic": dict(tir=GENERIC_TIR, lines=vehicle_lines(values), values=values,
                                               mu_norm=mu_norm(veh, GENERIC_TIR), bicycle=bp)}
