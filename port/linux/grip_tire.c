@@ -32,6 +32,7 @@
 #include <string.h>
 
 #include "grip/grip_mf.h"
+#include "grip/grip_mf_batch.h"
 #include "grip/grip_types.h"
 #include "brush_params.h"
 #include "channel_rules.h"
@@ -143,11 +144,14 @@ typedef struct {
     const char *prefix;
     unsigned tir_flags;    /* GRIP_TIR_STRICT, GRIP_TIR_NO_RANGE_CHECK */
     int no_unit_check;     /* --no-unit-check: no plausibility check of the inputs */
+    int lanes;             /* --lanes: mf through grip_mf_eval_prepared_lanes */
 } cli_options;
 
 /* Everything a model keeps between rows. */
 typedef struct {
     int pure;
+    int lanes;          /* mf: each row through the lane evaluation (prep) */
+    grip_mf_prepared prep;
     int sae;            /* brush family: convert SAE <-> ISO-W here */
     int kappa_braking;  /* brush family: kappa given positive in braking */
     double fz_nominal;  /* the tyre's nominal load [N] (FNOMIN), 0 if the model has none */
@@ -243,6 +247,11 @@ static int mf_setup(const cli_options *o, model_ctx *m, char *err, size_t errlen
             return -1;
         }
     }
+    m->lanes = o->lanes;
+    if (m->lanes && grip_mf_prepare(&m->u.mf, m->u.mf.options, &m->prep) != GRIP_OK) {
+        snprintf(err, errlen, "%s: --lanes: the parameter set does not prepare (grip_mf_prepare)", o->tir);
+        return -1;
+    }
     return 0;
 }
 
@@ -259,7 +268,17 @@ static grip_status_t mf_eval(const model_ctx *m, const grip_real_t in[N_IN], gri
     x.p = in[IN_P];
     x.vx = in[IN_VX];
     memset(&y, 0, sizeof y);
-    st = m->pure ? grip_mf_eval_pure(&m->u.mf, &x, &y) : grip_mf_eval(&m->u.mf, &x, &y);
+    if (m->lanes) {
+        /* one point per call: the lane code pads the block with copies of
+         * it, and a lane's result does not depend on its neighbours, so the
+         * row gets the bits grip.mf.evaluate(..., lanes=True) gives it */
+        grip_status_t pst = GRIP_OK;
+        (void)(m->pure ? grip_mf_eval_pure_prepared_lanes(&m->prep, 1u, &x, &y, &pst)
+                       : grip_mf_eval_prepared_lanes(&m->prep, 1u, &x, &y, &pst));
+        st = pst;
+    } else {
+        st = m->pure ? grip_mf_eval_pure(&m->u.mf, &x, &y) : grip_mf_eval(&m->u.mf, &x, &y);
+    }
     out[OUT_FX] = y.fx;
     out[OUT_FY] = y.fy;
     out[OUT_MZ] = y.mz;
@@ -392,6 +411,9 @@ static void usage(FILE *f)
             "  --params FILE     parameter file of the brush-family models (key = value, SI;\n"
             "                    docs/brush-models.md)\n"
             "  --pure            pure-slip forces only (no combined-slip weighting)\n"
+            "  --lanes           mf: evaluate through the lane batch (grip_mf_eval_prepared_lanes,\n"
+            "                    vectorized in the float build; the bits of grip.mf.evaluate(...,\n"
+            "                    lanes=True); not with --outputs or the use modes)\n"
             "  --side left|right where the tyre is mounted (default: as fitted, on the\n"
             "                    side TYRESIDE names, never mirrored); a file fitted\n"
             "                    for the other side is mirrored\n"
@@ -499,6 +521,8 @@ static int parse_args(int argc, char **argv, cli_options *o)
             o->params = argv[++i];
         } else if (strcmp(a, "--pure") == 0) {
             o->pure = 1;
+        } else if (strcmp(a, "--lanes") == 0) {
+            o->lanes = 1;
         } else if (strcmp(a, "--side") == 0 && i + 1 < argc) {
             const char *s = argv[++i];
             if (strcmp(s, "left") == 0) {
@@ -978,6 +1002,11 @@ int main(int argc, char **argv)
     if ((o.turn_slip || o.no_limits || o.ts_camber) && strcmp(model->name, "mf") != 0) {
         fprintf(stderr, "grip-tire: --use-mode, --turn-slip and --ts-camber are options of the mf model (not --model %s)\n",
                 model->name);
+        return EXIT_USAGE;
+    }
+    if (o.lanes && (strcmp(model->name, "mf") != 0 || o.n_ext > 0 || o.turn_slip || o.no_limits)) {
+        fprintf(stderr, "grip-tire: --lanes evaluates the mf model's forces without use modes (not with --model %s, "
+                        "--outputs, --turn-slip or --use-mode 2xx)\n", model->name);
         return EXIT_USAGE;
     }
     if ((o.turn_slip || o.no_limits) && o.pure) {

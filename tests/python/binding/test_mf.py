@@ -52,14 +52,15 @@ def grip_tire(test, arith, tir, pts, args=()):
 
 
 class TestMagicFormula(common.BindingTest):
-    def compare(self, arith, tir, options, pure=False):
+    def compare(self, arith, tir, options, pure=False, lanes=False):
         params = grip.mf.load(tir, **options)
         pts = points(params, seed=len(tir) + 7 * pure)
         args = (["--pure"] if pure else []) + (["--side", options["side"]] if options.get("side") else []) \
-            + (["--sae"] if options.get("sae") else []) + (["--kappa-braking"] if options.get("kappa_braking") else [])
+            + (["--sae"] if options.get("sae") else []) + (["--kappa-braking"] if options.get("kappa_braking") else []) \
+            + (["--lanes"] if lanes else [])
         rows = grip_tire(self, arith, tir, pts, args)
         r = grip.mf.evaluate(params, pts["kappa"], pts["alpha"], pts["gamma"], pts["fz"], pts["p"], pts["vx"],
-                             arith=arith, pure=pure, raw=True)
+                             arith=arith, pure=pure, raw=True, lanes=lanes)
         self.assertEqual(len(rows), len(pts["kappa"]))
         for j, name in enumerate(("fx", "fy", "mz")):
             printed = np.array([common.decode(arith, row[6 + j]) for row in rows])
@@ -79,6 +80,17 @@ class TestMagicFormula(common.BindingTest):
                         seen.update(self.compare(arith, tir, {}, pure).tolist())
         # the points reach the clamp warning as well as plain results
         self.assertTrue({grip.OK, grip.WARN_CLAMPED} <= seen, seen)
+
+    def test_lanes_against_grip_tire_lanes(self):
+        """evaluate(lanes=True) and `grip-tire --lanes` (one row per lane
+        call, the block padded with copies of it): the same lane code, bit
+        for bit, every shared file, combined and pure, both builds."""
+        for arith in ARITHS:
+            for tir in TIRS:
+                for pure in (False, True):
+                    with self.subTest(arith=arith, tir=os.path.basename(tir), pure=pure):
+                        self.compare(arith, tir, {}, pure, lanes=True)
+            self.compare(arith, TIRS[0], {"side": "right", "sae": True, "kappa_braking": True}, lanes=True)
 
     def test_lanes_against_the_default_path(self):
         """evaluate(lanes=True) (grip_mf_eval_prepared_lanes): every status

@@ -493,7 +493,8 @@ class ForcesAgreeWithReference(unittest.TestCase):
     def test_use_mode_errors(self):
         path = os.path.join(SHARED, "mfeval-tir", "MagicFormula61_Paramerters.tir")
         cols = grid(tir.read_tir(path).params(), 3, 5)
-        for args in (["--use-mode", "121"], ["--use-mode", "113"], ["--use-mode", "11"], ["--turn-slip", "--pure"]):
+        for args in (["--use-mode", "121"], ["--use-mode", "113"], ["--use-mode", "11"], ["--turn-slip", "--pure"],
+                     ["--lanes", "--outputs", "re"], ["--lanes", "--turn-slip"], ["--lanes", "--use-mode", "211"]):
             rc, out, err = run(["--tir", path] + args, to_csv(cols))
             self.assertEqual(rc, 2, f"{args}: {err}")
         rc, out, err = run(["--tir", path, "--use-mode", "121"], to_csv(cols))
