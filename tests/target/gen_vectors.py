@@ -258,7 +258,7 @@ def main():
             cfg_v.append(float(v) if v is not None else 0.0)
         est_first = len(es[True])
         for i, s in enumerate(rows(path)):
-            if len(s) != 1 + EST_NIN + 1 + 47:   # golden_est.out_columns()
+            if len(s) != 1 + EST_NIN + 1 + 50:   # golden_est.out_columns()
                 sys.exit('gen_vectors: %s row %d: %d columns' % (path, i, len(s)))
             t_us = lround(float(s[0]) * 1e6)
             if not 0 <= t_us < 2**31:
