@@ -147,7 +147,7 @@ void est_bound_outputs(const grip_est_t *est, const est_ctx_t *s, grip_est_outpu
     q = r_div(out->yaw_rate_sd, r_max(r_abs(out->vx), RC(EST_V_OFF)));
     for (a = 0; a < 2; ++a) {
         int w0 = a + a, w1 = a + a + 1;
-        grip_real_t arm = (a == 0) ? est->cfg.lf : est->cfg.lr; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
+        grip_real_t arm = (a == 0) ? est->cfg.lf : est->cfg.lr;
         grip_real_t asd = r_min(r_add(out->beta_sd, r_mul(arm, q)), R_ONE);
         grip_real_t sd = r_add(r_mul(est->cfg.tire_tol, r_abs(out->fy_axle[a])), r_mul(s->slope[a], asd));
         sd = r_add(sd, r_mul(r_add(r_abs(est->fy_dmu[w0]), r_abs(est->fy_dmu[w1])), out->mu_sd));

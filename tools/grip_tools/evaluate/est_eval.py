@@ -182,7 +182,8 @@ def read_replay(text):
     import pyarrow.csv as pcsv
     want = {"t_s": "time", "beta": "beta", "mu": "mu", "mu_conf": "mu_conf", "fy_front": "fyf", "fy_rear": "fyr",
             "vx": "vx", "yaw_rate": "yaw_rate", "yaw_rate_ref": "yaw_rate_ref", "yaw_rate_bias": "yaw_rate_bias",
-            "ay_model": "ay_model", "est_status": "est_status", "beta_sd": "beta_sd", "mu_sd": "mu_sd"}
+            "ay_model": "ay_model", "est_status": "est_status", "beta_sd": "beta_sd", "mu_sd": "mu_sd",
+            "vx_sd": "vx_sd", "fy_front_sd": "fyf_sd", "fy_rear_sd": "fyr_sd"}
     # only the estimator's columns, as float64 (an empty cell is NaN) and
     # the two bit masks as int64; the input and fault columns are not read
     types = {k: pa.float64() for k in want}
@@ -192,6 +193,8 @@ def read_replay(text):
     out = {v: tab.column(k).to_numpy(zero_copy_only=False).astype(float) for k, v in want.items()}
     out["valid"] = tab.column("est_valid").to_numpy(zero_copy_only=False).astype(np.int64)
     out["flags"] = tab.column("est_flags").to_numpy(zero_copy_only=False).astype(np.int64)
+    out["fy_axle"] = np.column_stack([out["fyf"], out["fyr"]])
+    out["fy_axle_sd"] = np.column_stack([out["fyf_sd"], out["fyr_sd"]])
     return out
 
 
