@@ -104,7 +104,9 @@ void est_integrity(grip_est_t *est, est_ctx_t *s, grip_est_output_t *out)
  * times vy's deviation); the reference's is a wheel's rolling-radius
  * tolerance (EST_WS_TOL) and the reference wheels' slip at the measured
  * specific force, m |ax| / (4 c_kappa) at the softer axle's static
- * stiffness (slip_acc = m / (4 c_kappa), est_init) (braking takes the fastest wheel, driving the slowest: their
+ * stiffness (slip_acc = m / (4 c_kappa), est_init); with a lagged slip
+ * angle beyond the tire's peak one the tire slides, and the slip grows to
+ * EST_SLIP_MAX at twice the peak angle (braking takes the fastest wheel, driving the slowest: their
  * slip is at most the mean); the update moves the deviation towards the
  * reference's by the update's own share kk, a convex combination of two
  * bounds being a bound whatever their correlation. Standstill (vx set to
@@ -121,7 +123,20 @@ void est_bound_speed(grip_est_t *est, const est_ctx_t *s, grip_real_t kk, grip_r
     sd = r_min(r_add(est->sd_vx, r_div(acc, est->rate)), RC(EST_SD_CAP));
     if (kk > R_ZERO) {
         grip_real_t slip = r_mul(est->slip_acc, r_min(r_abs(s->ax), RC(EST_ACC_MAX)));
-        grip_real_t sref = r_mul(r_add(RC(EST_WS_TOL), r_min(slip, RC(EST_SLIP_MAX))), r_abs(v_ref));
+        grip_real_t sref;
+        if (est->active) {
+            /* a tire beyond its peak slip angle slides: its slip ratio
+             * follows the direction of its force, not ax (a spin on snow:
+             * every wheel 1 m/s slow at ax ~ 0), up to a peak slip from
+             * one to twice the peak angle */
+            grip_real_t sl = R_ZERO;
+            int i;
+            for (i = 0; i < 4; ++i) {
+                sl = r_max(sl, r_mul(r_abs(est->alpha_t[i]), est->inv_apk[i >> 1]));
+            }
+            slip = r_max(slip, r_mul(RC(EST_SLIP_MAX), r_clamp(r_sub(sl, R_ONE), R_ZERO, R_ONE)));
+        }
+        sref = r_mul(r_add(RC(EST_WS_TOL), r_min(slip, RC(EST_SLIP_MAX))), r_abs(v_ref));
         sd = r_add(sd, r_mul(kk, r_sub(sref, sd)));
     }
     if (stand) {

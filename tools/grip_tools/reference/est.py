@@ -1601,7 +1601,8 @@ class Estimator:
         offset and grade; r times vy's deviation); the reference's is a
         wheel's rolling-radius tolerance and the reference wheels' slip at
         the measured specific force, m |ax| / (4 c_kappa) at the softer
-        axle; the update's share kk moves it to the reference's (convex:
+        axle (a sliding tire, its lagged slip angle beyond the peak one:
+        up to SLIP_MAX at twice the peak angle); the update's share kk moves it to the reference's (convex:
         a bound whatever the correlation). At standstill V_STAND.
 
         State: reads vx, vx_init, sd_k (the previous step's), c_kappa;
@@ -1615,6 +1616,12 @@ class Estimator:
         sd = min(self.sd_vx + acc * c["dt"], SD_CAP)
         if kk > 0.0:
             slip = c["mass"] / (4.0 * min(self.c_kappa)) * min(abs(s.ax), ACC_MAX)
+            if self.active:
+                # a tire beyond its peak slip angle slides: its slip ratio
+                # follows the force's direction, not ax (up to a peak slip
+                # from one to twice the peak angle)
+                sl = max(abs(float(self.alpha_t[i])) * self.inv_apk[i >> 1] for i in range(4))
+                slip = max(slip, SLIP_MAX * _clamp(sl - 1.0, 0.0, 1.0))
             sref = (WS_TOL + min(slip, SLIP_MAX)) * abs(v_ref)
             sd = sd + kk * (sref - sd)
         if stand:
