@@ -135,6 +135,10 @@ typedef struct {
                                 * 25 % of the roll compensation are added */
     grip_real_t beta_sd_max;   /* QS rad [0.001, 0.5], default 0.0175 (1 deg): V_BETA only
                                 * while beta_sd is at most this                       */
+    grip_real_t vx_sd_max;     /* QS m/s [0, 50], default 0 (no limit): V_VX only while vx_sd
+                                * is at most this                                   */
+    grip_real_t fy_sd_max;     /* QL N [0, 1e6], default 0 (no limit): V_AXLE and V_MARGIN
+                                * only while both fy_axle_sd are at most this        */
     grip_est_tire_t tire[2];   /* front, rear axle; the tires' lateral relaxation
                                 * length comes from the parameter set (C_alpha /
                                 * LATERAL_STIFFNESS, else PTY1 / PTY2, else none:

@@ -53,6 +53,8 @@ grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_para
     cfg->tire_tol = RC(0.3);
     cfg->kin_acc_sd = RC(0.10);
     cfg->beta_sd_max = RC(0.0175);
+    cfg->vx_sd_max = R_ZERO;
+    cfg->fy_sd_max = R_ZERO;
     cfg->tire[0].kind = GRIP_EST_TIRE_MF;
     cfg->tire[0].model.mf = tire;
     cfg->tire[1].kind = GRIP_EST_TIRE_MF;
@@ -148,6 +150,8 @@ static grip_status_t check_config(const grip_est_config_t *c, grip_check_detail_
         { "tire_tol", c->tire_tol, R_ZERO, RC(2.0), "in [0, 2]" },
         { "kin_acc_sd", c->kin_acc_sd, RC(0.01), RC(2.0), "in [0.01, 2] m/s^2" },
         { "beta_sd_max", c->beta_sd_max, RC(0.001), RC(0.5), "in [0.001, 0.5] rad" },
+        { "vx_sd_max", c->vx_sd_max, R_ZERO, RC(50.0), "in [0, 50] m/s (0: no limit)" },
+        { "fy_sd_max", c->fy_sd_max, R_ZERO, RCL(1.0e6), "in [0, 1e6] N (0: no limit)" },
     };
     int a;
     if (!check_ranges(r, sizeof r / sizeof r[0], d)) {

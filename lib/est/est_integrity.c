@@ -150,12 +150,19 @@ void est_bound_speed(grip_est_t *est, const est_ctx_t *s, grip_real_t kk, grip_r
  * this step's Jacobians) times the slip angle's deviation (beta's, and the
  * yaw rate's lever arm over vx), and the force's change with mu (the
  * step's d Fy / d mu) times mu's deviation; summed (at least their root
- * sum square, and cheaper). vx's deviation with them. */
-void est_bound_outputs(const grip_est_t *est, const est_ctx_t *s, grip_est_output_t *out)
+ * sum square, and cheaper). vx's deviation with them. vx_sd_max > 0: V_VX
+ * only while vx_sd is within it; fy_sd_max > 0: V_AXLE and V_MARGIN only
+ * while both are within it. */
+void est_bound_outputs(const grip_est_t *est, est_ctx_t *s, grip_est_output_t *out)
 {
     int a;
     grip_real_t q;
     out->vx_sd = est->vx_init ? est->sd_vx : R_ZERO;
+    /* the consumer's limits act on the output bits only: the estimator's
+     * own use of vx (the lateral observer, the yaw reference) is as before */
+    if ((est->cfg.vx_sd_max > R_ZERO) && (est->sd_vx > est->cfg.vx_sd_max)) {
+        s->valid &= ~GRIP_EST_V_VX;
+    }
     if (!est->active) {
         return;
     }
@@ -167,5 +174,10 @@ void est_bound_outputs(const grip_est_t *est, const est_ctx_t *s, grip_est_outpu
         grip_real_t sd = r_add(r_mul(est->cfg.tire_tol, r_abs(out->fy_axle[a])), r_mul(s->slope[a], asd));
         sd = r_add(sd, r_mul(r_add(r_abs(est->fy_dmu[w0]), r_abs(est->fy_dmu[w1])), out->mu_sd));
         out->fy_axle_sd[a] = sd;
+        /* beyond the consumer's limit, when one is set: the axle forces
+         * and the front axle's margin are not valid */
+        if ((est->cfg.fy_sd_max > R_ZERO) && (sd > est->cfg.fy_sd_max)) {
+            s->valid &= ~(GRIP_EST_V_AXLE | GRIP_EST_V_MARGIN);
+        }
     }
 }

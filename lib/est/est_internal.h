@@ -254,7 +254,7 @@ void est_integrity(grip_est_t *est, est_ctx_t *s, grip_est_output_t *out);
  * the standstill that set vx to 0) */
 void est_bound_speed(grip_est_t *est, const est_ctx_t *s, grip_real_t kk, grip_real_t v_ref, int stand);
 /* est_integrity.c, after est_outputs: the axle forces' deviations and vx's */
-void est_bound_outputs(const grip_est_t *est, const est_ctx_t *s, grip_est_output_t *out);
+void est_bound_outputs(const grip_est_t *est, est_ctx_t *s, grip_est_output_t *out);
 /* est_outputs.c: the outputs (the lateral ones at the updated state) */
 void est_outputs(grip_est_t *est, est_ctx_t *s, grip_est_output_t *out);
 

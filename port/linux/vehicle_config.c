@@ -86,7 +86,7 @@ int vehicle_preset(const char *name, const grip_mf_params *tire, int rate_hz, gr
  * lines. Keys: mass, iz, lf, lr, track (both), track_f, track_r, h_cg,
  * steer_ratio, wheel_radius, roll_split_front, roll_gradient, speed_ref_mu, bank_est,
  * cla, aero_front, air_density, cda, crr, tan_bank, tan_grade, latency, steer_lag,
- * steer_latency, tire_tol, kin_acc_sd, beta_sd_max; rear_tire = PATH (the rear
+ * steer_latency, tire_tol, kin_acc_sd, beta_sd_max, vx_sd_max, fy_sd_max; rear_tire = PATH (the rear
  * axle's .tir, relative to the vehicle file's folder; not with --estimate-rear).
  * The estimator's init checks the ranges. */
 #define VEHICLE_LINE_MAX 511
@@ -129,6 +129,8 @@ int vehicle_file_read(const char *path, grip_est_config_t *cfg, char *rear_tire,
         { "tire_tol", offsetof(grip_est_config_t, tire_tol), VK_QS },
         { "kin_acc_sd", offsetof(grip_est_config_t, kin_acc_sd), VK_QS },
         { "beta_sd_max", offsetof(grip_est_config_t, beta_sd_max), VK_QS },
+        { "vx_sd_max", offsetof(grip_est_config_t, vx_sd_max), VK_QS },
+        { "fy_sd_max", offsetof(grip_est_config_t, fy_sd_max), VK_QL },
     };
     const size_t nkeys = sizeof keys / sizeof keys[0];
     static char line[VEHICLE_LINE_MAX + 1];

@@ -24,10 +24,12 @@
 
 #if GRIP_ARITH_FIXED
 static grip_real_t qs(double v) { return (grip_real_t)lround(v * 65536.0); }
+static grip_real_t ql(double v) { return (grip_real_t)lround(v * 256.0); }
 static double dq(grip_real_t v) { return (double)v / 65536.0; }
 static double dl(grip_real_t v) { return (double)v / 256.0; }
 #else
 static grip_real_t qs(double v) { return (grip_real_t)v; }
+static grip_real_t ql(double v) { return (grip_real_t)v; }
 static double dq(grip_real_t v) { return (double)v; }
 static double dl(grip_real_t v) { return (double)v; }
 #endif
@@ -174,6 +176,53 @@ static void test_steady_circle(void **state)
     assert_true(dq(o.fy_margin_front) > 0.0);
     printf("# circle 20 m/s, 4 m/s^2: beta %.3f deg, r_ref %.4f r %.4f, mu %.3f conf %.2f, steer %d\n",
            dq(o.beta) * 57.2958, dq(o.yaw_rate_ref), dq(o.yaw_rate), dq(o.mu), dq(o.mu_conf), (int)o.steer_char);
+}
+
+/* The consumer's limits of vx's and the axle forces' deviations: 0 (the
+ * default) sets none; a limit below the deviation withholds V_VX, or V_AXLE
+ * and V_MARGIN (not V_BETA); a negative one is refused. */
+static void test_consumer_limits(void **state)
+{
+    grip_est_t e;
+    grip_est_config_t cfg;
+    grip_est_output_t o;
+    grip_input_sample_t s;
+    double vx_sd, fy_sd;
+    (void)state;
+    settle(&e, &s, 20.0, 4.0, 300, &o);
+    assert_true(o.valid & GRIP_EST_V_VX);
+    assert_true(o.valid & GRIP_EST_V_AXLE);
+    assert_true(o.valid & GRIP_EST_V_MARGIN);
+    vx_sd = dq(o.vx_sd);
+    fy_sd = (dl(o.fy_axle_sd[0]) > dl(o.fy_axle_sd[1])) ? dl(o.fy_axle_sd[0]) : dl(o.fy_axle_sd[1]);
+    assert_true(vx_sd > 0.05 && vx_sd < 1.0);
+    assert_true(fy_sd > 10.0);
+    printf("# circle 20 m/s, 4 m/s^2: vx_sd %.3f m/s, fy_axle_sd %.0f / %.0f N\n", vx_sd, dl(o.fy_axle_sd[0]),
+           dl(o.fy_axle_sd[1]));
+    /* limits above the deviations: as without */
+    assert_int_equal(grip_est_config_default(&cfg, tire()), GRIP_OK);
+    cfg.vx_sd_max = qs(2.0 * vx_sd);
+    cfg.fy_sd_max = ql(2.0 * fy_sd);
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_OK);
+    run(&e, &s, 300, &o);
+    assert_true(o.valid & GRIP_EST_V_VX);
+    assert_true(o.valid & GRIP_EST_V_AXLE);
+    /* limits below them: withheld, the sideslip not */
+    cfg.vx_sd_max = qs(0.5 * vx_sd);
+    cfg.fy_sd_max = ql(0.5 * fy_sd);
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_OK);
+    run(&e, &s, 300, &o);
+    assert_false(o.valid & GRIP_EST_V_VX);
+    assert_false(o.valid & GRIP_EST_V_AXLE);
+    assert_false(o.valid & GRIP_EST_V_MARGIN);
+    assert_true(o.valid & GRIP_EST_V_BETA);
+    assert_true(o.vx_sd > 0 && o.fy_axle_sd[0] > 0);
+    /* refused */
+    cfg.vx_sd_max = qs(-0.1);
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_ERR_PARAM);
+    cfg.vx_sd_max = 0;
+    cfg.fy_sd_max = ql(-1.0);
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_ERR_PARAM);
 }
 
 /* A steady turn of the default car on a road banked by bank [rad] (ISO:
@@ -841,6 +890,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_api_errors),
         cmocka_unit_test(test_steady_circle),
+        cmocka_unit_test(test_consumer_limits),
         cmocka_unit_test(test_banked_road),
         cmocka_unit_test(test_bad_inputs_and_recovery),
         cmocka_unit_test(test_standstill_and_reversing),

@@ -105,6 +105,26 @@ class RunAwayTests(unittest.TestCase):
         self.assertGreater(new["beta_sd"][-1], self.cfg["beta_sd_max"])
         self.assertEqual(int(new["valid"][-1] & est_ref.V_BETA), 0)
 
+    def test_consumer_limits(self):
+        # vx_sd_max, fy_sd_max: 0 sets no limit; a limit below the
+        # deviations withholds V_VX, V_AXLE and V_MARGIN and nothing else
+        base = self.integrity.reference_run(self.cfg, self.value, self.valid)
+        vx_med = float(np.median(base["vx_sd"][base["vx_sd"] > 0]))
+        fy_med = float(np.median(base["fy_axle_sd"][base["fy_axle_sd"] > 0]))
+        cfg = dict(self.cfg, vx_sd_max=0.5 * vx_med, fy_sd_max=0.5 * fy_med)
+        lim = self.integrity.reference_run(cfg, self.value, self.valid)
+        wide = ((base["vx_sd"] > cfg["vx_sd_max"]), np.max(base["fy_axle_sd"], axis=1) > cfg["fy_sd_max"])
+        self.assertTrue(wide[0].any() and wide[1].any())
+        self.assertFalse(((lim["valid"] & est_ref.V_VX) != 0)[wide[0]].any())
+        self.assertFalse(((lim["valid"] & (est_ref.V_AXLE | est_ref.V_MARGIN)) != 0)[wide[1]].any())
+        # the estimate and every other bit as without limits
+        np.testing.assert_array_equal(lim["beta"], base["beta"])
+        other = ~np.int64(est_ref.V_VX | est_ref.V_AXLE | est_ref.V_MARGIN)
+        np.testing.assert_array_equal(lim["valid"] & other, base["valid"] & other)
+        print(f"\n# consumer limits at half the median deviations (vx {vx_med:.3f} m/s, Fy {fy_med:.0f} N): "
+              f"V_VX withheld on {int(wide[0].sum())}, V_AXLE on {int(wide[1].sum())} of {len(self.t)} steps",
+              flush=True)
+
     def test_c_builds(self):
         # the same run-away through the C builds (grip-replay --csv, the rear
         # tire from the vehicle file's rear_tire key)

@@ -318,7 +318,7 @@ def config(tire_front, tire_rear=None, rate_hz=100, **kw):
              rate_hz=int(rate_hz),
              dt=1.0 / int(rate_hz),
              speed_ref_mu=0, rear_steer=0, bank_est=0,
-             tire_tol=TIRE_TOL, kin_acc_sd=KIN_ACC, beta_sd_max=BETA_SD_MAX,
+             tire_tol=TIRE_TOL, kin_acc_sd=KIN_ACC, beta_sd_max=BETA_SD_MAX, vx_sd_max=0.0, fy_sd_max=0.0,
              cla=0.0, aero_front=0.5, air_density=1.2, cda=0.0, crr=0.0, tan_bank=0.0, tan_grade=0.0,
              tire=(tire_front, tire_rear if tire_rear is not None else tire_front))
     c.update(kw)
@@ -1638,6 +1638,10 @@ class Estimator:
         c, o = self.cfg, s.out
         o["vx_sd"] = self.sd_vx if self.vx_init else 0.0
         o["fy_axle_sd"] = np.zeros(2)
+        # the consumer's limits act on the output bits only (the estimator's
+        # own use of vx is as before)
+        if c.get("vx_sd_max", 0.0) > 0.0 and self.sd_vx > c["vx_sd_max"]:
+            s.vbits &= ~V_VX
         if not self.active:
             return
         tol = c.get("tire_tol", TIRE_TOL)
@@ -1650,6 +1654,9 @@ class Estimator:
             sd = tol * abs(float(o["fy_axle"][a])) + slope * asd
             sd += (abs(float(s.dfdmu[w[0]])) + abs(float(s.dfdmu[w[1]]))) * o["mu_sd"]
             o["fy_axle_sd"][a] = sd
+            # beyond the consumer's limit, when one is set
+            if c.get("fy_sd_max", 0.0) > 0.0 and sd > c["fy_sd_max"]:
+                s.vbits &= ~(V_AXLE | V_MARGIN)
 
     def bound_lateral(self, s):
         """est_checks.c: the standard deviations of vy (the dynamic one:
