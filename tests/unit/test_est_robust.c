@@ -178,6 +178,17 @@ static void test_steady_circle(void **state)
            dq(o.beta) * 57.2958, dq(o.yaw_rate_ref), dq(o.yaw_rate), dq(o.mu), dq(o.mu_conf), (int)o.steer_char);
 }
 
+/* A fresh estimator with the consumer's limits vx_max [m/s], fy_max [N], 300
+ * steps of s. */
+static void run_with_limits(grip_est_t *e, grip_est_config_t *cfg, grip_input_sample_t *s, double vx_max,
+                            double fy_max, grip_est_output_t *o)
+{
+    cfg->vx_sd_max = qs(vx_max);
+    cfg->fy_sd_max = ql(fy_max);
+    assert_int_equal(grip_est_init(e, cfg), GRIP_OK);
+    run(e, s, 300, o);
+}
+
 /* The consumer's limits of vx's and the axle forces' deviations: 0 (the
  * default) sets none; a limit below the deviation withholds V_VX, or V_AXLE
  * and V_MARGIN (not V_BETA); a negative one is refused. */
@@ -199,19 +210,13 @@ static void test_consumer_limits(void **state)
     assert_true(fy_sd > 10.0);
     printf("# circle 20 m/s, 4 m/s^2: vx_sd %.3f m/s, fy_axle_sd %.0f / %.0f N\n", vx_sd, dl(o.fy_axle_sd[0]),
            dl(o.fy_axle_sd[1]));
-    /* limits above the deviations: as without */
+    /* limits above the deviations: as without; below them: withheld, the
+     * sideslip not */
     assert_int_equal(grip_est_config_default(&cfg, tire()), GRIP_OK);
-    cfg.vx_sd_max = qs(2.0 * vx_sd);
-    cfg.fy_sd_max = ql(2.0 * fy_sd);
-    assert_int_equal(grip_est_init(&e, &cfg), GRIP_OK);
-    run(&e, &s, 300, &o);
+    run_with_limits(&e, &cfg, &s, 2.0 * vx_sd, 2.0 * fy_sd, &o);
     assert_true(o.valid & GRIP_EST_V_VX);
     assert_true(o.valid & GRIP_EST_V_AXLE);
-    /* limits below them: withheld, the sideslip not */
-    cfg.vx_sd_max = qs(0.5 * vx_sd);
-    cfg.fy_sd_max = ql(0.5 * fy_sd);
-    assert_int_equal(grip_est_init(&e, &cfg), GRIP_OK);
-    run(&e, &s, 300, &o);
+    run_with_limits(&e, &cfg, &s, 0.5 * vx_sd, 0.5 * fy_sd, &o);
     assert_false(o.valid & GRIP_EST_V_VX);
     assert_false(o.valid & GRIP_EST_V_AXLE);
     assert_false(o.valid & GRIP_EST_V_MARGIN);
