@@ -766,8 +766,7 @@ static grip_status_t mfl_eval(const grip_mf_prepared *prep, uint32_t n, const gr
     /* not prepared, or a form the lanes do not have: the scalar loop */
     if ((prep->p == NULL) || ((prep->flags & (MF_PF_BOOK | MF_PF_LMU_CONST)) != MF_PF_LMU_CONST) ||
         ((prep->options & GRIP_MF_OPT_MZ52_SVYK_CAMBER) != 0u)) {
-        return pure ? mf_prepared_batch_scalar(prep, n, in, out, status, 1)
-                    : mf_prepared_batch_scalar(prep, n, in, out, status, 0);
+        return mf_prepared_batch_scalar(prep, n, in, out, status, pure);
     }
     mfl_const_init(prep, &c);
     mf52 = (prep->flags & MF_PF_MF52) != 0u;

@@ -56,18 +56,25 @@ static void make_est(grip_est_t *e)
  * (A reading without the roll is 8 % below the kinematics, a persistent
  * deficit that mu's secant takes for low friction: docs/estimator.md,
  * "mu's secant".) */
-static void circle(grip_input_sample_t *s, double v, double ay)
+/* The wheel speeds, steering-wheel angle swa and yaw rate r of a steady
+ * turn at speed v (the default car's half tracks 0.775 / 0.765 m). */
+static void turn(grip_input_sample_t *s, double v, double r, double swa)
 {
-    double r = (v > 0.1) ? ay / v : 0.0;
-    double swa = 15.5 * 2.7 * r / ((v > 0.1) ? v : 1.0) * (1.0 + 3.7e-4 * v * v);
-    int i;
-    memset(s, 0, sizeof *s);
     s->value[GRIP_IN_WHEEL_SPEED_FL] = qs((v - r * 0.775) * cos(swa / 15.5));
     s->value[GRIP_IN_WHEEL_SPEED_FR] = qs((v + r * 0.775) * cos(swa / 15.5));
     s->value[GRIP_IN_WHEEL_SPEED_RL] = qs(v - r * 0.765);
     s->value[GRIP_IN_WHEEL_SPEED_RR] = qs(v + r * 0.765);
     s->value[GRIP_IN_STEER_ANGLE] = qs(swa);
     s->value[GRIP_IN_YAW_RATE] = qs(r);
+}
+
+static void circle(grip_input_sample_t *s, double v, double ay)
+{
+    double r = (v > 0.1) ? ay / v : 0.0;
+    double swa = 15.5 * 2.7 * r / ((v > 0.1) ? v : 1.0) * (1.0 + 3.7e-4 * v * v);
+    int i;
+    memset(s, 0, sizeof *s);
+    turn(s, v, r, swa);
     s->value[GRIP_IN_AX] = qs(0.0);
     s->value[GRIP_IN_AY] = qs(ay * (1.0 + 9.80665 * 0.0088));
     for (i = 0; i < 8; ++i) {
@@ -242,12 +249,7 @@ static void banked(grip_input_sample_t *s, double v, double r, double bank)
     double ay_f = r * v + 9.80665 * sin(bank);
     double swa = 15.5 * (2.7 * r / ((v > 0.1) ? v : 1.0) + 2.7 * 3.7e-4 * ay_f);
     circle(s, v, 0.0);
-    s->value[GRIP_IN_WHEEL_SPEED_FL] = qs((v - r * 0.775) * cos(swa / 15.5));
-    s->value[GRIP_IN_WHEEL_SPEED_FR] = qs((v + r * 0.775) * cos(swa / 15.5));
-    s->value[GRIP_IN_WHEEL_SPEED_RL] = qs(v - r * 0.765);
-    s->value[GRIP_IN_WHEEL_SPEED_RR] = qs(v + r * 0.765);
-    s->value[GRIP_IN_STEER_ANGLE] = qs(swa);
-    s->value[GRIP_IN_YAW_RATE] = qs(r);
+    turn(s, v, r, swa);
     s->value[GRIP_IN_AY] = qs(ay_f * (1.0 + 9.80665 * 0.0088));
 }
 
