@@ -87,6 +87,12 @@ typedef struct {
                                 * (default): the configured plane only, as without it.
                                 * Off by default: with a tire model that misfits the car
                                 * the bank learns the misfit (AV-21 log). */
+    uint32_t stiff_est;        /* 1: learn each axle's cornering-stiffness scale online
+                                * (est_stiffness.c, docs/estimator/stiffness.md): the
+                                * tire model's slip angle is multiplied by it. 0
+                                * (default): the tire file's stiffness, as without it.
+                                * What was learned is kept across grip_est_reset and
+                                * can be saved and restored (grip_est_learned_get/set). */
     /* vehicle-level effects of the residual tool (docs/estimator.md); all 0 =
      * without them (grip_est_config_default) */
     grip_real_t cla;           /* QS m^2 aerodynamic downforce coefficient C_L A, [0, 20]:
@@ -331,13 +337,48 @@ typedef struct {
     grip_real_t sd_vx;          /* QS m/s vx's standard deviation, [0, EST_SD_CAP] */
     grip_real_t slip_acc;       /* QS s^2/m the wheels' mean slip per m/s^2 of ax: m / (4 c_kappa),
                                  * the softer axle's static stiffness (vx's deviation) */
+    /* learned cornering stiffness (est_stiffness.c) */
+    grip_real_t stf_k[2];       /* QS the axles' cornering-stiffness scale k, front / rear (1: the
+                                 * tire file's); the tires work at k alpha */
+    grip_real_t stf_x[2];       /* QS the filter's state: 1 / k in units of EST_STF_S_U */
+    grip_real_t stf_p[3];       /* QS its covariance P00, P01, P11 (units of EST_STF_S_U) */
+    grip_real_t stf_q, stf_r;   /* QS process noise per step, measurement noise (scaled) */
+    grip_real_t stf_a;          /* QS low-pass gain per step of the regression's signals */
+    grip_real_t stf_z;          /* QS crad low-passed front-minus-rear lagged slip angle */
+    grip_real_t stf_h[2];       /* QS crad low-passed model slips of the measured axle forces */
+    grip_real_t stf_yaw;        /* QS rad/s the last step's yaw rate (its derivative) */
+    int32_t stf_n;              /* consecutive steps the regression's conditions held */
+    int32_t stf_n_min;          /* steps they must hold before an update (the low-pass settled) */
+    uint32_t stf_updates;       /* updates since init (saturating) */
 } grip_est_t;
+
+/* What the estimator learned that outlives an ignition cycle: the axles'
+ * cornering-stiffness scales and their covariance. A caller-owned blob,
+ * stored as bytes in non-volatile memory; grip_est_learned_set checks its
+ * format, build, configuration fingerprint, ranges and checksum before any
+ * of it is used. */
+#define GRIP_EST_LEARNED_MAGIC 0x474C524Eu /* "GLRN" */
+#define GRIP_EST_LEARNED_VERSION 1u
+typedef struct {
+    uint32_t magic;             /* GRIP_EST_LEARNED_MAGIC */
+    uint32_t version;           /* GRIP_EST_LEARNED_VERSION x 2 + 1 in the fixed build */
+    uint32_t config_crc;        /* CRC-32 of the axle constants the scales apply to */
+    uint32_t updates;           /* updates behind it (0: nothing learned) */
+    grip_real_t k[2];           /* QS the learned scales, front / rear (for reading; set
+                                 * recomputes them from x) */
+    grip_real_t x[2];           /* QS the filter's state (grip_est_t.stf_x) */
+    grip_real_t p[3];           /* QS its covariance */
+    uint32_t crc;               /* CRC-32 (IEEE 802.3) of every byte before it */
+} grip_est_learned_t;
+
 
 #define grip_est_config_default GRIP_TYPED(grip_est_config_default)
 #define grip_est_init GRIP_TYPED(grip_est_init)
 #define grip_est_step GRIP_TYPED(grip_est_step)
 #define grip_est_reset GRIP_TYPED(grip_est_reset)
 #define grip_est_stability_factor GRIP_TYPED(grip_est_stability_factor)
+#define grip_est_learned_get GRIP_TYPED(grip_est_learned_get)
+#define grip_est_learned_set GRIP_TYPED(grip_est_learned_set)
 
 /* A mid-size passenger car (the simulator's 'passenger' set) with the given
  * tire on both axles, rate_hz = 100. GRIP_ERR_NULL for NULL cfg. */
@@ -373,5 +414,16 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
  * the yaw-rate reference uses it), times 100, in *a_x100 (QS).
  * GRIP_ERR_NULL, GRIP_ERR_STATE (est not initialized). */
 grip_status_t grip_est_stability_factor(const grip_est_t *est, grip_real_t *a_x100);
+
+/* Copies what the estimator learned into *blob (all of it, checksummed),
+ * for the caller to store. GRIP_ERR_NULL, GRIP_ERR_STATE. */
+grip_status_t grip_est_learned_get(const grip_est_t *est, grip_est_learned_t *blob);
+
+/* Restores a blob from grip_est_learned_get (at start-up, after
+ * grip_est_init). GRIP_ERR_PARAM, and est unchanged, when the blob is not
+ * one (magic, version), comes from the other arithmetic build, from
+ * another car or tire (config_crc), holds values out of range or fails its
+ * checksum. GRIP_ERR_NULL, GRIP_ERR_STATE. */
+grip_status_t grip_est_learned_set(grip_est_t *est, const grip_est_learned_t *blob);
 
 #endif /* GRIP_EST_H */

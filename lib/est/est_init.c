@@ -40,6 +40,7 @@ grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_para
     cfg->speed_ref_mu = 0u;
     cfg->rear_steer = 0u;
     cfg->bank_est = 0u;
+    cfg->stiff_est = 0u;
     cfg->cla = R_ZERO;
     cfg->aero_front = RC(0.5);
     cfg->air_density = RC(1.2);
@@ -173,6 +174,10 @@ static grip_status_t check_config(const grip_est_config_t *c, grip_check_detail_
         (void)check_fail(d, "", -1, "bank_est", "0 or 1");
         return GRIP_ERR_PARAM;
     }
+    if (c->stiff_est > 1u) {
+        (void)check_fail(d, "", -1, "stiff_est", "0 or 1");
+        return GRIP_ERR_PARAM;
+    }
     if (!check_ranges(r2, sizeof r2 / sizeof r2[0], d)) {
         return GRIP_ERR_PARAM;
     }
@@ -258,6 +263,12 @@ grip_status_t grip_est_reset(grip_est_t *est)
     est->vy_k = R_ZERO;
     est->sd_k = RC(EST_SD_CAP);
     est->sd_vx = RC(EST_SD_CAP);
+    /* the learned stiffness stays (est_stiffness.c); its regression restarts */
+    est->stf_z = R_ZERO;
+    est->stf_h[0] = R_ZERO;
+    est->stf_h[1] = R_ZERO;
+    est->stf_yaw = R_ZERO;
+    est->stf_n = 0;
     return GRIP_OK;
 }
 
@@ -420,6 +431,20 @@ grip_status_t grip_est_init_detail(grip_est_t *est, const grip_est_config_t *cfg
     if (est->hold_steps < 1) {
         est->hold_steps = 1;
     }
+    /* the learned cornering stiffness: the tire file's, with the prior's
+     * covariance; the model error counted as correlated over STF_TC */
+    est->stf_k[0] = R_ONE;
+    est->stf_k[1] = R_ONE;
+    est->stf_x[0] = RC(1.0 / EST_STF_S_U);
+    est->stf_x[1] = RC(1.0 / EST_STF_S_U);
+    est->stf_p[0] = RC((EST_STF_P0 / EST_STF_S_U) * (EST_STF_P0 / EST_STF_S_U));
+    est->stf_p[1] = R_ZERO;
+    est->stf_p[2] = est->stf_p[0];
+    est->stf_updates = 0u;
+    est->stf_q = r_div(RC(EST_STF_Q / (EST_STF_S_U * EST_STF_S_U)), est->rate);
+    est->stf_a = r_min(r_div(R_ONE, r_mul(RC(EST_STF_T), est->rate)), R_ONE);
+    est->stf_r = r_mul(RC((EST_STF_R / EST_STF_S_Y) * (EST_STF_R / EST_STF_S_Y) * EST_STF_TC), est->rate);
+    est->stf_n_min = r_to_int(r_mul(RC(3.0 * EST_STF_T), est->rate));
     est->magic = EST_MAGIC;
     return grip_est_reset(est);
 }

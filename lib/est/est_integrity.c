@@ -132,7 +132,7 @@ void est_bound_speed(grip_est_t *est, const est_ctx_t *s, grip_real_t kk, grip_r
             grip_real_t sl = R_ZERO;
             int i;
             for (i = 0; i < 4; ++i) {
-                sl = r_max(sl, r_mul(r_abs(est->alpha_t[i]), est->inv_apk[i >> 1]));
+                sl = r_max(sl, r_mul(r_mul(r_abs(est->alpha_t[i]), est->stf_k[i >> 1]), est->inv_apk[i >> 1]));
             }
             slip = r_max(slip, r_mul(RC(EST_SLIP_MAX), r_clamp(r_sub(sl, R_ONE), R_ZERO, R_ONE)));
         }

@@ -158,6 +158,19 @@ static inline grip_real_t relax_share(grip_real_t dist, grip_real_t sig)
     return r_sub(R_ONE, r_exp(r_neg(r_div(dist, sig))));
 }
 
+/* The car not short of the linear yaw response by the share d of it (the
+ * understeer test's deficit 1 - r / r_lin, est_friction.c, without its
+ * division; r_lin low-passed there): a car nearing its limit on a friction
+ * the model does not know yet is short of it, whatever mu the filter has.
+ * The bank (est_road.c) and the stiffness (est_stiffness.c) learn only
+ * while it holds. */
+static inline int est_yaw_linear(const grip_est_t *est, grip_real_t yaw, grip_real_t d)
+{
+    grip_real_t r_lin = est->r_lin_f;
+    grip_real_t short_by = (r_lin > R_ZERO) ? r_sub(r_lin, yaw) : r_sub(yaw, r_lin); /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
+    return (r_abs(r_lin) <= RC(EST_US_R)) || (short_by < r_mul(d, r_abs(r_lin))); /* grip-deviation: MISRA-10.3 comparison result 0/1 returned as int */
+}
+
 /* ---- friction that the tire evaluation needs (est_tires.c inlines it:
  * the secant runs four times per step) ---- */
 
@@ -224,6 +237,9 @@ void est_observer_switch(grip_est_t *est, est_ctx_t *s);
  * four tire evaluations at the prior state, the model's accelerations and
  * the Jacobians */
 void est_tires(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s, grip_est_output_t *out);
+
+/* est_stiffness.c: the axles' cornering-stiffness scales learned (stiff_est) */
+void est_stiffness(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t *out);
 
 /* With the observer running: */
 /* est_friction.c: excitation, the friction-limit test, the understeer bound */

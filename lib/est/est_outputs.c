@@ -94,7 +94,7 @@ static void lateral_outputs(grip_est_t *est, grip_est_output_t *out, const est_c
             fzr = r_div(out->fz[i], est->fz_static[axle]);
         }
         g = r_max(RC(EST_G_MIN), r_sqrt(r_sub(R_ONE, r_min(out->util[i], R_ONE))));
-        dfda = r_neg(r_mul(g, r_mul(fzr, est->c_alpha[axle])));
+        dfda = r_neg(r_mul(g, r_mul(r_mul(fzr, est->c_alpha[axle]), est->stf_k[axle])));
         /* the tire's lagged slip angle (the step's tire worked at out->alpha[i])
          * moves towards the kinematic one over the latency's distance */
         out->fy[i] = r_add(out->fy[i],

@@ -40,14 +40,11 @@ void est_road(grip_est_t *est, const est_ctx_t *s)
         est->road_r = s->r_upd;
         if (s->ay_upd && s->yaw_ok && !s->lock && !s->spin && !s->dead_reck && s->vx >= RC(EST_V_EXC) &&
             r_abs(est->road_dr) < RC(EST_ROAD_RACC)) {
-            /* the car not short of the linear yaw response by EST_ROAD_D of
-             * it (the understeer test's deficit 1 - r / r_lin, est_friction.c,
-             * without its division): a car nearing its limit on a friction
-             * the model does not know yet pulls vy the same way */
-            grip_real_t r_lin = est->r_lin_f;
-            grip_real_t short_by = (r_lin > R_ZERO) ? r_sub(r_lin, s->yaw) : r_sub(s->yaw, r_lin); /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
-            int linear = (r_abs(r_lin) <= RC(EST_US_R)) || (short_by < r_mul(RC(EST_ROAD_D), r_abs(r_lin))); /* grip-deviation: MISRA-10.3 comparison result 0/1 stored in an int flag */
-            if (s->umax_est < RC(EST_ROAD_U) && !s->at_limit && linear && !est->misfit && !est->sat_cap) {
+            /* the car within EST_ROAD_D of its linear yaw response: a car
+             * nearing its limit on a friction the model does not know yet
+             * pulls vy the same way */
+            if (s->umax_est < RC(EST_ROAD_U) && !s->at_limit && est_yaw_linear(est, s->yaw, RC(EST_ROAD_D)) &&
+                !est->misfit && !est->sat_cap) {
                 /* the ay update's correction of vy this step */
                 gy = r_add(gy, r_mul(r_mul(s->vx, RC(1.0 / EST_ROAD_L)), r_sub(est->x[0], r_add(s->vy, s->dvy))));
             }

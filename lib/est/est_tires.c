@@ -1,8 +1,8 @@
 /*
  * est_tires.c - the tire model at the prior state: the wheels' vertical
  * loads (quasi-static load transfer), then with the lateral observer
- * running the four tire evaluations (the lagged slip angles, mu's
- * similarity scaling), the model's accelerations and the analytic
+ * running the four tire evaluations (the lagged slip angles, the learned
+ * stiffness scale k, mu's similarity scaling), the model's accelerations and the analytic
  * Jacobians the filter's predict and updates use. These evaluations are the
  * only tire calls of the step.
  */
@@ -111,7 +111,7 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
         ti.kappa = kappa_at_friction(kappa, s->mu, est->kappa_pk[axle]);
         /* beyond the peak slip angle the model force is held at its peak:
          * the falling branch would make vy and mu unobservable together */
-        ti.alpha = sym_clamp(r_div(alpha, s->mu), est->alpha_pk[axle]);
+        ti.alpha = sym_clamp(r_div(r_mul(est->stf_k[axle], alpha), s->mu), est->alpha_pk[axle]);
         if (side[i] < 0) {
             ti.alpha = r_neg(ti.alpha);   /* right wheel: mirror image of the LEFT-fitted tire */
         }
@@ -152,14 +152,14 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
         out->util[i] = r_min(u, RC(1.5));
         umax_est = r_max(umax_est, out->util[i]);
         g = r_max(RC(EST_G_MIN), r_sqrt(r_sub(R_ONE, r_min(u, R_ONE))));
-        ca = r_mul(fzr, est->c_alpha[axle]);                 /* N/rad at this load */
+        ca = r_mul(r_mul(fzr, est->c_alpha[axle]), est->stf_k[axle]); /* N/rad at this load */
         {
             /* Excitation: the utilization the slips would cause on the
              * tire's own friction (mu = 1), never measured against the
              * estimate itself, which would let a falling mu excite its
              * own adaptation. */
             grip_real_t cap = r_max(r_mul(est->mu0[axle], out->fz[i]), RCL(50.0));
-            grip_real_t ulin_y = r_div(r_mul(r_abs(alpha), r_mul(fzr, est->c_alpha[axle])), cap);
+            grip_real_t ulin_y = r_div(r_mul(r_abs(alpha), ca), cap);
             grip_real_t ulin_x = r_div(r_mul(r_abs(kappa), r_mul(fzr, est->c_kappa[axle])), cap);
             umax = r_max(umax, r_max(ulin_y, ulin_x));
             umax_x = r_max(umax_x, ulin_x);
@@ -172,7 +172,7 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
         dady = r_div(r_mul(c2, cdi), den);                    /* d alpha / d vy  [s/m] */
         dadr = r_div(r_mul(c2, lever), den);                  /* d alpha / d r   [s]   */
         dfda = r_neg(r_mul(g, ca));                           /* d Fy / d alpha  [N/rad] */
-        dfdmu = est_mu_secant(est, axle, alpha, out->fy[i]);   /* d Fy / d mu [N] */
+        dfdmu = est_mu_secant(est, axle, r_mul(est->stf_k[axle], alpha), out->fy[i]); /* d Fy / d mu [N] */
         est->fy_dmu[i] = dfdmu; /* the output forces move along it with the updates' mu */
         s->slope[axle] = r_add(s->slope[axle], r_abs(dfda));
         {

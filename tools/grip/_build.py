@@ -116,6 +116,7 @@ FULL_STRUCTS = [
     ("grip_brush.h", "grip_neofiala_params"),
     ("grip_est.h", "grip_est_config_t"),
     ("grip_est.h", "grip_est_output_t"),
+    ("grip_est.h", "grip_est_learned_t"),
     ("grip_monitor.h", "grip_monitor_config_t"),
     ("grip_monitor.h", "grip_monitor_report_t"),
     ("grip_calib.h", "grip_calib_config_t"),
@@ -259,6 +260,8 @@ grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_para
 grip_status_t grip_est_init(grip_est_t *est, const grip_est_config_t *cfg);
 grip_status_t grip_est_reset(grip_est_t *est);
 grip_status_t grip_est_stability_factor(const grip_est_t *est, grip_real_t *a_x100);
+grip_status_t grip_est_learned_get(const grip_est_t *est, grip_est_learned_t *blob);
+grip_status_t grip_est_learned_set(grip_est_t *est, const grip_est_learned_t *blob);
 grip_status_t grip_monitor_config_default(grip_monitor_config_t *cfg);
 grip_status_t grip_monitor_config_from_est(grip_monitor_config_t *cfg, const grip_est_t *est, uint32_t driven);
 grip_status_t grip_monitor_init(grip_monitor_t *mon, const grip_monitor_config_t *cfg);

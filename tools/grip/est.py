@@ -119,6 +119,37 @@ class Estimator:
             raise GripError(st, "grip_est_stability_factor", arith=self.arith)
         return float(be.to_si(np.array(a[0], be.real), "QS"))
 
+    def learned(self):
+        """grip_est_learned_get: what the estimator learned (the axles'
+        cornering-stiffness scales k_front, k_rear, the updates behind
+        them) and the blob itself as bytes, for learned_set on another
+        instance of the same car, tire and arithmetic."""
+        be = self._be
+        b = be.ffi.new("grip_est_learned_t *")
+        st = be.lib.grip_est_learned_get(self._est, b)
+        if st != _core.OK:
+            raise GripError(st, "grip_est_learned_get", arith=self.arith)
+        f = _core.get_fields(be, "grip_est_learned_t", b)
+        return {"k_front": f["k"][0], "k_rear": f["k"][1], "updates": f["updates"],
+                "blob": bytes(be.ffi.buffer(b))}
+
+    def learned_set(self, blob):
+        """grip_est_learned_set from learned()["blob"]; GripError (nothing
+        changed) when the blob is not one, from another build, car or tire,
+        out of range or corrupt."""
+        be = self._be
+        size = be.ffi.sizeof("grip_est_learned_t")
+        blob = bytes(blob)
+        if len(blob) != size:
+            raise GripError(_core.ERR_PARAM, "grip_est_learned_set", f"a blob of {size} bytes, not {len(blob)}",
+                            arith=self.arith)
+        b = be.ffi.new("grip_est_learned_t *")
+        be.ffi.memmove(b, blob, size)
+        st = be.lib.grip_est_learned_set(self._est, b)
+        if st != _core.OK:
+            raise GripError(st, "grip_est_learned_set", "not a blob of this car, tire and build, or corrupt",
+                            arith=self.arith)
+
     def step(self, samples):
         """grip_est_step on every sample, in order: an Output with one row
         per sample."""

@@ -227,5 +227,47 @@ class TestStandAlone(common.BindingTest):
                 np.testing.assert_array_equal(a.step(s[:50]).raw, one.raw[:50])
 
 
+class TestLearned(common.BindingTest):
+    """grip_est_learned_get / _set (stiff_est = 1): the blob carries the
+    learned stiffness to another instance bit for bit, and every kind of
+    blob that is not this car's, tire's and build's is refused with the
+    estimator unchanged."""
+
+    def test_round_trip_and_refusals(self):
+        t, value, valid, _ = golden_est.bicycle_inputs(duration=12.0)
+        s = samples(t, value, valid)
+        tyre = grip.mf.load(TIR)
+        other = grip.mf.load(os.path.join(ROOT, "tests", "data", "mfeval-tir", "MagicFormula61_Paramerters.tir"))
+        blobs = {}
+        for arith in ARITHS:
+            with self.subTest(arith=arith):
+                a = grip.est.Estimator({"tire": tyre, "stiff_est": 1}, arith=arith)
+                fresh = a.learned()
+                self.assertEqual((fresh["k_front"], fresh["k_rear"], fresh["updates"]), (1.0, 1.0, 0))
+                a.step(s)
+                la = a.learned()
+                self.assertGreater(la["updates"], 0)     # the generator's steering taught it
+                a.reset()
+                self.assertEqual(a.learned()["blob"], la["blob"])   # a reset keeps what was learned
+                b = grip.est.Estimator({"tire": tyre, "stiff_est": 1}, arith=arith)
+                b.learned_set(la["blob"])
+                self.assertEqual(b.learned(), la)
+                c = grip.est.Estimator({"tire": tyre, "stiff_est": 1}, arith=arith)
+                before = c.learned()
+                bad = bytearray(la["blob"])
+                bad[20] ^= 0x01                          # one bit of the state
+                for blob in (bytes(bad), la["blob"][:-1], b"", bytes(len(la["blob"]))):
+                    with self.assertRaises(grip.GripError):
+                        c.learned_set(blob)
+                    self.assertEqual(c.learned(), before)
+                d = grip.est.Estimator({"tire": other, "stiff_est": 1}, arith=arith)
+                with self.assertRaises(grip.GripError):   # another tire: another fingerprint
+                    d.learned_set(la["blob"])
+                blobs[arith] = la["blob"]
+        if len(blobs) == 2:
+            with self.assertRaises(grip.GripError):       # the other build's blob
+                grip.est.Estimator({"tire": tyre, "stiff_est": 1}, arith="float").learned_set(blobs["fixed"])
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -159,6 +159,18 @@ class JudgeTests(unittest.TestCase):
                 md = fh.read()
             self.assertIn("| bmw320i | step-steer | wet | generic | float |", md)
             self.assertIn("| bmw320i | sine-dwell | wet | fitted |", md)
+            self.assertIn("| bmw320i | step-steer | wet | learned |", md)
+            # the learning drive takes the generic tire towards the car's
+            # stiffer one (1.66 / 1.60 x at the static loads), both builds,
+            # and the sideslip of the step steer that starts from it beats
+            # the generic tire's (docs/estimator/stiffness.md)
+            learned = js["characterization"][0]["learned"]
+            for arith in ("float", "fixed"):
+                self.assertGreater(learned[arith]["k_front"], 1.2, arith)
+                self.assertGreater(learned[arith]["k_rear"], 1.2, arith)
+                step = [r for r in js["results"] if r["manoeuvre"] == "step-steer"][0]["configs"]
+                self.assertLess(step["learned"][arith]["beta_rms_deg"], 0.6 * step["generic"][arith]["beta_rms_deg"],
+                                arith)
             for r in doc["results"]:
                 for cname, builds in r["configs"].items():
                     for arith, m in builds.items():

@@ -251,18 +251,23 @@ def c_builds(specs=()):
     return builds, notes
 
 
-def run_binding(arith, tir_path, t, value, valid, vehicle="generic", vehicle_values=None, step_ms=10.0):
+def run_binding(arith, tir_path, t, value, valid, vehicle="generic", vehicle_values=None, step_ms=10.0,
+                learned=None, keep_learned=False):
     """The C estimator of `arith` through the binding (grip.est.Estimator
     over samples built as grip-replay's --csv mode builds them), configured
     as grip-replay -e TIR --vehicle VEHICLE --vehicle-file (vehicle_values:
-    {key: SI value}) --step-ms STEP_MS; returns read_replay's dict, at full
-    precision (grip-replay prints %.6g)."""
+    {key: SI value}) --step-ms STEP_MS, starting from the learned blob
+    `learned` (grip_est_learned_set) when given; returns read_replay's
+    dict, at full precision (grip-replay prints %.6g), and with
+    keep_learned under "learned" grip.est.Estimator.learned() at the end."""
     import grip
     tyre = grip.mf.load(tir_path)
     cfg = {"tire": tyre, "rate_hz": int(round(1000.0 / step_ms))}
     cfg.update(VEHICLE_PRESETS[vehicle])
     cfg.update(vehicle_values or {})
     est = grip.est.Estimator(cfg, arith=arith)
+    if learned is not None:
+        est.learned_set(learned)
     cols = {c: np.where(valid[:, i] != 0, value[:, i], np.nan) for i, c in enumerate(IN_COLS)}
     o = est.step(grip.signals.Samples.from_columns(cols, t_s=np.asarray(t, np.float64)))
     # grip-replay's ay_model column: the tire model's sum Fy / m in the body
@@ -277,14 +282,20 @@ def run_binding(arith, tir_path, t, value, valid, vehicle="generic", vehicle_val
             "fyf": o["fy_axle"][:, 0], "fyr": o["fy_axle"][:, 1], "vx": o["vx"], "yaw_rate": o["yaw_rate"],
             "yaw_rate_ref": o["yaw_rate_ref"], "yaw_rate_bias": o["yaw_rate_bias"], "ay_model": ay_model,
             "est_status": np.asarray(o["status"], np.float64),
-            "valid": np.asarray(o["valid"], np.int64), "flags": np.asarray(o["flags"], np.int64)}
+            "valid": np.asarray(o["valid"], np.int64), "flags": np.asarray(o["flags"], np.int64),
+            **({"learned": est.learned()} if keep_learned else {})}
 
 
-def run_est(build, tir_path, t, value, valid, vehicle="generic", vehicle_values=None, step_ms=10.0):
-    """One C build (a c_builds() spec) over the inputs; read_replay's dict."""
+def run_est(build, tir_path, t, value, valid, vehicle="generic", vehicle_values=None, step_ms=10.0, learned=None,
+            keep_learned=False):
+    """One C build (a c_builds() spec) over the inputs; read_replay's dict.
+    learned: a grip_est_learned_t blob to start from; keep_learned: what was
+    learned at the end under "learned" (the binding only)."""
     kind, what = build
     if kind == "binding":
-        return run_binding(what, tir_path, t, value, valid, vehicle, vehicle_values, step_ms)
+        return run_binding(what, tir_path, t, value, valid, vehicle, vehicle_values, step_ms, learned, keep_learned)
+    if learned is not None or keep_learned:
+        raise ValueError("a learned blob needs the binding (grip.est), not a grip-replay program")
     with tempfile.TemporaryDirectory() as d:
         path = os.path.join(d, "inputs.csv")
         write_input_csv(path, t, value, valid)
@@ -722,6 +733,9 @@ def main(argv=None):
                     help="run this grip-replay program for ARITH instead of the binding (another build of "
                          "the C code)")
     ap.add_argument("--no-c", action="store_true", help="evaluate est_ref only")
+    ap.add_argument("--stiff-est", action="store_true",
+                    help="every run with the estimator's stiff_est = 1 (each axle's cornering stiffness learned "
+                         "online, docs/estimator/stiffness.md)")
     ap.add_argument("--bank-est", action="store_true",
                     help="every run with the estimator's bank_est = 1 (the road's bank estimated, "
                          "docs/estimator/road.md); default the configuration's 0")
@@ -744,6 +758,8 @@ def main(argv=None):
     EXTRA.clear()
     if a.bank_est:
         EXTRA["bank_est"] = 1
+    if a.stiff_est:
+        EXTRA["stiff_est"] = 1
     if a.integrity:
         from grip_tools.evaluate import integrity
         integrity.run(a.out, judges=[j for j in a.judges.split(",") if j], runs_dir=a.runs_dir, full=a.full,

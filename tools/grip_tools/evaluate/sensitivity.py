@@ -90,6 +90,10 @@ CLASSES = {
     "EST_WS_TOL": "sensor", "EST_SLIP_MAX": "physics",
     "EST_ROAD_L": "tuning", "EST_ROAD_U": "tuning", "EST_ROAD_RACC": "tuning", "EST_ROAD_T_DR": "tuning",
     "EST_ROAD_D": "tuning", "EST_ROAD_T_REST": "tuning", "EST_ROAD_GY_MAX": "range",
+    "EST_STF_S_U": "format", "EST_STF_S_Y": "format", "EST_STF_P0": "tuning", "EST_STF_SD_MIN": "tuning",
+    "EST_STF_Q": "tuning", "EST_STF_R": "sensor", "EST_STF_T": "tuning", "EST_STF_TC": "tuning",
+    "EST_STF_V": "tuning", "EST_STF_AX": "tuning", "EST_STF_U": "tuning", "EST_STF_D": "tuning",
+    "EST_STF_H_MIN": "tuning", "EST_STF_SLOPE": "format", "EST_STF_K_MIN": "range", "EST_STF_K_MAX": "range",
 }
 CLASS_TEXT = {
     "physics": "a physical or statistical constant (g, a chi-square point, the tire as fitted)",

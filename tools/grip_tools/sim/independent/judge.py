@@ -17,6 +17,11 @@ two configurations an OEM could have:
            Magic Formula group fitted with `grip fit-mf --model fy` (start
            PacejkaBook_Defaults, its other groups kept), the roll gradient
            and the front share of the lateral load transfer
+  learned  generic, with the estimator's online stiffness learning on
+           (stiff_est = 1) and starting from what it learned in 90 s of
+           ordinary driving on a dry road (learn: the learning drive, its
+           grip_est_learned_t blob restored at every run's start, as after
+           an ignition cycle); needs the binding
 
 Metrics (metrics()), "moving" = true vx >= 3 m/s (the estimator's own
 switch-on speed), "spin" = from the first moving step where the true
@@ -119,6 +124,18 @@ def cornering_stiffness(params, fz):
     a = np.array([-d, d])
     out = mf.evaluate(params, np.zeros(2), a, np.zeros(2), np.full(2, fz), mirror=False)
     return float(abs(out["fy"][1] - out["fy"][0]) / (2 * d))
+
+
+def stiffness_ratios(veh, fitted_tir):
+    """The model car's tire and the fitted tire against the generic one:
+    cornering stiffness ratios at the static wheel loads, front and rear."""
+    fzf, fzr = veh.static_wheel_loads()
+    g = tir.load_params(GENERIC_TIR)
+    f = tir.load_params(fitted_tir)
+    ky = abs(float(veh.p.tire.p_ky1))
+    return dict(model_f=ky * fzf / cornering_stiffness(g, fzf), model_r=ky * fzr / cornering_stiffness(g, fzr),
+                fitted_f=cornering_stiffness(f, fzf) / cornering_stiffness(g, fzf),
+                fitted_r=cornering_stiffness(f, fzr) / cornering_stiffness(g, fzr))
 
 
 def mu_norm(veh, tir_path):
@@ -227,6 +244,31 @@ def characterize(vname, out_dir, work_dir):
     return dict(vehicle=vname, tir=out_tir, values=values, fit_points=int(len(alpha[::step])),
                 fit_report=report.strip().splitlines()[:6], fit_rms_N=float(rms.group(1)) if rms else None,
                 ay_max=float(np.max(np.abs(ay[mov]))))
+
+
+def learn(vname, values, bins, work_dir):
+    """The learning drive of one vehicle (manoeuvres.learning_drive, dry)
+    through each binding build with stiff_est = 1: {arith: learned()} (the
+    scales, the updates, the blob). Builds that are grip-replay programs
+    are left out (the blob goes through grip.est)."""
+    veh = mb.Vehicle(vname)
+    sc = man_mod.build("learning-drive", veh, 1.0)
+    sim = mb.simulate(veh, sc, 1.0)
+    t, meas = sensors.measure(sim, veh, seed=_seed(vname, "learning-drive", "dry"))
+    value, valid = sensors.estimator_inputs(t, meas, est_eval.IN_COLS)
+    os.makedirs(work_dir, exist_ok=True)
+    est_eval.write_input_csv(os.path.join(work_dir, f"learning_{vname}_inputs.csv"), t, value, valid)
+    out = {}
+    for arith, b in bins.items():
+        if b[0] != "binding":
+            continue
+        out[arith] = est_eval.run_est(b, GENERIC_TIR, t, value, valid, vehicle="generic",
+                                      vehicle_values=dict(values, stiff_est=1), keep_learned=True)["learned"]
+    return out
+
+
+def _learn_job(a):
+    return learn(*a)
 
 
 # ---------------------------------------------------------------------------
@@ -385,7 +427,11 @@ def run_one(job):
     for cname, cfg in configs.items():
         res["configs"][cname] = {}
         for arith, b in bins.items():
-            est = est_eval.run_est(b, cfg["tir"], t, value, valid, vehicle="generic", vehicle_values=cfg["values"])
+            blob = cfg["learned"][arith]["blob"] if "learned" in cfg else None
+            if "learned" in cfg and arith not in cfg["learned"]:
+                continue
+            est = est_eval.run_est(b, cfg["tir"], t, value, valid, vehicle="generic", vehicle_values=cfg["values"],
+                                   learned=blob)
             res["configs"][cname][arith] = metrics(tr, meas, est, cfg["mu_norm"], cfg["bicycle"], geom)
             if arith == "float":
                 for k in ("beta", "mu", "mu_conf", "fyf", "vx"):
@@ -566,6 +612,20 @@ def summary_md(results, configs, builds, in_family, step_err, chars):
                          f"{c['fit_points']} | {c['values']['roll_gradient']:.4f} | {c['values']['roll_split_front']:.3f} | "
                          f"{c['mu_norm']['generic']:.3f} / {c['mu_norm']['fitted']:.3f} |")
         lines.append("")
+    if any("learned" in c for c in chars):
+        lines.append("## Learned configuration (generic tire, 90 s learning drive, dry, 80 km/h)\n")
+        lines.append("The cornering-stiffness scales the estimator learned (`stiff_est` = 1), restored at the start of "
+                     "every run of the `learned` rows, against the ratios of the model car's tire and of the fitted "
+                     "tire to the generic one at the static wheel loads.\n")
+        lines.append("| vehicle | build | k front / rear learned | updates | model tire / generic f / r | fitted / generic f / r |")
+        lines.append("|---|---|---|---|---|---|")
+        for c in chars:
+            for a, x in c.get("learned", {}).items():
+                ref = c.get("stiffness_ratio", {})
+                lines.append(f"| {c['vehicle']} | {a} | {x['k_front']:.3f} / {x['k_rear']:.3f} | {x['updates']} | "
+                             f"{_f(ref.get('model_f'), '.2f')} / {_f(ref.get('model_r'), '.2f')} | "
+                             f"{_f(ref.get('fitted_f'), '.2f')} / {_f(ref.get('fitted_r'), '.2f')} |")
+        lines.append("")
     return "\n".join(lines)
 
 
@@ -630,7 +690,7 @@ def find_bins(specs=()):
 
 
 def run(out, full=False, vehicles=None, manoeuvres=None, surfaces=None, jobs=None, runs_dir=None,
-        c_bins=(), fitted=True, step_checks=True, plots=True, vehicle_extra=None):
+        c_bins=(), fitted=True, step_checks=True, plots=True, vehicle_extra=None, learned=True):
     """The whole judge; writes out/independent.json and .md (and PNGs).
     vehicle_extra: estimator settings added to every configuration's
     vehicle values (est-eval --bank-est: {"bank_est": 1}). Returns the JSON
@@ -675,6 +735,20 @@ def run(out, full=False, vehicles=None, manoeuvres=None, surfaces=None, jobs=Non
                                                     mu_norm=mu_norm(veh, c["tir"]), bicycle=bp)
                     c["mu_norm"] = {"generic": per_vehicle[v]["generic"]["mu_norm"],
                                     "fitted": per_vehicle[v]["fitted"]["mu_norm"]}
+        if learned:
+            taught = pmap(_learn_job, [(v, per_vehicle[v]["generic"]["values"], bins, runs_dir)
+                                       for v in sel["vehicles"]])
+            for v, tv in zip(sel["vehicles"], taught):
+                if tv:
+                    g = per_vehicle[v]["generic"]
+                    vl = dict(g["values"], stiff_est=1)
+                    per_vehicle[v]["learned"] = dict(tir=GENERIC_TIR, lines=vehicle_lines(vl), values=vl,
+                                                     mu_norm=g["mu_norm"], bicycle=g["bicycle"], learned=tv)
+                    for c in chars:
+                        if c["vehicle"] == v:
+                            c["learned"] = {a: {k: x[k] for k in ("k_front", "k_rear", "updates")}
+                                            for a, x in tv.items()}
+                            c["stiffness_ratio"] = stiffness_ratios(mb.Vehicle(v), c["tir"])
         configs = list(next(iter(per_vehicle.values())).keys())
         joblist = []
         for v in sel["vehicles"]:

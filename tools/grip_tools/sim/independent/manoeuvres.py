@@ -339,6 +339,20 @@ def ramp_steer(veh, mu_surface, v0=80 * KMH, rate=0.01, t0=1.0, duration=None):
     return Scenario("ramp-steer", v0, duration, steer, lambda drv, t, x: ("hold", v0, 0.0))
 
 
+def learning_drive(veh, mu_surface, v0=80 * KMH, duration=90.0):
+    """Ordinary driving on a dry road for the estimator's online stiffness
+    learning (judge.learn): 80 km/h held, a weave of three incommensurate
+    sines of the linear angle (0.11, 0.37, 0.83 Hz) up to ~3 m/s^2; not a
+    judged manoeuvre."""
+    parts = ((1.4, 0.11, 0.0), (0.9, 0.37, 1.0), (0.6, 0.83, 2.0))
+    unit = veh.linear_delta(v0, 1.0)
+
+    def steer(drv, t, x, dt):
+        ramp = min(1.0, max(0.0, t - 1.0))
+        return ramp * unit * sum(a * math.sin(2.0 * math.pi * f * t + ph) for a, f, ph in parts)
+    return Scenario("learning-drive", v0, duration, steer, lambda drv, t, x: ("hold", v0, 0.0))
+
+
 MANOEUVRES = {
     "circle-ramp": circle_ramp, "step-steer": step_steer, "sine-dwell": sine_dwell, "slalom": slalom,
     "double-lane-change": double_lane_change, "brake-in-turn": brake_in_turn, "mu-step": mu_step,
@@ -349,4 +363,6 @@ MANOEUVRES = {
 def build(name, vehicle, surface_factor):
     if name == "ramp-steer":
         return ramp_steer(vehicle, surface_factor)
+    if name == "learning-drive":
+        return learning_drive(vehicle, surface_factor)
     return MANOEUVRES[name](vehicle, surface_factor)
