@@ -90,6 +90,7 @@ static const struct {
     { "", "--estimate-rear", SC_EST }, { "", "--vehicle", SC_EST },      { "", "--vehicle-file", SC_EST },   { "", "--csv", SC_CSV },
     { "", "--ignore-columns", SC_CSV }, { "-q", "--quiet", SC_ANY },
     { "", "--strict", SC_EST },       { "", "--no-range-check", SC_EST },
+    { "", "--learned-in", SC_EST },   { "", "--learned-out", SC_EST },
 };
 #define N_OPTS (sizeof OPTS / sizeof OPTS[0])
 
@@ -175,6 +176,10 @@ int replay_parse_args(int argc, char **argv, replay_options *o, FILE *msg)
             o->vehicle = v;
         } else if (strcmp(a, "--vehicle-file") == 0) {
             o->vehicle_file = v;
+        } else if (strcmp(a, "--learned-in") == 0) {
+            o->learned_in = v;
+        } else if (strcmp(a, "--learned-out") == 0) {
+            o->learned_out = v;
         } else if (strcmp(a, "--csv") == 0) {
             o->csv_in = v;
         } else if (strcmp(a, "--ignore-columns") == 0) {
@@ -1475,6 +1480,60 @@ static void summary_csv(const replay *r)
 
 /* ---- setup ---------------------------------------------------------------------- */
 
+/* ---- the learned blob (--learned-in, --learned-out) ---------------------------- */
+
+/* Restores a grip_est_learned_t blob: exactly its size, and accepted by
+ * grip_est_learned_set (this car, tire and arithmetic build, intact). */
+static int learned_read(replay *r, const char *path)
+{
+    grip_est_learned_t blob;
+    FILE *f = fopen(path, "rb");
+    size_t n;
+    int extra;
+    if (f == NULL) {
+        fprintf(r->msg, "grip-replay: %s: cannot open the learned blob (--learned-in)\n", path);
+        return -1;
+    }
+    n = fread(&blob, 1, sizeof blob, f);
+    extra = fgetc(f);
+    (void)fclose(f);
+    if (n != sizeof blob || extra != EOF) {
+        fprintf(r->msg, "grip-replay: %s: a learned blob (--learned-in) is %u bytes, this file has %s%u\n", path,
+                (unsigned)sizeof blob, extra != EOF ? "more than " : "", (unsigned)n);
+        return -1;
+    }
+    if (grip_est_learned_set(&r->est, &blob) != GRIP_OK) {
+        fprintf(r->msg, "grip-replay: %s: not a learned blob of this car, tire and arithmetic build, or corrupt "
+                "(magic, version, configuration fingerprint, ranges or checksum; grip_est_learned_set)\n", path);
+        return -1;
+    }
+    return 0;
+}
+
+/* Writes what the estimator learned (grip_est_learned_get) to path */
+static int learned_write(replay *r, const char *path)
+{
+    grip_est_learned_t blob;
+    FILE *f;
+    if (grip_est_learned_get(&r->est, &blob) != GRIP_OK) {
+        fprintf(r->msg, "grip-replay: %s: no learned blob to write (--learned-out)\n", path);
+        return -1;
+    }
+    f = fopen(path, "wb");
+    if (f == NULL || fwrite(&blob, 1, sizeof blob, f) != sizeof blob) {
+        if (f != NULL) {
+            (void)fclose(f);
+        }
+        fprintf(r->msg, "grip-replay: %s: cannot write the learned blob (--learned-out)\n", path);
+        return -1;
+    }
+    if (fclose(f) != 0) {
+        fprintf(r->msg, "grip-replay: %s: cannot write the learned blob (--learned-out)\n", path);
+        return -1;
+    }
+    return 0;
+}
+
 /* The tire(s), the vehicle and the estimator (-e); 0 or the exit status. */
 static int replay_setup_estimator(replay *r)
 {
@@ -1574,6 +1633,9 @@ static int replay_setup_estimator(replay *r)
                 return EXIT_USAGE;
             }
         }
+        if (o->learned_in != NULL && learned_read(r, o->learned_in) != 0) {
+            return EXIT_INPUT;
+        }
         r->est_on = 1;
     }
     return 0;
@@ -1620,6 +1682,9 @@ int replay_run(replay *r)
         if (!o->quiet && status == 0) {   /* on an error, its message is the last word */
             summary_csv(r);
         }
+        if (status == 0 && r->est_on && o->learned_out != NULL && learned_write(r, o->learned_out) != 0) {
+            status = EXIT_OUTPUT;
+        }
         return status;
     }
     if (!r->header_done) {
@@ -1634,6 +1699,9 @@ int replay_run(replay *r)
     }
     if (status == 0 && replay_check_match(r) != 0) {
         status = EXIT_TABLE;
+    }
+    if (status == 0 && r->est_on && o->learned_out != NULL && learned_write(r, o->learned_out) != 0) {
+        status = EXIT_OUTPUT;
     }
     return status;
 }

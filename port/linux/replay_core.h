@@ -64,6 +64,8 @@ typedef struct {
     const char *est_tir_rear;  /* --estimate-rear: the rear axle's tire instead; NULL = as front */
     const char *vehicle;       /* --vehicle: configuration preset */
     const char *vehicle_file;  /* --vehicle-file: key = value overrides of the preset */
+    const char *learned_in;    /* --learned-in: a grip_est_learned_t blob restored after init */
+    const char *learned_out;   /* --learned-out: the blob written after the run */
     const char *csv_in;        /* --csv: estimator inputs from a CSV file instead of CAN */
     const char *ignore_cols;   /* --ignore-columns: comma-separated CSV columns to ignore */
     int step_given;            /* --step-ms was given */

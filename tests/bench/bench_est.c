@@ -7,7 +7,13 @@
  *                    active, excitation (mu adapts), all three measurement
  *                    updates (yaw rate, ay, ax: the vehicle-speed input is
  *                    valid, which the ax update needs), four tire
- *                    evaluations, braking in a turn with every input valid
+ *                    evaluations, braking in a turn with every input valid;
+ *                    stiff_est = 1 (its gates run, its update does not:
+ *                    braking, at the limit)
+ *   est_step_learn   one step where the cornering stiffness learns
+ *                    (stiff_est = 1, a steady turn at 20 m/s, ay 3 m/s^2,
+ *                    no braking): the stiffness update instead of the ax
+ *                    update
  *   est_step_low     one step at standstill (observer off, no tire calls)
  *
  * Each case is a step of a running estimator (state kept between calls);
@@ -24,11 +30,34 @@
 
 extern const bench_case bench_est_cases[];
 extern const int bench_est_case_count;
+/* a steady left turn at 20 m/s, ay ~3 m/s^2, the steering weaving a little
+ * (the regression's excitation) */
+static void learn_input(grip_input_sample_t *s, int i)
+{
+    static const grip_real_t swa[4] = { RC(0.30), RC(0.31), RC(0.32), RC(0.31) };
+    static const grip_real_t yaw[4] = { RC(0.148), RC(0.150), RC(0.152), RC(0.150) };
+    int k;
+    memset(s, 0, sizeof *s);
+    s->value[GRIP_IN_WHEEL_SPEED_FL] = RC(19.8);
+    s->value[GRIP_IN_WHEEL_SPEED_FR] = RC(20.2);
+    s->value[GRIP_IN_WHEEL_SPEED_RL] = RC(19.8);
+    s->value[GRIP_IN_WHEEL_SPEED_RR] = RC(20.2);
+    s->value[GRIP_IN_STEER_ANGLE] = swa[i & 3];
+    s->value[GRIP_IN_YAW_RATE] = yaw[i & 3];
+    s->value[GRIP_IN_AX] = RC(0.0);
+    s->value[GRIP_IN_AY] = RC(3.0);
+    for (k = 0; k <= GRIP_IN_AY; ++k) {
+        s->valid[k] = 1;
+    }
+}
+
 void bench_est_setup(void);
 
 static grip_est_t est_worst;
+static grip_est_t est_learn;
 static grip_est_t est_low;
 static grip_input_sample_t in_worst[BENCH_INPUTS];
+static grip_input_sample_t in_learn[BENCH_INPUTS];
 static grip_input_sample_t in_low;
 static volatile uint32_t est_sink;
 
@@ -65,13 +94,19 @@ void bench_est_setup(void)
     grip_est_output_t out;
     int i, k;
     (void)grip_est_config_default(&cfg, est_tire());
-    (void)grip_est_init(&est_worst, &cfg);
     (void)grip_est_init(&est_low, &cfg);
+    cfg.stiff_est = 1u;
+    (void)grip_est_init(&est_worst, &cfg);
+    (void)grip_est_init(&est_learn, &cfg);
     for (i = 0; i < BENCH_INPUTS; ++i) {
         worst_input(&in_worst[i], i);
+        learn_input(&in_learn[i], i);
     }
     for (k = 0; k < 60; ++k) {
         (void)grip_est_step(&est_worst, &in_worst[k % BENCH_INPUTS], &out);
+    }
+    for (k = 0; k < 100; ++k) {
+        (void)grip_est_step(&est_learn, &in_learn[k % BENCH_INPUTS], &out);
     }
     memset(&in_low, 0, sizeof in_low);
     for (k = 0; k < 8; ++k) {
@@ -95,6 +130,13 @@ static void b_est_worst(int i)
     est_sink = out.valid ^ out.flags;
 }
 
+static void b_est_learn(int i)
+{
+    grip_est_output_t out;
+    (void)grip_est_step(&est_learn, &in_learn[i], &out);
+    est_sink = out.valid ^ out.flags ^ est_learn.stf_updates;
+}
+
 static void b_est_low(int i)
 {
     grip_est_output_t out;
@@ -105,6 +147,7 @@ static void b_est_low(int i)
 
 const bench_case bench_est_cases[] = {
     { "est_step_worst", b_est_worst },
+    { "est_step_learn", b_est_learn },
     { "est_step_low", b_est_low },
 };
 const int bench_est_case_count = (int)(sizeof(bench_est_cases) / sizeof(bench_est_cases[0]));

@@ -89,7 +89,8 @@ typedef struct {
     const char *file;
     double dt;
     int optional;
-    int aero_bank;   /* 1: the AERO_BANK configuration of tools/grip_tools/golden/est.py; 2: rear_steer = 1; 3: bank_est = 1 */
+    int aero_bank;   /* 1: the AERO_BANK configuration of tools/grip_tools/golden/est.py; 2: rear_steer = 1; 3: bank_est = 1;
+                      * 4: stiff_est = 1 */
 } seq_t;
 
 static void run_sequence(const seq_t *sq)
@@ -132,6 +133,9 @@ static void run_sequence(const seq_t *sq)
     }
     if (sq->aero_bank == 3) {
         cfg.bank_est = 1u;
+    }
+    if (sq->aero_bank == 4) {
+        cfg.stiff_est = 1u;
     }
     assert_int_equal(grip_est_init(&est, &cfg), GRIP_OK);
     grip_debug_saturation_reset();
@@ -243,6 +247,7 @@ static const seq_t seqs[] = {
     { "est_steer_offset_100hz.txt", 0.01, 0, 0 },
     { "est_rear_steer_100hz.txt", 0.01, 0, 2 },
     { "est_road_bank_100hz.txt", 0.01, 0, 3 },
+    { "est_stiffness_100hz.txt", 0.01, 0, 4 },
 };
 
 static void test_bicycle_100hz(void **state) { (void)state; run_sequence(&seqs[0]); }
@@ -253,6 +258,7 @@ static void test_aero_bank_100hz(void **state) { (void)state; run_sequence(&seqs
 static void test_steer_offset_100hz(void **state) { (void)state; run_sequence(&seqs[5]); }
 static void test_rear_steer_100hz(void **state) { (void)state; run_sequence(&seqs[6]); }
 static void test_road_bank_100hz(void **state) { (void)state; run_sequence(&seqs[7]); }
+static void test_stiffness_100hz(void **state) { (void)state; run_sequence(&seqs[8]); }
 
 int main(void)
 {
@@ -265,6 +271,7 @@ int main(void)
         cmocka_unit_test(test_steer_offset_100hz),
         cmocka_unit_test(test_rear_steer_100hz),
         cmocka_unit_test(test_road_bank_100hz),
+        cmocka_unit_test(test_stiffness_100hz),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

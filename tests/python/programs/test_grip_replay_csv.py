@@ -235,6 +235,56 @@ class CsvModeTests(unittest.TestCase):
         rc, out, _ = run(b, ["--help"])
         self.assertIn("--csv FILE", out)
 
+    def test_learned_blob(self):
+        """--learned-out writes what stiff_est learned, --learned-in restores
+        it (the run then starts from it: another estimate, and the same
+        blob as the binding's after the same inputs); a blob of another
+        size, a corrupt one, one of the other build or another tire exits 4
+        naming the file."""
+        d = self.tmp.name
+        t, v, ok, _ = golden_est.bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 1.0), seed=golden_est.SEED + 4,
+                                                steer_gain=0.5, brake_demand=0.5, lky=golden_est.STIFF_LKY)
+        path = os.path.join(d, "stiff.csv")
+        write_csv(path, t, v, ok)
+        veh = os.path.join(d, "stiff.txt")
+        with open(veh, "w") as f:
+            f.write("stiff_est = 1\n")
+        blobs = {}
+        for arith in ("float", "fixed"):
+            if not os.path.exists(BINS[arith]):
+                continue
+            b = BINS[arith]
+            learned = os.path.join(d, f"learned_{arith}.bin")
+            base = ["-e", TIR, "--vehicle", "generic", "--vehicle-file", veh, "--csv", path]
+            rc, out1, err = run(b, base + ["--learned-out", learned])
+            self.assertEqual(rc, 0, err)
+            with open(learned, "rb") as f:
+                blob = f.read()
+            blobs[arith] = learned
+            self.assertEqual(len(blob), 48)
+            rc, out2, err = run(b, base + ["--learned-in", learned, "--learned-out", learned + ".2"])
+            self.assertEqual(rc, 0, err)
+            b1, b2 = col(read_out(out1), "beta"), col(read_out(out2), "beta")
+            self.assertGreater(np.nanmax(np.abs(b2 - b1)), 1e-4, arith)   # it started from what was learned
+            bad = bytearray(blob)
+            bad[24] ^= 0x10
+            for name, data in (("corrupt.bin", bytes(bad)), ("short.bin", blob[:-1]), ("long.bin", blob + b"\0")):
+                p = os.path.join(d, name)
+                with open(p, "wb") as f:
+                    f.write(data)
+                rc, _, err = run(b, base + ["--learned-in", p])
+                self.assertEqual(rc, 4, (arith, name, err))
+                self.assertIn(name, err)
+            other = os.path.join(ROOT, "tests", "data", "mfeval-tir", "MagicFormula61_Paramerters.tir")
+            rc, _, err = run(b, ["-e", other, "--vehicle", "generic", "--vehicle-file", veh, "--csv", path,
+                                 "--learned-in", learned])
+            self.assertEqual(rc, 4, err)
+            self.assertIn("not a learned blob of this car, tire and arithmetic build", err)
+        if len(blobs) == 2:
+            rc, _, err = run(BINS["float"], ["-e", TIR, "--vehicle", "generic", "--vehicle-file", veh, "--csv", path,
+                                             "--learned-in", blobs["fixed"]])
+            self.assertEqual(rc, 4, err)
+
     def test_av21_preset(self):
         b = self.binary("float")
         # straight running at 20 m/s: the preset is accepted, outputs finite

@@ -13,6 +13,9 @@ Input sequences (the C test replays exactly the same rows):
   road_bank_100hz the internal generator on a road banked 0.1 + 0.04 sin(2 pi
                   t / 6 s) rad that the configuration does not give, run
                   with bank_est = 1 (the bank estimated)
+  stiffness_100hz the internal generator on mu 1.0 with half the steering,
+                  its tires 1.5 x as stiff (LKY) as the estimator's, run
+                  with stiff_est = 1 (each axle's stiffness learned)
   aero_bank_100hz the internal generator at 26 m/s, run with the vehicle-level
                   effects on: downforce C_L A = 2.5 m^2 (front share 0.42,
                   rho 1.2), road bank tan = 0.04 (rise to the left) and grade
@@ -75,7 +78,7 @@ def tire_params():
 # internal generator: single-track model with Magic Formula axle forces
 
 def bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED, v0=22.0, steer_gain=1.0,
-                   brake_demand=3.0, rear_gain=0.0, bank=None):
+                   brake_demand=3.0, rear_gain=0.0, bank=None, lky=1.0):
     """A nonlinear single-track run (steer steps, slalom, braking in a turn).
     mu_road: (mu of the first half, mu of the second half), as a scale of the
     tire's friction (LMUX, LMUY); steer_gain scales the steering-wheel angle,
@@ -84,10 +87,12 @@ def bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED, v0=22.
     0: no rear steering, the input not given), bank a function of time that
     gives the road's bank [rad, left edge up positive] (gravity then pulls
     the car by -g sin(bank) along y, and the accelerometer, reading specific
-    force, gives the tires' force over the mass). Returns time, value (N, 18), valid (N, 18)
+    force, gives the tires' force over the mass), lky the generator tire's
+    cornering stiffness as a scale of the estimator's (LKY). Returns time, value (N, 18), valid (N, 18)
     and the truth dict (vx, vy, r, mu)."""
     P0 = tire_params()
     cfg = est_ref.config(P0)
+    P0 = dict(P0, lky=P0["lky"] * lky)
     m, iz, lf, lr = cfg["mass"], cfg["iz"], cfg["lf"], cfg["lr"]
     l = lf + lr
     fzf, fzr = 9.80665 * m * lr / l / 2, 9.80665 * m * lf / l / 2
@@ -311,6 +316,11 @@ def _fmt(x):
     return repr(x)
 
 
+# the stiffness sequence's generator tire: this much stiffer than the
+# estimator's (LKY), so that the learned scales move
+STIFF_LKY = 1.5
+
+
 def write_golden(outdir):
     os.makedirs(outdir, exist_ok=True)
     t, v, ok, _ = bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5))
@@ -341,6 +351,11 @@ def write_golden(outdir):
     write_sequence(outdir, "road_bank_100hz", 0.01, t, v, ok,
                    "internal generator, mu 1.0, half steering, road bank 5.7 +- 2.3 deg along the run, not configured, bank_est = 1",
                    bank_est=1)
+    t, v, ok, _ = bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 1.0), seed=SEED + 4, steer_gain=0.5,
+                                 brake_demand=0.5, lky=STIFF_LKY)
+    write_sequence(outdir, "stiffness_100hz", 0.01, t, v, ok,
+                   f"internal generator, mu 1.0, half steering, the generator's tire {STIFF_LKY} x as stiff, stiff_est = 1",
+                   stiff_est=1)
     sim = sim_inputs()
     path = os.path.join(outdir, "est_sim_sine_dwell.txt")
     if sim is not None:

@@ -17,6 +17,8 @@ one method each, in a section named after the C file that holds the stage:
     with the lateral filter on:
     friction_tests         est_friction.c  excitation, the limit test, the
                                            understeer bound and its withdrawal
+    stiffness              est_stiffness.c each axle's cornering-stiffness
+                                           scale learned (stiff_est)
     lateral_filter         est_lateral.c   EKF predict of x = [vy, r, mu, b],
                                            scalar Joseph updates of yaw rate
                                            and ay
@@ -129,6 +131,19 @@ NOWHEEL_T = 0.5
 # ROAD_GY_MAX [m/s^2] (g sin 26.7 deg)
 ROAD_L, ROAD_U, ROAD_RACC, ROAD_T_DR = 20.0, 0.5, 0.3, 0.2
 ROAD_T_REST, ROAD_GY_MAX, ROAD_D = 0.5, 4.4, 0.15
+
+# -- learned cornering stiffness (est_stiffness.c, docs/estimator/stiffness.md):
+# a two-state Kalman filter on 1 / k per axle in units of STF_S_U, from the
+# front-minus-rear lagged slip angle against the model slips of the measured
+# axle forces (crad, STF_S_Y); prior deviation STF_P0, floor STF_SD_MIN,
+# random walk STF_Q [1/s], measurement deviation STF_R [rad] correlated over
+# STF_TC [s]; signals low-passed over STF_T [s]; learns above STF_V [m/s],
+# |ax| < STF_AX, model utilization < STF_U, the yaw rate within STF_D of the
+# linear reference, model slips >= STF_H_MIN [crad], axle slopes >= STF_SLOPE
+# [N/rad]; k within [STF_K_MIN, STF_K_MAX]
+STF_S_U, STF_S_Y, STF_P0, STF_SD_MIN, STF_Q, STF_R = 0.05, 0.01, 0.5, 0.02, 1.0e-4, 1.0e-3
+STF_T, STF_TC, STF_V, STF_AX, STF_U, STF_D = 0.1, 2.0, 10.0, 1.0, 0.5, 0.1
+STF_H_MIN, STF_SLOPE, STF_K_MIN, STF_K_MAX = 0.3, 1000.0, 0.4, 2.5
 
 # -- the lateral filter on / off (est_lateral.c)
 V_ON, V_OFF = 3.0, 2.5  # on above V_ON, off below V_OFF [m/s]
@@ -317,7 +332,7 @@ def config(tire_front, tire_rear=None, rate_hz=100, **kw):
              steer_ratio=15.5, wheel_radius=0.30, roll_split_front=0.60, roll_gradient=0.0088,
              rate_hz=int(rate_hz),
              dt=1.0 / int(rate_hz),
-             speed_ref_mu=0, rear_steer=0, bank_est=0,
+             speed_ref_mu=0, rear_steer=0, bank_est=0, stiff_est=0,
              tire_tol=TIRE_TOL, kin_acc_sd=KIN_ACC, beta_sd_max=BETA_SD_MAX, vx_sd_max=0.0, fy_sd_max=0.0,
              cla=0.0, aero_front=0.5, air_density=1.2, cda=0.0, crr=0.0, tan_bank=0.0, tan_grade=0.0,
              tire=(tire_front, tire_rear if tire_rear is not None else tire_front))
@@ -522,6 +537,17 @@ class Estimator:
         self.hold_steps = max(1, int(math.floor(HOLD_T * rate + 0.5)))
         self.nowheel_steps = int(math.floor(NOWHEEL_T * rate + 0.5))
         self.dr_n = int(math.floor(DR_T * rate + 0.5))
+        # the learned cornering stiffness (est_stiffness.c): the tire file's,
+        # with the prior's covariance; the model error correlated over STF_TC
+        self.stf_k = [1.0, 1.0]
+        self.stf_x = np.array([1.0 / STF_S_U, 1.0 / STF_S_U])
+        p0 = (STF_P0 / STF_S_U) ** 2
+        self.stf_p = np.array([[p0, 0.0], [0.0, p0]])
+        self.stf_updates = 0
+        self.stf_q = STF_Q / STF_S_U ** 2 / rate
+        self.stf_a = min(1.0 / (STF_T * rate), 1.0)
+        self.stf_r = (STF_R / STF_S_Y) ** 2 * STF_TC * rate
+        self.stf_n_min = int(math.floor(3.0 * STF_T * rate + 0.5))
         self.reset()
 
     def reset(self):
@@ -565,6 +591,8 @@ class Estimator:
         self.mb_f = 0.0              # front-axle force the model's yaw moment lacks [N]
         self.alpha_t = np.zeros(4)   # lagged (relaxed) slip angles
         self.rlx_init = False        # alpha_t set since the observer started
+        # the learned stiffness stays; its regression restarts
+        self.stf_z, self.stf_h, self.stf_yaw, self.stf_n = 0.0, np.zeros(2), 0.0, 0
 
     # ---- est_step.c: the stages in their order ------------------------------
     def step(self, value, valid, t_us=None):
@@ -578,6 +606,7 @@ class Estimator:
         self.tire_model(s)
         if self.active:
             self.friction_tests(s)
+            self.stiffness(s)
             self.lateral_filter(s)
             self.road(s)
             self.update_balances(s)
@@ -597,6 +626,13 @@ class Estimator:
         return o
 
     # ---- shared by the stages (est_internal.h) ------------------------------
+    def _yaw_linear(self, yaw, d):
+        """est_yaw_linear: the yaw rate not short of the lagged linear
+        reference by the share d of it (or that reference below US_R)."""
+        r_lin = self.r_lin_f
+        short_by = r_lin - yaw if r_lin > 0.0 else yaw - r_lin
+        return abs(r_lin) <= US_R or short_by < d * abs(r_lin)
+
     def _vx_rate(self, ax, r, vy, g_x):
         """vx's rate in the body frame: ax less its learned offset, plus
         r vy, plus gravity along the grade (vx's prediction, est_speed.c,
@@ -1050,10 +1086,7 @@ class Estimator:
             if (s.nis is not None and s.yaw_ok and not s.lock and not s.spin and not s.dead_reck
                     and s.vx >= V_EXC and abs(self.road_dr) < ROAD_RACC
                     and float(np.max(s.out["util"])) < ROAD_U and not s.at_limit
-                    and (abs(self.r_lin_f) <= US_R
-                         or (self.r_lin_f - s.yaw if self.r_lin_f > 0.0 else s.yaw - self.r_lin_f)
-                         < ROAD_D * abs(self.r_lin_f))
-                    and not self.misfit and not self.sat_cap):
+                    and self._yaw_linear(s.yaw, ROAD_D) and not self.misfit and not self.sat_cap):
                 gy += s.vx / ROAD_L * (float(self.x[0]) - (s.vy + s.dvy))
             if self.misfit or self.sat_cap:
                 gy -= abs(s.vx) * (dt / ROAD_L) * (gy - self.road_g0)
@@ -1195,7 +1228,8 @@ class Estimator:
         ak = np.abs(kappa)
         tk = np.clip(np.sign(kappa) * np.where(ak <= mu * kpk, ak / mu, kpk + ak - mu * kpk), -1.5, 1.5)
         apk = np.array([self.alpha_pk[0], self.alpha_pk[0], self.alpha_pk[1], self.alpha_pk[1]])
-        ta = np.clip(alpha / mu, -apk, apk) * side
+        kw = np.array([self.stf_k[0], self.stf_k[0], self.stf_k[1], self.stf_k[1]])
+        ta = np.clip(kw * alpha / mu, -apk, apk) * side
         fx = np.zeros(4)
         fy = np.zeros(4)
         mz = np.zeros(4)
@@ -1220,12 +1254,12 @@ class Estimator:
         u = np.sqrt(fxn ** 2 + fyn ** 2) / (mu * mu0w)
         o["util"] = np.minimum(u, 1.5)
         g = np.maximum(G_MIN, np.sqrt(1.0 - np.minimum(u, 1.0)))
-        ca = fzr * caw
+        ca = fzr * caw * kw
         # Excitation: the utilization the slips would cause on the tire's
         # own friction (mu = 1), never measured against the estimate
         # itself, which would let a falling mu excite its own adaptation.
         cap = np.maximum(mu0w * fz, 50.0)
-        ulin_y = np.abs(alpha) * (fzr * caw) / cap
+        ulin_y = np.abs(alpha) * ca / cap
         ulin_x = np.abs(kappa) * (fzr * ckw) / cap
         s.umax = float(np.max(np.maximum(ulin_y, ulin_x)))
         s.umax_x = float(np.max(ulin_x))
@@ -1237,7 +1271,7 @@ class Estimator:
         # F/mu (sliding) for a concave force curve: the slope
         # approximation may not leave that interval (it flips the sign)
         if MU_SECANT:
-            dfdmu = self._mu_secant(alpha, fy, mu, s.mu_lb)
+            dfdmu = self._mu_secant(kw * alpha, fy, mu, s.mu_lb)
         else:
             dfdmu = _between(fy - alpha * dfda, fy) / mu
         dfy_dvy, dfy_dr = dady * dfda, dadr * dfda
@@ -1261,6 +1295,71 @@ class Estimator:
         s.ax_m = (sfx - (self.k_drag * vx * vx + self.f_roll)) / m
         s.xa, s.ya, s.sig, s.alpha, s.kappa, s.fy = xa, ya, sig, alpha, kappa, fy
         s.dfda, s.dfdmu, s.jay, s.jr, s.jax_mu = dfda, dfdmu, jay, jr, jax_mu
+
+    # ---- est_stiffness.c: the learned cornering stiffness --------------------
+    def _stf_condition(self):
+        p_min, p_max = (STF_SD_MIN / STF_S_U) ** 2, (STF_P0 / STF_S_U) ** 2
+        P = self.stf_p
+        P[0, 0] = _clamp(P[0, 0], p_min, p_max)
+        P[1, 1] = _clamp(P[1, 1], p_min, p_max)
+        c = 0.99 * math.sqrt(P[0, 0] * P[1, 1])
+        P[0, 1] = P[1, 0] = _clamp(P[0, 1], -c, c)
+
+    def stiffness(self, s):
+        """Each axle's cornering-stiffness scale k (stiff_est = 1): the
+        accelerometer and gyro give the axle forces (m ay = Ff + Fr, Iz dr/dt
+        = lf Ff - lr Fr); each force's model slip psi = k alpha* (alpha*:
+        the axle's mean lagged angle moved along the step's slope by the
+        model's force error); the front-minus-rear lagged slip angle, which
+        vy leaves out, = psi_f / k_f - psi_r / k_r: a Kalman update of
+        1 / k on the low-passed signals, where the tire is linear (gates:
+        STF_*). A random walk every step. docs/estimator/stiffness.md.
+
+        State: stf_x, stf_p, stf_k, stf_z, stf_h, stf_yaw, stf_n,
+        stf_updates. Step: reads yaw, ay, ax, the gates' flags, the tire
+        stage's fy, dfda, util."""
+        c = self.cfg
+        if not c.get("stiff_est", 0):
+            return
+        rate = c["rate_hz"]
+        self.stf_p[0, 0] += self.stf_q
+        self.stf_p[1, 1] += self.stf_q
+        self._stf_condition()
+        rdot = (s.yaw - self.stf_yaw) * rate if self.stf_n > 0 else 0.0
+        self.stf_yaw = s.yaw
+        slope = [float(np.sum(np.abs(s.dfda[0:2]))), float(np.sum(np.abs(s.dfda[2:4])))]
+        ok = (self.active and s.yaw_ok and s.ay_ok and s.steer_ok and not (s.flags & F_STEER_LIMIT)
+              and s.vx >= STF_V and abs(s.ax) < STF_AX and float(np.max(s.out["util"])) < STF_U
+              and not s.lock and not s.spin and not s.dead_reck and not s.at_limit
+              and self._yaw_linear(s.yaw, STF_D) and slope[0] >= STF_SLOPE and slope[1] >= STF_SLOPE)
+        if not ok:
+            self.stf_n = 0
+            return
+        l = c["lf"] + c["lr"]
+        ff = (c["mass"] * c["lr"] * s.ay + c["iz"] * rdot) / l
+        fr = (c["mass"] * c["lf"] * s.ay - c["iz"] * rdot) / l
+        af = 0.5 * (self.alpha_t[0] + self.alpha_t[1])
+        ar = 0.5 * (self.alpha_t[2] + self.alpha_t[3])
+        hf = self.stf_k[0] * (af + (s.fy[0] + s.fy[1] - ff) / slope[0])
+        hr = self.stf_k[1] * (ar + (s.fy[2] + s.fy[3] - fr) / slope[1])
+        a = 1.0 if self.stf_n == 0 else self.stf_a
+        self.stf_z += a * ((af - ar) / STF_S_Y - self.stf_z)
+        self.stf_h = self.stf_h + a * (np.array([hf, hr]) / STF_S_Y - self.stf_h)
+        self.stf_n += 1
+        if self.stf_n < self.stf_n_min or abs(self.stf_h[0]) + abs(self.stf_h[1]) < STF_H_MIN:
+            return
+        h = np.array([self.stf_h[0], -self.stf_h[1]]) * STF_S_U
+        P = self.stf_p
+        nu = self.stf_z - float(h @ self.stf_x)
+        ph = P @ h
+        k = ph / (float(h @ ph) + self.stf_r)
+        lo, hi = 1.0 / (STF_K_MAX * STF_S_U), 1.0 / (STF_K_MIN * STF_S_U)
+        self.stf_x = np.clip(self.stf_x + k * nu, lo, hi)
+        self.stf_p = P - np.outer(k, ph)
+        self.stf_p[1, 0] = self.stf_p[0, 1]
+        self._stf_condition()
+        self.stf_k = [1.0 / (float(x) * STF_S_U) for x in self.stf_x]
+        self.stf_updates += 1
 
     # ---- est_friction.c: friction -------------------------------------------
     def friction_floor(self, s):
@@ -1620,7 +1719,7 @@ class Estimator:
                 # a tire beyond its peak slip angle slides: its slip ratio
                 # follows the force's direction, not ax (up to a peak slip
                 # from one to twice the peak angle)
-                sl = max(abs(float(self.alpha_t[i])) * self.inv_apk[i >> 1] for i in range(4))
+                sl = max(abs(float(self.alpha_t[i])) * self.stf_k[i >> 1] * self.inv_apk[i >> 1] for i in range(4))
                 slip = max(slip, SLIP_MAX * _clamp(sl - 1.0, 0.0, 1.0))
             sref = (WS_TOL + min(slip, SLIP_MAX)) * abs(v_ref)
             sd = sd + kk * (sref - sd)
