@@ -58,10 +58,13 @@ void est_stiffness(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t 
     if (!c->stiff_est) {
         return;
     }
-    /* a random walk: what is not measured returns towards the prior */
-    est->stf_p[0] = r_add(est->stf_p[0], est->stf_q);
-    est->stf_p[2] = r_add(est->stf_p[2], est->stf_q);
-    stf_condition(est);
+    /* a random walk: what is not measured returns towards the prior (the
+     * variances grow, so the floor and the correlation's bound hold) */
+    {
+        grip_real_t p_max = RC((EST_STF_P0 / EST_STF_S_U) * (EST_STF_P0 / EST_STF_S_U));
+        est->stf_p[0] = r_min(r_add(est->stf_p[0], est->stf_q), p_max);
+        est->stf_p[2] = r_min(r_add(est->stf_p[2], est->stf_q), p_max);
+    }
     /* the yaw acceleration from the last step's yaw rate, when that step
      * learned too (else 0, and the low-pass starts from this step) */
     rdot = (est->stf_n > 0) ? r_mul(r_sub(s->yaw, est->stf_yaw), est->rate) : R_ZERO; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */

@@ -601,6 +601,26 @@ def _stats(a, b):
             "mean_diff": float(np.mean(a - b)), "max_abs_diff": float(np.max(np.abs(a - b)))}
 
 
+def av21_bicycle_beta(t, value, ins, cfg):
+    """The linear single-track baseline: the steady-state sideslip of the
+    configured car (mass, axle distances, the stand-in tire's cornering
+    stiffness at the static axle loads) from the logged steering command
+    lagged by the preset's steer_lag (first order) and the INS speed."""
+    lf, lr, m = cfg["lf"], cfg["lr"], cfg["mass"]
+    l = lf + lr
+    est = est_ref.Estimator(cfg)
+    cf, cr = 2.0 * est.c_alpha[0], 2.0 * est.c_alpha[1]
+    dt = float(np.median(np.diff(t)))
+    a = min(1.0, dt / AV21_VEHICLE["steer_lag"])
+    d = np.zeros(len(t))
+    for k in range(1, len(t)):
+        d[k] = d[k - 1] + a * (value[k, 4] / cfg["steer_ratio"] - d[k - 1])
+    v = np.maximum(ins["vx"], 1.0)
+    ku = m / l * (lr / cf - lf / cr)
+    r = v * d / (l + ku * v * v)
+    return r * (lr / v - m * lf * v / (l * cr))
+
+
 def av21_report(log, outdir, bins):
     """The C builds on the AV-21 log; writes av21.json and av21.png."""
     tir_path = os.path.join(outdir, "av21_standin.tir")
@@ -617,10 +637,12 @@ def av21_report(log, outdir, bins):
     print(f"est-eval av21: steering lag fit {fit['lag']:.3f} s (yaw rate RMS {fit['rms']:.4f} rad/s, "
           f"{fit['rms_no_lag']:.4f} without a lag, yaw gain {fit['gain']:.3f}, {fit['n']} samples); "
           f"preset steer_lag {AV21_VEHICLE['steer_lag']}", file=sys.stderr)
+    beta_lin = av21_bicycle_beta(t, value, ins, cfg)
     outs = {}
     for a, b in bins.items():
         outs[a] = o = run_est(b, tir_path, t, value, valid, vehicle="av21", vehicle_values=dict(EXTRA),
-                              step_ms=1000.0 / AV21_RATE_HZ)
+                              step_ms=1000.0 / AV21_RATE_HZ, keep_learned=b[0] == "binding")
+        learned = o.pop("learned", None)
         moving = ins["vx"] > 5.0
         num = [k for k in o if k not in ("valid", "flags")]
         finite = all(np.all(np.isfinite(o[k][~np.isnan(o[k])])) for k in num) and \
@@ -645,6 +667,11 @@ def av21_report(log, outdir, bins):
              "beta_vs_ins": _stats(np.where(vb & (ins["vx"] > 10.0), o["beta"], np.nan) * DEG,
                                    np.where(ins["vx"] > 10.0, beta_ins, np.nan) * DEG),
              "beta_ins_max_deg": float(np.max(np.abs(beta_ins[ins["vx"] > 10.0])) * DEG),
+             # the baselines over the same steps (V_BETA, vx > 10 m/s)
+             "beta_zero_vs_ins": _stats(np.where(vb & (ins["vx"] > 10.0), 0.0, np.nan),
+                                        np.where(ins["vx"] > 10.0, beta_ins, np.nan) * DEG),
+             "beta_bicycle_vs_ins": _stats(np.where(vb & (ins["vx"] > 10.0), beta_lin, np.nan) * DEG,
+                                           np.where(ins["vx"] > 10.0, beta_ins, np.nan) * DEG),
              "beta_est_max_deg": float(np.nanmax(np.abs(np.where(vb, o["beta"], np.nan))) * DEG),
              "yaw_rate_bias_end": float(o["yaw_rate_bias"][-1]),
              "yaw_rate_bias_range": [float(np.min(o["yaw_rate_bias"])), float(np.max(o["yaw_rate_bias"]))],
@@ -652,6 +679,8 @@ def av21_report(log, outdir, bins):
                                                       float(np.max(o["mu"][moving]))],
              "mu_conf_max": float(np.max(o["mu_conf"])),
              }
+        if learned is not None and EXTRA.get("stiff_est"):
+            r["learned"] = {k: learned[k] for k in ("k_front", "k_rear", "updates")}
         res["builds"][a] = r
         print(f"est-eval av21 {a}: {json.dumps(r)}", file=sys.stderr)
     if "float" in outs and "fixed" in outs:

@@ -1322,9 +1322,9 @@ class Estimator:
         if not c.get("stiff_est", 0):
             return
         rate = c["rate_hz"]
-        self.stf_p[0, 0] += self.stf_q
-        self.stf_p[1, 1] += self.stf_q
-        self._stf_condition()
+        p_max = (STF_P0 / STF_S_U) ** 2
+        self.stf_p[0, 0] = min(self.stf_p[0, 0] + self.stf_q, p_max)
+        self.stf_p[1, 1] = min(self.stf_p[1, 1] + self.stf_q, p_max)
         rdot = (s.yaw - self.stf_yaw) * rate if self.stf_n > 0 else 0.0
         self.stf_yaw = s.yaw
         slope = [float(np.sum(np.abs(s.dfda[0:2]))), float(np.sum(np.abs(s.dfda[2:4])))]
