@@ -99,14 +99,6 @@ typedef struct {
     float dpi_scale;     /* 1, 0 without                                   */
     float vxlow;         /* VXLOW, -1 without the low-speed model          */
     float vxlow_div;     /* VXLOW, or 1 (not used) without it              */
-    float pky5;          /* MF6_ONLY coefficients                          */
-    float pey5;
-    float rbx3;
-    float rby4;
-    float qdz10;
-    float qdz11;
-    float kyc;           /* MF_KYC, MF_KZC                                 */
-    float kzc;
 } mfl_const;
 
 /* Results of one lane. */
@@ -418,14 +410,6 @@ static void mfl_const_init(const grip_mf_prepared *k, mfl_const *c)
     c->dpi_scale = haspr ? 1.0f : 0.0f;
     c->vxlow = (p->vxlow > 0.0f) ? p->vxlow : -1.0f;
     c->vxlow_div = (p->vxlow > 0.0f) ? p->vxlow : 1.0f;
-    c->pky5 = mf52 ? 0.0f : p->pky5;
-    c->pey5 = mf52 ? 0.0f : p->pey5;
-    c->rbx3 = mf52 ? 0.0f : p->rbx3;
-    c->rby4 = mf52 ? 0.0f : p->rby4;
-    c->qdz10 = mf52 ? 0.0f : p->qdz10;
-    c->qdz11 = mf52 ? 0.0f : p->qdz11;
-    c->kyc = mf52 ? 1.0f : p->lkyc;
-    c->kzc = mf52 ? 1.0f : p->lkzc;
 }
 
 static grip_status_t mfl_eval(const grip_mf_prepared *prep, uint32_t n, const grip_mf_input *in,
