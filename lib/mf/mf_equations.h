@@ -399,6 +399,12 @@ static MF_ALWAYS_INLINE grip_real_t mf_mz_sum(grip_real_t mzr, grip_real_t t, gr
 
 /* ------------------------------------------------------ operating point */
 
+/* dpi = (p - NOMPRES) / NOMPRES (4.E2b) */
+static MF_ALWAYS_INLINE grip_real_t mf_dpi_of(grip_real_t pr, grip_real_t nompres)
+{
+    return r_div(r_sub(pr, nompres), nompres);
+}
+
 /* The load of the operating point from Fz [N] (QL), clamped: Fz / FNOMIN,
  * Fz / Fz0' with Fz0' = LFZO FNOMIN (4.E1) and dfz (4.E2a). */
 static MF_ALWAYS_INLINE void mf_load(const grip_mf_params *p, grip_real_t fz, mf_op *op)

@@ -126,7 +126,7 @@ static MF_ALWAYS_INLINE grip_real_t mf_dpi(const grip_mf_params *p, grip_real_t 
             dpi = RC(GRIP_MF_DPI_MAX);
             *clamped = 1;
         } else {
-            dpi = r_div(r_sub(pr, p->nompres), p->nompres);                          /* 4.E2b */
+            dpi = mf_dpi_of(pr, p->nompres);                                         /* 4.E2b */
         }
     }
     return dpi;

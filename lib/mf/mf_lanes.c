@@ -94,9 +94,9 @@ typedef struct {
     float dpi0_clamp;    /* 1: the default pressure is clamped, else -1     */
     float plo;           /* the pressure's domain (mf_dpi), or one that     */
     float phi;           /* nothing leaves without NOMPRES (MF 5.2)        */
-    float nom_sub;       /* NOMPRES, 0 without                             */
-    float nom_div;       /* NOMPRES, 1 without                             */
-    float dpi_scale;     /* 1, 0 without                                   */
+    float nom;           /* NOMPRES, 1 without                             */
+    float dpi_scale;     /* 1, 0 without (dpi 0: the factors' zero's sign  */
+                         /* does not matter, each is 1 + c dpi ...)        */
     float vxlow;         /* VXLOW, -1 without the low-speed model          */
     float vxlow_div;     /* VXLOW, or 1 (not used) without it              */
 } mfl_const;
@@ -174,7 +174,7 @@ static MF_ALWAYS_INLINE void mfl_point(const grip_mf_prepared *k, const mfl_cons
     {
         float plo = c->plo;
         float phi = c->phi;
-        float q = ((pr - c->nom_sub) / c->nom_div) * c->dpi_scale;                /* 4.E2b */
+        float q = r_mul(mf_dpi_of(pr, c->nom), c->dpi_scale);                    /* 4.E2b */
         float d = (pr < plo) ? (float)GRIP_MF_DPI_MIN : ((pr > phi) ? (float)GRIP_MF_DPI_MAX : q);
         int given = pr > 0.0f;
         clamped = r_max(clamped, given ? r_max(plo - pr, pr - phi) : dpi0_clamp);
@@ -405,8 +405,7 @@ static void mfl_const_init(const grip_mf_prepared *k, mfl_const *c)
     c->dpi0_clamp = ((k->flags & MF_PF_DPI0_CLAMP) != 0u) ? 1.0f : -1.0f;
     c->plo = haspr ? (float)(1.0 + GRIP_MF_DPI_MIN) * p->nompres : -FLT_MAX;
     c->phi = haspr ? (float)(1.0 + GRIP_MF_DPI_MAX) * p->nompres : FLT_MAX;
-    c->nom_sub = haspr ? p->nompres : 0.0f;
-    c->nom_div = haspr ? p->nompres : 1.0f;
+    c->nom = haspr ? p->nompres : 1.0f;
     c->dpi_scale = haspr ? 1.0f : 0.0f;
     c->vxlow = (p->vxlow > 0.0f) ? p->vxlow : -1.0f;
     c->vxlow_div = (p->vxlow > 0.0f) ? p->vxlow : 1.0f;
