@@ -16,8 +16,9 @@
  *    range mark: f32_kernels.h's grip_kf_lane_*, the guarded quotients with
  *    selections) and with the options as constants (MF 5.2 or 6.x, combined
  *    or pure: one loop per form), so that the blocks' branches compile away;
- *  - what this file writes itself is the input handling, as masks where
- *    mf_eval.c (mf_prepare, mf_finish) branches and returns early: a
+ *  - what this file writes itself is the input handling (and the
+ *    low-speed reductions of kappa and alpha), as masks and selections
+ *    where mf_eval.c (mf_prepare, mf_finish) branches and returns early: a
  *    non-finite input gives that point GRIP_ERR_INPUT and zero outputs, a
  *    clamp GRIP_WARN_CLAMPED, Fz <= 0 zero outputs and GRIP_OK, as
  *    grip_mf_eval_prepared; a lane whose kernel argument left the kernel's
