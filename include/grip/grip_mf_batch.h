@@ -7,10 +7,11 @@
  * grip_mf_eval_pure (_prepared) gives it (the same compiled code, bit for
  * bit): they add no second implementation of the equations, only the
  * loop, the checks of the arguments done once per call, and the per-point
- * statuses. The _lanes functions (at the end) are the exception: a second
- * implementation that evaluates 8 points side by side in SIMD
- * instructions, with the same statuses and outputs within the float
- * kernels' accuracy (docs/magic-formula-c.md section 7.2).
+ * statuses. The _lanes functions (at the end) are the exception: the same
+ * equations evaluated 8 points side by side in SIMD instructions, with the
+ * branch-free forms of grip's float kernels, so the same statuses and the
+ * same outputs within those kernels' accuracy (docs/magic-formula-c.md
+ * section 7.2).
  *
  * Bounded: the loop runs over the caller's n points (the lanes: in blocks
  * of GRIP_MF_LANES_N), no heap, no recursion, no state; reentrant
@@ -79,7 +80,7 @@ grip_status_t grip_mf_eval_prepared_batch(const grip_mf_prepared *prep, uint32_t
 
 /* The same as grip_mf_eval_prepared_batch (pure: with
  * grip_mf_eval_pure_prepared per point), evaluated GRIP_MF_LANES_N points
- * at a time by the lane form of the equations where GRIP_MF_LANES is 1:
+ * at a time by the lane loop over the same equations where GRIP_MF_LANES is 1:
  * the same statuses per point and in the summary, the same outputs within
  * the accuracy of grip's float kernels (f32_kernels.h), which it uses
  * whatever GRIP_FLOAT_KERNELS says: bit for bit those of

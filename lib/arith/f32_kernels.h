@@ -6,8 +6,8 @@
  * Why: libm's functions are accurate but opaque calls (an x86 call clobbers
  * every vector register; glibc's atanf is ~60 instructions); these are
  * short and inline, so the compiler schedules them with the Magic Formula
- * around them. atan, sin, cos and exp select by arithmetic and table
- * look-ups, not by a branch on the data (gcc -O2 makes atan branch-free;
+ * around them. atan, sin, cos and exp select by arithmetic, selections and
+ * table look-ups, not by a branch on the data (gcc -O2 makes atan branch-free;
  * atan2's octant test and the rare cases - NaN, the fallbacks - may become
  * well-predicted branches). Polynomials in Estrin's scheme: a Magic Formula
  * evaluation is one long dependency chain, so latency counts more than
@@ -27,6 +27,9 @@
  * |x| <= GRIP_KF_TRIG_MAX and libm's sinf/cosf beyond (and for NaN, inf);
  * exp uses it for GRIP_KF_EXP_MIN <= x <= GRIP_KF_EXP_MAX (normal results)
  * and libm's expf beyond (overflow, subnormal results, NaN, inf).
+ *
+ * The end of the file holds their branch-free forms for the lane evaluation
+ * of the Magic Formula (grip_kf_lane_*), built from the same pieces.
  *
  * Internal to lib/: not part of the public API.
  */
@@ -89,18 +92,37 @@ static const float grip_kf_oct_hi[4] = { 0.0f, GRIP_KF_PIO2_HI, GRIP_KF_PI_HI, G
 static const float grip_kf_oct_lo[4] = { 0.0f, GRIP_KF_PIO2_LO, GRIP_KF_PI_LO, GRIP_KF_PIO2_LO };
 static const float grip_kf_oct_s[4] = { 1.0f, -1.0f, -1.0f, 1.0f };
 
+/* The result of atan and atan2 from atan(t) = p and the octant's offset
+ * hi + lo and sign s, with the sign of y. */
+static inline float grip_kf_oct(float p, float hi, float lo, float s, float y)
+{
+    return copysignf(hi + (s * p + lo), y);
+}
+
+/* min(a, 1/a) for a = |x| >= 0 (NaN stays NaN), 1/a computed whatever a
+ * (so that no branch depends on the data): + FLT_MIN changes nothing for
+ * a >= 1 and keeps 0 from being a divisor; below 1 the quotient is >= 1
+ * and the minimum drops it. */
+static inline float grip_kf_atan_t(float a)
+{
+    float inv = 1.0f / (a + GRIP_KF_FLT_MIN);
+    return (inv < a) ? inv : a;
+}
+
+/* min(ax, ay) / max(ax, ay), 0 / 1 when both are zero (atan2's argument). */
+static inline float grip_kf_atan2_t(float ax, float ay)
+{
+    float mx = (ay > ax) ? ay : ax;
+    float mn = (ay > ax) ? ax : ay;
+    return mn / ((mx > 0.0f) ? mx : 1.0f);
+}
+
 static inline float grip_kf_atan(float x)
 {
     float a = fabsf(x);
     uint32_t big = (a > 1.0f) ? 1u : 0u;
-    /* 1/|x|, computed whatever |x| (so that no branch depends on the data):
-     * + FLT_MIN changes nothing for |x| >= 1 and keeps 0 from being a
-     * divisor; below 1 the quotient is >= 1 and the minimum drops it */
-    float inv = 1.0f / (a + GRIP_KF_FLT_MIN);
-    float t = (inv < a) ? inv : a;                /* min(|x|, 1/|x|); NaN stays NaN */
-    float p = grip_kf_atan01(t);
-    float r = grip_kf_oct_hi[big] + (grip_kf_oct_s[big] * p + grip_kf_oct_lo[big]);
-    return copysignf(r, x);
+    float p = grip_kf_atan01(grip_kf_atan_t(a));
+    return grip_kf_oct(p, grip_kf_oct_hi[big], grip_kf_oct_lo[big], grip_kf_oct_s[big], x);
 }
 
 static inline float grip_kf_atan2(float y, float x)
@@ -108,26 +130,20 @@ static inline float grip_kf_atan2(float y, float x)
     float ax = fabsf(x);
     float ay = fabsf(y);
     uint32_t oct;
-    float mx;
-    float mn;
     float t;
     float p;
-    float r;
     if ((x != x) || (y != y)) {
         return x + y;                             /* NaN in, NaN out */
     }
     /* octant: + 1 when |y| > |x| (the angle is pi/2 - atan(|x|/|y|)),
      * + 2 when x < 0 or x = -0 (pi - ...) */
     oct = ((ay > ax) ? 1u : 0u) + ((grip_kf_bits(x) >> 30) & 2u);
-    mx = (ay > ax) ? ay : ax;
-    mn = (ay > ax) ? ax : ay;
-    t = mn / ((mx > 0.0f) ? mx : 1.0f);           /* both zero: 0 / 1 */
+    t = grip_kf_atan2_t(ax, ay);
     if (t != t) {
         t = 1.0f;                                 /* inf / inf: the diagonal */
     }
     p = grip_kf_atan01(t);
-    r = grip_kf_oct_hi[oct] + (grip_kf_oct_s[oct] * p + grip_kf_oct_lo[oct]);
-    return copysignf(r, y);
+    return grip_kf_oct(p, grip_kf_oct_hi[oct], grip_kf_oct_lo[oct], grip_kf_oct_s[oct], y);
 }
 
 /* sin x and cos x for |x| <= GRIP_KF_TRIG_MAX: x = m pi/2 + r with m even
@@ -137,34 +153,56 @@ static inline float grip_kf_atan2(float y, float x)
  * 1.5 2^24 added and subtracted, which rounds x 2/pi to an even integer. The
  * four parts of pi/2 are positive and have 17 bits, so m times each is
  * exact and the first subtraction is exact wherever r is small (Sterbenz);
- * a zero x has m = 0 and stays a zero of its sign. The sign is applied to r
- * before the polynomial (sin is odd: the same bits), off the dependency
- * chain. */
-static const float grip_kf_sign[2] = { 1.0f, -1.0f };
+ * a zero x has m = 0 and stays a zero of its sign. The sign (neg: negate)
+ * is applied to r before the polynomial (sin is odd: the same bits), off
+ * the dependency chain, by a selection rather than a table, so that the lane
+ * forms below share this function (gcc vectorizes the selection well; a
+ * sign selected by the caller and passed in as a factor cost the lane
+ * evaluation 13 % more instructions). */
 
 static inline float grip_kf_sin_poly(float x, float mf, uint32_t neg)
 {
     float r = (((x - mf * GRIP_KF_PIO2_1) - mf * GRIP_KF_PIO2_2) - mf * GRIP_KF_PIO2_3) - mf * GRIP_KF_PIO2_4;
     float z = r * r;
     float p = (GRIP_KF_SIN_1 * z + GRIP_KF_SIN_0) + (z * z) * (GRIP_KF_SIN_3 * z + GRIP_KF_SIN_2);
-    r = r * grip_kf_sign[neg];
+    r = r * ((neg != 0u) ? -1.0f : 1.0f);
     /* r + r^3 p, except where z is zero (r = 0, or |r| below 2^-75 where the
      * term is nothing): there r itself, which keeps the sign of a zero */
     return (z == 0.0f) ? r : (r + (r * z) * p);
 }
 
+/* m of sin (even) and of cos (odd), and whether the result changes sign:
+ * m/2 odd (sin), (m+1)/2 odd (cos) */
+static inline float grip_kf_sin_m(float x)
+{
+    return (x * GRIP_KF_2_OVER_PI + GRIP_KF_SHIFTER2) - GRIP_KF_SHIFTER2;
+}
+
+static inline float grip_kf_cos_m(float x)
+{
+    return (((x * GRIP_KF_2_OVER_PI - 1.0f) + GRIP_KF_SHIFTER2) - GRIP_KF_SHIFTER2) + 1.0f;
+}
+
+static inline uint32_t grip_kf_sin_neg(float mf)
+{
+    return ((uint32_t)(int32_t)mf >> 1) & 1u;
+}
+
+static inline uint32_t grip_kf_cos_neg(float mf)
+{
+    return (((uint32_t)(int32_t)mf >> 1) & 1u) ^ 1u;
+}
+
 static inline float grip_kf_sin_k(float x)
 {
-    float mf = (x * GRIP_KF_2_OVER_PI + GRIP_KF_SHIFTER2) - GRIP_KF_SHIFTER2;       /* even */
-    uint32_t neg = ((uint32_t)(int32_t)mf >> 1) & 1u;                              /* m/2 odd */
-    return grip_kf_sin_poly(x, mf, neg);
+    float mf = grip_kf_sin_m(x);
+    return grip_kf_sin_poly(x, mf, grip_kf_sin_neg(mf));
 }
 
 static inline float grip_kf_cos_k(float x)
 {
-    float mf = (((x * GRIP_KF_2_OVER_PI - 1.0f) + GRIP_KF_SHIFTER2) - GRIP_KF_SHIFTER2) + 1.0f; /* odd */
-    uint32_t neg = (((uint32_t)(int32_t)mf >> 1) & 1u) ^ 1u;                       /* (m+1)/2 odd */
-    return grip_kf_sin_poly(x, mf, neg);
+    float mf = grip_kf_cos_m(x);
+    return grip_kf_sin_poly(x, mf, grip_kf_cos_neg(mf));
 }
 
 static inline float grip_kf_sin(float x)
@@ -197,22 +235,96 @@ static inline void grip_kf_sincos(float x, float *s, float *c)
 
 /* e^x = 2^k e^r, x = k ln 2 + r, |r| <= ln(2)/2 (a little more where x/ln 2
  * rounds); 2^k from its bits. */
+static inline float grip_kf_exp_k(float x)
+{
+    float kf = (x * GRIP_KF_LOG2E + GRIP_KF_SHIFTER) - GRIP_KF_SHIFTER;
+    int32_t k = (int32_t)kf;
+    float r = (x - kf * GRIP_KF_LN2_HI) - kf * GRIP_KF_LN2_LO;
+    float r2 = r * r;
+    float p = (GRIP_KF_EXP_1 * r + GRIP_KF_EXP_0) + r2 * ((GRIP_KF_EXP_3 * r + GRIP_KF_EXP_2) + r2 * GRIP_KF_EXP_4);
+    return (1.0f + (r + r * (r * p))) * grip_kf_float((uint32_t)(k + 127) << 23);
+}
+
 static inline float grip_kf_exp(float x)
 {
-    float kf;
-    float r;
-    float r2;
-    float p;
-    int32_t k;
     if (!((x >= GRIP_KF_EXP_MIN) && (x <= GRIP_KF_EXP_MAX))) {
         return expf(x);
     }
-    kf = (x * GRIP_KF_LOG2E + GRIP_KF_SHIFTER) - GRIP_KF_SHIFTER;
-    k = (int32_t)kf;
-    r = (x - kf * GRIP_KF_LN2_HI) - kf * GRIP_KF_LN2_LO;
-    r2 = r * r;
-    p = (GRIP_KF_EXP_1 * r + GRIP_KF_EXP_0) + r2 * ((GRIP_KF_EXP_3 * r + GRIP_KF_EXP_2) + r2 * GRIP_KF_EXP_4);
-    return (1.0f + (r + r * (r * p))) * grip_kf_float((uint32_t)(k + 127) << 23);
+    return grip_kf_exp_k(x);
+}
+
+/* ------------------------------------------------------------------------
+ * Branch-free forms, for the lane evaluation of the Magic Formula
+ * (lib/mf/mf_lanes.c, through the kernel names of lib/mf/mf_equations.h):
+ * built from the same pieces as the kernels above, so the same operations
+ * and bits wherever the argument is inside the kernel's own range, but with
+ * selections where those index a table and without the libm fallbacks: an
+ * argument outside that range, or not finite, marks *bad (grip_kf_lane_mark)
+ * and the result is not to be used (the caller evaluates that point again
+ * with the scalar kernels). No call, no branch, no table: a loop of them is
+ * vectorized by the compiler.
+ */
+
+/* *bad, starting at -1, becomes > 0 when t > 0 (t: how far an argument is
+ * outside its kernel's range, <= 0 inside), NaN when x is not finite (x - x
+ * is 0, or NaN for an infinite or NaN x). A number, not a flag: gcc 12 does
+ * not vectorize the selections of flags that its jump threading makes of
+ * flags set under other selections. */
+static inline void grip_kf_lane_mark(float *bad, float t, float x)
+{
+    *bad = ((t > *bad) ? t : *bad) + (x - x);
+}
+
+/* grip_kf_atan (every float) */
+static inline float grip_kf_lane_atan(float x)
+{
+    float a = fabsf(x);
+    int big = a > 1.0f;
+    float p = grip_kf_atan01(grip_kf_atan_t(a));
+    return grip_kf_oct(p, big ? GRIP_KF_PIO2_HI : 0.0f, big ? GRIP_KF_PIO2_LO : 0.0f, big ? -1.0f : 1.0f, x);
+}
+
+/* grip_kf_atan2 where x and y are finite; else *bad */
+static inline float grip_kf_lane_atan2(float y, float x, float *bad)
+{
+    float ax = fabsf(x);
+    float ay = fabsf(y);
+    int sw = ay > ax;                        /* octant + 1 */
+    int neg = copysignf(1.0f, x) < 0.0f;     /* octant + 2: x < 0 or x = -0 */
+    float p = grip_kf_atan01(grip_kf_atan2_t(ax, ay));
+    float hi = neg ? (sw ? GRIP_KF_PIO2_HI : GRIP_KF_PI_HI) : (sw ? GRIP_KF_PIO2_HI : 0.0f);
+    float lo = neg ? (sw ? GRIP_KF_PIO2_LO : GRIP_KF_PI_LO) : (sw ? GRIP_KF_PIO2_LO : 0.0f);
+    float s = (sw != neg) ? -1.0f : 1.0f;
+    grip_kf_lane_mark(bad, -1.0f, x + y);
+    return grip_kf_oct(p, hi, lo, s, y);
+}
+
+/* grip_kf_sin, grip_kf_cos for |x| <= GRIP_KF_TRIG_MAX; else *bad (the
+ * argument is replaced by 0 before it is converted to an integer) */
+static inline float grip_kf_lane_sin(float x, float *bad)
+{
+    float xs = (fabsf(x) <= GRIP_KF_TRIG_MAX) ? x : 0.0f;
+    float mf = grip_kf_sin_m(xs);
+    grip_kf_lane_mark(bad, fabsf(x) - GRIP_KF_TRIG_MAX, x);
+    return grip_kf_sin_poly(xs, mf, grip_kf_sin_neg(mf));
+}
+
+static inline float grip_kf_lane_cos(float x, float *bad)
+{
+    float xs = (fabsf(x) <= GRIP_KF_TRIG_MAX) ? x : 0.0f;
+    float mf = grip_kf_cos_m(xs);
+    grip_kf_lane_mark(bad, fabsf(x) - GRIP_KF_TRIG_MAX, x);
+    return grip_kf_sin_poly(xs, mf, grip_kf_cos_neg(mf));
+}
+
+/* grip_kf_exp for GRIP_KF_EXP_MIN <= x <= GRIP_KF_EXP_MAX; else *bad */
+static inline float grip_kf_lane_exp(float x, float *bad)
+{
+    float lo = GRIP_KF_EXP_MIN - x;
+    float hi = x - GRIP_KF_EXP_MAX;
+    float xs = ((lo <= 0.0f) & (hi <= 0.0f)) ? x : 0.0f;
+    grip_kf_lane_mark(bad, (lo > hi) ? lo : hi, x);
+    return grip_kf_exp_k(xs);
 }
 
 #endif /* GRIP_F32_KERNELS_H */

@@ -22,287 +22,41 @@
  * twice: the plain variants (ext = 0, ts = NULL, called by grip_mf_eval
  * and grip_mf_eval_pure) fold to the model without the use modes - the
  * same code, cost and stack as before they existed - and the _x variants
- * carry them.
+ * carry them. Those blocks, the equations of the model, are in
+ * mf_equations.h, which the lane evaluation (mf_lanes.c) is built from as
+ * well; this file calls them with the scalar kernels (mk NULL) and holds
+ * the rest: the input checks, clamps and statuses, the order of the
+ * blocks, the use modes, and the functions whose frames the stack budget
+ * counts.
  */
-#include "mf_internal.h"
+#include "mf_equations.h"
 
 
-/* Coefficients that MF 5.2 does not have (PKY5, PEY5, RBX3, RBY4, QDZ10,
- * QDZ11): zero for FITTYP 5, 6, 21 whatever the set holds. */
-#define MF6_ONLY(op, coef) ((op)->mf52 ? R_ZERO : (coef))
-
-/* Pure longitudinal slip. */
-typedef struct {
-    grip_real_t fx0;     /* Fx0 / Fz                                           */
-    grip_real_t kxk;     /* Kxk / Fz                                           */
-} mf_long;
-
-/* Pure lateral slip at one inclination. */
-typedef struct {
-    grip_real_t fy0;     /* Fy0 / Fz                                           */
-    grip_real_t muy;
-    grip_real_t kya;     /* Kya / Fz (per rad)                                 */
-    grip_real_t shy;
-    grip_real_t svy;     /* SVy / Fz                                           */
-    grip_real_t by;
-    grip_real_t cy;
-} mf_lat;
-
-/* Aligning-moment coefficients (pure slip). */
-typedef struct {
-    grip_real_t alpha_r; /* alpha_r = alpha* + SHf                   (4.E37)   */
-    grip_real_t alpha_t; /* alpha_t = alpha* + SHt                   (4.E34)   */
-    grip_real_t dt;      /* Dt / UNLOADED_RADIUS                               */
-    grip_real_t bt;
-    grip_real_t ct;
-    grip_real_t et;
-    grip_real_t br;
-    grip_real_t dr;      /* Dr / (Fz * UNLOADED_RADIUS)                        */
-} mf_trail;
-
-/* The turn slip of one evaluation (mf_ts_begin, mf_ts_moment): the spin
- * and the zeta factors, each times what MFeval multiplies by it (zeta5
- * and zeta6 are formed where they act, mf_trail_coefs_x). */
-typedef struct {
-    grip_real_t u;       /* R0 phi: the spin (turn slip and camber), limited   */
-                         /* to +-MF_TS_U_MAX                                   */
-    grip_real_t ut;      /* R0 phit_e: the turn slip as MFeval processes it    */
-    grip_real_t one_eg;  /* 1 - eps_gamma, eps_gamma = PECP1 (1 + PECP2 dfz)   */
-    grip_real_t gabs;    /* |gamma| (the inclination, not gamma*)              */
-    grip_real_t z1;      /* zeta1: Dx, SVx                            (4.105)  */
-    grip_real_t z2;      /* zeta2: Dy, SVy, SVyg, DVyk, Dr's LRES term (4.77)  */
-    grip_real_t z3;      /* zeta3: Kya                                 (4.79)  */
-    grip_real_t shyp;    /* SHyp, the shift that replaces the camber shift of  */
-                         /* Fy (MF 6.x)                                (4.80)  */
-    grip_real_t cr;      /* Cr = zeta7 of the residual moment          (4.E46) */
-    grip_real_t re;      /* in: Re / R0 for the estimate of Omega (mf_ts_radius), */
-                         /* 0 when Omega is given or Re cannot be formed       */
-    int camber;          /* GRIP_MF_OPT_TS_CAMBER                              */
-} mf_ts;
 
 /* |R0 phi| beyond this is limited: (PKYP1 R0^2 phi^2 stays in QS); reached
  * only by spins beyond the input domain (|phit| <= 100 1/m with R0 < 1.5 m). */
 #define MF_TS_U_MAX RC(150.0)
 
-/* ---------------------------------------------------------------- Fx0 */
-static MF_ALWAYS_INLINE void mf_long_pure(const grip_mf_params *p, const mf_op *op, const mf_ts *ts,
-                                          grip_real_t emax, mf_long *out)
-{
-    grip_real_t dfz = op->dfz;
-    grip_real_t shx = r_mul(r_mul(r_add(p->phx1, r_mul(p->phx2, dfz)), p->lhx), op->smooth); /* 4.E17 */
-    grip_real_t kx = r_add(op->kappa, shx);                                          /* 4.E10 */
-    grip_real_t cx = r_mul(p->pcx1, p->lcx);                                         /* 4.E11 */
-    grip_real_t mux = mf_mux_dp(p, dfz, mf_dp(p, op->dp, op->dpi, MF_DP_PX_MU), op->gmux, op->lmux_s);  /* 4.E13 */
-    grip_real_t dx = (ts != NULL) ? r_mul(mux, ts->z1) : mux;                        /* 4.E12 */
-    grip_real_t ex = r_mul(r_mul(r_add(p->pex1, r_add(r_mul(p->pex2, dfz), r_mul(p->pex3, r_sq(dfz)))),
-                                 r_sub(R_ONE, r_mul(p->pex4, r_sign(kx)))),
-                           p->lex);                                                  /* 4.E14 */
-    /* Kxk / Fz: the slip stiffness per unit load, so that Bx is formed
-     * without dividing two loads (4.E15, 4.E16). */
-    grip_real_t kx_per = r_mul(r_mul(r_mul(r_add(p->pkx1, r_mul(p->pkx2, dfz)), r_exp(r_mul(p->pkx3, dfz))),
-                                     mf_dp(p, op->dp, op->dpi, MF_DP_PX_K)),
-                               p->lkx);
-    grip_real_t bx = mf_div_lim(kx_per, r_mul(cx, dx), MF_LIM_B);                    /* 4.E16 */
-    grip_real_t svx = r_mul(r_mul(r_mul(r_add(p->pvx1, r_mul(p->pvx2, dfz)), p->lvx), op->lmux_p),
-                            op->smooth);                                             /* 4.E18 */
-    if (ts != NULL) {
-        svx = r_mul(svx, ts->z1);
-    }
-    ex = r_min(ex, emax);
-    out->fx0 = r_add(mf_sin_curve(bx, cx, dx, ex, kx), svx);                        /* 4.E9 */
-    out->kxk = kx_per;
-}
-
-/* ---------------------------------------------------------------- Fy0 */
-
-/* The factors of the pure lateral force that do not depend on the
- * inclination: formed once per evaluation, shared by Fy0 at gamma* and, for
- * the aligning moment of MF 6.x, Fy0 at gamma = 0. */
-typedef struct {
-    grip_real_t kyb;     /* PKY1 (1 + PPY1 dpi)                                */
-    grip_real_t kyd;     /* 1 + PPY2 dpi                                       */
-    grip_real_t mub;     /* (PDY1 + PDY2 dfz)(1 + PPY3 dpi + PPY4 dpi^2)       */
-    grip_real_t svb;     /* (PVY1 + PVY2 dfz) LVY LMUY'                        */
-    grip_real_t shb;     /* (PHY1 + PHY2 dfz) LHY                              */
-    grip_real_t eyb;     /* PEY1 + PEY2 dfz                                    */
-    grip_real_t cy;      /* PCY1 LCY                                           */
-} mf_lat_common;
-
-static MF_ALWAYS_INLINE void mf_lat_common_init(const grip_mf_params *p, const mf_op *op, mf_lat_common *c)
-{
-    grip_real_t dfz = op->dfz;
-    c->kyb = mf_dp(p, op->dp, op->dpi, MF_DP_KYB);
-    c->kyd = mf_dp(p, op->dp, op->dpi, MF_DP_KYD);
-    c->mub = r_mul(r_add(p->pdy1, r_mul(p->pdy2, dfz)), mf_dp(p, op->dp, op->dpi, MF_DP_PY_MU));
-    c->svb = r_mul(r_mul(r_add(p->pvy1, r_mul(p->pvy2, dfz)), p->lvy), op->lmuy_p);
-    c->shb = r_mul(r_add(p->phy1, r_mul(p->phy2, dfz)), p->lhy);
-    c->eyb = r_add(p->pey1, r_mul(p->pey2, dfz));
-    c->cy = r_mul(p->pcy1, p->lcy);                                                               /* 4.E21 */
-}
-
-/* Pure lateral force at inclination g (gamma*, scaled for MF 5.2), with the
- * turn slip of ts when not NULL; emax limits Ey. */
-static MF_ALWAYS_INLINE void mf_lat_body(const grip_mf_params *p, const mf_op *op, const mf_lat_common *c,
-                                         grip_real_t g, const mf_ts *ts, grip_real_t emax, mf_lat *out)
-{
-    grip_real_t dfz = op->dfz;
-    grip_real_t g2 = r_sq(g);
-    /* Cornering stiffness (4.E25); the arctangent of a quotient whose
-     * denominator PKY2 + PKY5 gamma^2 may pass through zero. */
-    grip_real_t den = r_mul(r_add(p->pky2, r_mul(MF6_ONLY(op, p->pky5), g2)), c->kyd);
-    /* Kya / Fz = PKY1 (Fz0' / Fz) sin(PKY4 atan(...)) (...): the sine divided
-     * by Fz / Fz0' (finite as Fz -> 0, where the sine is ~ PKY4 Fz / Fz0'). */
-    grip_real_t kya = r_mul(r_mul(r_mul(c->kyb, r_sub(R_ONE, r_mul(p->pky3, r_abs(g)))),
-                                  mf_div_lim(r_sin(r_mul(p->pky4, mf_atan_ratio(op->fzp, den))), op->fzp, MF_LIM_B)),
-                            p->lky);
-    grip_real_t muy = r_mul(r_mul(c->mub, r_sub(R_ONE, r_mul(p->pdy3, g2))), op->lmuy_s);         /* 4.E23 */
-    grip_real_t dy = muy;                                                                         /* 4.E22 */
-    grip_real_t svyg = r_mul(r_mul(r_mul(r_add(p->pvy3, r_mul(p->pvy4, dfz)), g), MF_KYC(p, op)), op->lmuy_p); /* 4.E28 */
-    grip_real_t svb = c->svb;
-    grip_real_t svy;
-    grip_real_t shy = c->shb;
-    grip_real_t ay;
-    grip_real_t cy = c->cy;
-    grip_real_t ey;
-    grip_real_t by;
-    if (ts != NULL) {
-        /* turn slip: Kya times zeta3, Dy, SVy (with SVyg) times zeta2 */
-        kya = r_mul(kya, ts->z3);
-        dy = r_mul(dy, ts->z2);
-        svyg = r_mul(svyg, ts->z2);
-        svb = r_mul(svb, ts->z2);
-    }
-    svy = r_add(svb, svyg);                                                                       /* 4.E29 */
-    if (op->mf52) {
-        /* MF 5.2: camber shift PHY3 * gamma_y (MFeval keeps it with turn
-         * slip: SHyp does not enter the MF 5.2 shift). */
-        shy = r_add(shy, r_mul(p->phy3, g));
-    } else if (ts != NULL) {
-        /* 4.E27 with zeta0 = 0, zeta4 = 1 + SHyp - SVyg / Kya' (4.84): the
-         * turn-slip shift replaces the camber shift */
-        shy = r_add(shy, r_sub(ts->shyp, mf_div_lim(svyg, kya, MF_LIM_SHIFT)));
-    } else {
-        /* MF 6.x: the camber shift follows from the camber stiffness Kyg0
-         * (4.E30) and SVyg (4.E27). */
-        grip_real_t kyg0 = r_mul(r_mul(r_add(p->pky6, r_mul(p->pky7, dfz)), mf_dp(p, op->dp, op->dpi, MF_DP_PY_G)), MF_KYC(p, op));
-        shy = r_add(shy, mf_div_lim(r_sub(r_mul(kyg0, g), svyg), kya, MF_LIM_SHIFT));
-    }
-    /* Low speed: the shifts fade out with the speed. */
-    shy = r_mul(shy, op->smooth);
-    svy = r_mul(svy, op->smooth);
-    ay = r_add(op->alpha, shy);                                                                   /* 4.E20 */
-    ey = r_mul(r_mul(c->eyb,
-                     r_sub(r_add(R_ONE, r_mul(MF6_ONLY(op, p->pey5), g2)),
-                           r_mul(r_add(p->pey3, r_mul(p->pey4, g)), mf_sign1(ay)))),
-               p->ley);                                                                           /* 4.E24 */
-    ey = r_min(ey, emax);
-    by = mf_div_lim(kya, r_mul(cy, dy), MF_LIM_B);                                                /* 4.E26 */
-    out->fy0 = r_add(mf_sin_curve(by, cy, dy, ey, ay), svy);                                      /* 4.E19 */
-    out->muy = muy;
-    out->kya = kya;
-    out->shy = shy;
-    out->svy = svy;
-    out->by = by;
-    out->cy = cy;
-}
-
-/* ------------------------------------------------- Mz0 coefficients */
-static MF_ALWAYS_INLINE void mf_trail_body(const grip_mf_params *p, const mf_op *op, const mf_lat *lat,
-                                           grip_real_t emax, mf_trail *out)
-{
-    grip_real_t dfz = op->dfz;
-    grip_real_t g = op->gz;
-    grip_real_t ga = r_abs(g);
-    grip_real_t ky_mu = op->ky_mu;                                          /* LKY / LMUY* */
-    grip_real_t sht = r_add(r_add(p->qhz1, r_mul(p->qhz2, dfz)), r_mul(r_add(p->qhz3, r_mul(p->qhz4, dfz)), g));
-    /* grip-deviation: clang-analyzer-core.CallAndMessage false positive: mf_lat_pure writes every field of *lat (the analyzer stops following mf_lat_body) */
-    grip_real_t shf = r_add(lat->shy, mf_div_lim(lat->svy, lat->kya, MF_LIM_SHIFT));              /* 4.E38 */
-    grip_real_t dt_cam;
-    grip_real_t bt_cam;
-    grip_real_t dt;
-    grip_real_t bt;
-    grip_real_t et;
-    grip_real_t dr_cam;
-    grip_real_t dr;
-    if (op->book && !op->mf52) {
-        /* Book 6.1: |gamma*| in Dt (4.E43) and QBZ5 |gamma*| + QBZ6 gamma*^2 in Bt (4.E40). */
-        dt_cam = r_add(R_ONE, r_add(r_mul(p->qdz3, ga), r_mul(p->qdz4, r_sq(g))));
-        bt_cam = r_add(R_ONE, r_add(r_mul(p->qbz5, ga), r_mul(p->qbz6, r_sq(g))));
-    } else {
-        /* MF-Tyre (and MF 5.2): QDZ3 gamma, QBZ4 gamma + QBZ5 |gamma|. */
-        dt_cam = r_add(R_ONE, r_add(r_mul(p->qdz3, g), r_mul(p->qdz4, r_sq(g))));
-        bt_cam = r_add(R_ONE, r_add(r_mul(p->qbz4, g), r_mul(p->qbz5, ga)));
-    }
-    /* Dt / R0 = (Fz / Fz0') (QDZ1 + QDZ2 dfz)(1 - PPZ1 dpi) (...) LTR  (4.E42-43) */
-    dt = r_mul(r_mul(r_mul(r_mul(op->fzp, r_add(p->qdz1, r_mul(p->qdz2, dfz))), mf_dp(p, op->dp, op->dpi, MF_DP_PZ_T)),
-                     dt_cam),
-               p->ltr);
-    bt = r_mul(r_mul(r_add(p->qbz1, r_add(r_mul(p->qbz2, dfz), r_mul(p->qbz3, r_sq(dfz)))), bt_cam), ky_mu);
-    out->alpha_t = r_add(op->alpha, sht);                                                        /* 4.E34 */
-    out->alpha_r = r_add(op->alpha, shf);                                                        /* 4.E37 */
-    out->ct = p->qcz1;                                                                           /* 4.E41 */
-    et = r_mul(r_add(p->qez1, r_add(r_mul(p->qez2, dfz), r_mul(p->qez3, r_sq(dfz)))),
-               r_add(R_ONE, r_mul(r_mul(r_add(p->qez4, r_mul(p->qez5, g)), MF_2_OVER_PI),
-                                  r_atan(r_mul(r_mul(bt, out->ct), out->alpha_t)))));            /* 4.E44 */
-    out->et = r_min(et, emax);
-    out->dt = dt;
-    out->bt = bt;
-    out->br = r_add(r_mul(p->qbz9, ky_mu), r_mul(r_mul(p->qbz10, lat->by), lat->cy));            /* 4.E45 */
-    /* Dr / (Fz R0)                                                         (4.E47) */
-    dr_cam = r_mul(r_mul(r_add(r_mul(r_add(p->qdz8, r_mul(p->qdz9, dfz)), mf_dp(p, op->dp, op->dpi, MF_DP_PZ_R)),
-                               r_mul(r_add(MF6_ONLY(op, p->qdz10), r_mul(MF6_ONLY(op, p->qdz11), dfz)), ga)),
-                         g),
-                   MF_KZC(p, op));
-    dr = r_mul(r_add(r_mul(r_add(p->qdz6, r_mul(p->qdz7, dfz)), p->lres), dr_cam), op->lmuy_s);
-    /* sgn(Vcx) cos'(alpha), with |Vx| for Vx (see mf_prepare). */
-    out->dr = r_mul(dr, op->cosa);
-}
-
-/* Trail t / R0 at a (possibly equivalent) trail slip angle a (4.E33, 4.E73). */
-static grip_real_t mf_trail_at(const mf_op *op, const mf_trail *tc, grip_real_t a)
-{
-    return r_mul(r_mul(tc->dt, mf_cos_curve(tc->bt, tc->ct, tc->et, a)), op->cosa);
-}
-
-/* Residual moment Mzr / (Fz R0) at a residual slip angle a, Cr = 1 (4.E36). */
-static grip_real_t mf_residual_at(const mf_trail *tc, grip_real_t a)
-{
-    return r_mul(tc->dr, r_cos_atan(r_mul(tc->br, a)));
-}
-
-/* Combined-slip weighting function of Fy (4.E59-E65) at inclination g. */
-static MF_ALWAYS_INLINE grip_real_t mf_gyk_body(const grip_mf_params *p, const mf_op *op, grip_real_t g,
-                                                grip_real_t emax)
-{
-    grip_real_t shyk = r_add(p->rhy1, r_mul(p->rhy2, op->dfz));                                   /* 4.E65 */
-    grip_real_t eyk = r_min(r_add(p->rey1, r_mul(p->rey2, op->dfz)), emax);     /* 4.E64 */
-    grip_real_t byk = r_mul(r_mul(r_add(p->rby1, r_mul(MF6_ONLY(op, p->rby4), r_sq(g))),
-                                  r_cos_atan(r_mul(p->rby2, r_sub(op->alpha, p->rby3)))),
-                            p->lyka);                                                             /* 4.E62 */
-    grip_real_t ks = r_add(op->kappa, shyk);                                                      /* 4.E61 */
-    return mf_div_lim(mf_cos_curve(byk, p->rcy1, eyk, ks), mf_cos_curve(byk, p->rcy1, eyk, shyk), MF_LIM_G);
-}
-
 /* The plain (grip_mf_eval, grip_mf_eval_pure) and extended (mf_eval_core_use)
- * variants of the blocks above: separate functions with frames of their
- * own, as the blocks were before the use modes (the _x ones kept out of
- * line: GCC inlined some into the extended evaluation, whose frame then
- * outgrew the stack budget). */
+ * variants of the blocks of mf_equations.h, with the scalar kernels (mk
+ * NULL): separate functions with frames of their own, as the blocks were
+ * before the use modes (the _x ones kept out of line: GCC inlined some into
+ * the extended evaluation, whose frame then outgrew the stack budget). */
 static void mf_lat_pure(const grip_mf_params *p, const mf_op *op, const mf_lat_common *c, grip_real_t g,
                         mf_lat *out)
 {
-    mf_lat_body(p, op, c, g, NULL, R_ONE, out);
+    mf_lat_body(p, op, c, g, NULL, R_ONE, NULL, out);
 }
 
 static MF_NOINLINE void mf_lat_pure_x(const grip_mf_params *p, const mf_op *op, const mf_lat_common *c,
                                       grip_real_t g, const mf_ts *ts, grip_real_t emax, mf_lat *out)
 {
-    mf_lat_body(p, op, c, g, ts, emax, out);
+    mf_lat_body(p, op, c, g, ts, emax, NULL, out);
 }
 
 static void mf_trail_coefs(const grip_mf_params *p, const mf_op *op, const mf_lat *lat, mf_trail *out)
 {
-    mf_trail_body(p, op, lat, R_ONE, out);
+    mf_trail_body(p, op, lat, R_ONE, NULL, out);
 }
 
 /* with turn slip (ts not NULL): Dt times zeta5 (4.91, 4.E43), Br times
@@ -310,7 +64,7 @@ static void mf_trail_coefs(const grip_mf_params *p, const mf_op *op, const mf_la
 static MF_NOINLINE void mf_trail_coefs_x(const grip_mf_params *p, const mf_op *op, const mf_lat *lat,
                                          const mf_ts *ts, grip_real_t emax, mf_trail *out)
 {
-    mf_trail_body(p, op, lat, emax, out);
+    mf_trail_body(p, op, lat, emax, NULL, out);
     if (ts != NULL) {
         out->dt = r_mul(out->dt, r_cos_atan(r_mul(p->qdtp1, ts->u)));
         out->br = r_mul(out->br, r_cos_atan(r_mul(p->qbrp1, ts->u)));
@@ -319,12 +73,30 @@ static MF_NOINLINE void mf_trail_coefs_x(const grip_mf_params *p, const mf_op *o
 
 static grip_real_t mf_gyk(const grip_mf_params *p, const mf_op *op, grip_real_t g)
 {
-    return mf_gyk_body(p, op, g, R_ONE);
+    return mf_gyk_body(p, op, g, R_ONE, NULL);
 }
 
 static MF_NOINLINE grip_real_t mf_gyk_x(const grip_mf_params *p, const mf_op *op, grip_real_t g, grip_real_t emax)
 {
-    return mf_gyk_body(p, op, g, emax);
+    return mf_gyk_body(p, op, g, emax, NULL);
+}
+
+/* Trail t / R0 at a (possibly equivalent) trail slip angle a (4.E33, 4.E73). */
+static grip_real_t mf_trail_at(const mf_op *op, const mf_trail *tc, grip_real_t a)
+{
+    return mf_trail_at_k(op, tc, a, NULL);
+}
+
+/* Residual moment Mzr / (Fz R0) at a residual slip angle a, Cr = 1 (4.E36). */
+static grip_real_t mf_residual_at(const mf_trail *tc, grip_real_t a)
+{
+    return mf_residual_at_k(tc, a);
+}
+
+/* The equivalent slip angle of the combined aligning moment (4.E77-78). */
+static grip_real_t mf_alpha_eq(const mf_op *op, grip_real_t a, grip_real_t kxk, grip_real_t kya)
+{
+    return mf_alpha_eq_k(op->book, op->kappa, a, kxk, kya, NULL);
 }
 
 /* The limit of the curvature factors E of an extended evaluation: 1 in
@@ -354,7 +126,7 @@ static MF_ALWAYS_INLINE grip_real_t mf_dpi(const grip_mf_params *p, grip_real_t 
             dpi = RC(GRIP_MF_DPI_MAX);
             *clamped = 1;
         } else {
-            dpi = r_div(r_sub(pr, p->nompres), p->nompres);                          /* 4.E2b */
+            dpi = mf_dpi_of(pr, p->nompres);                                         /* 4.E2b */
         }
     }
     return dpi;
@@ -488,10 +260,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_prepare(const grip_mf_params *p, const 
         }
     }
 
-    op->fz_ql = fz;
-    op->fz = r_div(fz, p->fnomin);
-    op->fzp = r_div(op->fz, p->lfzo);                                               /* 4.E1 */
-    op->dfz = r_sub(op->fzp, R_ONE);                                                /* 4.E2a */
+    mf_load(p, fz, op);
     if ((k != NULL) && !(pr > R_ZERO)) {
         /* the default pressure: its dpi and factors were formed once */
         op->dpi = k->dpi0;
@@ -506,25 +275,23 @@ static MF_ALWAYS_INLINE grip_status_t mf_prepare(const grip_mf_params *p, const 
     }
     op->dp = ((k != NULL) && !(pr > R_ZERO)) ? k->dp : NULL;
 
-    /* Low-speed model (VXLOW), as MF-Tyre: for |Vx| <= VXLOW kappa fades
-     * linearly with the speed (times |Vx| / VXLOW) and the shifts, the trail
-     * and the residual moment by the smooth factor
-     * 1 - 0.5 (1 + cos(pi Vx / VXLOW)); alpha fades by (|Vx| + |Vsy|) / VXLOW
-     * while that sum is below VXLOW, Vsy = tan(alpha) |Vx| (compared and
-     * divided after multiplying by |cos alpha|, so alpha = pi/2 needs no
-     * tangent). Vx = 0 gives zero slip, zero shifts and zero outputs. */
+    /* Low-speed model (VXLOW), as MF-Tyre (mf_low_smooth, mf_low_alpha):
+     * for |Vx| <= VXLOW kappa fades linearly with the speed (times |Vx| /
+     * VXLOW) and the shifts, the trail and the residual moment by the smooth
+     * factor; alpha fades while |Vx| + |Vsy| is below VXLOW. Vx = 0 gives
+     * zero slip, zero shifts and zero outputs. */
     op->smooth = R_ONE;
     sa = r_sin(alpha);
     ca = r_cos(alpha);
     if ((p->vxlow > R_ZERO) && limits) {
         grip_real_t avx = r_abs(vx);
-        grip_real_t c = r_abs(ca);
-        grip_real_t num = r_mul(avx, r_add(c, r_abs(sa)));
-        grip_real_t den = r_mul(p->vxlow, c);
+        grip_real_t num;
+        grip_real_t den;
+        mf_low_alpha(avx, sa, ca, p->vxlow, &num, &den);
         if (avx <= p->vxlow) {
             grip_real_t rl = r_div(avx, p->vxlow);
             kappa = r_mul(rl, kappa);
-            op->smooth = r_mul(RC(0.5), r_sub(R_ONE, r_cos(r_mul(MF_PI, rl))));
+            op->smooth = mf_low_smooth(rl, NULL);
         }
         if (num < den) {
             /* only below VXLOW: the reduced angle needs its own sin, cos */
@@ -563,16 +330,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_prepare(const grip_mf_params *p, const 
         mf_lmu(p, op, vx, kappa, sa, ca);
     }
 
-    op->gmux = op->mf52 ? r_mul(gamma, p->lgax) : gamma;
-    if (op->mf52) {
-        op->gx = r_mul(op->gamma, p->lgax);
-        op->gy = r_mul(op->gamma, p->lgay);
-        op->gz = r_mul(op->gamma, p->lgaz);
-    } else {
-        op->gx = op->gamma;
-        op->gy = op->gamma;
-        op->gz = op->gamma;
-    }
+    mf_cambers(p, gamma, op);
     return clamped ? GRIP_WARN_CLAMPED : GRIP_OK;
 }
 
@@ -581,10 +339,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_prepare(const grip_mf_params *p, const 
 static grip_status_t mf_finish(const grip_mf_params *p, const mf_op *op, const mf_io *io, grip_status_t st,
                                grip_real_t fx, grip_real_t fy, grip_real_t mz, grip_mf_output *out)
 {
-    grip_real_t mref = r_mul(p->unloaded_radius, op->fz_ql);   /* Fz * R0 [N m] */
-    out->fx = r_mul(fx, op->fz_ql);
-    out->fy = r_mul(fy, op->fz_ql);
-    out->mz = r_mul(mz, mref);
+    mf_scale_out(p, op, fx, fy, mz, out);
     if (io->mirror) {
         out->fy = r_neg(out->fy);
         out->mz = r_neg(out->mz);
@@ -812,7 +567,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_pure_begin_body(const grip_mf_params *p
     if ((st < 0) || s->io.zero) {
         return st;
     }
-    mf_long_pure(p, &s->op, NULL, R_ONE, &s->lon);
+    mf_long_pure(p, &s->op, NULL, R_ONE, NULL, &s->lon);
     mf_lat_common_init(p, &s->op, &s->latc);
     return st;
 }
@@ -844,7 +599,7 @@ static MF_NOINLINE grip_status_t mf_begin_x(const grip_mf_params *p, const grip_
 
 static MF_NOINLINE void mf_pure_rest_x(const grip_mf_params *p, mf_pure *s, const mf_ts *ts, grip_real_t emax)
 {
-    mf_long_pure(p, &s->op, ts, emax, &s->lon);
+    mf_long_pure(p, &s->op, ts, emax, NULL, &s->lon);
     mf_lat_common_init(p, &s->op, &s->latc);
 }
 
@@ -902,39 +657,13 @@ static MF_ALWAYS_INLINE grip_status_t mf_pure_eval(const grip_mf_params *p, cons
     /* grip-deviation: clang-analyzer-core.uninitialized.Assign false positive: mf_lat_pure writes every field of s.lat and s.lat0 (the analyzer stops following mf_lat_body) */
     fy_ref = s.op.mf52 ? s.lat.fy0 : mf_lat_gamma0(p, &s, NULL, 0, R_ONE)->fy0;
     t0 = mf_trail_at(&s.op, &s.tc, s.tc.alpha_t);                          /* 4.E33 */
-    if (!s.op.book) {
-        t0 = r_mul(t0, p->lfzo);         /* MF-Tyre scales the trail by LFZO */
-    }
-    /* Mzr0 = Dr cos(Cr atan(Br alpha_r)) cos'(alpha) (4.E36; Dr carries a
-     * cos(alpha) of its own, 4.E47). */
-    mz0 = r_sub(r_mul(mf_residual_at(&s.tc, s.tc.alpha_r), s.op.cosa), r_mul(t0, fy_ref));  /* 4.E31 */
-    mz0 = r_mul(mz0, s.op.smooth);                                          /* low speed */
+    mz0 = mf_mz0(p, &s.op, t0, mf_residual_at(&s.tc, s.tc.alpha_r), fy_ref);
     return mf_finish(p, &s.op, &s.io, st, s.lon.fx0, s.lat.fy0, mz0, out);
 }
 
 grip_status_t grip_mf_eval_pure(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out)
 {
     return mf_pure_eval(p, NULL, in, out);
-}
-
-/* Magnitude of the equivalent slip angle of the combined aligning moment
- * (4.E77-78). MF-Tyre: atan(sqrt(tan^2 a + (Kxk/Kya)^2 kappa^2)), written as
- * an atan2 of products so that neither tan(pi/2) nor Kya = 0 divides by
- * zero; book: sqrt(a^2 + (Kxk/Kya)^2 kappa^2). The equations multiply by
- * sgn(a), but both users (the trail's cosine curve at a fixed Et and
- * cos(atan(Br x))) are even in the angle, so only the magnitude matters. The
- * one place where the sign would act, sgn(0) = 0 at a = 0 exactly, makes the
- * equivalent angle jump from atan(|Kxk kappa / Kya|) to 0; grip keeps the
- * continuous value there (docs/magic-formula-c.md). */
-static grip_real_t mf_alpha_eq(const mf_op *op, grip_real_t a, grip_real_t kxk, grip_real_t kya)
-{
-    if (op->book) {
-        return mf_hypot(a, mf_div_lim(r_mul(kxk, op->kappa), kya, MF_LIM_RATIO));
-    } else {
-        grip_real_t ca = r_cos(a);
-        grip_real_t num = mf_hypot(r_mul(kya, r_sin(a)), r_mul(r_mul(kxk, op->kappa), ca));
-        return r_atan2(num, r_abs(r_mul(kya, ca)));
-    }
 }
 
 /* The combined evaluation; x != NULL also captures the intermediates of the
@@ -995,28 +724,19 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
     }
 
     /* Fx = Gxa Fx0 (4.E50-E57). */
-    {
-        grip_real_t bxa = r_mul(r_mul(r_add(p->rbx1, r_mul(MF6_ONLY(op, p->rbx3), r_sq(op->gx))),
-                                      r_cos_atan(r_mul(p->rbx2, op->kappa))),
-                                p->lxal);                                                         /* 4.E54 */
-        grip_real_t exa = r_min(r_add(p->rex1, r_mul(p->rex2, op->dfz)), emax);  /* 4.E56 */
-        grip_real_t as = r_add(op->alpha, p->rhx1);                                                /* 4.E53 */
-        grip_real_t gxa = mf_div_lim(mf_cos_curve(bxa, p->rcx1, exa, as), mf_cos_curve(bxa, p->rcx1, exa, p->rhx1),
-                                     MF_LIM_G);                                                   /* 4.E51-52 */
-        fx = r_mul(gxa, s.lon.fx0);
-    }
+    fx = r_mul(mf_gxa(p, op, emax, NULL), s.lon.fx0);
 
     /* Fy = Gyk Fy0 + SVyk (4.E58-E67). */
     {
-        grip_real_t dvy = r_add(r_add(p->rvy1, r_mul(p->rvy2, op->dfz)), r_mul(p->rvy3, op->gy));
-        grip_real_t dva = r_cos_atan(r_mul(p->rvy4, op->alpha));
-        grip_real_t svk = r_sin(r_mul(p->rvy5, r_atan(r_mul(p->rvy6, op->kappa))));
+        mf_svyk_f sf;
+        grip_real_t dvyk;
+        mf_svyk_factors(p, op, NULL, &sf);
         /* grip-deviation: clang-analyzer-core.CallAndMessage false positive: mf_lat_pure writes every field of s.lat (the analyzer stops following mf_lat_body) */
-        grip_real_t dvyk = r_mul(r_mul(s.lat.muy, dvy), dva);                                      /* 4.E67 */
+        dvyk = mf_dvyk(s.lat.muy, &sf);                                                            /* 4.E67 */
         if (tsp != NULL) {
             dvyk = r_mul(dvyk, tsp->z2);
         }
-        svyk = r_mul(r_mul(r_mul(dvyk, svk), p->lvyka), op->smooth);                               /* 4.E66 */
+        svyk = mf_svyk(p, op, &sf, dvyk);                                                          /* 4.E66 */
         gyk = ext ? mf_gyk_x(p, op, op->gy, emax) : mf_gyk(p, op, op->gy);
         if (tsp != NULL) {
             /* 4.E47 with zeta0 = 0 (the camber term goes: the spin carries
@@ -1033,8 +753,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
          * GRIP_MF_OPT_MZ52_SVYK_CAMBER the SVyk of Fy itself. */
         svyk_mz = svyk;
         if (op->mf52 && ((((k != NULL) ? k->options : p->options) & GRIP_MF_OPT_MZ52_SVYK_CAMBER) == 0u)) {
-            grip_real_t muy0 = r_mul(s.latc.mub, op->lmuy_s);
-            svyk_mz = r_mul(r_mul(r_mul(r_mul(r_mul(muy0, dvy), dva), svk), p->lvyka), op->smooth);
+            svyk_mz = mf_svyk(p, op, &sf, mf_dvyk(r_mul(s.latc.mub, op->lmuy_s), &sf));
         }
     }
 
@@ -1042,25 +761,14 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
     {
         grip_real_t ar_eq = mf_alpha_eq(op, s.tc.alpha_r, s.lon.kxk, s.lat.kya);
         grip_real_t at_eq = mf_alpha_eq(op, s.tc.alpha_t, s.lon.kxk, s.lat.kya);
-        /* s / R0 = SSZ1 + SSZ2 Fy / Fz0 + (SSZ3 + SSZ4 dfz) gamma; MF-Tyre uses
-         * FNOMIN for Fz0, the book Fz0' (4.E76). */
-        grip_real_t fy_rel = r_mul(fy, op->book ? op->fzp : op->fz);
-        sarm = r_mul(r_add(r_add(p->ssz1, r_mul(p->ssz2, fy_rel)),
-                           r_mul(r_add(p->ssz3, r_mul(p->ssz4, op->dfz)), op->gz)),
-                     p->ls);
+        sarm = mf_sarm(p, op, fy);                                                                 /* 4.E76 */
         if (tsp != NULL) {
             mzr = r_mul(s.tc.dr, r_cos(r_mul(tsp->cr, r_atan(r_mul(s.tc.br, ar_eq)))));             /* 4.E75 */
         } else {
             mzr = mf_residual_at(&s.tc, ar_eq);                                                     /* 4.E75 */
         }
         t = mf_trail_at(op, &s.tc, at_eq);                                                         /* 4.E73 */
-        if (op->book) {
-            mzr = r_mul(mzr, op->cosa);   /* the book keeps cos'(alpha) in the combined Mzr too */
-        } else {
-            t = r_mul(t, p->lfzo);       /* MF-Tyre scales the trail by LFZO */
-        }
-        t = r_mul(t, op->smooth);         /* low speed */
-        mzr = r_mul(mzr, op->smooth);
+        mf_mz_scale(p, op, &t, &mzr);
         if (op->mf52) {
             fy_prime = r_sub(fy, svyk_mz);  /* MF 5.2: Fy' = Fy - SVyk (above) */
         } else {
@@ -1070,7 +778,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
             fy_prime = r_mul(op->book ? (ext ? mf_gyk_x(p, op, R_ZERO, emax) : mf_gyk(p, op, R_ZERO)) : gyk,
                              mf_lat_gamma0(p, &s, tsp, ext, emax)->fy0);
         }
-        mz = r_add(r_sub(mzr, r_mul(t, fy_prime)), r_mul(sarm, fx));                                 /* 4.E71 */
+        mz = mf_mz_sum(mzr, t, fy_prime, sarm, fx);                                                  /* 4.E71 */
     }
     if (x != NULL) {
         x->kxk = s.lon.kxk;

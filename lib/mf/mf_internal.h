@@ -18,6 +18,10 @@
 #include <stddef.h>
 #include "arith.h"
 #include "grip/grip_mf.h"
+#include "grip/grip_mf_batch.h"
+#if GRIP_MF_LANES
+#include "f32_kernels.h" /* the kernels' branch-free forms (mfk_*): only where the lanes are built */
+#endif
 
 /* Forces the inlining of the combined evaluation into grip_mf_eval,
  * mf_eval_core and mf_eval_core_use: each keeps one frame (no wrapper frame under
@@ -192,37 +196,181 @@ static inline grip_real_t mf_hypot(grip_real_t a, grip_real_t b)
     return r_mul(r_sqrt(r_add(R_ONE, r_sq(t))), x);
 }
 
-/* atan(num / den) for num >= 0 and any den (den == 0 gives pi/2 for
- * num > 0), without forming the quotient. */
-static MF_ALWAYS_INLINE grip_real_t mf_atan_ratio(grip_real_t num, grip_real_t den)
+/* ------------------------------------------------------------------------
+ * The kernels the equations are written with (mf_equations.h), in two
+ * forms chosen by mk, a constant in every caller (so that the test compiles
+ * away):
+ *  - mk NULL: the arithmetic layer's functions (r_atan ..., libm or grip's
+ *    kernels as GRIP_FLOAT_KERNELS selects, the Q15.16 kernels in the fixed
+ *    build) and mf_div_lim, mf_hypot, which branch where the result is known
+ *    without a division (and in the fixed build never divide by zero): the
+ *    scalar evaluations of mf_eval.c;
+ *  - mk the address of a lane's range mark (where GRIP_MF_LANES is 1: the
+ *    float build on a SIMD target, grip_mf_batch.h): the
+ *    branch-free forms of f32_kernels.h (grip_kf_lane_*), which mark *mk
+ *    where an argument leaves their range, and the guarded operations with
+ *    every case formed and one selected: the lane evaluation of mf_lanes.c,
+ *    a loop the compiler vectorizes.
+ * Where *mk stays <= 0 the two forms give the same bits when the scalar
+ * path runs on grip's kernels (GRIP_FLOAT_KERNELS=2; test_mf_lanes).
+ */
+static MF_ALWAYS_INLINE grip_real_t mfk_atan(grip_real_t x, grip_real_t *mk)
 {
-    grip_real_t a = r_atan2(num, den);
-    if (den < R_ZERO) {
-        a = r_sub(a, MF_PI);   /* atan2 was in (pi/2, pi] */
+#if GRIP_MF_LANES
+    if (mk != NULL) {
+        return grip_kf_lane_atan(x);
     }
-    return a;
+#endif
+    (void)mk;
+    return r_atan(x);
+}
+
+static MF_ALWAYS_INLINE grip_real_t mfk_atan2(grip_real_t y, grip_real_t x, grip_real_t *mk)
+{
+#if GRIP_MF_LANES
+    if (mk != NULL) {
+        return grip_kf_lane_atan2(y, x, mk);
+    }
+#endif
+    (void)mk;
+    return r_atan2(y, x);
+}
+
+static MF_ALWAYS_INLINE grip_real_t mfk_sin(grip_real_t x, grip_real_t *mk)
+{
+#if GRIP_MF_LANES
+    if (mk != NULL) {
+        return grip_kf_lane_sin(x, mk);
+    }
+#endif
+    (void)mk;
+    return r_sin(x);
+}
+
+static MF_ALWAYS_INLINE grip_real_t mfk_cos(grip_real_t x, grip_real_t *mk)
+{
+#if GRIP_MF_LANES
+    if (mk != NULL) {
+        return grip_kf_lane_cos(x, mk);
+    }
+#endif
+    (void)mk;
+    return r_cos(x);
+}
+
+static MF_ALWAYS_INLINE grip_real_t mfk_exp(grip_real_t x, grip_real_t *mk)
+{
+#if GRIP_MF_LANES
+    if (mk != NULL) {
+        return grip_kf_lane_exp(x, mk);
+    }
+#endif
+    (void)mk;
+    return r_exp(x);
+}
+
+/* mf_div_lim */
+static MF_ALWAYS_INLINE grip_real_t mfk_div_lim(grip_real_t a, grip_real_t b, grip_real_t lim, grip_real_t *mk)
+{
+#if GRIP_MF_LANES
+    if (mk != NULL) {
+        float aa = fabsf(a);
+        int sat = fabsf(b) <= aa / lim;
+        int opp = (a < 0.0f) != (b < 0.0f);
+        float q = a / b;
+        float r = sat ? (opp ? -lim : lim) : q;
+        return (aa == 0.0f) ? 0.0f : r;
+    }
+#endif
+    (void)mk;
+    return mf_div_lim(a, b, lim);
+}
+
+/* mf_hypot */
+static MF_ALWAYS_INLINE grip_real_t mfk_hypot(grip_real_t a, grip_real_t b, grip_real_t *mk)
+{
+#if GRIP_MF_LANES
+    if (mk != NULL) {
+        float x = fabsf(a);
+        float y = fabsf(b);
+        int sw = x < y;
+        float hi = sw ? y : x;
+        float lo = sw ? x : y;
+        float r = r_mul(r_sqrt(r_add(R_ONE, r_sq(lo / hi))), hi);
+        return (hi == 0.0f) ? 0.0f : r;
+    }
+#endif
+    (void)mk;
+    return mf_hypot(a, b);
 }
 
 /* The argument of the Magic Formula: C * atan(B x - E (B x - atan(B x))). */
-static inline grip_real_t mf_shape(grip_real_t b, grip_real_t c, grip_real_t e, grip_real_t x)
+static MF_ALWAYS_INLINE grip_real_t mf_shape_eq(grip_real_t b, grip_real_t c, grip_real_t e, grip_real_t x,
+                                                grip_real_t *mk)
 {
     grip_real_t bx = r_mul(b, x);
-    grip_real_t arg = r_sub(bx, r_mul(e, r_sub(bx, r_atan(bx))));
-    return r_mul(c, r_atan(arg));
+    grip_real_t arg = r_sub(bx, r_mul(e, r_sub(bx, mfk_atan(bx, mk))));
+    return r_mul(c, mfk_atan(arg, mk));
+}
+
+/* The scalar form: a function the compiler may keep out of line (-Os on
+ * the Cortex-M0+ does: the curves are called a dozen times per evaluation). */
+static inline grip_real_t mf_shape(grip_real_t b, grip_real_t c, grip_real_t e, grip_real_t x)
+{
+    return mf_shape_eq(b, c, e, x, NULL);
+}
+
+static MF_ALWAYS_INLINE grip_real_t mf_shape_k(grip_real_t b, grip_real_t c, grip_real_t e, grip_real_t x,
+                                               grip_real_t *mk)
+{
+    return (mk == NULL) ? mf_shape(b, c, e, x) : mf_shape_eq(b, c, e, x, mk);
 }
 
 /* D sin(C atan(B x - E (B x - atan(B x)))): the sine version (forces). */
+static MF_ALWAYS_INLINE grip_real_t mf_sin_curve_k(grip_real_t b, grip_real_t c, grip_real_t d, grip_real_t e,
+                                                   grip_real_t x, grip_real_t *mk)
+{
+    return r_mul(d, mfk_sin(mf_shape_k(b, c, e, x, mk), mk));
+}
+
 static MF_ALWAYS_INLINE grip_real_t mf_sin_curve(grip_real_t b, grip_real_t c, grip_real_t d, grip_real_t e,
                                        grip_real_t x)
 {
-    return r_mul(d, r_sin(mf_shape(b, c, e, x)));
+    return mf_sin_curve_k(b, c, d, e, x, NULL);
 }
 
 /* cos(C atan(B x - E (B x - atan(B x)))): the cosine version (trail and
- * combined-slip weighting functions). */
+ * combined-slip weighting functions); a function of its own in the scalar
+ * form, as mf_shape. */
+static MF_ALWAYS_INLINE grip_real_t mf_cos_curve_eq(grip_real_t b, grip_real_t c, grip_real_t e, grip_real_t x,
+                                                    grip_real_t *mk)
+{
+    return mfk_cos(mf_shape_k(b, c, e, x, mk), mk);
+}
+
 static inline grip_real_t mf_cos_curve(grip_real_t b, grip_real_t c, grip_real_t e, grip_real_t x)
 {
-    return r_cos(mf_shape(b, c, e, x));
+    return mf_cos_curve_eq(b, c, e, x, NULL);
+}
+
+static MF_ALWAYS_INLINE grip_real_t mf_cos_curve_k(grip_real_t b, grip_real_t c, grip_real_t e, grip_real_t x,
+                                                   grip_real_t *mk)
+{
+    return (mk == NULL) ? mf_cos_curve(b, c, e, x) : mf_cos_curve_eq(b, c, e, x, mk);
+}
+
+/* atan(num / den) for num >= 0 and any den (den == 0 gives pi/2 for
+ * num > 0), without forming the quotient: atan2 was in (pi/2, pi] where
+ * den < 0. */
+static MF_ALWAYS_INLINE grip_real_t mf_atan_ratio_k(grip_real_t num, grip_real_t den, grip_real_t *mk)
+{
+    grip_real_t a = mfk_atan2(num, den, mk);
+    return (den < R_ZERO) ? r_sub(a, MF_PI) : a;
+}
+
+static MF_ALWAYS_INLINE grip_real_t mf_atan_ratio(grip_real_t num, grip_real_t den)
+{
+    return mf_atan_ratio_k(num, den, NULL);
 }
 
 /* sign with sign(0) = +1 (used where MF-Tyre replaces sign(0) by 1). */
