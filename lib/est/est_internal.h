@@ -167,8 +167,8 @@ static inline grip_real_t relax_share(grip_real_t dist, grip_real_t sig)
 static inline int est_yaw_linear(const grip_est_t *est, grip_real_t yaw, grip_real_t d)
 {
     grip_real_t r_lin = est->r_lin_f;
-    grip_real_t short_by = (r_lin > R_ZERO) ? r_sub(r_lin, yaw) : r_sub(yaw, r_lin); /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
-    return (r_abs(r_lin) <= RC(EST_US_R)) || (short_by < r_mul(d, r_abs(r_lin))); /* grip-deviation: MISRA-10.3 comparison result 0/1 returned as int */
+    grip_real_t short_by = (r_lin > R_ZERO) ? r_sub(r_lin, yaw) : r_sub(yaw, r_lin);
+    return (r_abs(r_lin) <= RC(EST_US_R)) || (short_by < r_mul(d, r_abs(r_lin)));
 }
 
 /* ---- friction that the tire evaluation needs (est_tires.c inlines it:
