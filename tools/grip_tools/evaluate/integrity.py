@@ -228,7 +228,8 @@ def judge_av21(outdir, log=None):
     full = np.zeros((len(t), est_ref.N_IN))
     fv = np.zeros((len(t), est_ref.N_IN), dtype=np.uint8)
     full[:, :value.shape[1]], fv[:, :valid.shape[1]] = value, valid
-    cfg = est_ref.config(tir.load_params(tir_path), rate_hz=est_eval.AV21_RATE_HZ, **est_eval.AV21_VEHICLE)
+    cfg = est_ref.config(tir.load_params(tir_path), rate_hz=est_eval.AV21_RATE_HZ,
+                         **dict(est_eval.AV21_VEHICLE, **est_eval.EXTRA))
     est = reference_run(cfg, full, fv)
     # no vx row: the log's vehicle speed, an estimator input, is the INS vx itself
     truth = {"beta": np.arctan2(ins["vy"], np.maximum(ins["vx"], 1e-3)), "mu": None}
