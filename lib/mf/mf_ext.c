@@ -113,7 +113,6 @@ typedef struct {
     grip_real_t fz;      /* Fz / FNOMIN (0 when unloaded)                      */
     grip_real_t fx0;     /* combined Fx / FNOMIN, Fy / FNOMIN (0 unloaded)     */
     grip_real_t fy0;
-    grip_real_t kq;      /* 8e6 N / Fz: the largest |K / Fz| that fits QL      */
     grip_real_t czp;     /* Cz0 (1 + PFZ1 dpi) [N/m], QL                       */
     grip_real_t r0czp;   /* R0 Cz0 (1 + PFZ1 dpi) [N], QL                      */
     grip_real_t cz_r0;   /* Cz0 (1 + PFZ1 dpi) R0 / FNOMIN                     */
@@ -798,8 +797,9 @@ static const grip_mf_output_ext EXT_ZERO = { R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_Z
 
 /* A requested channel that is not finite: 0 and its bit cleared (also when
  * already flagged: a flagged channel may hold a NaN that a NaN coefficient
- * brought before its format check; found by tests/fuzz/fuzz_mf.c). The
- * others are still EXT_ZERO. */
+ * brought before its format check; found by tests/fuzz/fuzz_mf.c). Called
+ * by each group of channels for the channels it wrote, so that a request
+ * pays for the channels it asked for only. */
 static inline void ext_finite(grip_real_t *v, uint32_t bit, uint32_t outputs, uint32_t *valid)
 {
     if (((outputs & bit) != 0u) && !r_is_finite(*v)) {
@@ -832,20 +832,157 @@ grip_status_t grip_mf_eval_ext(const grip_mf_params *p, const grip_mf_input *in,
     return grip_mf_eval_ext_spin(p, in, NULL, outputs, out);
 }
 
-/* The requested channels of one evaluation (c: its intermediates, st: its
- * status, not an error; out: the forces written, the channels EXT_ZERO). */
-static grip_status_t ext_channels(const grip_mf_params *p, mf_core *c, const grip_mf_input *in,
-                                  const grip_mf_spin *spin, uint32_t mode, uint32_t outputs, grip_status_t st,
+/* The channels that need the vertical stiffness (Re ... 2b). */
+#define EXT_NEED_CZ                                                                                              \
+    (GRIP_MF_EXT_RE | GRIP_MF_EXT_OMEGA | GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ | GRIP_MF_EXT_LENGTH | \
+     GRIP_MF_EXT_WIDTH)
+/* The channels of the slip stiffnesses and of the relaxation. */
+#define EXT_STIFF                                                                                                \
+    (GRIP_MF_EXT_KXK | GRIP_MF_EXT_KYA | GRIP_MF_EXT_CX | GRIP_MF_EXT_CY | GRIP_MF_EXT_SIGMAX | GRIP_MF_EXT_SIGMAY)
+/* Everything but Re and the stiffnesses (ext_more). */
+#define EXT_MORE (GRIP_MF_EXT_ALL & ~(GRIP_MF_EXT_RE | EXT_STIFF))
+
+/* Kxk, Kya [N] and the relaxation's Cx, Cy, sigma_x, sigma_y (want holds
+ * at least one of EXT_STIFF). */
+static void ext_stiff(const ext_ctx *e, uint32_t want, grip_mf_output_ext *out, uint32_t *valid)
+{
+    const mf_core *c = e->c;
+    grip_real_t kq = MF_QS_MAX;   /* 8e6 N / Fz: the largest |K / Fz| that fits QL */
+    grip_real_t kxk = R_ZERO;
+    grip_real_t kya = R_ZERO;
+    int kxk_ok = 1;
+    int kya_ok = 1;
+    if (c->op.fz_ql > MF_QL_SMALL) {
+        kq = r_div(MF_QL_MAX, c->op.fz_ql);
+    }
+    if ((want & (GRIP_MF_EXT_KXK | GRIP_MF_EXT_SIGMAX)) != 0u) {
+        kxk_ok = 0;
+        if (r_abs(c->kxk) <= kq) {
+            kxk_ok = 1;
+            kxk = r_mul(c->kxk, c->op.fz_ql);
+        }
+        if (kxk_ok && ((want & GRIP_MF_EXT_KXK) != 0u)) {
+            out->kxk = kxk;
+            *valid |= GRIP_MF_EXT_KXK;
+        }
+    }
+    if ((want & (GRIP_MF_EXT_KYA | GRIP_MF_EXT_SIGMAY)) != 0u) {
+        kya_ok = 0;
+        if (r_abs(c->kya) <= kq) {
+            kya_ok = 1;
+            kya = r_mul(c->kya, c->op.fz_ql);
+        }
+        if (kya_ok && ((want & GRIP_MF_EXT_KYA) != 0u)) {
+            out->kya = kya;
+            *valid |= GRIP_MF_EXT_KYA;
+        }
+    }
+    if ((want & (GRIP_MF_EXT_CX | GRIP_MF_EXT_CY | GRIP_MF_EXT_SIGMAX | GRIP_MF_EXT_SIGMAY)) != 0u) {
+        ext_relax(e, kxk, kxk_ok, kya, kya_ok, want, out, valid);
+    }
+    ext_finite(&out->kxk, GRIP_MF_EXT_KXK, want, valid);
+    ext_finite(&out->kya, GRIP_MF_EXT_KYA, want, valid);
+    ext_finite(&out->cx, GRIP_MF_EXT_CX, want, valid);
+    ext_finite(&out->cy, GRIP_MF_EXT_CY, want, valid);
+    ext_finite(&out->sigmax, GRIP_MF_EXT_SIGMAX, want, valid);
+    ext_finite(&out->sigmay, GRIP_MF_EXT_SIGMAY, want, valid);
+}
+
+/* The channels of EXT_MORE (want holds at least one): Omega, the vertical
+ * model, the contact patch, t, Mzr, mu_x, mu_y, Mx, My. A function of its
+ * own, so that the common request (Re, the stiffnesses) does not test
+ * each of them. */
+static MF_NOINLINE void ext_more(ext_ctx *e, uint32_t mode, uint32_t want, grip_mf_output_ext *out, uint32_t *valid)
+{
+    const grip_mf_params *p = e->p;
+    const mf_core *c = e->c;
+    grip_real_t fzr0 = r_mul(p->unloaded_radius, c->op.fz_ql);          /* Fz R0 [N m] */
+    int ok;
+    if (e->re_ok && ((want & GRIP_MF_EXT_OMEGA) != 0u)) {
+        /* (1 + kappa) vx / Re = u LONGVL / Re: below 30000 rad/s; or the
+         * input's Omega */
+        grip_real_t re = r_mul(e->r, p->unloaded_radius);
+        grip_real_t num = r_mul(r_add(R_ONE, e->kap), e->vx);
+        if (e->omega != R_ZERO) {
+            out->omega = e->omega;
+            *valid |= GRIP_MF_EXT_OMEGA;
+        } else if (r_mul(r_abs(num), RC(1.0 / 30000.0)) < re) {
+            out->omega = r_div(num, re);
+            *valid |= GRIP_MF_EXT_OMEGA;
+        } else {
+            /* beyond the format: flagged */
+        }
+    }
+    if ((want & (GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ)) != 0u) {
+        ext_vertical(e, want, out, valid);
+    }
+    if ((want & (GRIP_MF_EXT_LENGTH | GRIP_MF_EXT_WIDTH)) != 0u) {
+        ext_patch(e, want, out, valid);
+    }
+    if ((want & GRIP_MF_EXT_T) != 0u) {
+        out->t = r_mul(c->t, p->unloaded_radius);
+        *valid |= GRIP_MF_EXT_T;
+    }
+    if ((want & GRIP_MF_EXT_MZR) != 0u) {
+        ok = 1;
+        out->mzr = mf_times_ql(c->mzr, fzr0, &ok);
+        out->mzr = (c->io.mirror != c->io.sae) ? r_neg(out->mzr) : out->mzr;
+        *valid |= ok ? GRIP_MF_EXT_MZR : 0u;
+    }
+    if ((want & GRIP_MF_EXT_MUX) != 0u) {
+        out->mux = e->loaded ? mf_mux(p, c->op.dfz, c->op.dpi, c->op.gmux, c->op.lmux_s) : R_ZERO;
+        *valid |= GRIP_MF_EXT_MUX;
+    }
+    if ((want & GRIP_MF_EXT_MUY) != 0u) {
+        /* MFeval reports |mu_y| in its limits mode (1xx), mu_y in 2xx */
+        out->muy = ((mode & GRIP_MF_OPT_NO_LIMITS) != 0u) ? c->muy : r_abs(c->muy);
+        *valid |= GRIP_MF_EXT_MUY;
+    }
+    if ((want & GRIP_MF_EXT_MX) != 0u) {
+        ok = 1;
+        out->mx = e->loaded ? mf_times_ql(ext_mx(e), fzr0, &ok) : R_ZERO;
+        out->mx = c->io.mirror ? r_neg(out->mx) : out->mx;
+        *valid |= ok ? GRIP_MF_EXT_MX : 0u;
+    }
+    if ((want & GRIP_MF_EXT_MY) != 0u) {
+        grip_real_t my = R_ZERO;
+        ok = 1;
+        if (e->loaded) {
+            my = mf_times_ql(ext_my(e, &ok), r_div_keep(fzr0, RC(64.0)), &ok);
+        }
+        out->my = c->io.sae ? r_neg(my) : my;
+        *valid |= ok ? GRIP_MF_EXT_MY : 0u;
+    }
+    ext_finite(&out->omega, GRIP_MF_EXT_OMEGA, want, valid);
+    ext_finite(&out->rl, GRIP_MF_EXT_RL, want, valid);
+    ext_finite(&out->rho, GRIP_MF_EXT_RHO, want, valid);
+    ext_finite(&out->cz, GRIP_MF_EXT_CZ, want, valid);
+    ext_finite(&out->contact_length, GRIP_MF_EXT_LENGTH, want, valid);
+    ext_finite(&out->contact_width, GRIP_MF_EXT_WIDTH, want, valid);
+    ext_finite(&out->t, GRIP_MF_EXT_T, want, valid);
+    ext_finite(&out->mzr, GRIP_MF_EXT_MZR, want, valid);
+    ext_finite(&out->mux, GRIP_MF_EXT_MUX, want, valid);
+    ext_finite(&out->muy, GRIP_MF_EXT_MUY, want, valid);
+    ext_finite(&out->mx, GRIP_MF_EXT_MX, want, valid);
+    ext_finite(&out->my, GRIP_MF_EXT_MY, want, valid);
+}
+
+/* The end of both extended evaluations: the forces of the evaluation
+ * (base, status st) into out, then, unless st is an error, the requested
+ * channels (c: its intermediates; out's channels are EXT_ZERO). */
+static grip_status_t ext_channels(const grip_mf_params *p, mf_core *c, const grip_mf_output *base, grip_status_t st,
+                                  const grip_mf_input *in, const grip_mf_spin *spin, uint32_t mode, uint32_t outputs,
                                   grip_mf_output_ext *out)
 {
     ext_ctx e;
     uint32_t valid = 0u;
     int ok;
-    grip_real_t fzr0;
-    grip_real_t kxk = R_ZERO;
-    grip_real_t kya = R_ZERO;
-    int kxk_ok = 1;
-    int kya_ok = 1;
+    out->fx = base->fx;
+    out->fy = base->fy;
+    out->mz = base->mz;
+    if (st < 0) {
+        return st;
+    }
     e.p = p;
     e.c = c;
     if (ext_inputs(mode, in, spin, &c->io, &e) && (st == GRIP_OK)) {
@@ -864,19 +1001,14 @@ static grip_status_t ext_channels(const grip_mf_params *p, mf_core *c, const gri
     e.fz = c->op.fz;
     e.fx0 = r_mul(c->fx, e.fz);
     e.fy0 = r_mul(c->fy, e.fz);
-    e.kq = MF_QS_MAX;
-    if (((outputs & (GRIP_MF_EXT_KXK | GRIP_MF_EXT_KYA | GRIP_MF_EXT_SIGMAX | GRIP_MF_EXT_SIGMAY)) != 0u) &&
-        (c->op.fz_ql > MF_QL_SMALL)) {
-        e.kq = r_div(MF_QL_MAX, c->op.fz_ql);
-    }
     e.has_cz = 0;
+    e.re_ok = 0;
     e.r = R_ZERO;
     e.b = R_ZERO;
     e.u = R_ZERO;
     e.romega = R_ZERO;
     e.wspeed = R_ZERO;
-    if ((outputs & (GRIP_MF_EXT_RE | GRIP_MF_EXT_OMEGA | GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ |
-                    GRIP_MF_EXT_LENGTH | GRIP_MF_EXT_WIDTH)) != 0u) {
+    if ((outputs & EXT_NEED_CZ) != 0u) {
         /* the vertical stiffness at the pressure, times R0, over FNOMIN */
         ok = 1;
         e.czp = mf_times_ql(r_add(R_ONE, r_mul(p->pfz1, c->op.dpi)), p->vertical_stiffness, &ok);
@@ -892,119 +1024,20 @@ static grip_status_t ext_channels(const grip_mf_params *p, mf_core *c, const gri
             e.has_cz = 1;
         }
     }
-    fzr0 = r_mul(p->unloaded_radius, c->op.fz_ql);                      /* Fz R0 [N m] */
-
     if ((outputs & (GRIP_MF_EXT_RE | GRIP_MF_EXT_OMEGA | GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ)) != 0u) {
         ext_radius(&e);
         if (e.re_ok && ((outputs & GRIP_MF_EXT_RE) != 0u)) {
             ok = 1;
             out->re = mf_times_qs(e.r, p->unloaded_radius, &ok);
             valid |= ok ? GRIP_MF_EXT_RE : 0u;
-        }
-        if (e.re_ok && ((outputs & GRIP_MF_EXT_OMEGA) != 0u)) {
-            /* (1 + kappa) vx / Re = u LONGVL / Re: below 30000 rad/s; or
-             * the input's Omega */
-            grip_real_t re = r_mul(e.r, p->unloaded_radius);
-            grip_real_t num = r_mul(r_add(R_ONE, e.kap), e.vx);
-            if (e.omega != R_ZERO) {
-                out->omega = e.omega;
-                valid |= GRIP_MF_EXT_OMEGA;
-            } else if (r_mul(r_abs(num), RC(1.0 / 30000.0)) < re) {
-                out->omega = r_div(num, re);
-                valid |= GRIP_MF_EXT_OMEGA;
-            } else {
-                /* beyond the format: flagged */
-            }
-        }
-        if ((outputs & (GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ)) != 0u) {
-            ext_vertical(&e, outputs, out, &valid);
+            ext_finite(&out->re, GRIP_MF_EXT_RE, outputs, &valid);
         }
     }
-    if ((outputs & (GRIP_MF_EXT_LENGTH | GRIP_MF_EXT_WIDTH)) != 0u) {
-        ext_patch(&e, outputs, out, &valid);
+    if ((outputs & EXT_STIFF) != 0u) {
+        ext_stiff(&e, outputs, out, &valid);
     }
-    if ((outputs & GRIP_MF_EXT_T) != 0u) {
-        out->t = r_mul(c->t, p->unloaded_radius);
-        valid |= GRIP_MF_EXT_T;
-    }
-    if ((outputs & GRIP_MF_EXT_MZR) != 0u) {
-        ok = 1;
-        out->mzr = mf_times_ql(c->mzr, fzr0, &ok);
-        out->mzr = (c->io.mirror != c->io.sae) ? r_neg(out->mzr) : out->mzr;
-        valid |= ok ? GRIP_MF_EXT_MZR : 0u;
-    }
-    if ((outputs & GRIP_MF_EXT_MUX) != 0u) {
-        out->mux = e.loaded ? mf_mux(p, c->op.dfz, c->op.dpi, c->op.gmux, c->op.lmux_s) : R_ZERO;
-        valid |= GRIP_MF_EXT_MUX;
-    }
-    if ((outputs & GRIP_MF_EXT_MUY) != 0u) {
-        /* MFeval reports |mu_y| in its limits mode (1xx), mu_y in 2xx */
-        out->muy = ((mode & GRIP_MF_OPT_NO_LIMITS) != 0u) ? c->muy : r_abs(c->muy);
-        valid |= GRIP_MF_EXT_MUY;
-    }
-    if ((outputs & (GRIP_MF_EXT_KXK | GRIP_MF_EXT_SIGMAX)) != 0u) {
-        kxk_ok = 0;
-        if (r_abs(c->kxk) <= e.kq) {
-            kxk_ok = 1;
-            kxk = r_mul(c->kxk, c->op.fz_ql);
-        }
-        if (kxk_ok && ((outputs & GRIP_MF_EXT_KXK) != 0u)) {
-            out->kxk = kxk;
-            valid |= GRIP_MF_EXT_KXK;
-        }
-    }
-    if ((outputs & (GRIP_MF_EXT_KYA | GRIP_MF_EXT_SIGMAY)) != 0u) {
-        kya_ok = 0;
-        if (r_abs(c->kya) <= e.kq) {
-            kya_ok = 1;
-            kya = r_mul(c->kya, c->op.fz_ql);
-        }
-        if (kya_ok && ((outputs & GRIP_MF_EXT_KYA) != 0u)) {
-            out->kya = kya;
-            valid |= GRIP_MF_EXT_KYA;
-        }
-    }
-    if ((outputs & (GRIP_MF_EXT_CX | GRIP_MF_EXT_CY | GRIP_MF_EXT_SIGMAX | GRIP_MF_EXT_SIGMAY)) != 0u) {
-        ext_relax(&e, kxk, kxk_ok, kya, kya_ok, outputs, out, &valid);
-    }
-    if ((outputs & GRIP_MF_EXT_MX) != 0u) {
-        ok = 1;
-        out->mx = e.loaded ? mf_times_ql(ext_mx(&e), fzr0, &ok) : R_ZERO;
-        out->mx = c->io.mirror ? r_neg(out->mx) : out->mx;
-        valid |= ok ? GRIP_MF_EXT_MX : 0u;
-    }
-    if ((outputs & GRIP_MF_EXT_MY) != 0u) {
-        grip_real_t my = R_ZERO;
-        ok = 1;
-        if (e.loaded) {
-            my = mf_times_ql(ext_my(&e, &ok), r_div_keep(fzr0, RC(64.0)), &ok);
-        }
-        out->my = c->io.sae ? r_neg(my) : my;
-        valid |= ok ? GRIP_MF_EXT_MY : 0u;
-    }
-    /* a non-finite coefficient that only a channel uses (grip_mf_check_params
-     * rejects it; the evaluation does not repeat that check): the channel is
-     * flagged, never NaN (float build; compiles away in the fixed build) */
-    if (outputs != 0u) {
-        ext_finite(&out->re, GRIP_MF_EXT_RE, outputs, &valid);
-        ext_finite(&out->omega, GRIP_MF_EXT_OMEGA, outputs, &valid);
-        ext_finite(&out->rl, GRIP_MF_EXT_RL, outputs, &valid);
-        ext_finite(&out->rho, GRIP_MF_EXT_RHO, outputs, &valid);
-        ext_finite(&out->cz, GRIP_MF_EXT_CZ, outputs, &valid);
-        ext_finite(&out->contact_length, GRIP_MF_EXT_LENGTH, outputs, &valid);
-        ext_finite(&out->contact_width, GRIP_MF_EXT_WIDTH, outputs, &valid);
-        ext_finite(&out->t, GRIP_MF_EXT_T, outputs, &valid);
-        ext_finite(&out->mzr, GRIP_MF_EXT_MZR, outputs, &valid);
-        ext_finite(&out->mux, GRIP_MF_EXT_MUX, outputs, &valid);
-        ext_finite(&out->muy, GRIP_MF_EXT_MUY, outputs, &valid);
-        ext_finite(&out->kxk, GRIP_MF_EXT_KXK, outputs, &valid);
-        ext_finite(&out->kya, GRIP_MF_EXT_KYA, outputs, &valid);
-        ext_finite(&out->cx, GRIP_MF_EXT_CX, outputs, &valid);
-        ext_finite(&out->cy, GRIP_MF_EXT_CY, outputs, &valid);
-        ext_finite(&out->sigmax, GRIP_MF_EXT_SIGMAX, outputs, &valid);
-        ext_finite(&out->sigmay, GRIP_MF_EXT_SIGMAY, outputs, &valid);
-        ext_finite(&out->mx, GRIP_MF_EXT_MX, outputs, &valid);
-        ext_finite(&out->my, GRIP_MF_EXT_MY, outputs, &valid);
+    if ((outputs & EXT_MORE) != 0u) {
+        ext_more(&e, mode, outputs, out, &valid);
     }
     out->valid = valid;
     return st;
@@ -1049,13 +1082,7 @@ grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input
                                   : R_ZERO,
                               &base, &c);
     }
-    out->fx = base.fx;
-    out->fy = base.fy;
-    out->mz = base.mz;
-    if (st < 0) {
-        return st;
-    }
-    return ext_channels(p, &c, in, spin, mode, outputs & GRIP_MF_EXT_ALL, st, out);
+    return ext_channels(p, &c, &base, st, in, spin, mode, outputs & GRIP_MF_EXT_ALL, out);
 }
 
 grip_status_t grip_mf_eval_ext_prepared(const grip_mf_prepared *prep, const grip_mf_input *in, uint32_t outputs,
@@ -1079,11 +1106,5 @@ grip_status_t grip_mf_eval_ext_prepared(const grip_mf_prepared *prep, const grip
         return GRIP_ERR_INPUT;
     }
     st = mf_eval_core_prepared(prep, in, &base, &c);
-    out->fx = base.fx;
-    out->fy = base.fy;
-    out->mz = base.mz;
-    if (st < 0) {
-        return st;
-    }
-    return ext_channels(prep->p, &c, in, &SPIN_ZERO, prep->options, outputs, st, out);
+    return ext_channels(prep->p, &c, &base, st, in, &SPIN_ZERO, prep->options, outputs, out);
 }
