@@ -113,12 +113,13 @@ typedef struct {
     grip_real_t fz;      /* Fz / FNOMIN (0 when unloaded)                      */
     grip_real_t fx0;     /* combined Fx / FNOMIN, Fy / FNOMIN (0 unloaded)     */
     grip_real_t fy0;
-    grip_real_t czp;     /* Cz0 (1 + PFZ1 dpi) [N/m], QL                       */
     grip_real_t r0czp;   /* R0 Cz0 (1 + PFZ1 dpi) [N], QL                      */
+    grip_real_t re_k;    /* FNOMIN / (R0 Cz0 (1 + PFZ1 dpi)), when has_re       */
     grip_real_t cz_r0;   /* Cz0 (1 + PFZ1 dpi) R0 / FNOMIN                     */
     grip_real_t c0;      /* Cz0 R0 / FNOMIN (Q_FZ1, MF 5.2's Q_A1 default)     */
     int loaded;
     int has_cz;          /* VERTICAL_STIFFNESS > 0 and the above formed        */
+    int has_re;          /* has_cz and FNOMIN / (R0 Cz) < 1000: re_k formed    */
     /* rolling radius */
     int re_ok;
     grip_real_t r;       /* Re / R0                                            */
@@ -162,11 +163,10 @@ static MF_ALWAYS_INLINE void ext_radius(ext_ctx *e)
          * b / r^2 and R0 |Omega| / LONGVL = |u| / r of the estimate. */
         grip_real_t w;
         grip_real_t bw;
-        if (!e->has_cz || !(r_mul(RC(0.001), p->fnomin) < e->r0czp) ||
-            !(r_mul(r_abs(r_mul(e->omega, p->unloaded_radius)), RC(1.0 / 181.0)) < p->longvl)) {
+        if (!e->has_re || !(r_mul(r_abs(r_mul(e->omega, p->unloaded_radius)), RC(1.0 / 181.0)) < p->longvl)) {
             return;
         }
-        k = r_div(p->fnomin, e->r0czp);
+        k = e->re_k;
         a = r_sub(p->q_re0, r_mul(k, r_add(r_mul(p->dreff, r_atan(r_mul(p->breff, e->fz))), r_mul(p->freff, e->fz))));
         w = r_div(r_mul(e->omega, p->unloaded_radius), p->longvl);
         bw = r_mul(p->q_v1, r_sq(w));
@@ -180,13 +180,12 @@ static MF_ALWAYS_INLINE void ext_radius(ext_ctx *e)
         e->re_ok = 1;
         return;
     }
-    /* FNOMIN / (Cz R0) < 1000, and |u| < 181 (u^2 in QS) */
+    /* FNOMIN / (Cz R0) < 1000 (has_re), and |u| < 181 (u^2 in QS) */
     num = r_mul(r_add(R_ONE, e->kap), e->vx);
-    if (!e->has_cz || !(r_mul(RC(0.001), p->fnomin) < e->r0czp) ||
-        !(r_mul(r_abs(num), RC(1.0 / 181.0)) < p->longvl)) {
+    if (!e->has_re || !(r_mul(r_abs(num), RC(1.0 / 181.0)) < p->longvl)) {
         return;
     }
-    k = r_div(p->fnomin, e->r0czp);
+    k = e->re_k;
     a = r_sub(p->q_re0, r_mul(k, r_add(r_mul(p->dreff, r_atan(r_mul(p->breff, e->fz))), r_mul(p->freff, e->fz))));
     e->u = r_div(num, p->longvl);
     b = r_mul(p->q_v1, r_sq(e->u));
@@ -226,6 +225,20 @@ static MF_ALWAYS_INLINE void ext_radius(ext_ctx *e)
     e->re_ok = 1;
 }
 
+void mf_ext_cz_form(const grip_mf_params *p, grip_real_t dpi, mf_ext_cz *z)
+{
+    int ok = 1;
+    grip_real_t czp = mf_times_ql(r_add(R_ONE, r_mul(p->pfz1, dpi)), p->vertical_stiffness, &ok);
+    z->r0czp = mf_times_ql(p->unloaded_radius, czp, &ok);
+    z->has_cz = (ok && (p->vertical_stiffness > R_ZERO) && (czp > R_ZERO)) ? 1 : 0;
+    z->has_re = 0;
+    z->re_k = R_ZERO;
+    if (z->has_cz && (r_mul(RC(0.001), p->fnomin) < z->r0czp)) {
+        z->has_re = 1;
+        z->re_k = r_div(p->fnomin, z->r0czp);
+    }
+}
+
 /* every field zero (a static object): the start of a context */
 static const ext_ctx EXT_CTX_ZERO;
 
@@ -233,16 +246,18 @@ grip_real_t mf_rolling_radius(const grip_mf_params *p, grip_real_t kap, grip_rea
                               grip_real_t dpi)
 {
     ext_ctx e = EXT_CTX_ZERO;
-    int ok = 1;
+    mf_ext_cz z;
     e.p = p;
     e.kap = kap;
     e.vx = vx;
     e.fz = fz;
     e.omega = R_ZERO;
     e.r = R_ZERO;
-    e.czp = mf_times_ql(r_add(R_ONE, r_mul(p->pfz1, dpi)), p->vertical_stiffness, &ok);
-    e.r0czp = mf_times_ql(p->unloaded_radius, e.czp, &ok);
-    e.has_cz = ok && (p->vertical_stiffness > R_ZERO) && (e.czp > R_ZERO);
+    mf_ext_cz_form(p, dpi, &z);
+    e.r0czp = z.r0czp;
+    e.re_k = z.re_k;
+    e.has_cz = z.has_cz;
+    e.has_re = z.has_re;
     ext_radius(&e);
     return e.re_ok ? e.r : R_ZERO;
 }
@@ -969,10 +984,11 @@ static MF_NOINLINE void ext_more(ext_ctx *e, uint32_t mode, uint32_t want, grip_
 
 /* The end of both extended evaluations: the forces of the evaluation
  * (base, status st) into out, then, unless st is an error, the requested
- * channels (c: its intermediates; out's channels are EXT_ZERO). */
-static grip_status_t ext_channels(const grip_mf_params *p, mf_core *c, const grip_mf_output *base, grip_status_t st,
-                                  const grip_mf_input *in, const grip_mf_spin *spin, uint32_t mode, uint32_t outputs,
-                                  grip_mf_output_ext *out)
+ * channels (c: its intermediates; out's channels are EXT_ZERO; k: the
+ * prepared set of p, or NULL). */
+static grip_status_t ext_channels(const grip_mf_params *p, const grip_mf_prepared *k, mf_core *c,
+                                  const grip_mf_output *base, grip_status_t st, const grip_mf_input *in,
+                                  const grip_mf_spin *spin, uint32_t mode, uint32_t outputs, grip_mf_output_ext *out)
 {
     ext_ctx e;
     uint32_t valid = 0u;
@@ -1002,6 +1018,7 @@ static grip_status_t ext_channels(const grip_mf_params *p, mf_core *c, const gri
     e.fx0 = r_mul(c->fx, e.fz);
     e.fy0 = r_mul(c->fy, e.fz);
     e.has_cz = 0;
+    e.has_re = 0;
     e.re_ok = 0;
     e.r = R_ZERO;
     e.b = R_ZERO;
@@ -1009,19 +1026,32 @@ static grip_status_t ext_channels(const grip_mf_params *p, mf_core *c, const gri
     e.romega = R_ZERO;
     e.wspeed = R_ZERO;
     if ((outputs & EXT_NEED_CZ) != 0u) {
-        /* the vertical stiffness at the pressure, times R0, over FNOMIN */
-        ok = 1;
-        e.czp = mf_times_ql(r_add(R_ONE, r_mul(p->pfz1, c->op.dpi)), p->vertical_stiffness, &ok);
-        e.r0czp = mf_times_ql(p->unloaded_radius, e.czp, &ok);
+        /* the vertical stiffness at the pressure, times R0, over FNOMIN:
+         * the prepared set's at its default pressure */
+        mf_ext_cz z;
+        if ((k != NULL) && !(in->p > R_ZERO)) {
+            z.r0czp = k->r0czp;
+            z.re_k = k->re_k;
+            z.has_cz = ((k->flags & MF_PF_CZ) != 0u) ? 1 : 0;
+            z.has_re = ((k->flags & MF_PF_RE) != 0u) ? 1 : 0;
+        } else {
+            mf_ext_cz_form(p, c->op.dpi, &z);
+        }
+        e.r0czp = z.r0czp;
+        e.re_k = z.re_k;
+        e.has_cz = z.has_cz;
+        e.has_re = z.has_re;
         e.cz_r0 = R_ZERO;
         e.c0 = R_ZERO;
         if ((outputs & (GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ | GRIP_MF_EXT_LENGTH | GRIP_MF_EXT_WIDTH)) !=
             0u) {
+            ok = 1;
             e.cz_r0 = mf_div_ok(e.r0czp, p->fnomin, RC(1000.0), &ok);
             e.c0 = mf_div_ok(mf_times_ql(p->unloaded_radius, p->vertical_stiffness, &ok), p->fnomin, RC(1000.0), &ok);
-        }
-        if (ok && (p->vertical_stiffness > R_ZERO) && (e.czp > R_ZERO)) {
-            e.has_cz = 1;
+            if (!ok) {
+                e.has_cz = 0;
+                e.has_re = 0;
+            }
         }
     }
     if ((outputs & (GRIP_MF_EXT_RE | GRIP_MF_EXT_OMEGA | GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ)) != 0u) {
@@ -1082,7 +1112,7 @@ grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input
                                   : R_ZERO,
                               &base, &c);
     }
-    return ext_channels(p, &c, &base, st, in, spin, mode, outputs & GRIP_MF_EXT_ALL, out);
+    return ext_channels(p, NULL, &c, &base, st, in, spin, mode, outputs & GRIP_MF_EXT_ALL, out);
 }
 
 grip_status_t grip_mf_eval_ext_prepared(const grip_mf_prepared *prep, const grip_mf_input *in, uint32_t outputs,
@@ -1106,5 +1136,5 @@ grip_status_t grip_mf_eval_ext_prepared(const grip_mf_prepared *prep, const grip
         return GRIP_ERR_INPUT;
     }
     st = mf_eval_core_prepared(prep, in, &base, &c);
-    return ext_channels(prep->p, &c, &base, st, in, &SPIN_ZERO, prep->options, outputs, out);
+    return ext_channels(prep->p, prep, &c, &base, st, in, &SPIN_ZERO, prep->options, outputs, out);
 }
