@@ -189,7 +189,8 @@ static MF_ALWAYS_INLINE void ext_radius(ext_ctx *e)
     a = r_sub(p->q_re0, r_mul(k, r_add(r_mul(p->dreff, r_atan(r_mul(p->breff, e->fz))), r_mul(p->freff, e->fz))));
     e->u = r_div(num, p->longvl);
     b = r_mul(p->q_v1, r_sq(e->u));
-    if (!(a > RC(0.01)) || (r_add(r_mul(RC(27.0), b), r_mul(RC(4.0), r_mul(r_sq(a), a))) < R_ZERO)) {
+    /* 27 b + 4 a^3 < 0: no root (only for b < 0, Q_V1 < 0) */
+    if (!(a > RC(0.01)) || ((b < R_ZERO) && (r_add(r_mul(RC(27.0), b), r_mul(RC(4.0), r_mul(r_sq(a), a))) < R_ZERO))) {
         return;
     }
     if (b <= r_mul(r_sq(a), a)) {
@@ -849,16 +850,31 @@ static inline void ext_finite(grip_real_t *v, uint32_t bit, uint32_t outputs, ui
     }
 }
 
+/* The channels that need the vertical stiffness (Re ... 2b). */
+#define EXT_NEED_CZ                                                                                              \
+    (GRIP_MF_EXT_RE | GRIP_MF_EXT_OMEGA | GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ | GRIP_MF_EXT_LENGTH | \
+     GRIP_MF_EXT_WIDTH)
+/* The channels of the slip stiffnesses and of the relaxation. */
+#define EXT_STIFF                                                                                                \
+    (GRIP_MF_EXT_KXK | GRIP_MF_EXT_KYA | GRIP_MF_EXT_CX | GRIP_MF_EXT_CY | GRIP_MF_EXT_SIGMAX | GRIP_MF_EXT_SIGMAY)
+/* Everything but Re and the stiffnesses (ext_more). */
+#define EXT_MORE (GRIP_MF_EXT_ALL & ~(GRIP_MF_EXT_RE | EXT_STIFF))
+
 /* The inputs as the model saw them, before the low-speed scaling: the
  * conventions and clamps of mf_prepare (mf_eval.c) for kappa, gamma, vx. */
-static int ext_inputs(uint32_t mode, const grip_mf_input *in, const grip_mf_spin *spin, const mf_io *io, ext_ctx *e)
+static int ext_inputs(uint32_t mode, uint32_t outputs, const grip_mf_input *in, const grip_mf_spin *spin,
+                      const mf_io *io, ext_ctx *e)
 {
     int clamped = 0;
     int om_clamped = 0;
     grip_real_t kap = ((mode & GRIP_MF_OPT_KAPPA_BRAKE) != 0u) ? r_neg(in->kappa) : in->kappa;
-    grip_real_t gam = io->mirror ? r_neg(in->gamma) : in->gamma;
     e->kap = mf_clamp_sym(kap, RC(GRIP_MF_KAPPA_MAX), &clamped);
-    e->gam = mf_clamp_sym(gam, RC(GRIP_MF_GAMMA_MAX), &clamped);
+    e->gam = R_ZERO;
+    if ((outputs & (EXT_MORE | GRIP_MF_EXT_SIGMAY)) != 0u) {
+        /* only the vertical model, Mx, My and MF 5.2's sigma_y use gamma */
+        grip_real_t gam = io->mirror ? r_neg(in->gamma) : in->gamma;
+        e->gam = mf_clamp_sym(gam, RC(GRIP_MF_GAMMA_MAX), &clamped);
+    }
     e->vx = mf_clamp_sym(in->vx, RC(GRIP_MF_VX_MAX), &clamped);
     e->omega = mf_clamp_sym(spin->omega, RC(GRIP_MF_OMEGA_MAX), &om_clamped);
     return om_clamped;   /* the others were reported by mf_prepare */
@@ -872,16 +888,6 @@ grip_status_t grip_mf_eval_ext(const grip_mf_params *p, const grip_mf_input *in,
 {
     return grip_mf_eval_ext_spin(p, in, NULL, outputs, out);
 }
-
-/* The channels that need the vertical stiffness (Re ... 2b). */
-#define EXT_NEED_CZ                                                                                              \
-    (GRIP_MF_EXT_RE | GRIP_MF_EXT_OMEGA | GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ | GRIP_MF_EXT_LENGTH | \
-     GRIP_MF_EXT_WIDTH)
-/* The channels of the slip stiffnesses and of the relaxation. */
-#define EXT_STIFF                                                                                                \
-    (GRIP_MF_EXT_KXK | GRIP_MF_EXT_KYA | GRIP_MF_EXT_CX | GRIP_MF_EXT_CY | GRIP_MF_EXT_SIGMAX | GRIP_MF_EXT_SIGMAY)
-/* Everything but Re and the stiffnesses (ext_more). */
-#define EXT_MORE (GRIP_MF_EXT_ALL & ~(GRIP_MF_EXT_RE | EXT_STIFF))
 
 /* Kxk, Kya [N] and the relaxation's Cx, Cy, sigma_x, sigma_y (want holds
  * at least one of EXT_STIFF). */
@@ -921,12 +927,16 @@ static void ext_stiff(const ext_ctx *e, uint32_t want, grip_mf_output_ext *out, 
     if ((want & (GRIP_MF_EXT_CX | GRIP_MF_EXT_CY | GRIP_MF_EXT_SIGMAX | GRIP_MF_EXT_SIGMAY)) != 0u) {
         ext_relax(e, kxk, kxk_ok, kya, kya_ok, want, out, valid);
     }
-    ext_finite(&out->kxk, GRIP_MF_EXT_KXK, want, valid);
-    ext_finite(&out->kya, GRIP_MF_EXT_KYA, want, valid);
+    /* Kxk, Kya are finite (a NaN fails |K / Fz| <= kq, and the product is
+     * then below 8e6), and so are MF 6.x's sigma (|K| / |C| with 0.001 |K|
+     * < |C|, false for a NaN C); Cx, Cy and MF 5.2's sigma are not when a
+     * coefficient is not */
     ext_finite(&out->cx, GRIP_MF_EXT_CX, want, valid);
     ext_finite(&out->cy, GRIP_MF_EXT_CY, want, valid);
-    ext_finite(&out->sigmax, GRIP_MF_EXT_SIGMAX, want, valid);
-    ext_finite(&out->sigmay, GRIP_MF_EXT_SIGMAY, want, valid);
+    if (c->op.mf52) {
+        ext_finite(&out->sigmax, GRIP_MF_EXT_SIGMAX, want, valid);
+        ext_finite(&out->sigmay, GRIP_MF_EXT_SIGMAY, want, valid);
+    }
 }
 
 /* The channels of EXT_MORE (want holds at least one): Omega, the vertical
@@ -939,6 +949,8 @@ static MF_NOINLINE void ext_more(ext_ctx *e, uint32_t mode, uint32_t want, grip_
     const mf_core *c = e->c;
     grip_real_t fzr0 = r_mul(p->unloaded_radius, c->op.fz_ql);          /* Fz R0 [N m] */
     int ok;
+    e->fx0 = r_mul(c->fx, e->fz);
+    e->fy0 = r_mul(c->fy, e->fz);
     if (e->re_ok && ((want & GRIP_MF_EXT_OMEGA) != 0u)) {
         /* (1 + kappa) vx / Re = u LONGVL / Re: below 30000 rad/s; or the
          * input's Omega */
@@ -1027,7 +1039,7 @@ static grip_status_t ext_channels(const grip_mf_params *p, const grip_mf_prepare
     }
     e.p = p;
     e.c = c;
-    if (ext_inputs(mode, in, spin, &c->io, &e) && (st == GRIP_OK)) {
+    if (ext_inputs(mode, outputs, in, spin, &c->io, &e) && (st == GRIP_OK)) {
         st = GRIP_WARN_CLAMPED;
     }
     e.loaded = c->io.zero ? 0 : 1;
@@ -1041,8 +1053,6 @@ static grip_status_t ext_channels(const grip_mf_params *p, const grip_mf_prepare
         c->muy = R_ZERO;
     }
     e.fz = c->op.fz;
-    e.fx0 = r_mul(c->fx, e.fz);
-    e.fy0 = r_mul(c->fy, e.fz);
     e.has_cz = 0;
     e.has_re = 0;
     e.re_ok = 0;
