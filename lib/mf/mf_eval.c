@@ -1202,8 +1202,7 @@ static void mf_prepare_fill(const grip_mf_params *p, uint32_t options, grip_mf_p
         mf_ext_cz_form(p, k->dpi0, &z);
         k->r0czp = z.r0czp;
         k->re_k = z.re_k;
-        f |= z.has_cz ? MF_PF_CZ : 0u;
-        f |= z.has_re ? MF_PF_RE : 0u;
+        f |= z.flags;
     }
     k->options = options;
     k->flags = f;

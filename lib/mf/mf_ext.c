@@ -114,12 +114,11 @@ typedef struct {
     grip_real_t fx0;     /* combined Fx / FNOMIN, Fy / FNOMIN (0 unloaded)     */
     grip_real_t fy0;
     grip_real_t r0czp;   /* R0 Cz0 (1 + PFZ1 dpi) [N], QL                      */
-    grip_real_t re_k;    /* FNOMIN / (R0 Cz0 (1 + PFZ1 dpi)), when has_re       */
+    grip_real_t re_k;    /* FNOMIN / (R0 Cz0 (1 + PFZ1 dpi)), with MF_PF_RE     */
     grip_real_t cz_r0;   /* Cz0 (1 + PFZ1 dpi) R0 / FNOMIN                     */
     grip_real_t c0;      /* Cz0 R0 / FNOMIN (Q_FZ1, MF 5.2's Q_A1 default)     */
     int loaded;
-    int has_cz;          /* VERTICAL_STIFFNESS > 0 and the above formed        */
-    int has_re;          /* has_cz and FNOMIN / (R0 Cz) < 1000: re_k formed    */
+    uint32_t czf;        /* MF_PF_CZ: the above formed; MF_PF_RE: re_k too     */
     /* rolling radius */
     int re_ok;
     grip_real_t r;       /* Re / R0                                            */
@@ -163,7 +162,7 @@ static MF_ALWAYS_INLINE void ext_radius(ext_ctx *e)
          * b / r^2 and R0 |Omega| / LONGVL = |u| / r of the estimate. */
         grip_real_t w;
         grip_real_t bw;
-        if (!e->has_re || !(r_mul(r_abs(r_mul(e->omega, p->unloaded_radius)), RC(1.0 / 181.0)) < p->longvl)) {
+        if (((e->czf & MF_PF_RE) == 0u) || !(r_mul(r_abs(r_mul(e->omega, p->unloaded_radius)), RC(1.0 / 181.0)) < p->longvl)) {
             return;
         }
         k = e->re_k;
@@ -180,9 +179,9 @@ static MF_ALWAYS_INLINE void ext_radius(ext_ctx *e)
         e->re_ok = 1;
         return;
     }
-    /* FNOMIN / (Cz R0) < 1000 (has_re), and |u| < 181 (u^2 in QS) */
+    /* FNOMIN / (Cz R0) < 1000 (MF_PF_RE), and |u| < 181 (u^2 in QS) */
     num = r_mul(r_add(R_ONE, e->kap), e->vx);
-    if (!e->has_re || !(r_mul(r_abs(num), RC(1.0 / 181.0)) < p->longvl)) {
+    if (((e->czf & MF_PF_RE) == 0u) || !(r_mul(r_abs(num), RC(1.0 / 181.0)) < p->longvl)) {
         return;
     }
     k = e->re_k;
@@ -231,12 +230,14 @@ void mf_ext_cz_form(const grip_mf_params *p, grip_real_t dpi, mf_ext_cz *z)
     int ok = 1;
     grip_real_t czp = mf_times_ql(r_add(R_ONE, r_mul(p->pfz1, dpi)), p->vertical_stiffness, &ok);
     z->r0czp = mf_times_ql(p->unloaded_radius, czp, &ok);
-    z->has_cz = (ok && (p->vertical_stiffness > R_ZERO) && (czp > R_ZERO)) ? 1 : 0;
-    z->has_re = 0;
+    z->flags = 0u;
     z->re_k = R_ZERO;
-    if (z->has_cz && (r_mul(RC(0.001), p->fnomin) < z->r0czp)) {
-        z->has_re = 1;
-        z->re_k = r_div(p->fnomin, z->r0czp);
+    if (ok && (p->vertical_stiffness > R_ZERO) && (czp > R_ZERO)) {
+        z->flags = MF_PF_CZ;
+        if (r_mul(RC(0.001), p->fnomin) < z->r0czp) {
+            z->flags = MF_PF_CZ | MF_PF_RE;
+            z->re_k = r_div(p->fnomin, z->r0czp);
+        }
     }
 }
 
@@ -257,8 +258,7 @@ grip_real_t mf_rolling_radius(const grip_mf_params *p, grip_real_t kap, grip_rea
     mf_ext_cz_form(p, dpi, &z);
     e.r0czp = z.r0czp;
     e.re_k = z.re_k;
-    e.has_cz = z.has_cz;
-    e.has_re = z.has_re;
+    e.czf = z.flags;
     ext_radius(&e);
     return e.re_ok ? e.r : R_ZERO;
 }
@@ -532,7 +532,7 @@ static void ext_patch(const ext_ctx *e, uint32_t want, grip_mf_output_ext *out, 
 {
     const grip_mf_params *p = e->p;
     grip_real_t r0 = p->unloaded_radius;
-    int ok = e->has_cz;
+    int ok = ((e->czf & MF_PF_CZ) != 0u) ? 1 : 0;
     grip_real_t qs = R_ZERO;                                          /* 4096 q */
     grip_real_t qb;
     grip_real_t a = R_ZERO;
@@ -1053,8 +1053,7 @@ static grip_status_t ext_channels(const grip_mf_params *p, const grip_mf_prepare
         c->muy = R_ZERO;
     }
     e.fz = c->op.fz;
-    e.has_cz = 0;
-    e.has_re = 0;
+    e.czf = 0u;
     e.re_ok = 0;
     e.r = R_ZERO;
     e.b = R_ZERO;
@@ -1068,15 +1067,13 @@ static grip_status_t ext_channels(const grip_mf_params *p, const grip_mf_prepare
         if ((k != NULL) && !(in->p > R_ZERO)) {
             z.r0czp = k->r0czp;
             z.re_k = k->re_k;
-            z.has_cz = ((k->flags & MF_PF_CZ) != 0u) ? 1 : 0;
-            z.has_re = ((k->flags & MF_PF_RE) != 0u) ? 1 : 0;
+            z.flags = k->flags & (MF_PF_CZ | MF_PF_RE);
         } else {
             mf_ext_cz_form(p, c->op.dpi, &z);
         }
         e.r0czp = z.r0czp;
         e.re_k = z.re_k;
-        e.has_cz = z.has_cz;
-        e.has_re = z.has_re;
+        e.czf = z.flags;
         e.cz_r0 = R_ZERO;
         e.c0 = R_ZERO;
         if ((outputs & (GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ | GRIP_MF_EXT_LENGTH | GRIP_MF_EXT_WIDTH)) !=
@@ -1085,8 +1082,7 @@ static grip_status_t ext_channels(const grip_mf_params *p, const grip_mf_prepare
             e.cz_r0 = mf_div_ok(e.r0czp, p->fnomin, RC(1000.0), &ok);
             e.c0 = mf_div_ok(mf_times_ql(p->unloaded_radius, p->vertical_stiffness, &ok), p->fnomin, RC(1000.0), &ok);
             if (!ok) {
-                e.has_cz = 0;
-                e.has_re = 0;
+                e.czf = 0u;
             }
         }
     }

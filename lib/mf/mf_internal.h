@@ -273,10 +273,10 @@ grip_real_t mf_rolling_radius(const grip_mf_params *p, grip_real_t kap, grip_rea
  * MF_PF_CZ, MF_PF_RE), by the same function. */
 typedef struct {
     grip_real_t r0czp;   /* R0 Cz0 (1 + PFZ1 dpi) [N], QL                      */
-    grip_real_t re_k;    /* FNOMIN / (R0 Cz0 (1 + PFZ1 dpi)) when has_re, else 0 */
-    int has_cz;          /* VERTICAL_STIFFNESS > 0, Cz0 (1 + PFZ1 dpi) > 0 and */
-                         /* both inside QL                                     */
-    int has_re;          /* has_cz and FNOMIN / (R0 Cz) < 1000                 */
+    grip_real_t re_k;    /* FNOMIN / (R0 Cz0 (1 + PFZ1 dpi)) with MF_PF_RE, else 0 */
+    uint32_t flags;      /* MF_PF_CZ: VERTICAL_STIFFNESS > 0, Cz0 (1 + PFZ1 dpi) */
+                         /* > 0 and both inside QL; MF_PF_RE: that and        */
+                         /* FNOMIN / (R0 Cz) < 1000                           */
 } mf_ext_cz;
 
 #define mf_ext_cz_form GRIP_TYPED(grip_mf_i_ext_cz_form)
