@@ -870,13 +870,16 @@ static int ext_inputs(uint32_t mode, uint32_t outputs, const grip_mf_input *in, 
     grip_real_t kap = ((mode & GRIP_MF_OPT_KAPPA_BRAKE) != 0u) ? r_neg(in->kappa) : in->kappa;
     e->kap = mf_clamp_sym(kap, RC(GRIP_MF_KAPPA_MAX), &clamped);
     e->gam = R_ZERO;
-    if ((outputs & (EXT_MORE | GRIP_MF_EXT_SIGMAY)) != 0u) {
+    if (((outputs & EXT_MORE) != 0u) || (e->c->op.mf52 && ((outputs & GRIP_MF_EXT_SIGMAY) != 0u))) {
         /* only the vertical model, Mx, My and MF 5.2's sigma_y use gamma */
         grip_real_t gam = io->mirror ? r_neg(in->gamma) : in->gamma;
         e->gam = mf_clamp_sym(gam, RC(GRIP_MF_GAMMA_MAX), &clamped);
     }
     e->vx = mf_clamp_sym(in->vx, RC(GRIP_MF_VX_MAX), &clamped);
-    e->omega = mf_clamp_sym(spin->omega, RC(GRIP_MF_OMEGA_MAX), &om_clamped);
+    e->omega = R_ZERO;
+    if (spin->omega != R_ZERO) {
+        e->omega = mf_clamp_sym(spin->omega, RC(GRIP_MF_OMEGA_MAX), &om_clamped);
+    }
     return om_clamped;   /* the others were reported by mf_prepare */
 }
 
@@ -1090,9 +1093,9 @@ static grip_status_t ext_channels(const grip_mf_params *p, const grip_mf_prepare
         ext_radius(&e);
         if (e.re_ok && ((outputs & GRIP_MF_EXT_RE) != 0u)) {
             ok = 1;
+            /* finite: r is (ext_radius), and an R0 of +Inf has no Cz (MF_PF_CZ) */
             out->re = mf_times_qs(e.r, p->unloaded_radius, &ok);
             valid |= ok ? GRIP_MF_EXT_RE : 0u;
-            ext_finite(&out->re, GRIP_MF_EXT_RE, outputs, &valid);
         }
     }
     if ((outputs & EXT_STIFF) != 0u) {
