@@ -130,6 +130,22 @@ typedef struct {
 
 /* ------------------------------------------------------ rolling radius */
 
+/* One Halley step on f = r^3 - a r^2 - b from r: the new r (in [0.01,
+ * MF_RE_MAX]) and the step (1 when f' or the denominator says no
+ * convergence: flagged by the caller). */
+static MF_ALWAYS_INLINE grip_real_t ext_halley(grip_real_t r, grip_real_t a, grip_real_t b, grip_real_t *step)
+{
+    grip_real_t f = r_sub(r_mul(r_sq(r), r_sub(r, a)), b);
+    grip_real_t d = r_mul(r, r_sub(r_mul(RC(3.0), r), r_mul(RC(2.0), a)));   /* f'  */
+    grip_real_t dd = r_sub(r_mul(RC(6.0), r), r_mul(RC(2.0), a));            /* f'' */
+    grip_real_t den = r_sub(r_mul(RC(2.0), r_sq(d)), r_mul(f, dd));
+    *step = R_ONE;
+    if ((den > R_ZERO) && (d > RC(0.0001))) {
+        *step = r_div(r_mul(r_mul(RC(2.0), f), d), den);
+    }
+    return r_clamp(r_sub(r, *step), RC(0.01), MF_RE_MAX);
+}
+
 /* Re = Romega(Omega) - FNOMIN / Cz (DREFF atan(BREFF Fz/FNOMIN) + FREFF
  * Fz/FNOMIN), Romega = R0 (Q_RE0 + Q_V1 (Omega R0 / LONGVL)^2), Omega =
  * (1 + kappa) vx / Re. With r = Re / R0 and u = (1 + kappa) vx / LONGVL:
@@ -200,24 +216,17 @@ static MF_ALWAYS_INLINE void ext_radius(ext_ctx *e)
     if (!(r <= MF_RE_MAX)) {
         return;
     }
-    for (i = 0; i < MF_RE_STEPS; i++) {
+    r = ext_halley(r, a, b, &step);
+    for (i = 1; i < MF_RE_STEPS; i++) {
         /* after a step below MF_RE_TINY the error is below 1e-9 (cubic
          * convergence): the next steps are skipped, the count of the loop
          * stays fixed */
         if (r_abs(step) > MF_RE_TINY) {
-            grip_real_t f = r_sub(r_mul(r_sq(r), r_sub(r, a)), b);
-            grip_real_t d = r_mul(r, r_sub(r_mul(RC(3.0), r), r_mul(RC(2.0), a)));   /* f'  */
-            grip_real_t dd = r_sub(r_mul(RC(6.0), r), r_mul(RC(2.0), a));            /* f'' */
-            grip_real_t den = r_sub(r_mul(RC(2.0), r_sq(d)), r_mul(f, dd));
-            if ((den > R_ZERO) && (d > RC(0.0001))) {
-                step = r_div(r_mul(r_mul(RC(2.0), f), d), den);
-            } else {
-                step = R_ONE;   /* no convergence: flagged below */
-            }
-            r = r_clamp(r_sub(r, step), RC(0.01), MF_RE_MAX);
+            r = ext_halley(r, a, b, &step);
         }
     }
-    if (!(r_abs(step) <= MF_RE_TOL) || !r_is_finite(r)) {
+    /* r is finite: each step clamps it (r_max(NaN, lo) is lo) */
+    if (!(r_abs(step) <= MF_RE_TOL)) {
         return;
     }
     e->r = r;
@@ -1058,11 +1067,6 @@ static grip_status_t ext_channels(const grip_mf_params *p, const grip_mf_prepare
     e.fz = c->op.fz;
     e.czf = 0u;
     e.re_ok = 0;
-    e.r = R_ZERO;
-    e.b = R_ZERO;
-    e.u = R_ZERO;
-    e.romega = R_ZERO;
-    e.wspeed = R_ZERO;
     if ((outputs & EXT_NEED_CZ) != 0u) {
         /* the vertical stiffness at the pressure, times R0, over FNOMIN:
          * the prepared set's at its default pressure */
