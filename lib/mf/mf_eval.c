@@ -1202,7 +1202,7 @@ static void mf_prepare_fill(const grip_mf_params *p, uint32_t options, grip_mf_p
         mf_ext_cz_form(p, k->dpi0, &z);
         k->r0czp = z.r0czp;
         k->re_k = z.re_k;
-        f |= z.flags;
+        f |= z.flags;   /* MF_PF_CZ, MF_PF_RE, MF_PF_RE_U */
     }
     k->options = options;
     k->flags = f;

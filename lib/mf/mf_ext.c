@@ -197,7 +197,8 @@ static MF_ALWAYS_INLINE void ext_radius(ext_ctx *e)
     }
     /* FNOMIN / (Cz R0) < 1000 (MF_PF_RE), and |u| < 181 (u^2 in QS) */
     num = r_mul(r_add(R_ONE, e->kap), e->vx);
-    if (((e->czf & MF_PF_RE) == 0u) || !(r_mul(r_abs(num), RC(1.0 / 181.0)) < p->longvl)) {
+    if (((e->czf & MF_PF_RE) == 0u) ||
+        (((e->czf & MF_PF_RE_U) == 0u) && !(r_mul(r_abs(num), RC(1.0 / 181.0)) < p->longvl))) {
         return;
     }
     k = e->re_k;
@@ -239,12 +240,14 @@ void mf_ext_cz_form(const grip_mf_params *p, grip_real_t dpi, mf_ext_cz *z)
     int ok = 1;
     grip_real_t czp = mf_times_ql(r_add(R_ONE, r_mul(p->pfz1, dpi)), p->vertical_stiffness, &ok);
     z->r0czp = mf_times_ql(p->unloaded_radius, czp, &ok);
-    z->flags = 0u;
+    /* |u| = |(1 + kappa) vx| / LONGVL < 181 (u^2 in QS) for every input:
+     * |(1 + kappa) vx| <= 2.5 * 300 m/s = 750 m/s */
+    z->flags = (p->longvl > RC(4.2)) ? MF_PF_RE_U : 0u;
     z->re_k = R_ZERO;
     if (ok && (p->vertical_stiffness > R_ZERO) && (czp > R_ZERO)) {
-        z->flags = MF_PF_CZ;
+        z->flags |= MF_PF_CZ;
         if (r_mul(RC(0.001), p->fnomin) < z->r0czp) {
-            z->flags = MF_PF_CZ | MF_PF_RE;
+            z->flags |= MF_PF_RE;
             z->re_k = r_div(p->fnomin, z->r0czp);
         }
     }
@@ -541,11 +544,14 @@ static void ext_patch(const ext_ctx *e, uint32_t want, grip_mf_output_ext *out, 
 {
     const grip_mf_params *p = e->p;
     grip_real_t r0 = p->unloaded_radius;
-    int ok = ((e->czf & MF_PF_CZ) != 0u) ? 1 : 0;
+    int ok = 0;
     grip_real_t qs = R_ZERO;                                          /* 4096 q */
     grip_real_t qb;
     grip_real_t a = R_ZERO;
     grip_real_t b = R_ZERO;
+    if ((e->czf & MF_PF_CZ) != 0u) {
+        ok = 1;
+    }
     if (ok) {
         qs = mf_div_ok(r_mul(RC(4096.0), r_min(e->fz, RC(7.0))), e->cz_r0, RC(16384.0), &ok);
         qb = r_max(r_sub(R_ONE, mf_div_lim(r_add(p->rim_radius, p->bottom_offst), r0, RC(100.0))), R_ZERO);
@@ -1074,7 +1080,7 @@ static grip_status_t ext_channels(const grip_mf_params *p, const grip_mf_prepare
         if ((k != NULL) && !(in->p > R_ZERO)) {
             z.r0czp = k->r0czp;
             z.re_k = k->re_k;
-            z.flags = k->flags & (MF_PF_CZ | MF_PF_RE);
+            z.flags = k->flags & (MF_PF_CZ | MF_PF_RE | MF_PF_RE_U);
         } else {
             mf_ext_cz_form(p, c->op.dpi, &z);
         }

@@ -247,6 +247,7 @@ int mf_params_usable_plain(const grip_mf_params *p);
 #define MF_PF_LMU_CONST   0x40u  /* LMUV = 0: LMU*, LMU', LKY / LMUY* constant */
 #define MF_PF_CZ          0x80u  /* the vertical stiffness is formed (mf_ext_cz) */
 #define MF_PF_RE          0x100u /* and Re's FNOMIN / (R0 Cz) is (mf_ext_cz)     */
+#define MF_PF_RE_U        0x200u /* LONGVL > 4.2 m/s: |u| < 181 for every input  */
 
 /* The set has what the turn-slip equations divide by: PHYP1 > 0 (C_Hyp)
  * and 0 < QDRP1 < 2 (C_Drp, sin(pi/2 C_Drp) > 0). */
@@ -276,7 +277,7 @@ typedef struct {
     grip_real_t re_k;    /* FNOMIN / (R0 Cz0 (1 + PFZ1 dpi)) with MF_PF_RE, else 0 */
     uint32_t flags;      /* MF_PF_CZ: VERTICAL_STIFFNESS > 0, Cz0 (1 + PFZ1 dpi) */
                          /* > 0 and both inside QL; MF_PF_RE: that and        */
-                         /* FNOMIN / (R0 Cz) < 1000                           */
+                         /* FNOMIN / (R0 Cz) < 1000; MF_PF_RE_U               */
 } mf_ext_cz;
 
 #define mf_ext_cz_form GRIP_TYPED(grip_mf_i_ext_cz_form)
