@@ -41,6 +41,7 @@
 #define MF_RE_TOL      RC(2.0e-4)     /* last step of Re / R0, converged         */
 #define MF_RE_MAX      RC(6.0)        /* Re / R0 beyond: not a rolling radius    */
 #define MF_RE_TINY     MF_RE_TOL      /* a Halley step below: the next are < 1e-9 */
+#define MF_RE_BETA     RC(0.005)      /* |b| / a^3 up to this: Re by its series  */
 #define MF_RL62_SCAN   12             /* scan points of the MF 6.2 deflection    */
 #define MF_RL62_STEPS  10             /* Illinois steps of the MF 6.2 deflection */
 #define MF_RL62_TOL    RC(2.0e-3)     /* |Fz62 - Fz| / FNOMIN at the result      */
@@ -168,6 +169,7 @@ static MF_ALWAYS_INLINE void ext_radius(ext_ctx *e)
     grip_real_t a;
     grip_real_t b;
     grip_real_t num;
+    grip_real_t a3;
     grip_real_t r;
     grip_real_t step = R_ONE;
     e->re_ok = 0;
@@ -209,26 +211,40 @@ static MF_ALWAYS_INLINE void ext_radius(ext_ctx *e)
     if (!(a > RC(0.01)) || ((b < R_ZERO) && (r_add(r_mul(RC(27.0), b), r_mul(RC(4.0), r_mul(r_sq(a), a))) < R_ZERO))) {
         return;
     }
-    if (b <= r_mul(r_sq(a), a)) {
-        r = r_add(a, r_div(b, r_sq(a)));
-    } else {
-        r = r_add(a, mf_pow_pos(b, RC(0.333333333333333)));
-    }
-    if (!(r <= MF_RE_MAX)) {
-        return;
-    }
-    r = ext_halley(r, a, b, &step);
-    for (i = 1; i < MF_RE_STEPS; i++) {
-        /* after a step below MF_RE_TINY the error is below 1e-9 (cubic
-         * convergence): the next steps are skipped, the count of the loop
-         * stays fixed */
-        if (r_abs(step) > MF_RE_TINY) {
-            r = ext_halley(r, a, b, &step);
+    a3 = r_mul(r_sq(a), a);
+    if ((a > RC(0.3)) && (r_abs(b) <= r_mul(MF_RE_BETA, a3))) {
+        /* r = a (1 + eps), eps (1 + eps)^2 = beta = b / a^3: the root's
+         * series, beta - 2 beta^2 + 7 beta^3 - 30 beta^4, whose next term
+         * (143 beta^5) is below 5e-10 for |beta| <= MF_RE_BETA */
+        grip_real_t beta = r_div(b, a3);
+        grip_real_t eps = r_mul(beta, r_sub(R_ONE, r_mul(beta, r_sub(RC(2.0), r_mul(beta, r_sub(RC(7.0),
+                                                                                                 r_mul(RC(30.0), beta)))))));
+        r = r_add(a, r_mul(a, eps));
+        if (!(r <= MF_RE_MAX)) {
+            return;
         }
-    }
-    /* r is finite: each step clamps it (r_max(NaN, lo) is lo) */
-    if (!(r_abs(step) <= MF_RE_TOL)) {
-        return;
+    } else {
+        if (b <= a3) {
+            r = r_add(a, r_div(b, r_sq(a)));
+        } else {
+            r = r_add(a, mf_pow_pos(b, RC(0.333333333333333)));
+        }
+        if (!(r <= MF_RE_MAX)) {
+            return;
+        }
+        r = ext_halley(r, a, b, &step);
+        for (i = 1; i < MF_RE_STEPS; i++) {
+            /* after a step below MF_RE_TINY the error is below 1e-9 (cubic
+             * convergence): the next steps are skipped, the count of the
+             * loop stays fixed */
+            if (r_abs(step) > MF_RE_TINY) {
+                r = ext_halley(r, a, b, &step);
+            }
+        }
+        /* r is finite: each step clamps it (r_max(NaN, lo) is lo) */
+        if (!(r_abs(step) <= MF_RE_TOL)) {
+            return;
+        }
     }
     e->r = r;
     e->b = b;
