@@ -207,8 +207,7 @@ static MF_ALWAYS_INLINE void ext_radius(ext_ctx *e)
     a = r_sub(p->q_re0, r_mul(k, r_add(r_mul(p->dreff, r_atan(r_mul(p->breff, e->fz))), r_mul(p->freff, e->fz))));
     e->u = r_div(num, p->longvl);
     b = r_mul(p->q_v1, r_sq(e->u));
-    /* 27 b + 4 a^3 < 0: no root (only for b < 0, Q_V1 < 0) */
-    if (!(a > RC(0.01)) || ((b < R_ZERO) && (r_add(r_mul(RC(27.0), b), r_mul(RC(4.0), r_mul(r_sq(a), a))) < R_ZERO))) {
+    if (!(a > RC(0.01))) {
         return;
     }
     a3 = r_mul(r_sq(a), a);
@@ -224,6 +223,11 @@ static MF_ALWAYS_INLINE void ext_radius(ext_ctx *e)
             return;
         }
     } else {
+        /* 27 b + 4 a^3 < 0: no root (only for b < 0, Q_V1 < 0; with the
+         * series, |b| <= a^3 / 200, never) */
+        if ((b < R_ZERO) && (r_add(r_mul(RC(27.0), b), r_mul(RC(4.0), a3)) < R_ZERO)) {
+            return;
+        }
         if (b <= a3) {
             r = r_add(a, r_div(b, r_sq(a)));
         } else {
@@ -983,6 +987,7 @@ static MF_NOINLINE void ext_more(ext_ctx *e, uint32_t mode, uint32_t want, grip_
     const mf_core *c = e->c;
     grip_real_t fzr0 = r_mul(p->unloaded_radius, c->op.fz_ql);          /* Fz R0 [N m] */
     int ok;
+    e->loaded = c->io.zero ? 0 : 1;
     e->fx0 = r_mul(c->fx, e->fz);
     e->fy0 = r_mul(c->fy, e->fz);
     if (e->re_ok && ((want & GRIP_MF_EXT_OMEGA) != 0u)) {
@@ -1076,8 +1081,7 @@ static grip_status_t ext_channels(const grip_mf_params *p, const grip_mf_prepare
     if (ext_inputs(mode, outputs, in, spin, &c->io, &e) && (st == GRIP_OK)) {
         st = GRIP_WARN_CLAMPED;
     }
-    e.loaded = c->io.zero ? 0 : 1;
-    if (!e.loaded) {
+    if (c->io.zero) {
         c->fx = R_ZERO;
         c->fy = R_ZERO;
         c->t = R_ZERO;
