@@ -644,16 +644,18 @@ static void ext_relax(const ext_ctx *e, grip_real_t kxk, int kxk_ok, grip_real_t
     const mf_ext_op *op = &e->c->op;
     grip_real_t dfz = op->dfz;
     grip_real_t dpi = op->dpi;
-    uint32_t wx = GRIP_MF_EXT_CX | (op->mf52 ? 0u : GRIP_MF_EXT_SIGMAX);   /* what needs Cx, Cy */
-    uint32_t wy = GRIP_MF_EXT_CY | (op->mf52 ? 0u : GRIP_MF_EXT_SIGMAY);
+    uint32_t need = want;   /* what needs Cx, Cy: them, and MF 6.x's sigma */
     int cxok = 0;
     int cyok = 0;
     grip_real_t cx = R_ZERO;
     grip_real_t cy = R_ZERO;
-    if ((p->longitudinal_stiffness > R_ZERO) && ((want & wx) != 0u)) {
+    if (op->mf52) {
+        need &= ~(GRIP_MF_EXT_SIGMAX | GRIP_MF_EXT_SIGMAY);
+    }
+    if (((need & (GRIP_MF_EXT_CX | GRIP_MF_EXT_SIGMAX)) != 0u) && (p->longitudinal_stiffness > R_ZERO)) {
         cxok = 1;
     }
-    if ((p->lateral_stiffness > R_ZERO) && ((want & wy) != 0u)) {
+    if (((need & (GRIP_MF_EXT_CY | GRIP_MF_EXT_SIGMAY)) != 0u) && (p->lateral_stiffness > R_ZERO)) {
         cyok = 1;
     }
     if (cxok) {
