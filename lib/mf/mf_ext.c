@@ -1061,23 +1061,26 @@ static MF_NOINLINE void ext_more(ext_ctx *e, uint32_t mode, uint32_t want, grip_
     ext_finite(&out->my, GRIP_MF_EXT_MY, want, valid);
 }
 
-/* The end of both extended evaluations: the forces of the evaluation
- * (base, status st) into out, then, unless st is an error, the requested
- * channels (c: its intermediates; out's channels are zero (ext_start); k: the
- * prepared set of p, or NULL). */
-static grip_status_t ext_channels(const grip_mf_params *p, const grip_mf_prepared *k, mf_core *c,
-                                  const grip_mf_output *base, grip_status_t st, const grip_mf_input *in,
-                                  const grip_mf_spin *spin, uint32_t mode, uint32_t outputs, grip_mf_output_ext *out)
+/* The forces of an extended evaluation (base, its status st) into out;
+ * whether to go on with the channels (st not an error). */
+static MF_ALWAYS_INLINE int ext_forces(const grip_mf_output *base, grip_status_t st, grip_mf_output_ext *out)
+{
+    out->fx = base->fx;
+    out->fy = base->fy;
+    out->mz = base->mz;
+    return (st >= 0) ? 1 : 0;
+}
+
+/* The requested channels of an evaluation whose status st is not an error
+ * (c: its intermediates; mode: its use-mode bits; out: the forces written,
+ * the channels zero (ext_start); k: the prepared set of p, or NULL). */
+static grip_status_t ext_channels(const grip_mf_params *p, const grip_mf_prepared *k, mf_core *c, grip_status_t st,
+                                  const grip_mf_input *in, const grip_mf_spin *spin, uint32_t mode, uint32_t outputs,
+                                  grip_mf_output_ext *out)
 {
     ext_ctx e;
     uint32_t valid = 0u;
     int ok;
-    out->fx = base->fx;
-    out->fy = base->fy;
-    out->mz = base->mz;
-    if (st < 0) {
-        return st;
-    }
     e.p = p;
     e.c = c;
     if (ext_inputs(mode, outputs, in, spin, &c->io, &e) && (st == GRIP_OK)) {
@@ -1140,6 +1143,16 @@ static grip_status_t ext_channels(const grip_mf_params *p, const grip_mf_prepare
     return st;
 }
 
+/* ext_channels without a prepared set, with the eight arguments that
+ * grip_mf_eval_ext_spin can pass without a larger frame (its frame is on
+ * the deepest stack path of grip_mf_eval_ext; this one is not). */
+static MF_NOINLINE grip_status_t ext_channels_spin(const grip_mf_params *p, mf_core *c, const grip_mf_input *in,
+                                                  const grip_mf_spin *spin, uint32_t mode, uint32_t outputs,
+                                                  grip_status_t st, grip_mf_output_ext *out)
+{
+    return ext_channels(p, NULL, c, st, in, spin, mode, outputs, out);
+}
+
 grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input *in, const grip_mf_spin *spin,
                                     uint32_t outputs, grip_mf_output_ext *out)
 {
@@ -1179,7 +1192,10 @@ grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input
                                   : R_ZERO,
                               &base, &c);
     }
-    return ext_channels(p, NULL, &c, &base, st, in, spin, mode, outputs & GRIP_MF_EXT_ALL, out);
+    if (!ext_forces(&base, st, out)) {
+        return st;
+    }
+    return ext_channels_spin(p, &c, in, spin, mode, outputs & GRIP_MF_EXT_ALL, st, out);
 }
 
 grip_status_t grip_mf_eval_ext_prepared(const grip_mf_prepared *prep, const grip_mf_input *in, uint32_t outputs,
@@ -1203,5 +1219,8 @@ grip_status_t grip_mf_eval_ext_prepared(const grip_mf_prepared *prep, const grip
         return GRIP_ERR_INPUT;
     }
     st = mf_eval_core_prepared(prep, in, &base, &c);
-    return ext_channels(prep->p, prep, &c, &base, st, in, &SPIN_ZERO, prep->options, outputs, out);
+    if (!ext_forces(&base, st, out)) {
+        return st;
+    }
+    return ext_channels(prep->p, prep, &c, st, in, &SPIN_ZERO, prep->options, outputs, out);
 }
