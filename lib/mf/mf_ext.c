@@ -262,7 +262,10 @@ void mf_ext_cz_form(const grip_mf_params *p, grip_real_t dpi, mf_ext_cz *z)
     z->r0czp = mf_times_ql(p->unloaded_radius, czp, &ok);
     /* |u| = |(1 + kappa) vx| / LONGVL < 181 (u^2 in QS) for every input:
      * |(1 + kappa) vx| <= 2.5 * 300 m/s = 750 m/s */
-    z->flags = (p->longvl > RC(4.2)) ? MF_PF_RE_U : 0u;
+    z->flags = 0u;
+    if (p->longvl > RC(4.2)) {
+        z->flags = MF_PF_RE_U;
+    }
     z->re_k = R_ZERO;
     if (ok && (p->vertical_stiffness > R_ZERO) && (czp > R_ZERO)) {
         z->flags |= MF_PF_CZ;
