@@ -152,7 +152,9 @@ static MF_ALWAYS_INLINE grip_real_t ext_halley(grip_real_t r, grip_real_t a, gri
  * (1 + kappa) vx / Re. With r = Re / R0 and u = (1 + kappa) vx / LONGVL:
  * r = a + b / r^2, a = Q_RE0 - deflection / R0, b = Q_V1 u^2, which MFeval
  * iterates as written until Re changes by less than 1e-9 m. Here: the root
- * of f = r^3 - a r^2 - b by Halley's method (cubic convergence; one
+ * of f = r^3 - a r^2 - b, for |b| <= MF_RE_BETA a^3 (the common speeds)
+ * by its series in beta = b / a^3 (no iteration), otherwise by Halley's
+ * method (cubic convergence; one
  * division a step) from an upper bound of the root, where f is convex:
  * a + b / a^2 (the root is >= a for b >= 0, so b / r^2 <= b / a^2; b < 0
  * likewise) or, when that is far (b > a^3), a + b^(1/3) (f >= 0 there).
