@@ -985,11 +985,13 @@ static void ext_stiff(const ext_ctx *e, uint32_t want, grip_mf_output_ext *out, 
 }
 
 /* The channels of EXT_MORE (want holds at least one): Omega, the vertical
- * model, the contact patch, t, Mzr, mu_x, mu_y, Mx, My. A function of its
- * own, so that the common request (Re, the stiffnesses) does not test
- * each of them. */
-static MF_NOINLINE void ext_more(ext_ctx *e, uint32_t mode, uint32_t want, grip_mf_output_ext *out, uint32_t *valid)
+ * model, the contact patch, t, Mzr, mu_x, mu_y, Mx, My; returns the bits of
+ * those formed. A function of its own, so that the common request (Re, the
+ * stiffnesses) does not test each of them (and its caller's bits stay in a
+ * register). */
+static MF_NOINLINE uint32_t ext_more(ext_ctx *e, uint32_t mode, uint32_t want, grip_mf_output_ext *out)
 {
+    uint32_t valid = 0u;   /* the bits of the channels formed */
     const grip_mf_params *p = e->p;
     const mf_core *c = e->c;
     grip_real_t fzr0 = r_mul(p->unloaded_radius, c->op.fz_ql);          /* Fz R0 [N m] */
@@ -1004,44 +1006,44 @@ static MF_NOINLINE void ext_more(ext_ctx *e, uint32_t mode, uint32_t want, grip_
         grip_real_t num = r_mul(r_add(R_ONE, e->kap), e->vx);
         if (e->omega != R_ZERO) {
             out->omega = e->omega;
-            *valid |= GRIP_MF_EXT_OMEGA;
+            valid |= GRIP_MF_EXT_OMEGA;
         } else if (r_mul(r_abs(num), RC(1.0 / 30000.0)) < re) {
             out->omega = r_div(num, re);
-            *valid |= GRIP_MF_EXT_OMEGA;
+            valid |= GRIP_MF_EXT_OMEGA;
         } else {
             /* beyond the format: flagged */
         }
     }
     if ((want & (GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ)) != 0u) {
-        ext_vertical(e, want, out, valid);
+        ext_vertical(e, want, out, &valid);
     }
     if ((want & (GRIP_MF_EXT_LENGTH | GRIP_MF_EXT_WIDTH)) != 0u) {
-        ext_patch(e, want, out, valid);
+        ext_patch(e, want, out, &valid);
     }
     if ((want & GRIP_MF_EXT_T) != 0u) {
         out->t = r_mul(c->t, p->unloaded_radius);
-        *valid |= GRIP_MF_EXT_T;
+        valid |= GRIP_MF_EXT_T;
     }
     if ((want & GRIP_MF_EXT_MZR) != 0u) {
         ok = 1;
         out->mzr = mf_times_ql(c->mzr, fzr0, &ok);
         out->mzr = (c->io.mirror != c->io.sae) ? r_neg(out->mzr) : out->mzr;
-        *valid |= ok ? GRIP_MF_EXT_MZR : 0u;
+        valid |= ok ? GRIP_MF_EXT_MZR : 0u;
     }
     if ((want & GRIP_MF_EXT_MUX) != 0u) {
         out->mux = e->loaded ? mf_mux(p, c->op.dfz, c->op.dpi, c->op.gmux, c->op.lmux_s) : R_ZERO;
-        *valid |= GRIP_MF_EXT_MUX;
+        valid |= GRIP_MF_EXT_MUX;
     }
     if ((want & GRIP_MF_EXT_MUY) != 0u) {
         /* MFeval reports |mu_y| in its limits mode (1xx), mu_y in 2xx */
         out->muy = ((mode & GRIP_MF_OPT_NO_LIMITS) != 0u) ? c->muy : r_abs(c->muy);
-        *valid |= GRIP_MF_EXT_MUY;
+        valid |= GRIP_MF_EXT_MUY;
     }
     if ((want & GRIP_MF_EXT_MX) != 0u) {
         ok = 1;
         out->mx = e->loaded ? mf_times_ql(ext_mx(e), fzr0, &ok) : R_ZERO;
         out->mx = c->io.mirror ? r_neg(out->mx) : out->mx;
-        *valid |= ok ? GRIP_MF_EXT_MX : 0u;
+        valid |= ok ? GRIP_MF_EXT_MX : 0u;
     }
     if ((want & GRIP_MF_EXT_MY) != 0u) {
         grip_real_t my = R_ZERO;
@@ -1050,20 +1052,21 @@ static MF_NOINLINE void ext_more(ext_ctx *e, uint32_t mode, uint32_t want, grip_
             my = mf_times_ql(ext_my(e, &ok), r_div_keep(fzr0, RC(64.0)), &ok);
         }
         out->my = c->io.sae ? r_neg(my) : my;
-        *valid |= ok ? GRIP_MF_EXT_MY : 0u;
+        valid |= ok ? GRIP_MF_EXT_MY : 0u;
     }
-    ext_finite(&out->omega, GRIP_MF_EXT_OMEGA, want, valid);
-    ext_finite(&out->rl, GRIP_MF_EXT_RL, want, valid);
-    ext_finite(&out->rho, GRIP_MF_EXT_RHO, want, valid);
-    ext_finite(&out->cz, GRIP_MF_EXT_CZ, want, valid);
-    ext_finite(&out->contact_length, GRIP_MF_EXT_LENGTH, want, valid);
-    ext_finite(&out->contact_width, GRIP_MF_EXT_WIDTH, want, valid);
-    ext_finite(&out->t, GRIP_MF_EXT_T, want, valid);
-    ext_finite(&out->mzr, GRIP_MF_EXT_MZR, want, valid);
-    ext_finite(&out->mux, GRIP_MF_EXT_MUX, want, valid);
-    ext_finite(&out->muy, GRIP_MF_EXT_MUY, want, valid);
-    ext_finite(&out->mx, GRIP_MF_EXT_MX, want, valid);
-    ext_finite(&out->my, GRIP_MF_EXT_MY, want, valid);
+    ext_finite(&out->omega, GRIP_MF_EXT_OMEGA, want, &valid);
+    ext_finite(&out->rl, GRIP_MF_EXT_RL, want, &valid);
+    ext_finite(&out->rho, GRIP_MF_EXT_RHO, want, &valid);
+    ext_finite(&out->cz, GRIP_MF_EXT_CZ, want, &valid);
+    ext_finite(&out->contact_length, GRIP_MF_EXT_LENGTH, want, &valid);
+    ext_finite(&out->contact_width, GRIP_MF_EXT_WIDTH, want, &valid);
+    ext_finite(&out->t, GRIP_MF_EXT_T, want, &valid);
+    ext_finite(&out->mzr, GRIP_MF_EXT_MZR, want, &valid);
+    ext_finite(&out->mux, GRIP_MF_EXT_MUX, want, &valid);
+    ext_finite(&out->muy, GRIP_MF_EXT_MUY, want, &valid);
+    ext_finite(&out->mx, GRIP_MF_EXT_MX, want, &valid);
+    ext_finite(&out->my, GRIP_MF_EXT_MY, want, &valid);
+    return valid;
 }
 
 /* The forces of an extended evaluation (base, its status st) into out;
@@ -1142,7 +1145,7 @@ static grip_status_t ext_channels(const grip_mf_params *p, const grip_mf_prepare
         ext_stiff(&e, outputs, out, &valid);
     }
     if ((outputs & EXT_MORE) != 0u) {
-        ext_more(&e, mode, outputs, out, &valid);
+        valid |= ext_more(&e, mode, outputs, out);
     }
     out->valid = valid;
     return st;
