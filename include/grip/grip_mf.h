@@ -172,7 +172,7 @@ typedef struct {
  * Prepared parameter set (grip_mf_prepare): what the evaluation needs that
  * depends only on the parameter set and the options, formed and validated
  * once, so that each evaluation forms only what depends on its operating
- * point. Caller-owned (no heap; 64 B on a 32-bit target, 72 B on x86-64,
+ * point. Caller-owned (no heap; 72 B on a 32-bit target, 80 B on x86-64,
  * in either build). It refers to the parameter set, which must stay in place and
  * unchanged while the prepared set is used (prepare again after changing
  * it). Its members are lib/mf's: fill it with grip_mf_prepare only.
@@ -188,6 +188,8 @@ typedef struct {
     grip_real_t ky_mu;       /* QS  LKY / LMUY (LMUV = 0)                     */
     grip_real_t lmux_p;      /* QS  LMUX', LMUY' (LMUV = 0)                   */
     grip_real_t lmuy_p;
+    grip_real_t r0czp;       /* QL  R0 Cz0 (1 + PFZ1 dpi0) [N] (extended outputs) */
+    grip_real_t re_k;        /* QS  FNOMIN / (R0 Cz0 (1 + PFZ1 dpi0))         */
 } grip_mf_prepared;
 
 #define grip_mf_prepare GRIP_TYPED(grip_mf_prepare)

@@ -904,6 +904,14 @@ static void mf_prepare_fill(const grip_mf_params *p, uint32_t options, grip_mf_p
     k->lmuy_p = mf_lmu_prime(book, p->lmuy);
     k->ky_mu = mf_div_lim(p->lky, p->lmuy, MF_LIM_RATIO);
     f |= (p->lmuv > R_ZERO) ? 0u : MF_PF_LMU_CONST;
+    {
+        /* the vertical stiffness of the extended outputs (mf_ext.c) */
+        mf_ext_cz z;
+        mf_ext_cz_form(p, k->dpi0, &z);
+        k->r0czp = z.r0czp;
+        k->re_k = z.re_k;
+        f |= z.flags;   /* MF_PF_CZ, MF_PF_RE, MF_PF_RE_U */
+    }
     k->options = options;
     k->flags = f;
     k->p = p;

@@ -41,6 +41,7 @@
 #define MF_RE_TOL      RC(2.0e-4)     /* last step of Re / R0, converged         */
 #define MF_RE_MAX      RC(6.0)        /* Re / R0 beyond: not a rolling radius    */
 #define MF_RE_TINY     MF_RE_TOL      /* a Halley step below: the next are < 1e-9 */
+#define MF_RE_BETA     RC(0.005)      /* |b| / a^3 up to this: Re by its series  */
 #define MF_RL62_SCAN   12             /* scan points of the MF 6.2 deflection    */
 #define MF_RL62_STEPS  10             /* Illinois steps of the MF 6.2 deflection */
 #define MF_RL62_TOL    RC(2.0e-3)     /* |Fz62 - Fz| / FNOMIN at the result      */
@@ -113,13 +114,12 @@ typedef struct {
     grip_real_t fz;      /* Fz / FNOMIN (0 when unloaded)                      */
     grip_real_t fx0;     /* combined Fx / FNOMIN, Fy / FNOMIN (0 unloaded)     */
     grip_real_t fy0;
-    grip_real_t kq;      /* 8e6 N / Fz: the largest |K / Fz| that fits QL      */
-    grip_real_t czp;     /* Cz0 (1 + PFZ1 dpi) [N/m], QL                       */
     grip_real_t r0czp;   /* R0 Cz0 (1 + PFZ1 dpi) [N], QL                      */
+    grip_real_t re_k;    /* FNOMIN / (R0 Cz0 (1 + PFZ1 dpi)), with MF_PF_RE     */
     grip_real_t cz_r0;   /* Cz0 (1 + PFZ1 dpi) R0 / FNOMIN                     */
     grip_real_t c0;      /* Cz0 R0 / FNOMIN (Q_FZ1, MF 5.2's Q_A1 default)     */
     int loaded;
-    int has_cz;          /* VERTICAL_STIFFNESS > 0 and the above formed        */
+    uint32_t czf;        /* MF_PF_CZ: the above formed; MF_PF_RE: re_k too     */
     /* rolling radius */
     int re_ok;
     grip_real_t r;       /* Re / R0                                            */
@@ -131,12 +131,30 @@ typedef struct {
 
 /* ------------------------------------------------------ rolling radius */
 
+/* One Halley step on f = r^3 - a r^2 - b from r: the new r (in [0.01,
+ * MF_RE_MAX]) and the step (1 when f' or the denominator says no
+ * convergence: flagged by the caller). */
+static MF_ALWAYS_INLINE grip_real_t ext_halley(grip_real_t r, grip_real_t a, grip_real_t b, grip_real_t *step)
+{
+    grip_real_t f = r_sub(r_mul(r_sq(r), r_sub(r, a)), b);
+    grip_real_t d = r_mul(r, r_sub(r_mul(RC(3.0), r), r_mul(RC(2.0), a)));   /* f'  */
+    grip_real_t dd = r_sub(r_mul(RC(6.0), r), r_mul(RC(2.0), a));            /* f'' */
+    grip_real_t den = r_sub(r_mul(RC(2.0), r_sq(d)), r_mul(f, dd));
+    *step = R_ONE;
+    if ((den > R_ZERO) && (d > RC(0.0001))) {
+        *step = r_div(r_mul(r_mul(RC(2.0), f), d), den);
+    }
+    return r_clamp(r_sub(r, *step), RC(0.01), MF_RE_MAX);
+}
+
 /* Re = Romega(Omega) - FNOMIN / Cz (DREFF atan(BREFF Fz/FNOMIN) + FREFF
  * Fz/FNOMIN), Romega = R0 (Q_RE0 + Q_V1 (Omega R0 / LONGVL)^2), Omega =
  * (1 + kappa) vx / Re. With r = Re / R0 and u = (1 + kappa) vx / LONGVL:
  * r = a + b / r^2, a = Q_RE0 - deflection / R0, b = Q_V1 u^2, which MFeval
  * iterates as written until Re changes by less than 1e-9 m. Here: the root
- * of f = r^3 - a r^2 - b by Halley's method (cubic convergence; one
+ * of f = r^3 - a r^2 - b, for |b| <= MF_RE_BETA a^3 (the common speeds)
+ * by its series in beta = b / a^3 (no iteration), otherwise by Halley's
+ * method (cubic convergence; one
  * division a step) from an upper bound of the root, where f is convex:
  * a + b / a^2 (the root is >= a for b >= 0, so b / r^2 <= b / a^2; b < 0
  * likewise) or, when that is far (b > a^3), a + b^(1/3) (f >= 0 there).
@@ -153,6 +171,7 @@ static MF_ALWAYS_INLINE void ext_radius(ext_ctx *e)
     grip_real_t a;
     grip_real_t b;
     grip_real_t num;
+    grip_real_t a3;
     grip_real_t r;
     grip_real_t step = R_ONE;
     e->re_ok = 0;
@@ -163,11 +182,11 @@ static MF_ALWAYS_INLINE void ext_radius(ext_ctx *e)
          * b / r^2 and R0 |Omega| / LONGVL = |u| / r of the estimate. */
         grip_real_t w;
         grip_real_t bw;
-        if (!e->has_cz || !(r_mul(RC(0.001), p->fnomin) < e->r0czp) ||
+        if (((e->czf & MF_PF_RE) == 0u) ||
             !(r_mul(r_abs(r_mul(e->omega, p->unloaded_radius)), RC(1.0 / 181.0)) < p->longvl)) {
             return;
         }
-        k = r_div(p->fnomin, e->r0czp);
+        k = e->re_k;
         a = r_sub(p->q_re0, r_mul(k, r_add(r_mul(p->dreff, r_atan(r_mul(p->breff, e->fz))), r_mul(p->freff, e->fz))));
         w = r_div(r_mul(e->omega, p->unloaded_radius), p->longvl);
         bw = r_mul(p->q_v1, r_sq(w));
@@ -181,50 +200,83 @@ static MF_ALWAYS_INLINE void ext_radius(ext_ctx *e)
         e->re_ok = 1;
         return;
     }
-    /* FNOMIN / (Cz R0) < 1000, and |u| < 181 (u^2 in QS) */
+    /* FNOMIN / (Cz R0) < 1000 (MF_PF_RE), and |u| < 181 (u^2 in QS) */
     num = r_mul(r_add(R_ONE, e->kap), e->vx);
-    if (!e->has_cz || !(r_mul(RC(0.001), p->fnomin) < e->r0czp) ||
-        !(r_mul(r_abs(num), RC(1.0 / 181.0)) < p->longvl)) {
+    if (((e->czf & MF_PF_RE) == 0u) ||
+        (((e->czf & MF_PF_RE_U) == 0u) && !(r_mul(r_abs(num), RC(1.0 / 181.0)) < p->longvl))) {
         return;
     }
-    k = r_div(p->fnomin, e->r0czp);
+    k = e->re_k;
     a = r_sub(p->q_re0, r_mul(k, r_add(r_mul(p->dreff, r_atan(r_mul(p->breff, e->fz))), r_mul(p->freff, e->fz))));
     e->u = r_div(num, p->longvl);
     b = r_mul(p->q_v1, r_sq(e->u));
-    if (!(a > RC(0.01)) || (r_add(r_mul(RC(27.0), b), r_mul(RC(4.0), r_mul(r_sq(a), a))) < R_ZERO)) {
+    if (!(a > RC(0.01))) {
         return;
     }
-    if (b <= r_mul(r_sq(a), a)) {
-        r = r_add(a, r_div(b, r_sq(a)));
-    } else {
-        r = r_add(a, mf_pow_pos(b, RC(0.333333333333333)));
-    }
-    if (!(r <= MF_RE_MAX)) {
-        return;
-    }
-    for (i = 0; i < MF_RE_STEPS; i++) {
-        /* after a step below MF_RE_TINY the error is below 1e-9 (cubic
-         * convergence): the next steps are skipped, the count of the loop
-         * stays fixed */
-        if (r_abs(step) > MF_RE_TINY) {
-            grip_real_t f = r_sub(r_mul(r_sq(r), r_sub(r, a)), b);
-            grip_real_t d = r_mul(r, r_sub(r_mul(RC(3.0), r), r_mul(RC(2.0), a)));   /* f'  */
-            grip_real_t dd = r_sub(r_mul(RC(6.0), r), r_mul(RC(2.0), a));            /* f'' */
-            grip_real_t den = r_sub(r_mul(RC(2.0), r_sq(d)), r_mul(f, dd));
-            if ((den > R_ZERO) && (d > RC(0.0001))) {
-                step = r_div(r_mul(r_mul(RC(2.0), f), d), den);
-            } else {
-                step = R_ONE;   /* no convergence: flagged below */
-            }
-            r = r_clamp(r_sub(r, step), RC(0.01), MF_RE_MAX);
+    a3 = r_mul(r_sq(a), a);
+    if ((a > RC(0.3)) && (r_abs(b) <= r_mul(MF_RE_BETA, a3))) {
+        /* r = a (1 + eps), eps (1 + eps)^2 = beta = b / a^3: the root's
+         * series, beta - 2 beta^2 + 7 beta^3 - 30 beta^4, whose next term
+         * (143 beta^5) is below 5e-10 for |beta| <= MF_RE_BETA */
+        grip_real_t beta = r_div(b, a3);
+        grip_real_t eps = r_mul(beta, r_sub(R_ONE, r_mul(beta, r_sub(RC(2.0), r_mul(beta, r_sub(RC(7.0),
+                                                                                                 r_mul(RC(30.0), beta)))))));
+        r = r_add(a, r_mul(a, eps));
+        if (!(r <= MF_RE_MAX)) {
+            return;
         }
-    }
-    if (!(r_abs(step) <= MF_RE_TOL) || !r_is_finite(r)) {
-        return;
+    } else {
+        /* 27 b + 4 a^3 < 0: no root (only for b < 0, Q_V1 < 0; with the
+         * series, |b| <= a^3 / 200, never) */
+        if ((b < R_ZERO) && (r_add(r_mul(RC(27.0), b), r_mul(RC(4.0), a3)) < R_ZERO)) {
+            return;
+        }
+        if (b <= a3) {
+            r = r_add(a, r_div(b, r_sq(a)));
+        } else {
+            r = r_add(a, mf_pow_pos(b, RC(0.333333333333333)));
+        }
+        if (!(r <= MF_RE_MAX)) {
+            return;
+        }
+        r = ext_halley(r, a, b, &step);
+        for (i = 1; i < MF_RE_STEPS; i++) {
+            /* after a step below MF_RE_TINY the error is below 1e-9 (cubic
+             * convergence): the next steps are skipped, the count of the
+             * loop stays fixed */
+            if (r_abs(step) > MF_RE_TINY) {
+                r = ext_halley(r, a, b, &step);
+            }
+        }
+        /* r is finite: each step clamps it (r_max(NaN, lo) is lo) */
+        if (!(r_abs(step) <= MF_RE_TOL)) {
+            return;
+        }
     }
     e->r = r;
     e->b = b;
     e->re_ok = 1;
+}
+
+void mf_ext_cz_form(const grip_mf_params *p, grip_real_t dpi, mf_ext_cz *z)
+{
+    int ok = 1;
+    grip_real_t czp = mf_times_ql(r_add(R_ONE, r_mul(p->pfz1, dpi)), p->vertical_stiffness, &ok);
+    z->r0czp = mf_times_ql(p->unloaded_radius, czp, &ok);
+    /* |u| = |(1 + kappa) vx| / LONGVL < 181 (u^2 in QS) for every input:
+     * |(1 + kappa) vx| <= 2.5 * 300 m/s = 750 m/s */
+    z->flags = 0u;
+    if (p->longvl > RC(4.2)) {
+        z->flags = MF_PF_RE_U;
+    }
+    z->re_k = R_ZERO;
+    if (ok && (p->vertical_stiffness > R_ZERO) && (czp > R_ZERO)) {
+        z->flags |= MF_PF_CZ;
+        if (r_mul(RC(0.001), p->fnomin) < z->r0czp) {
+            z->flags |= MF_PF_RE;
+            z->re_k = r_div(p->fnomin, z->r0czp);
+        }
+    }
 }
 
 /* every field zero (a static object): the start of a context */
@@ -234,16 +286,17 @@ grip_real_t mf_rolling_radius(const grip_mf_params *p, grip_real_t kap, grip_rea
                               grip_real_t dpi)
 {
     ext_ctx e = EXT_CTX_ZERO;
-    int ok = 1;
+    mf_ext_cz z;
     e.p = p;
     e.kap = kap;
     e.vx = vx;
     e.fz = fz;
     e.omega = R_ZERO;
     e.r = R_ZERO;
-    e.czp = mf_times_ql(r_add(R_ONE, r_mul(p->pfz1, dpi)), p->vertical_stiffness, &ok);
-    e.r0czp = mf_times_ql(p->unloaded_radius, e.czp, &ok);
-    e.has_cz = ok && (p->vertical_stiffness > R_ZERO) && (e.czp > R_ZERO);
+    mf_ext_cz_form(p, dpi, &z);
+    e.r0czp = z.r0czp;
+    e.re_k = z.re_k;
+    e.czf = z.flags;
     ext_radius(&e);
     return e.re_ok ? e.r : R_ZERO;
 }
@@ -517,11 +570,14 @@ static void ext_patch(const ext_ctx *e, uint32_t want, grip_mf_output_ext *out, 
 {
     const grip_mf_params *p = e->p;
     grip_real_t r0 = p->unloaded_radius;
-    int ok = e->has_cz;
+    int ok = 0;
     grip_real_t qs = R_ZERO;                                          /* 4096 q */
     grip_real_t qb;
     grip_real_t a = R_ZERO;
     grip_real_t b = R_ZERO;
+    if ((e->czf & MF_PF_CZ) != 0u) {
+        ok = 1;
+    }
     if (ok) {
         qs = mf_div_ok(r_mul(RC(4096.0), r_min(e->fz, RC(7.0))), e->cz_r0, RC(16384.0), &ok);
         qb = r_max(r_sub(R_ONE, mf_div_lim(r_add(p->rim_radius, p->bottom_offst), r0, RC(100.0))), R_ZERO);
@@ -594,16 +650,18 @@ static void ext_relax(const ext_ctx *e, grip_real_t kxk, int kxk_ok, grip_real_t
     const mf_ext_op *op = &e->c->op;
     grip_real_t dfz = op->dfz;
     grip_real_t dpi = op->dpi;
-    uint32_t wx = GRIP_MF_EXT_CX | (op->mf52 ? 0u : GRIP_MF_EXT_SIGMAX);   /* what needs Cx, Cy */
-    uint32_t wy = GRIP_MF_EXT_CY | (op->mf52 ? 0u : GRIP_MF_EXT_SIGMAY);
+    uint32_t need = want;   /* what needs Cx, Cy: them, and MF 6.x's sigma */
     int cxok = 0;
     int cyok = 0;
     grip_real_t cx = R_ZERO;
     grip_real_t cy = R_ZERO;
-    if ((p->longitudinal_stiffness > R_ZERO) && ((want & wx) != 0u)) {
+    if (op->mf52) {
+        need &= ~(GRIP_MF_EXT_SIGMAX | GRIP_MF_EXT_SIGMAY);
+    }
+    if (((need & (GRIP_MF_EXT_CX | GRIP_MF_EXT_SIGMAX)) != 0u) && (p->longitudinal_stiffness > R_ZERO)) {
         cxok = 1;
     }
-    if ((p->lateral_stiffness > R_ZERO) && ((want & wy) != 0u)) {
+    if (((need & (GRIP_MF_EXT_CY | GRIP_MF_EXT_SIGMAY)) != 0u) && (p->lateral_stiffness > R_ZERO)) {
         cyok = 1;
     }
     if (cxok) {
@@ -790,16 +848,43 @@ uint32_t grip_mf_ext_supported(const grip_mf_params *p)
     return m;
 }
 
-/* Every output zero, no channel valid (R_ZERO is all bits zero in both
- * builds: one block copy). */
-static const grip_mf_output_ext EXT_ZERO = { R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO,
-                                             R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO,
-                                             R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, 0u };
+/* The start of both extended evaluations: every output zero, no channel
+ * valid (out not NULL; args: whether the other arguments are). Field by
+ * field: the compilers make a copy of a zero struct of this size a memset
+ * call, ~60 instructions on the Cortex-M4F against 23 stores. */
+static MF_ALWAYS_INLINE grip_status_t ext_start(int args, grip_mf_output_ext *out)
+{
+    out->fx = R_ZERO;
+    out->fy = R_ZERO;
+    out->mz = R_ZERO;
+    out->re = R_ZERO;
+    out->omega = R_ZERO;
+    out->rl = R_ZERO;
+    out->rho = R_ZERO;
+    out->cz = R_ZERO;
+    out->contact_length = R_ZERO;
+    out->contact_width = R_ZERO;
+    out->t = R_ZERO;
+    out->mzr = R_ZERO;
+    out->mux = R_ZERO;
+    out->muy = R_ZERO;
+    out->kxk = R_ZERO;
+    out->kya = R_ZERO;
+    out->cx = R_ZERO;
+    out->cy = R_ZERO;
+    out->sigmax = R_ZERO;
+    out->sigmay = R_ZERO;
+    out->mx = R_ZERO;
+    out->my = R_ZERO;
+    out->valid = 0u;
+    return args ? GRIP_OK : GRIP_ERR_NULL;
+}
 
 /* A requested channel that is not finite: 0 and its bit cleared (also when
  * already flagged: a flagged channel may hold a NaN that a NaN coefficient
- * brought before its format check; found by tests/fuzz/fuzz_mf.c). The
- * others are still EXT_ZERO. */
+ * brought before its format check; found by tests/fuzz/fuzz_mf.c). Called
+ * by each group of channels for the channels it wrote, so that a request
+ * pays for the channels it asked for only. */
 static inline void ext_finite(grip_real_t *v, uint32_t bit, uint32_t outputs, uint32_t *valid)
 {
     if (((outputs & bit) != 0u) && !r_is_finite(*v)) {
@@ -808,18 +893,36 @@ static inline void ext_finite(grip_real_t *v, uint32_t bit, uint32_t outputs, ui
     }
 }
 
+/* The channels that need the vertical stiffness (Re ... 2b). */
+#define EXT_NEED_CZ                                                                                              \
+    (GRIP_MF_EXT_RE | GRIP_MF_EXT_OMEGA | GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ | GRIP_MF_EXT_LENGTH | \
+     GRIP_MF_EXT_WIDTH)
+/* The channels of the slip stiffnesses and of the relaxation. */
+#define EXT_STIFF                                                                                                \
+    (GRIP_MF_EXT_KXK | GRIP_MF_EXT_KYA | GRIP_MF_EXT_CX | GRIP_MF_EXT_CY | GRIP_MF_EXT_SIGMAX | GRIP_MF_EXT_SIGMAY)
+/* Everything but Re and the stiffnesses (ext_more). */
+#define EXT_MORE (GRIP_MF_EXT_ALL & ~(GRIP_MF_EXT_RE | EXT_STIFF))
+
 /* The inputs as the model saw them, before the low-speed scaling: the
  * conventions and clamps of mf_prepare (mf_eval.c) for kappa, gamma, vx. */
-static int ext_inputs(uint32_t mode, const grip_mf_input *in, const grip_mf_spin *spin, const mf_io *io, ext_ctx *e)
+static int ext_inputs(uint32_t mode, uint32_t outputs, const grip_mf_input *in, const grip_mf_spin *spin,
+                      const mf_io *io, ext_ctx *e)
 {
     int clamped = 0;
     int om_clamped = 0;
     grip_real_t kap = ((mode & GRIP_MF_OPT_KAPPA_BRAKE) != 0u) ? r_neg(in->kappa) : in->kappa;
-    grip_real_t gam = io->mirror ? r_neg(in->gamma) : in->gamma;
     e->kap = mf_clamp_sym(kap, RC(GRIP_MF_KAPPA_MAX), &clamped);
-    e->gam = mf_clamp_sym(gam, RC(GRIP_MF_GAMMA_MAX), &clamped);
+    e->gam = R_ZERO;
+    if (((outputs & EXT_MORE) != 0u) || (e->c->op.mf52 && ((outputs & GRIP_MF_EXT_SIGMAY) != 0u))) {
+        /* only the vertical model, Mx, My and MF 5.2's sigma_y use gamma */
+        grip_real_t gam = io->mirror ? r_neg(in->gamma) : in->gamma;
+        e->gam = mf_clamp_sym(gam, RC(GRIP_MF_GAMMA_MAX), &clamped);
+    }
     e->vx = mf_clamp_sym(in->vx, RC(GRIP_MF_VX_MAX), &clamped);
-    e->omega = mf_clamp_sym(spin->omega, RC(GRIP_MF_OMEGA_MAX), &om_clamped);
+    e->omega = R_ZERO;
+    if (spin->omega != R_ZERO) {
+        e->omega = mf_clamp_sym(spin->omega, RC(GRIP_MF_OMEGA_MAX), &om_clamped);
+    }
     return om_clamped;   /* the others were reported by mf_prepare */
 }
 
@@ -832,27 +935,167 @@ grip_status_t grip_mf_eval_ext(const grip_mf_params *p, const grip_mf_input *in,
     return grip_mf_eval_ext_spin(p, in, NULL, outputs, out);
 }
 
-/* The requested channels of one evaluation (c: its intermediates, st: its
- * status, not an error; out: the forces written, the channels EXT_ZERO). */
-static grip_status_t ext_channels(const grip_mf_params *p, mf_core *c, const grip_mf_input *in,
-                                  const grip_mf_spin *spin, uint32_t mode, uint32_t outputs, grip_status_t st,
+/* Kxk, Kya [N] and the relaxation's Cx, Cy, sigma_x, sigma_y (want holds
+ * at least one of EXT_STIFF). */
+static void ext_stiff(const ext_ctx *e, uint32_t want, grip_mf_output_ext *out, uint32_t *valid)
+{
+    const mf_core *c = e->c;
+    grip_real_t kq = MF_QS_MAX;   /* 8e6 N / Fz: the largest |K / Fz| that fits QL */
+    grip_real_t kxk = R_ZERO;
+    grip_real_t kya = R_ZERO;
+    int kxk_ok = 1;
+    int kya_ok = 1;
+    if (c->op.fz_ql > MF_QL_SMALL) {
+        kq = r_div(MF_QL_MAX, c->op.fz_ql);
+    }
+    if ((want & (GRIP_MF_EXT_KXK | GRIP_MF_EXT_SIGMAX)) != 0u) {
+        kxk_ok = 0;
+        if (r_abs(c->kxk) <= kq) {
+            kxk_ok = 1;
+            kxk = r_mul(c->kxk, c->op.fz_ql);
+        }
+        if (kxk_ok && ((want & GRIP_MF_EXT_KXK) != 0u)) {
+            out->kxk = kxk;
+            *valid |= GRIP_MF_EXT_KXK;
+        }
+    }
+    if ((want & (GRIP_MF_EXT_KYA | GRIP_MF_EXT_SIGMAY)) != 0u) {
+        kya_ok = 0;
+        if (r_abs(c->kya) <= kq) {
+            kya_ok = 1;
+            kya = r_mul(c->kya, c->op.fz_ql);
+        }
+        if (kya_ok && ((want & GRIP_MF_EXT_KYA) != 0u)) {
+            out->kya = kya;
+            *valid |= GRIP_MF_EXT_KYA;
+        }
+    }
+    if ((want & (GRIP_MF_EXT_CX | GRIP_MF_EXT_CY | GRIP_MF_EXT_SIGMAX | GRIP_MF_EXT_SIGMAY)) != 0u) {
+        ext_relax(e, kxk, kxk_ok, kya, kya_ok, want, out, valid);
+    }
+    /* Kxk, Kya are finite (a NaN fails |K / Fz| <= kq, and the product is
+     * then below 8e6), and so are MF 6.x's sigma (|K| / |C| with 0.001 |K|
+     * < |C|, false for a NaN C); Cx, Cy and MF 5.2's sigma are not when a
+     * coefficient is not */
+    ext_finite(&out->cx, GRIP_MF_EXT_CX, want, valid);
+    ext_finite(&out->cy, GRIP_MF_EXT_CY, want, valid);
+    if (c->op.mf52) {
+        ext_finite(&out->sigmax, GRIP_MF_EXT_SIGMAX, want, valid);
+        ext_finite(&out->sigmay, GRIP_MF_EXT_SIGMAY, want, valid);
+    }
+}
+
+/* The channels of EXT_MORE (want holds at least one): Omega, the vertical
+ * model, the contact patch, t, Mzr, mu_x, mu_y, Mx, My; returns the bits of
+ * those formed. A function of its own, so that the common request (Re, the
+ * stiffnesses) does not test each of them (and its caller's bits stay in a
+ * register). */
+static MF_NOINLINE uint32_t ext_more(ext_ctx *e, uint32_t mode, uint32_t want, grip_mf_output_ext *out)
+{
+    uint32_t valid = 0u;   /* the bits of the channels formed */
+    const grip_mf_params *p = e->p;
+    const mf_core *c = e->c;
+    grip_real_t fzr0 = r_mul(p->unloaded_radius, c->op.fz_ql);          /* Fz R0 [N m] */
+    int ok;
+    e->loaded = c->io.zero ? 0 : 1;
+    e->fx0 = r_mul(c->fx, e->fz);
+    e->fy0 = r_mul(c->fy, e->fz);
+    if (e->re_ok && ((want & GRIP_MF_EXT_OMEGA) != 0u)) {
+        /* (1 + kappa) vx / Re = u LONGVL / Re: below 30000 rad/s; or the
+         * input's Omega */
+        grip_real_t re = r_mul(e->r, p->unloaded_radius);
+        grip_real_t num = r_mul(r_add(R_ONE, e->kap), e->vx);
+        if (e->omega != R_ZERO) {
+            out->omega = e->omega;
+            valid |= GRIP_MF_EXT_OMEGA;
+        } else if (r_mul(r_abs(num), RC(1.0 / 30000.0)) < re) {
+            out->omega = r_div(num, re);
+            valid |= GRIP_MF_EXT_OMEGA;
+        } else {
+            /* beyond the format: flagged */
+        }
+    }
+    if ((want & (GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ)) != 0u) {
+        ext_vertical(e, want, out, &valid);
+    }
+    if ((want & (GRIP_MF_EXT_LENGTH | GRIP_MF_EXT_WIDTH)) != 0u) {
+        ext_patch(e, want, out, &valid);
+    }
+    if ((want & GRIP_MF_EXT_T) != 0u) {
+        out->t = r_mul(c->t, p->unloaded_radius);
+        valid |= GRIP_MF_EXT_T;
+    }
+    if ((want & GRIP_MF_EXT_MZR) != 0u) {
+        ok = 1;
+        out->mzr = mf_times_ql(c->mzr, fzr0, &ok);
+        out->mzr = (c->io.mirror != c->io.sae) ? r_neg(out->mzr) : out->mzr;
+        valid |= ok ? GRIP_MF_EXT_MZR : 0u;
+    }
+    if ((want & GRIP_MF_EXT_MUX) != 0u) {
+        out->mux = e->loaded ? mf_mux(p, c->op.dfz, c->op.dpi, c->op.gmux, c->op.lmux_s) : R_ZERO;
+        valid |= GRIP_MF_EXT_MUX;
+    }
+    if ((want & GRIP_MF_EXT_MUY) != 0u) {
+        /* MFeval reports |mu_y| in its limits mode (1xx), mu_y in 2xx */
+        out->muy = ((mode & GRIP_MF_OPT_NO_LIMITS) != 0u) ? c->muy : r_abs(c->muy);
+        valid |= GRIP_MF_EXT_MUY;
+    }
+    if ((want & GRIP_MF_EXT_MX) != 0u) {
+        ok = 1;
+        out->mx = e->loaded ? mf_times_ql(ext_mx(e), fzr0, &ok) : R_ZERO;
+        out->mx = c->io.mirror ? r_neg(out->mx) : out->mx;
+        valid |= ok ? GRIP_MF_EXT_MX : 0u;
+    }
+    if ((want & GRIP_MF_EXT_MY) != 0u) {
+        grip_real_t my = R_ZERO;
+        ok = 1;
+        if (e->loaded) {
+            my = mf_times_ql(ext_my(e, &ok), r_div_keep(fzr0, RC(64.0)), &ok);
+        }
+        out->my = c->io.sae ? r_neg(my) : my;
+        valid |= ok ? GRIP_MF_EXT_MY : 0u;
+    }
+    ext_finite(&out->omega, GRIP_MF_EXT_OMEGA, want, &valid);
+    ext_finite(&out->rl, GRIP_MF_EXT_RL, want, &valid);
+    ext_finite(&out->rho, GRIP_MF_EXT_RHO, want, &valid);
+    ext_finite(&out->cz, GRIP_MF_EXT_CZ, want, &valid);
+    ext_finite(&out->contact_length, GRIP_MF_EXT_LENGTH, want, &valid);
+    ext_finite(&out->contact_width, GRIP_MF_EXT_WIDTH, want, &valid);
+    ext_finite(&out->t, GRIP_MF_EXT_T, want, &valid);
+    ext_finite(&out->mzr, GRIP_MF_EXT_MZR, want, &valid);
+    ext_finite(&out->mux, GRIP_MF_EXT_MUX, want, &valid);
+    ext_finite(&out->muy, GRIP_MF_EXT_MUY, want, &valid);
+    ext_finite(&out->mx, GRIP_MF_EXT_MX, want, &valid);
+    ext_finite(&out->my, GRIP_MF_EXT_MY, want, &valid);
+    return valid;
+}
+
+/* The forces of an extended evaluation (base, its status st) into out;
+ * whether to go on with the channels (st not an error). */
+static MF_ALWAYS_INLINE int ext_forces(const grip_mf_output *base, grip_status_t st, grip_mf_output_ext *out)
+{
+    out->fx = base->fx;
+    out->fy = base->fy;
+    out->mz = base->mz;
+    return (st >= 0) ? 1 : 0;
+}
+
+/* The requested channels of an evaluation whose status st is not an error
+ * (c: its intermediates; mode: its use-mode bits; out: the forces written,
+ * the channels zero (ext_start); k: the prepared set of p, or NULL). */
+static grip_status_t ext_channels(const grip_mf_params *p, const grip_mf_prepared *k, mf_core *c, grip_status_t st,
+                                  const grip_mf_input *in, const grip_mf_spin *spin, uint32_t mode, uint32_t outputs,
                                   grip_mf_output_ext *out)
 {
     ext_ctx e;
     uint32_t valid = 0u;
     int ok;
-    grip_real_t fzr0;
-    grip_real_t kxk = R_ZERO;
-    grip_real_t kya = R_ZERO;
-    int kxk_ok = 1;
-    int kya_ok = 1;
     e.p = p;
     e.c = c;
-    if (ext_inputs(mode, in, spin, &c->io, &e) && (st == GRIP_OK)) {
+    if (ext_inputs(mode, outputs, in, spin, &c->io, &e) && (st == GRIP_OK)) {
         st = GRIP_WARN_CLAMPED;
     }
-    e.loaded = c->io.zero ? 0 : 1;
-    if (!e.loaded) {
+    if (c->io.zero) {
         c->fx = R_ZERO;
         c->fy = R_ZERO;
         c->t = R_ZERO;
@@ -862,152 +1105,61 @@ static grip_status_t ext_channels(const grip_mf_params *p, mf_core *c, const gri
         c->muy = R_ZERO;
     }
     e.fz = c->op.fz;
-    e.fx0 = r_mul(c->fx, e.fz);
-    e.fy0 = r_mul(c->fy, e.fz);
-    e.kq = MF_QS_MAX;
-    if (((outputs & (GRIP_MF_EXT_KXK | GRIP_MF_EXT_KYA | GRIP_MF_EXT_SIGMAX | GRIP_MF_EXT_SIGMAY)) != 0u) &&
-        (c->op.fz_ql > MF_QL_SMALL)) {
-        e.kq = r_div(MF_QL_MAX, c->op.fz_ql);
-    }
-    e.has_cz = 0;
-    e.r = R_ZERO;
-    e.b = R_ZERO;
-    e.u = R_ZERO;
-    e.romega = R_ZERO;
-    e.wspeed = R_ZERO;
-    if ((outputs & (GRIP_MF_EXT_RE | GRIP_MF_EXT_OMEGA | GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ |
-                    GRIP_MF_EXT_LENGTH | GRIP_MF_EXT_WIDTH)) != 0u) {
-        /* the vertical stiffness at the pressure, times R0, over FNOMIN */
-        ok = 1;
-        e.czp = mf_times_ql(r_add(R_ONE, r_mul(p->pfz1, c->op.dpi)), p->vertical_stiffness, &ok);
-        e.r0czp = mf_times_ql(p->unloaded_radius, e.czp, &ok);
+    e.czf = 0u;
+    e.re_ok = 0;
+    if ((outputs & EXT_NEED_CZ) != 0u) {
+        /* the vertical stiffness at the pressure, times R0, over FNOMIN:
+         * the prepared set's at its default pressure */
+        mf_ext_cz z;
+        if ((k != NULL) && !(in->p > R_ZERO)) {
+            z.r0czp = k->r0czp;
+            z.re_k = k->re_k;
+            z.flags = k->flags & (MF_PF_CZ | MF_PF_RE | MF_PF_RE_U);
+        } else {
+            mf_ext_cz_form(p, c->op.dpi, &z);
+        }
+        e.r0czp = z.r0czp;
+        e.re_k = z.re_k;
+        e.czf = z.flags;
         e.cz_r0 = R_ZERO;
         e.c0 = R_ZERO;
         if ((outputs & (GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ | GRIP_MF_EXT_LENGTH | GRIP_MF_EXT_WIDTH)) !=
             0u) {
+            ok = 1;
             e.cz_r0 = mf_div_ok(e.r0czp, p->fnomin, RC(1000.0), &ok);
             e.c0 = mf_div_ok(mf_times_ql(p->unloaded_radius, p->vertical_stiffness, &ok), p->fnomin, RC(1000.0), &ok);
-        }
-        if (ok && (p->vertical_stiffness > R_ZERO) && (e.czp > R_ZERO)) {
-            e.has_cz = 1;
+            if (!ok) {
+                e.czf = 0u;
+            }
         }
     }
-    fzr0 = r_mul(p->unloaded_radius, c->op.fz_ql);                      /* Fz R0 [N m] */
-
     if ((outputs & (GRIP_MF_EXT_RE | GRIP_MF_EXT_OMEGA | GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ)) != 0u) {
         ext_radius(&e);
         if (e.re_ok && ((outputs & GRIP_MF_EXT_RE) != 0u)) {
             ok = 1;
+            /* finite: r is (ext_radius), and an R0 of +Inf has no Cz (MF_PF_CZ) */
             out->re = mf_times_qs(e.r, p->unloaded_radius, &ok);
             valid |= ok ? GRIP_MF_EXT_RE : 0u;
         }
-        if (e.re_ok && ((outputs & GRIP_MF_EXT_OMEGA) != 0u)) {
-            /* (1 + kappa) vx / Re = u LONGVL / Re: below 30000 rad/s; or
-             * the input's Omega */
-            grip_real_t re = r_mul(e.r, p->unloaded_radius);
-            grip_real_t num = r_mul(r_add(R_ONE, e.kap), e.vx);
-            if (e.omega != R_ZERO) {
-                out->omega = e.omega;
-                valid |= GRIP_MF_EXT_OMEGA;
-            } else if (r_mul(r_abs(num), RC(1.0 / 30000.0)) < re) {
-                out->omega = r_div(num, re);
-                valid |= GRIP_MF_EXT_OMEGA;
-            } else {
-                /* beyond the format: flagged */
-            }
-        }
-        if ((outputs & (GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ)) != 0u) {
-            ext_vertical(&e, outputs, out, &valid);
-        }
     }
-    if ((outputs & (GRIP_MF_EXT_LENGTH | GRIP_MF_EXT_WIDTH)) != 0u) {
-        ext_patch(&e, outputs, out, &valid);
+    if ((outputs & EXT_STIFF) != 0u) {
+        ext_stiff(&e, outputs, out, &valid);
     }
-    if ((outputs & GRIP_MF_EXT_T) != 0u) {
-        out->t = r_mul(c->t, p->unloaded_radius);
-        valid |= GRIP_MF_EXT_T;
-    }
-    if ((outputs & GRIP_MF_EXT_MZR) != 0u) {
-        ok = 1;
-        out->mzr = mf_times_ql(c->mzr, fzr0, &ok);
-        out->mzr = (c->io.mirror != c->io.sae) ? r_neg(out->mzr) : out->mzr;
-        valid |= ok ? GRIP_MF_EXT_MZR : 0u;
-    }
-    if ((outputs & GRIP_MF_EXT_MUX) != 0u) {
-        out->mux = e.loaded ? mf_mux(p, c->op.dfz, c->op.dpi, c->op.gmux, c->op.lmux_s) : R_ZERO;
-        valid |= GRIP_MF_EXT_MUX;
-    }
-    if ((outputs & GRIP_MF_EXT_MUY) != 0u) {
-        /* MFeval reports |mu_y| in its limits mode (1xx), mu_y in 2xx */
-        out->muy = ((mode & GRIP_MF_OPT_NO_LIMITS) != 0u) ? c->muy : r_abs(c->muy);
-        valid |= GRIP_MF_EXT_MUY;
-    }
-    if ((outputs & (GRIP_MF_EXT_KXK | GRIP_MF_EXT_SIGMAX)) != 0u) {
-        kxk_ok = 0;
-        if (r_abs(c->kxk) <= e.kq) {
-            kxk_ok = 1;
-            kxk = r_mul(c->kxk, c->op.fz_ql);
-        }
-        if (kxk_ok && ((outputs & GRIP_MF_EXT_KXK) != 0u)) {
-            out->kxk = kxk;
-            valid |= GRIP_MF_EXT_KXK;
-        }
-    }
-    if ((outputs & (GRIP_MF_EXT_KYA | GRIP_MF_EXT_SIGMAY)) != 0u) {
-        kya_ok = 0;
-        if (r_abs(c->kya) <= e.kq) {
-            kya_ok = 1;
-            kya = r_mul(c->kya, c->op.fz_ql);
-        }
-        if (kya_ok && ((outputs & GRIP_MF_EXT_KYA) != 0u)) {
-            out->kya = kya;
-            valid |= GRIP_MF_EXT_KYA;
-        }
-    }
-    if ((outputs & (GRIP_MF_EXT_CX | GRIP_MF_EXT_CY | GRIP_MF_EXT_SIGMAX | GRIP_MF_EXT_SIGMAY)) != 0u) {
-        ext_relax(&e, kxk, kxk_ok, kya, kya_ok, outputs, out, &valid);
-    }
-    if ((outputs & GRIP_MF_EXT_MX) != 0u) {
-        ok = 1;
-        out->mx = e.loaded ? mf_times_ql(ext_mx(&e), fzr0, &ok) : R_ZERO;
-        out->mx = c->io.mirror ? r_neg(out->mx) : out->mx;
-        valid |= ok ? GRIP_MF_EXT_MX : 0u;
-    }
-    if ((outputs & GRIP_MF_EXT_MY) != 0u) {
-        grip_real_t my = R_ZERO;
-        ok = 1;
-        if (e.loaded) {
-            my = mf_times_ql(ext_my(&e, &ok), r_div_keep(fzr0, RC(64.0)), &ok);
-        }
-        out->my = c->io.sae ? r_neg(my) : my;
-        valid |= ok ? GRIP_MF_EXT_MY : 0u;
-    }
-    /* a non-finite coefficient that only a channel uses (grip_mf_check_params
-     * rejects it; the evaluation does not repeat that check): the channel is
-     * flagged, never NaN (float build; compiles away in the fixed build) */
-    if (outputs != 0u) {
-        ext_finite(&out->re, GRIP_MF_EXT_RE, outputs, &valid);
-        ext_finite(&out->omega, GRIP_MF_EXT_OMEGA, outputs, &valid);
-        ext_finite(&out->rl, GRIP_MF_EXT_RL, outputs, &valid);
-        ext_finite(&out->rho, GRIP_MF_EXT_RHO, outputs, &valid);
-        ext_finite(&out->cz, GRIP_MF_EXT_CZ, outputs, &valid);
-        ext_finite(&out->contact_length, GRIP_MF_EXT_LENGTH, outputs, &valid);
-        ext_finite(&out->contact_width, GRIP_MF_EXT_WIDTH, outputs, &valid);
-        ext_finite(&out->t, GRIP_MF_EXT_T, outputs, &valid);
-        ext_finite(&out->mzr, GRIP_MF_EXT_MZR, outputs, &valid);
-        ext_finite(&out->mux, GRIP_MF_EXT_MUX, outputs, &valid);
-        ext_finite(&out->muy, GRIP_MF_EXT_MUY, outputs, &valid);
-        ext_finite(&out->kxk, GRIP_MF_EXT_KXK, outputs, &valid);
-        ext_finite(&out->kya, GRIP_MF_EXT_KYA, outputs, &valid);
-        ext_finite(&out->cx, GRIP_MF_EXT_CX, outputs, &valid);
-        ext_finite(&out->cy, GRIP_MF_EXT_CY, outputs, &valid);
-        ext_finite(&out->sigmax, GRIP_MF_EXT_SIGMAX, outputs, &valid);
-        ext_finite(&out->sigmay, GRIP_MF_EXT_SIGMAY, outputs, &valid);
-        ext_finite(&out->mx, GRIP_MF_EXT_MX, outputs, &valid);
-        ext_finite(&out->my, GRIP_MF_EXT_MY, outputs, &valid);
+    if ((outputs & EXT_MORE) != 0u) {
+        valid |= ext_more(&e, mode, outputs, out);
     }
     out->valid = valid;
     return st;
+}
+
+/* ext_channels without a prepared set, with the eight arguments that
+ * grip_mf_eval_ext_spin can pass without a larger frame (its frame is on
+ * the deepest stack path of grip_mf_eval_ext; this one is not). */
+static MF_NOINLINE grip_status_t ext_channels_spin(const grip_mf_params *p, mf_core *c, const grip_mf_input *in,
+                                                  const grip_mf_spin *spin, uint32_t mode, uint32_t outputs,
+                                                  grip_status_t st, grip_mf_output_ext *out)
+{
+    return ext_channels(p, NULL, c, st, in, spin, mode, outputs, out);
 }
 
 grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input *in, const grip_mf_spin *spin,
@@ -1020,9 +1172,9 @@ grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input
     if (out == NULL) {
         return GRIP_ERR_NULL;
     }
-    *out = EXT_ZERO;
-    if ((p == NULL) || (in == NULL)) {
-        return GRIP_ERR_NULL;
+    st = ext_start((p != NULL) && (in != NULL), out);
+    if (st != GRIP_OK) {
+        return st;
     }
     if (((outputs & ~(GRIP_MF_EXT_ALL | GRIP_MF_USE_ALL)) != 0u) ||
         ((outputs & (GRIP_MF_USE_TURN_SLIP | GRIP_MF_USE_NO_TURN_SLIP)) ==
@@ -1049,13 +1201,10 @@ grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input
                                   : R_ZERO,
                               &base, &c);
     }
-    out->fx = base.fx;
-    out->fy = base.fy;
-    out->mz = base.mz;
-    if (st < 0) {
+    if (!ext_forces(&base, st, out)) {
         return st;
     }
-    return ext_channels(p, &c, in, spin, mode, outputs & GRIP_MF_EXT_ALL, st, out);
+    return ext_channels_spin(p, &c, in, spin, mode, outputs & GRIP_MF_EXT_ALL, st, out);
 }
 
 grip_status_t grip_mf_eval_ext_prepared(const grip_mf_prepared *prep, const grip_mf_input *in, uint32_t outputs,
@@ -1067,9 +1216,9 @@ grip_status_t grip_mf_eval_ext_prepared(const grip_mf_prepared *prep, const grip
     if (out == NULL) {
         return GRIP_ERR_NULL;
     }
-    *out = EXT_ZERO;
-    if ((prep == NULL) || (in == NULL)) {
-        return GRIP_ERR_NULL;
+    st = ext_start((prep != NULL) && (in != NULL), out);
+    if (st != GRIP_OK) {
+        return st;
     }
     if (prep->p == NULL) {
         return GRIP_ERR_PARAM;
@@ -1079,11 +1228,8 @@ grip_status_t grip_mf_eval_ext_prepared(const grip_mf_prepared *prep, const grip
         return GRIP_ERR_INPUT;
     }
     st = mf_eval_core_prepared(prep, in, &base, &c);
-    out->fx = base.fx;
-    out->fy = base.fy;
-    out->mz = base.mz;
-    if (st < 0) {
+    if (!ext_forces(&base, st, out)) {
         return st;
     }
-    return ext_channels(prep->p, &c, in, &SPIN_ZERO, prep->options, outputs, st, out);
+    return ext_channels(prep->p, prep, &c, st, in, &SPIN_ZERO, prep->options, outputs, out);
 }

@@ -393,6 +393,9 @@ int mf_params_usable_plain(const grip_mf_params *p);
 #define MF_PF_MIRROR      0x10u  /* mirror alpha, gamma, Fy, Mz                */
 #define MF_PF_DPI0_CLAMP  0x20u  /* the default pressure is outside the domain */
 #define MF_PF_LMU_CONST   0x40u  /* LMUV = 0: LMU*, LMU', LKY / LMUY* constant */
+#define MF_PF_CZ          0x80u  /* the vertical stiffness is formed (mf_ext_cz) */
+#define MF_PF_RE          0x100u /* and Re's FNOMIN / (R0 Cz) is (mf_ext_cz)     */
+#define MF_PF_RE_U        0x200u /* LONGVL > 4.2 m/s: |u| < 181 for every input  */
 
 /* The set has what the turn-slip equations divide by: PHYP1 > 0 (C_Hyp)
  * and 0 < QDRP1 < 2 (C_Drp, sin(pi/2 C_Drp) > 0). */
@@ -412,6 +415,21 @@ grip_status_t mf_check_options(const grip_mf_params *p, uint32_t opts, uint32_t 
  * it cannot be formed (no VERTICAL_STIFFNESS, no root). */
 grip_real_t mf_rolling_radius(const grip_mf_params *p, grip_real_t kap, grip_real_t vx, grip_real_t fz,
                               grip_real_t dpi);
+
+/* The vertical stiffness at a pressure as the extended outputs use it
+ * (mf_ext.c): formed per call by mf_ext_cz_form, or once for a prepared
+ * set's default pressure (grip_mf_prepared.r0czp, .re_k and the flags
+ * MF_PF_CZ, MF_PF_RE), by the same function. */
+typedef struct {
+    grip_real_t r0czp;   /* R0 Cz0 (1 + PFZ1 dpi) [N], QL                      */
+    grip_real_t re_k;    /* FNOMIN / (R0 Cz0 (1 + PFZ1 dpi)) with MF_PF_RE, else 0 */
+    uint32_t flags;      /* MF_PF_CZ: VERTICAL_STIFFNESS > 0, Cz0 (1 + PFZ1 dpi) */
+                         /* > 0 and both inside QL; MF_PF_RE: that and        */
+                         /* FNOMIN / (R0 Cz) < 1000; MF_PF_RE_U               */
+} mf_ext_cz;
+
+#define mf_ext_cz_form GRIP_TYPED(grip_mf_i_ext_cz_form)
+void mf_ext_cz_form(const grip_mf_params *p, grip_real_t dpi, mf_ext_cz *z);
 
 /* mu_x (4.E13) at dfz, dpi, the camber of mu_x and LMUX*. */
 static MF_ALWAYS_INLINE grip_real_t mf_mux(const grip_mf_params *p, grip_real_t dfz, grip_real_t dpi, grip_real_t gmux,

@@ -315,6 +315,27 @@ static void b_mf61_prep_ext_re_sigma_k(int i)
     mf_sink = out.sigmay;
 }
 
+static void b_mf61_prep_ext_re(int i)
+{
+    grip_mf_output_ext out;
+    (void)grip_mf_eval_ext_prepared(&mf61_prep, &mf_in[i], GRIP_MF_EXT_RE, &out);
+    mf_sink = out.re;
+}
+
+static void b_mf61_prep_ext_k(int i)
+{
+    grip_mf_output_ext out;
+    (void)grip_mf_eval_ext_prepared(&mf61_prep, &mf_in[i], GRIP_MF_EXT_KXK | GRIP_MF_EXT_KYA, &out);
+    mf_sink = out.kya;
+}
+
+static void b_mf61_prep_ext_sigma(int i)
+{
+    grip_mf_output_ext out;
+    (void)grip_mf_eval_ext_prepared(&mf61_prep, &mf_in[i], GRIP_MF_EXT_SIGMAX | GRIP_MF_EXT_SIGMAY, &out);
+    mf_sink = out.sigmay;
+}
+
 static void b_mf52_prep_ext_re_sigma_k(int i)
 {
     grip_mf_output_ext out;
@@ -335,6 +356,8 @@ const bench_case bench_cases[] = {
     { "mf61_ext_turn_slip_omega", b_mf61_ext_turn_slip_omega },
     { "mf61_prep_ext_forces", b_mf61_prep_ext_forces }, { "mf61_prep_ext_re_sigma_k", b_mf61_prep_ext_re_sigma_k },
     { "mf52_prep_ext_re_sigma_k", b_mf52_prep_ext_re_sigma_k },
+    { "mf61_prep_ext_re", b_mf61_prep_ext_re }, { "mf61_prep_ext_k", b_mf61_prep_ext_k },
+    { "mf61_prep_ext_sigma", b_mf61_prep_ext_sigma },
     { "r_mul", b_r_mul }, { "r_div", b_r_div }, { "r_sqrt", b_r_sqrt },
     { "r_atan2", b_r_atan2 }, { "r_sin", b_r_sin }, { "r_exp", b_r_exp },
     { "r_atan", b_r_atan }, { "r_cos", b_r_cos },
