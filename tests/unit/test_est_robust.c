@@ -161,6 +161,54 @@ static void test_api_errors(void **state)
     assert_int_equal(o.valid, 0u);
 }
 
+/* The learned blob (grip_est_learned_get / _set): NULL and state errors;
+ * a round trip moves the scales; a reset keeps them; a blob with one bit
+ * changed, another version or another car's fingerprint is refused and the
+ * estimator keeps what it had. */
+static void test_learned_blob(void **state)
+{
+    grip_est_t a, b;
+    grip_est_config_t cfg;
+    grip_est_learned_t blob, bad, got;
+    (void)state;
+    assert_int_equal(grip_est_config_default(&cfg, tire()), GRIP_OK);
+    cfg.stiff_est = 1u;
+    assert_int_equal(grip_est_init(&a, &cfg), GRIP_OK);
+    assert_int_equal(grip_est_init(&b, &cfg), GRIP_OK);
+    assert_int_equal(grip_est_learned_get(NULL, &blob), GRIP_ERR_NULL);
+    assert_int_equal(grip_est_learned_get(&a, NULL), GRIP_ERR_NULL);
+    assert_int_equal(grip_est_learned_set(NULL, &blob), GRIP_ERR_NULL);
+    assert_int_equal(grip_est_learned_set(&a, NULL), GRIP_ERR_NULL);
+    /* a state as if learned: 1 / k = 0.8 and 0.7 (k 1.25, 1.43) */
+    a.stf_x[0] = qs(0.8 / 0.05);
+    a.stf_x[1] = qs(0.7 / 0.05);
+    assert_int_equal(grip_est_learned_get(&a, &blob), GRIP_OK);
+    assert_int_equal(blob.magic, GRIP_EST_LEARNED_MAGIC);
+    assert_int_equal(grip_est_learned_set(&b, &blob), GRIP_OK);
+    assert_true(b.stf_x[0] == a.stf_x[0] && b.stf_x[1] == a.stf_x[1]);
+    assert_true(dq(b.stf_k[0]) > 1.24 && dq(b.stf_k[0]) < 1.26);
+    assert_true(dq(b.stf_k[1]) > 1.42 && dq(b.stf_k[1]) < 1.44);
+    /* reset keeps what was learned: the same blob before and after */
+    assert_int_equal(grip_est_learned_get(&b, &bad), GRIP_OK);
+    assert_int_equal(grip_est_reset(&b), GRIP_OK);
+    assert_int_equal(grip_est_learned_get(&b, &got), GRIP_OK);
+    assert_memory_equal(&got, &bad, sizeof got);
+    assert_int_equal(grip_est_init(&b, &cfg), GRIP_OK);
+    bad = blob;
+    ((unsigned char *)&bad.x[0])[1] ^= 0x04u;            /* one bit of the state */
+    assert_int_equal(grip_est_learned_set(&b, &bad), GRIP_ERR_PARAM);
+    bad = blob;
+    bad.version += 2u;
+    assert_int_equal(grip_est_learned_set(&b, &bad), GRIP_ERR_PARAM);
+    assert_true(dq(b.stf_k[0]) == 1.0 && dq(b.stf_k[1]) == 1.0);
+    cfg.mass = ql(1600.0);                                /* another car */
+    assert_int_equal(grip_est_init(&b, &cfg), GRIP_OK);
+    assert_int_equal(grip_est_learned_set(&b, &blob), GRIP_ERR_PARAM);
+    memset(&b, 0, sizeof b);
+    assert_int_equal(grip_est_learned_get(&b, &got), GRIP_ERR_STATE);
+    assert_int_equal(grip_est_learned_set(&b, &blob), GRIP_ERR_STATE);
+}
+
 /* Steady circle: every output valid; outputs physically sensible. */
 static void test_steady_circle(void **state)
 {
@@ -896,6 +944,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_api_errors),
+        cmocka_unit_test(test_learned_blob),
         cmocka_unit_test(test_steady_circle),
         cmocka_unit_test(test_consumer_limits),
         cmocka_unit_test(test_banked_road),
