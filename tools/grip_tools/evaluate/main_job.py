@@ -77,6 +77,54 @@ def read_replay(path):
     return out
 
 
+POSE_DIR = os.path.join(ROOT, "tests", "data", "comma2k19-rav4", "global_pose")
+
+
+def quat_to_matrix(q):
+    """The rotation matrix of a unit quaternion (w, x, y, z): frame -> ECEF."""
+    w, x, y, z = q
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+def pose_truth(pose_dir=POSE_DIR):
+    """The drive's pose (GNSS and IMU fused, 20 Hz) as the estimator's
+    truth: time [s, the CAN log's clock], the velocity in the device frame
+    [forward, right, down] (m/s), and its sideslip atan2(-v_right,
+    v_forward) in ISO 8855 signs (y left) [rad]. The device (a phone on the
+    windscreen) is not aligned with the car: its sideslip carries the
+    mount's yaw, which rav4_truth removes."""
+    t = np.load(os.path.join(pose_dir, "frame_times"))
+    v = np.load(os.path.join(pose_dir, "frame_velocities"))
+    q = np.load(os.path.join(pose_dir, "frame_orientations"))
+    vd = np.array([quat_to_matrix(q[i]).T @ v[i] for i in range(len(t))])
+    return t, vd, np.arctan2(-vd[:, 1], vd[:, 0])
+
+
+def rav4_truth(r, pose_dir=POSE_DIR, v_min=10.0, straight=0.005):
+    """The estimate against the pose over the steps above v_min with an
+    estimated sideslip: the mount's yaw is the pose's mean sideslip where
+    the car drives straight (|yaw rate| < straight rad/s), removed; then
+    beta's RMS error and the baseline beta = 0, their correlation, vx's RMS
+    error against the pose's forward speed."""
+    t, vd, beta_dev = pose_truth(pose_dir)
+    bp = np.interp(r["t_s"], t, beta_dev)
+    vf = np.interp(r["t_s"], t, vd[:, 0])
+    ok = (r["vx"] > v_min) & np.isfinite(r["beta"])
+    st = ok & (np.abs(r["yaw_rate"]) < straight)
+    mount = float(np.mean(bp[st]))
+    truth = bp - mount
+    e = r["beta"][ok] - truth[ok]
+    return {"steps": int(ok.sum()), "mount_yaw_deg": float(np.degrees(mount)),
+            "truth_range_deg": [float(np.degrees(np.min(truth[ok]))), float(np.degrees(np.max(truth[ok])))],
+            "beta_rms_deg": float(np.degrees(np.sqrt(np.mean(e ** 2)))),
+            "zero_rms_deg": float(np.degrees(np.sqrt(np.mean(truth[ok] ** 2)))),
+            "corr": float(np.corrcoef(r["beta"][ok], truth[ok])[0, 1]),
+            "vx_rms": float(np.sqrt(np.mean((r["vx"][ok] - vf[ok]) ** 2))),
+            "vx_mean_diff": float(np.mean(r["vx"][ok] - vf[ok]))}
+
+
 def rav4_report(paths, outdir):
     """Estimator outputs on the RAV4 drive, float and fixed."""
     runs = {a: read_replay(p) for a, p in zip(("float", "fixed"), paths)}
@@ -106,6 +154,15 @@ def rav4_report(paths, outdir):
         if ok.sum() > 2:
             print(f"{a:6s} model ay (sum Fy / m) vs measured ay: rms {np.sqrt(np.mean((am[ok] - ay[ok]) ** 2)):.3f} "
                   f"m/s^2, corr {np.corrcoef(am[ok], ay[ok])[0, 1]:.2f}")
+    if os.path.isdir(POSE_DIR):
+        print("against the drive's pose (GNSS and IMU fused, 20 Hz; the phone mount's yaw, the pose's mean "
+              "sideslip on the straight, removed), above 10 m/s:")
+        for a, r in runs.items():
+            m = rav4_truth(r)
+            print(f"{a:6s} {m['steps']} steps, mount yaw {m['mount_yaw_deg']:.3f} deg, true sideslip "
+                  f"{m['truth_range_deg'][0]:.3f} .. {m['truth_range_deg'][1]:.3f} deg: beta RMS error "
+                  f"{m['beta_rms_deg']:.3f} deg (beta = 0: {m['zero_rms_deg']:.3f}), correlation {m['corr']:.2f}; "
+                  f"vx RMS error {m['vx_rms']:.3f} m/s (mean {m['vx_mean_diff']:+.3f})")
     f, x = runs["float"], runs["fixed"]
     print(f"fixed vs float: max |beta| diff {np.nanmax(np.abs(f['beta'] - x['beta'])):.2e} rad, "
           f"max |yaw ref| diff {np.nanmax(np.abs(f['yaw_rate_ref'] - x['yaw_rate_ref'])):.2e} rad/s, "
