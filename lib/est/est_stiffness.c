@@ -75,7 +75,7 @@ void est_stiffness(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t 
          s->vx >= RC(EST_STF_V) && r_abs(s->ax) < RC(EST_STF_AX) && s->umax_est < RC(EST_STF_U) && !s->lock &&
          !s->spin && !s->dead_reck && !s->at_limit && est_yaw_linear(est, s->yaw, RC(EST_STF_D)) &&
          s->slope[0] >= RCL(EST_STF_SLOPE) &&
-         s->slope[1] >= RCL(EST_STF_SLOPE);
+         s->slope[1] >= RCL(EST_STF_SLOPE) && r_abs(rdot) < RC(EST_STF_RACC);
     if (!ok) {
         est->stf_n = 0;
         return;

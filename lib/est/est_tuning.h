@@ -144,6 +144,9 @@
 #define EST_STF_H_MIN 0.3    /* crad   ... and the model slips' sum above this (excitation: a
                               *        steering offset of 0.06 crad is a fifth of it)            */
 #define EST_STF_SLOPE 1000.0 /* N/rad  an axle's slope below this gives no model slip          */
+#define EST_STF_RACC 5.0     /* rad/s^2 the gyro's step-to-step yaw acceleration within this
+                              *        (a car's in its linear range stays below 3): a glitch
+                              *        is no measurement, and Iz dr/dt stays within Q23.8  */
 #define EST_STF_K_MIN 0.4    /* -      learned scales within [K_MIN, K_MAX]                      */
 #define EST_STF_K_MAX 2.5    /* -                                                               */
 

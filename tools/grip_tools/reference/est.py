@@ -140,10 +140,11 @@ ROAD_T_REST, ROAD_GY_MAX, ROAD_D = 0.5, 4.4, 0.15
 # STF_TC [s]; signals low-passed over STF_T [s]; learns above STF_V [m/s],
 # |ax| < STF_AX, model utilization < STF_U, the yaw rate within STF_D of the
 # linear reference, model slips >= STF_H_MIN [crad], axle slopes >= STF_SLOPE
-# [N/rad]; k within [STF_K_MIN, STF_K_MAX]
+# [N/rad], the gyro's yaw acceleration below STF_RACC [rad/s^2]; k within
+# [STF_K_MIN, STF_K_MAX]
 STF_S_U, STF_S_Y, STF_P0, STF_SD_MIN, STF_Q, STF_R = 0.05, 0.01, 0.5, 0.02, 1.0e-4, 1.0e-3
 STF_T, STF_TC, STF_V, STF_AX, STF_U, STF_D = 0.1, 2.0, 10.0, 1.0, 0.5, 0.1
-STF_H_MIN, STF_SLOPE, STF_K_MIN, STF_K_MAX = 0.3, 1000.0, 0.4, 2.5
+STF_H_MIN, STF_SLOPE, STF_K_MIN, STF_K_MAX, STF_RACC = 0.3, 1000.0, 0.4, 2.5, 5.0
 
 # -- the lateral filter on / off (est_lateral.c)
 V_ON, V_OFF = 3.0, 2.5  # on above V_ON, off below V_OFF [m/s]
@@ -1331,7 +1332,8 @@ class Estimator:
         ok = (self.active and s.yaw_ok and s.ay_ok and s.steer_ok and not (s.flags & F_STEER_LIMIT)
               and s.vx >= STF_V and abs(s.ax) < STF_AX and float(np.max(s.out["util"])) < STF_U
               and not s.lock and not s.spin and not s.dead_reck and not s.at_limit
-              and self._yaw_linear(s.yaw, STF_D) and slope[0] >= STF_SLOPE and slope[1] >= STF_SLOPE)
+              and self._yaw_linear(s.yaw, STF_D) and slope[0] >= STF_SLOPE and slope[1] >= STF_SLOPE
+              and abs(rdot) < STF_RACC)
         if not ok:
             self.stf_n = 0
             return
