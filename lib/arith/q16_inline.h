@@ -17,19 +17,18 @@ void grip_debug_saturation_event(const char *op);
 #define GRIP_SAT_EVENT(op) ((void)0)
 #endif
 
-/* Clamp a wide intermediate to the symmetric Q15.16 range. */
+/* Clamp a wide intermediate to the symmetric Q15.16 range. The in-range
+ * test is one unsigned comparison (v + MAX in [0, 2 MAX]): the common path
+ * of every saturating operation pays one compare and one branch instead of
+ * two of each. v + MAX cannot overflow: every caller's v is within +-2^62. */
 static inline grip_q16_t q16_saturate(int64_t v, const char *op)
 {
-    if (v > (int64_t)GRIP_Q16_MAX) {
-        GRIP_SAT_EVENT(op);
-        return GRIP_Q16_MAX;
+    if ((uint64_t)(v + (int64_t)GRIP_Q16_MAX) <= (uint64_t)2u * (uint64_t)GRIP_Q16_MAX) {
+        (void)op;
+        return (grip_q16_t)v;
     }
-    if (v < (int64_t)GRIP_Q16_MIN) {
-        GRIP_SAT_EVENT(op);
-        return GRIP_Q16_MIN;
-    }
-    (void)op;
-    return (grip_q16_t)v;
+    GRIP_SAT_EVENT(op);
+    return (v > 0) ? GRIP_Q16_MAX : GRIP_Q16_MIN;
 }
 
 /* Arithmetic right shift with round-half-up. Right shift of a negative
