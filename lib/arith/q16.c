@@ -90,9 +90,12 @@ static int64_t exp2_poly_q30(int64_t f)
     return horner_step(acc, f, k_exp2[0]);
 }
 
+/* Q30 -> Q15.16 of an angle or a sine: |v| <= pi in every caller (atan,
+ * atan2, sin, cos), so the result is within +-2^18 and cannot saturate;
+ * no range test. */
 static grip_q16_t q30_to_q16(int64_t v)
 {
-    return q16_saturate(q_round_shift(v, 14u), "q30->q16");
+    return (grip_q16_t)q_round_shift(v, 14u);
 }
 
 grip_q16_t grip_q16_add(grip_q16_t a, grip_q16_t b) { return q16_add(a, b); }
