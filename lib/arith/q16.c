@@ -235,6 +235,13 @@ grip_q16_t grip_q16_cos(grip_q16_t a)
     return sin_of_phase(phase_q32(a) + 0x40000000u);   /* + quarter turn */
 }
 
+void grip_q16_sincos(grip_q16_t a, grip_q16_t *s, grip_q16_t *c)
+{
+    uint32_t ph = phase_q32(a);
+    *s = sin_of_phase(ph);
+    *c = sin_of_phase(ph + 0x40000000u);
+}
+
 grip_q16_t grip_q16_exp(grip_q16_t a)
 {
     int64_t y = (int64_t)a * Q30_LOG2E;     /* log2(e) * a in Q46 */
