@@ -43,9 +43,23 @@ static int64_t horner_q30(const int32_t *c, int n, int64_t w)
  * horner_q30, hence the same bits, for 4 x86 instructions less per step
  * (docs/performance.md). The checks below tie them to the generated
  * degrees. */
+/* The product of two Q30 kernel values that fit int32: the polynomial
+ * arguments (0 <= z, z^2, f <= 2^30) and the Horner partial sums (|acc| <
+ * 2^31: at most pi/2 in Q30). On ARMv6-M the 16-bit-halves product of
+ * q_mul_wide instead of libgcc's 64 x 64 multiply; elsewhere the 64-bit
+ * product as it is (the truncations to int32 would cost x86 instructions). */
+static inline int64_t k_mul(int64_t a, int64_t b)
+{
+#if defined(__ARM_ARCH_6M__)
+    return q_mul_wide((int32_t)a, (int32_t)b);
+#else
+    return a * b;
+#endif
+}
+
 static inline int64_t horner_step(int64_t acc, int64_t w, int32_t c)
 {
-    return (int64_t)c + q_round_shift(acc * w, 30u);
+    return (int64_t)c + q_round_shift(k_mul(acc, w), 30u);
 }
 
 typedef char grip_check_sin_n[(GRIP_K_SIN_N == 5) ? 1 : -1];
@@ -55,19 +69,19 @@ typedef char grip_check_exp2_n[(GRIP_K_EXP2_N == 7) ? 1 : -1];
 /* sin(pi/2 z) for z in Q30, 0 <= z <= 1: z * P(z^2). */
 static int64_t sin_poly_q30(int64_t z)
 {
-    int64_t z2 = q_round_shift(z * z, 30u);
+    int64_t z2 = q_round_shift(k_mul(z, z), 30u);
     int64_t acc = k_sin[4];
     acc = horner_step(acc, z2, k_sin[3]);
     acc = horner_step(acc, z2, k_sin[2]);
     acc = horner_step(acc, z2, k_sin[1]);
     acc = horner_step(acc, z2, k_sin[0]);
-    return q_round_shift(z * acc, 30u);
+    return q_round_shift(k_mul(z, acc), 30u);
 }
 
 /* atan(z) for z in Q30, 0 <= z <= 1: z * P(z^2). */
 static int64_t atan_poly_q30(int64_t z)
 {
-    int64_t z2 = q_round_shift(z * z, 30u);
+    int64_t z2 = q_round_shift(k_mul(z, z), 30u);
     int64_t acc = k_atan[6];
     acc = horner_step(acc, z2, k_atan[5]);
     acc = horner_step(acc, z2, k_atan[4]);
@@ -75,7 +89,7 @@ static int64_t atan_poly_q30(int64_t z)
     acc = horner_step(acc, z2, k_atan[2]);
     acc = horner_step(acc, z2, k_atan[1]);
     acc = horner_step(acc, z2, k_atan[0]);
-    return q_round_shift(z * acc, 30u);
+    return q_round_shift(k_mul(z, acc), 30u);
 }
 
 /* 2^f for f in Q30, 0 <= f < 1. */
@@ -206,7 +220,7 @@ grip_q16_t grip_q16_atan2(grip_q16_t y, grip_q16_t x)
 /* Fraction of a turn in Q32 (wraps modulo one turn). */
 static uint32_t phase_q32(grip_q16_t a)
 {
-    int64_t turns_q48 = (int64_t)a * Q32_INV_2PI;
+    int64_t turns_q48 = q_mul_wide(a, (int32_t)Q32_INV_2PI);
     return (uint32_t)((uint64_t)q_round_shift(turns_q48, 16u) & 0xFFFFFFFFu);
 }
 
@@ -244,7 +258,7 @@ void grip_q16_sincos(grip_q16_t a, grip_q16_t *s, grip_q16_t *c)
 
 grip_q16_t grip_q16_exp(grip_q16_t a)
 {
-    int64_t y = (int64_t)a * Q30_LOG2E;     /* log2(e) * a in Q46 */
+    int64_t y = q_mul_wide(a, (int32_t)Q30_LOG2E);     /* log2(e) * a in Q46 */
     int64_t k = y >> 46;                     /* floor */
     int64_t f = (y - (k * ((int64_t)1 << 46))) >> 16;   /* Q30 in [0, 1) */
     int64_t p = exp2_poly_q30(f);   /* 2^f, Q30 */

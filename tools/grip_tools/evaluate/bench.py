@@ -36,9 +36,10 @@ def host_ns(arith):
 
 # The Q15.16 kernels: the functions behind r_sqrt ... r_log and the file-local
 # helpers of lib/arith/q16.c they run in (gcc may suffix a local's clone: .isra.0,
-# .part.0, ...).
+# .part.0, ...), with q_mul_wide, the Cortex-M0+'s product, which only q16.c calls
+# and which -Os leaves out of line there.
 Q16_KERNEL_FN = (r"grip_q16_(sqrt|atan|atan2|sin|cos|sincos|exp|log)"
-                 r"|horner_q30|horner_step|sin_poly_q30|atan_poly_q30|exp2_poly_q30"
+                 r"|horner_q30|horner_step|k_mul|q_mul_wide|sin_poly_q30|atan_poly_q30|exp2_poly_q30"
                  r"|q30_to_q16|msb64|atan_mag_q30|phase_q32|sin_of_phase")
 # The math kernels of an evaluation: libm's functions (float build, GRIP_FLOAT_KERNELS
 # 0; grip's float kernels are inlined into their callers and cannot be told apart) and
