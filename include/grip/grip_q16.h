@@ -43,6 +43,9 @@ grip_q16_t grip_q16_atan2(grip_q16_t y, grip_q16_t x);
 /* sin(a), cos(a) of a in rad, whole int32 domain (|a| < 32768 rad). */
 grip_q16_t grip_q16_sin(grip_q16_t a);
 grip_q16_t grip_q16_cos(grip_q16_t a);
+/* Both of them from one argument reduction: *s, *c exactly as grip_q16_sin(a),
+ * grip_q16_cos(a). s and c must be valid. */
+void grip_q16_sincos(grip_q16_t a, grip_q16_t *s, grip_q16_t *c);
 /* exp(a); saturates to MAX for a > ln(32768) ~ 10.397, 0 for a < -11.1. */
 grip_q16_t grip_q16_exp(grip_q16_t a);
 /* Natural logarithm of a > 0; a <= 0 gives MIN (counted as saturation). */

@@ -43,11 +43,9 @@ static inline grip_real_t r_atan(grip_real_t a) { return grip_q16_atan(a); }
 static inline grip_real_t r_atan2(grip_real_t y, grip_real_t x) { return grip_q16_atan2(y, x); }
 static inline grip_real_t r_sin(grip_real_t a) { return grip_q16_sin(a); }
 static inline grip_real_t r_cos(grip_real_t a) { return grip_q16_cos(a); }
-static inline void r_sincos(grip_real_t a, grip_real_t *s, grip_real_t *c)
-{
-    *s = grip_q16_sin(a);
-    *c = grip_q16_cos(a);
-}
+/* One argument reduction for both (grip_q16_sincos): the same bits as
+ * grip_q16_sin and grip_q16_cos. */
+static inline void r_sincos(grip_real_t a, grip_real_t *s, grip_real_t *c) { grip_q16_sincos(a, s, c); }
 static inline grip_real_t r_exp(grip_real_t a) { return grip_q16_exp(a); }
 static inline grip_real_t r_log(grip_real_t a) { return grip_q16_log(a); }
 /* Every fixed-point value is finite by construction. */

@@ -36,16 +36,80 @@ static int64_t horner_q30(const int32_t *c, int n, int64_t w)
     return acc;
 }
 
-/* z * P(z^2) for an odd kernel; z in Q30, |z| <= 1. */
-static int64_t odd_poly_q30(const int32_t *c, int n, int64_t z)
+/* One Horner step c + acc * w, all Q30. The kernels of sin, atan and exp
+ * (those a Magic Formula evaluation calls) are written out step by step
+ * with constant indices, so that each coefficient is an immediate operand
+ * and no loop counter runs: the same operations in the same order as
+ * horner_q30, hence the same bits, for 4 x86 instructions less per step
+ * (docs/performance.md). The checks below tie them to the generated
+ * degrees. */
+/* The product of two Q30 kernel values that fit int32: the polynomial
+ * arguments (0 <= z, z^2, f <= 2^30) and the Horner partial sums (|acc| <
+ * 2^31: at most pi/2 in Q30). On ARMv6-M the 16-bit-halves product of
+ * q_mul_wide instead of libgcc's 64 x 64 multiply; elsewhere the 64-bit
+ * product as it is (the truncations to int32 would cost x86 instructions). */
+static inline int64_t k_mul(int64_t a, int64_t b)
 {
-    int64_t z2 = q_round_shift(z * z, 30u);
-    return q_round_shift(z * horner_q30(c, n, z2), 30u);
+#if defined(__ARM_ARCH_6M__)
+    return q_mul_wide((int32_t)a, (int32_t)b);
+#else
+    return a * b;
+#endif
 }
 
+static inline int64_t horner_step(int64_t acc, int64_t w, int32_t c)
+{
+    return (int64_t)c + q_round_shift(k_mul(acc, w), 30u);
+}
+
+typedef char grip_check_sin_n[(GRIP_K_SIN_N == 5) ? 1 : -1];
+typedef char grip_check_atan_n[(GRIP_K_ATAN_N == 7) ? 1 : -1];
+typedef char grip_check_exp2_n[(GRIP_K_EXP2_N == 7) ? 1 : -1];
+
+/* sin(pi/2 z) for z in Q30, 0 <= z <= 1: z * P(z^2). */
+static int64_t sin_poly_q30(int64_t z)
+{
+    int64_t z2 = q_round_shift(k_mul(z, z), 30u);
+    int64_t acc = k_sin[4];
+    acc = horner_step(acc, z2, k_sin[3]);
+    acc = horner_step(acc, z2, k_sin[2]);
+    acc = horner_step(acc, z2, k_sin[1]);
+    acc = horner_step(acc, z2, k_sin[0]);
+    return q_round_shift(k_mul(z, acc), 30u);
+}
+
+/* atan(z) for z in Q30, 0 <= z <= 1: z * P(z^2). */
+static int64_t atan_poly_q30(int64_t z)
+{
+    int64_t z2 = q_round_shift(k_mul(z, z), 30u);
+    int64_t acc = k_atan[6];
+    acc = horner_step(acc, z2, k_atan[5]);
+    acc = horner_step(acc, z2, k_atan[4]);
+    acc = horner_step(acc, z2, k_atan[3]);
+    acc = horner_step(acc, z2, k_atan[2]);
+    acc = horner_step(acc, z2, k_atan[1]);
+    acc = horner_step(acc, z2, k_atan[0]);
+    return q_round_shift(k_mul(z, acc), 30u);
+}
+
+/* 2^f for f in Q30, 0 <= f < 1. */
+static int64_t exp2_poly_q30(int64_t f)
+{
+    int64_t acc = k_exp2[6];
+    acc = horner_step(acc, f, k_exp2[5]);
+    acc = horner_step(acc, f, k_exp2[4]);
+    acc = horner_step(acc, f, k_exp2[3]);
+    acc = horner_step(acc, f, k_exp2[2]);
+    acc = horner_step(acc, f, k_exp2[1]);
+    return horner_step(acc, f, k_exp2[0]);
+}
+
+/* Q30 -> Q15.16 of an angle or a sine: |v| <= pi in every caller (atan,
+ * atan2, sin, cos), so the result is within +-2^18 and cannot saturate;
+ * no range test. */
 static grip_q16_t q30_to_q16(int64_t v)
 {
-    return q16_saturate(q_round_shift(v, 14u), "q30->q16");
+    return (grip_q16_t)q_round_shift(v, 14u);
 }
 
 grip_q16_t grip_q16_add(grip_q16_t a, grip_q16_t b) { return q16_add(a, b); }
@@ -114,11 +178,11 @@ grip_q16_t grip_q16_sqrt(grip_q16_t a)
 static int64_t atan_mag_q30(uint32_t u)
 {
     if (u <= 65536u) {
-        return odd_poly_q30(k_atan, GRIP_K_ATAN_N, (int64_t)u << 14);
+        return atan_poly_q30((int64_t)u << 14);
     } else {
         /* atan(u) = pi/2 - atan(1/u); 1/u in Q30 */
         int64_t inv = (int64_t)((((uint64_t)1 << 46) + (u >> 1)) / u); /* grip-deviation: MISRA-10.7 u (32 bit) mixed into the 64-bit quotient on purpose */
-        return Q30_PI_2 - odd_poly_q30(k_atan, GRIP_K_ATAN_N, inv);
+        return Q30_PI_2 - atan_poly_q30(inv);
     }
 }
 
@@ -139,10 +203,10 @@ grip_q16_t grip_q16_atan2(grip_q16_t y, grip_q16_t x)
     }
     if (ay <= ax) {
         int64_t z = (int64_t)(((ay << 30) + (ax >> 1)) / ax);
-        r = odd_poly_q30(k_atan, GRIP_K_ATAN_N, z);
+        r = atan_poly_q30(z);
     } else {
         int64_t z = (int64_t)(((ax << 30) + (ay >> 1)) / ay);
-        r = Q30_PI_2 - odd_poly_q30(k_atan, GRIP_K_ATAN_N, z);
+        r = Q30_PI_2 - atan_poly_q30(z);
     }
     if (x < 0) {
         r = Q30_PI - r;
@@ -156,7 +220,7 @@ grip_q16_t grip_q16_atan2(grip_q16_t y, grip_q16_t x)
 /* Fraction of a turn in Q32 (wraps modulo one turn). */
 static uint32_t phase_q32(grip_q16_t a)
 {
-    int64_t turns_q48 = (int64_t)a * Q32_INV_2PI;
+    int64_t turns_q48 = q_mul_wide(a, (int32_t)Q32_INV_2PI);
     return (uint32_t)((uint64_t)q_round_shift(turns_q48, 16u) & 0xFFFFFFFFu);
 }
 
@@ -168,7 +232,7 @@ static grip_q16_t sin_of_phase(uint32_t phase)
     if ((quadrant & 1u) != 0u) {
         z = Q30_ONE - z;
     }
-    s = odd_poly_q30(k_sin, GRIP_K_SIN_N, z);
+    s = sin_poly_q30(z);
     if (s > Q30_ONE) {
         s = Q30_ONE;
     }
@@ -185,12 +249,19 @@ grip_q16_t grip_q16_cos(grip_q16_t a)
     return sin_of_phase(phase_q32(a) + 0x40000000u);   /* + quarter turn */
 }
 
+void grip_q16_sincos(grip_q16_t a, grip_q16_t *s, grip_q16_t *c)
+{
+    uint32_t ph = phase_q32(a);
+    *s = sin_of_phase(ph);
+    *c = sin_of_phase(ph + 0x40000000u);
+}
+
 grip_q16_t grip_q16_exp(grip_q16_t a)
 {
-    int64_t y = (int64_t)a * Q30_LOG2E;     /* log2(e) * a in Q46 */
+    int64_t y = q_mul_wide(a, (int32_t)Q30_LOG2E);     /* log2(e) * a in Q46 */
     int64_t k = y >> 46;                     /* floor */
     int64_t f = (y - (k * ((int64_t)1 << 46))) >> 16;   /* Q30 in [0, 1) */
-    int64_t p = horner_q30(k_exp2, GRIP_K_EXP2_N, f);   /* 2^f, Q30 */
+    int64_t p = exp2_poly_q30(f);   /* 2^f, Q30 */
     if (k >= 15) {
         GRIP_SAT_EVENT("exp");
         return GRIP_Q16_MAX;

@@ -17,19 +17,18 @@ void grip_debug_saturation_event(const char *op);
 #define GRIP_SAT_EVENT(op) ((void)0)
 #endif
 
-/* Clamp a wide intermediate to the symmetric Q15.16 range. */
+/* Clamp a wide intermediate to the symmetric Q15.16 range. The in-range
+ * test is one unsigned comparison (v + MAX in [0, 2 MAX]): the common path
+ * of every saturating operation pays one compare and one branch instead of
+ * two of each. v + MAX cannot overflow: every caller's v is within +-2^62. */
 static inline grip_q16_t q16_saturate(int64_t v, const char *op)
 {
-    if (v > (int64_t)GRIP_Q16_MAX) {
-        GRIP_SAT_EVENT(op);
-        return GRIP_Q16_MAX;
+    if ((uint64_t)(v + (int64_t)GRIP_Q16_MAX) <= (uint64_t)2u * (uint64_t)GRIP_Q16_MAX) {
+        (void)op;
+        return (grip_q16_t)v;
     }
-    if (v < (int64_t)GRIP_Q16_MIN) {
-        GRIP_SAT_EVENT(op);
-        return GRIP_Q16_MIN;
-    }
-    (void)op;
-    return (grip_q16_t)v;
+    GRIP_SAT_EVENT(op);
+    return (v > 0) ? GRIP_Q16_MAX : GRIP_Q16_MIN;
 }
 
 /* Arithmetic right shift with round-half-up. Right shift of a negative
@@ -50,9 +49,56 @@ static inline grip_q16_t q16_sub(grip_q16_t a, grip_q16_t b)
     return q16_saturate((int64_t)a - (int64_t)b, "sub");
 }
 
+/* The exact 64-bit product of two int32 values. On ARMv6-M (Cortex-M0/M0+,
+ * 32 x 32 -> 32 multiplies only) (int64_t)a * b is a call to libgcc's
+ * __aeabi_lmul (64 x 64); there it is formed from 16-bit halves,
+ * a = ah 2^16 + al with 0 <= al < 2^16:
+ * a b = ah bh 2^32 + (ah bl + al bh) 2^16 + al bl, each product within its
+ * 32-bit type (|ah bh| <= 2^30, |ah bl| < 2^31, al bl < 2^32): four MULS
+ * and 64-bit additions, the same value. */
+static inline int64_t q_mul_wide(int32_t a, int32_t b)
+{
+#if defined(__ARM_ARCH_6M__)
+    int32_t ah = a >> 16;
+    int32_t bh = b >> 16;
+    uint32_t al = (uint32_t)a & 0xFFFFu;
+    uint32_t bl = (uint32_t)b & 0xFFFFu;
+    int64_t mid = (int64_t)(ah * (int32_t)bl) + (int64_t)((int32_t)al * bh);
+    return ((int64_t)(ah * bh) * 4294967296) + (mid * 65536) + (int64_t)(al * bl);
+#else
+    return (int64_t)a * (int64_t)b;
+#endif
+}
+
+/* round(a b / 2^16) before saturation: (a b + 2^15) >> 16. */
+static inline int64_t q16_mul_round(grip_q16_t a, grip_q16_t b)
+{
+#if defined(__ARM_ARCH_6M__)
+    /* ARMv6-M (Cortex-M0/M0+) multiplies 32 x 32 -> 32 only: the 64-bit
+     * product is a call to libgcc's __aeabi_lmul (64 x 64). The same value
+     * from 16-bit halves, a = ah 2^16 + al with 0 <= al < 2^16:
+     * a b = ah bh 2^32 + (ah bl + al bh) 2^16 + al bl, so
+     * (a b + 2^15) >> 16 = ah bh 2^16 + ah bl + al bh + ((al bl + 2^15) >> 16)
+     * exactly; each product fits its 32-bit type (|ah bh| <= 2^30,
+     * |ah bl| < 2^31, al bl + 2^15 < 2^32). Four MULS instead of the call;
+     * the host and target builds give the same bits (tests/target). */
+    int32_t ah = a >> 16;
+    int32_t bh = b >> 16;
+    uint32_t al = (uint32_t)a & 0xFFFFu;
+    uint32_t bl = (uint32_t)b & 0xFFFFu;
+    int64_t hi = (int64_t)(ah * bh) * 65536;
+    int32_t m1 = ah * (int32_t)bl;
+    int32_t m2 = (int32_t)al * bh;
+    uint32_t lo = ((al * bl) + 0x8000u) >> 16;
+    return hi + (int64_t)m1 + (int64_t)m2 + (int64_t)lo;
+#else
+    return q_round_shift((int64_t)a * (int64_t)b, 16u);
+#endif
+}
+
 static inline grip_q16_t q16_mul(grip_q16_t a, grip_q16_t b)
 {
-    return q16_saturate(q_round_shift((int64_t)a * (int64_t)b, 16u), "mul");
+    return q16_saturate(q16_mul_round(a, b), "mul");
 }
 
 static inline grip_q16_t q16_div(grip_q16_t a, grip_q16_t b)

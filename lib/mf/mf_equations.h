@@ -304,8 +304,11 @@ static MF_ALWAYS_INLINE grip_real_t mf_alpha_eq_k(int book, grip_real_t kappa, g
     if (book) {
         return mfk_hypot(a, mfk_div_lim(r_mul(kxk, kappa), kya, MF_LIM_RATIO, mk), mk);
     } else {
-        grip_real_t ca = mfk_cos(a, mk);
-        grip_real_t num = mfk_hypot(r_mul(kya, mfk_sin(a, mk)), r_mul(r_mul(kxk, kappa), ca), mk);
+        grip_real_t sa;
+        grip_real_t ca;
+        grip_real_t num;
+        mfk_sincos(a, &sa, &ca, mk);
+        num = mfk_hypot(r_mul(kya, sa), r_mul(r_mul(kxk, kappa), ca), mk);
         return mfk_atan2(num, r_abs(r_mul(kya, ca)), mk);
     }
 }

@@ -281,8 +281,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_prepare(const grip_mf_params *p, const 
      * factor; alpha fades while |Vx| + |Vsy| is below VXLOW. Vx = 0 gives
      * zero slip, zero shifts and zero outputs. */
     op->smooth = R_ONE;
-    sa = r_sin(alpha);
-    ca = r_cos(alpha);
+    r_sincos(alpha, &sa, &ca);
     if ((p->vxlow > R_ZERO) && limits) {
         grip_real_t avx = r_abs(vx);
         grip_real_t num;
@@ -296,8 +295,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_prepare(const grip_mf_params *p, const 
         if (num < den) {
             /* only below VXLOW: the reduced angle needs its own sin, cos */
             alpha = r_mul(r_div(num, den), alpha);
-            sa = r_sin(alpha);
-            ca = r_cos(alpha);
+            r_sincos(alpha, &sa, &ca);
         }
     }
 

@@ -258,6 +258,20 @@ static MF_ALWAYS_INLINE grip_real_t mfk_cos(grip_real_t x, grip_real_t *mk)
     return r_cos(x);
 }
 
+/* sin and cos of one angle: one argument reduction in the scalar path */
+static MF_ALWAYS_INLINE void mfk_sincos(grip_real_t x, grip_real_t *s, grip_real_t *c, grip_real_t *mk)
+{
+#if GRIP_MF_LANES
+    if (mk != NULL) {
+        *s = grip_kf_lane_sin(x, mk);
+        *c = grip_kf_lane_cos(x, mk);
+        return;
+    }
+#endif
+    (void)mk;
+    r_sincos(x, s, c);
+}
+
 static MF_ALWAYS_INLINE grip_real_t mfk_exp(grip_real_t x, grip_real_t *mk)
 {
 #if GRIP_MF_LANES

@@ -107,6 +107,27 @@ static void test_cos(void **s) { (void)s; check_primitive(&bounds[6]); }
 static void test_exp(void **s) { (void)s; check_primitive(&bounds[7]); }
 static void test_log(void **s) { (void)s; check_primitive(&bounds[8]); }
 
+/* sincos gives exactly sin and cos: every 4099th raw value of the int32
+ * domain (both signs, both ends, the quadrant boundaries on the way). */
+static void test_sincos_is_sin_and_cos(void **s)
+{
+    int64_t v;
+    uint32_t n = 0u;
+    (void)s;
+    for (v = -(int64_t)GRIP_Q16_MAX; v <= (int64_t)GRIP_Q16_MAX; v += 4099) {
+        grip_q16_t a = (grip_q16_t)v;
+        grip_q16_t sn = 0;
+        grip_q16_t cs = 0;
+        grip_q16_sincos(a, &sn, &cs);
+        if ((sn != grip_q16_sin(a)) || (cs != grip_q16_cos(a))) {
+            fail_msg("sincos(%ld) = (%ld, %ld), sin %ld, cos %ld", (long)a, (long)sn, (long)cs,
+                     (long)grip_q16_sin(a), (long)grip_q16_cos(a));
+        }
+        ++n;
+    }
+    print_message("# sincos: %lu arguments, all equal to sin and cos\n", (unsigned long)n);
+}
+
 /* Saturation never wraps, and a debug-saturation build counts it. */
 static void test_saturation_is_reported(void **s)
 {
@@ -133,7 +154,7 @@ int main(void)
         cmocka_unit_test(test_mul),   cmocka_unit_test(test_div), cmocka_unit_test(test_sqrt),
         cmocka_unit_test(test_atan),  cmocka_unit_test(test_atan2), cmocka_unit_test(test_sin),
         cmocka_unit_test(test_cos),   cmocka_unit_test(test_exp), cmocka_unit_test(test_log),
-        cmocka_unit_test(test_saturation_is_reported),
+        cmocka_unit_test(test_sincos_is_sin_and_cos), cmocka_unit_test(test_saturation_is_reported),
     };
     return cmocka_run_group_tests_name("q16", tests, NULL, NULL);
 }

@@ -34,10 +34,17 @@ def host_ns(arith):
     return {row["case"]: float(row["ns_per_call"]) for row in csv.DictReader(out.splitlines())}
 
 
+# The Q15.16 kernels: the functions behind r_sqrt ... r_log and the file-local
+# helpers of lib/arith/q16.c they run in (gcc may suffix a local's clone: .isra.0,
+# .part.0, ...), with q_mul_wide, the Cortex-M0+'s product, which only q16.c calls
+# and which -Os leaves out of line there.
+Q16_KERNEL_FN = (r"grip_q16_(sqrt|atan|atan2|sin|cos|sincos|exp|log)"
+                 r"|horner_q30|horner_step|k_mul|q_mul_wide|sin_poly_q30|atan_poly_q30|exp2_poly_q30"
+                 r"|q30_to_q16|msb64|atan_mag_q30|phase_q32|sin_of_phase")
 # The math kernels of an evaluation: libm's functions (float build, GRIP_FLOAT_KERNELS
 # 0; grip's float kernels are inlined into their callers and cannot be told apart) and
-# the Q15.16 functions behind r_sqrt ... r_log (fixed build).
-MATH_KERNEL_FN = re.compile(r"^grip_q16_(sqrt|atan|atan2|sin|cos|exp|log)$")
+# the Q15.16 kernels (fixed build).
+MATH_KERNEL_FN = re.compile(r"^(" + Q16_KERNEL_FN + r")(\.\w+)*$")
 CG_NAME = re.compile(r"^\((\d+)\)(?: (.*))?$")
 
 
@@ -105,8 +112,7 @@ def callgrind_ir(arith, case, n=1600):
 # from: with the function executed last before them that is not a libgcc helper.
 M_KERNEL_FN = re.compile(r"^(atanf|atan2f|sinf|cosf|sincosf|expf|logf|sqrtf|fabsf|floorf|scalbnf|copysignf"
                          r"|__ieee754_\w+|__kernel_\w+|__math_\w+|__sin\w*|__cos\w*|__exp\w*|__log\w*"
-                         r"|grip_q16_(sqrt|atan|atan2|sin|cos|exp|log)"
-                         r"|horner_q30|odd_poly_q30|q30_to_q16|msb64|atan_mag_q30|phase_q32|sin_of_phase)$")
+                         r"|" + Q16_KERNEL_FN + r")(\.\w+)*$")
 M_HELPER_FN = re.compile(r"^(__aeabi_\w+|__\w+(di|si)\d|__clz\w+|__ctz\w+|__gnu_\w+)$")
 
 
