@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "csv.h"
+#include "grip/grip_convert.h"
 #include "vehicle_config.h"
 
 /* Vehicle presets for --vehicle.
@@ -28,22 +29,21 @@
  *   log (the logged angle is the steering command: est-eval's steer-lag fit).
  * generic: grip_est_config_default (the simulator's passenger car).
  * --vehicle-file then overrides single values (key = value, SI units). */
+/* SI to the build's format through grip_convert.h: rounded half away from
+ * zero; beyond the format the nearest bound (which grip_est_init's ranges
+ * then refuse), never an out-of-range integer conversion */
 grip_real_t vehicle_si_qs(double x)
 {
-#if GRIP_ARITH_FIXED
-    return (grip_real_t)floor(x * 65536.0 + 0.5);
-#else
-    return (grip_real_t)x;
-#endif
+    grip_real_t r;
+    (void)grip_real_qs_from_si(x, &r);
+    return r;
 }
 
 grip_real_t vehicle_si_ql(double x)
 {
-#if GRIP_ARITH_FIXED
-    return (grip_real_t)floor(x * 256.0 + 0.5);
-#else
-    return (grip_real_t)x;
-#endif
+    grip_real_t r;
+    (void)grip_real_ql_from_si(x, &r);
+    return r;
 }
 
 int vehicle_preset(const char *name, const grip_mf_params *tire, int rate_hz, grip_est_config_t *cfg)

@@ -164,6 +164,8 @@ def main():
     write("brush_ok.txt", ["model = neofiala"])
     write("veh_mass.veh", ["mass = 0.5"])
     write("veh_steer.veh", ["steer_ratio = 200"])
+    # beyond Q15.16 (the fixed build): converted to the format's bound, refused by the range
+    write("veh_lf_huge.veh", ["lf = 100000"])
     # ---- measured-data CSV for the Python tools (grip fit-mf, grip analyze)
     fy = ["fz[N],alpha[rad],gamma[rad],fy[N]"] + [f"{fz},{a / 100:.3f},0,{-fz * a / 20:.1f}"
                                                  for fz in (2000, 4000, 6000) for a in range(-20, 21, 2)]
