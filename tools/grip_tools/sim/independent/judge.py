@@ -428,8 +428,6 @@ def run_one(job):
         res["configs"][cname] = {}
         for arith, b in bins.items():
             blob = cfg["learned"][arith]["blob"] if "learned" in cfg else None
-            if "learned" in cfg and arith not in cfg["learned"]:
-                continue
             est = est_eval.run_est(b, cfg["tir"], t, value, valid, vehicle="generic", vehicle_values=cfg["values"],
                                    learned=blob)
             res["configs"][cname][arith] = metrics(tr, meas, est, cfg["mu_norm"], cfg["bicycle"], geom)
@@ -739,7 +737,9 @@ def run(out, full=False, vehicles=None, manoeuvres=None, surfaces=None, jobs=Non
             taught = pmap(_learn_job, [(v, per_vehicle[v]["generic"]["values"], bins, runs_dir)
                                        for v in sel["vehicles"]])
             for v, tv in zip(sel["vehicles"], taught):
-                if tv:
+                # every build needs its own blob: with a grip-replay
+                # program among the builds the configuration is left out
+                if set(tv) == set(bins):
                     g = per_vehicle[v]["generic"]
                     vl = dict(g["values"], stiff_est=1)
                     per_vehicle[v]["learned"] = dict(tir=GENERIC_TIR, lines=vehicle_lines(vl), values=vl,
