@@ -605,20 +605,17 @@ def av21_bicycle_beta(t, value, ins, cfg):
     """The linear single-track baseline: the steady-state sideslip of the
     configured car (mass, axle distances, the stand-in tire's cornering
     stiffness at the static axle loads) from the logged steering command
-    lagged by the preset's steer_lag (first order) and the INS speed."""
-    lf, lr, m = cfg["lf"], cfg["lr"], cfg["mass"]
-    l = lf + lr
+    lagged by the preset's steer_lag (first order) and the INS speed: the
+    independent judge's baseline formula (judge.bicycle_beta)."""
+    from grip_tools.sim.independent import judge
     est = est_ref.Estimator(cfg)
-    cf, cr = 2.0 * est.c_alpha[0], 2.0 * est.c_alpha[1]
+    bp = dict(m=cfg["mass"], lf=cfg["lf"], lr=cfg["lr"], cf=2.0 * est.c_alpha[0], cr=2.0 * est.c_alpha[1])
     dt = float(np.median(np.diff(t)))
     a = min(1.0, dt / AV21_VEHICLE["steer_lag"])
     d = np.zeros(len(t))
     for k in range(1, len(t)):
         d[k] = d[k - 1] + a * (value[k, 4] / cfg["steer_ratio"] - d[k - 1])
-    v = np.maximum(ins["vx"], 1.0)
-    ku = m / l * (lr / cf - lf / cr)
-    r = v * d / (l + ku * v * v)
-    return r * (lr / v - m * lf * v / (l * cr))
+    return judge.bicycle_beta(bp, d, ins["vx"])
 
 
 def av21_report(log, outdir, bins):
