@@ -154,6 +154,15 @@ static grip_status_t check_config(const grip_est_config_t *c, grip_check_detail_
         { "vx_sd_max", c->vx_sd_max, R_ZERO, RC(50.0), "in [0, 50] m/s (0: no limit)" },
         { "fy_sd_max", c->fy_sd_max, R_ZERO, RCL(1.0e6), "in [0, 1e6] N (0: no limit)" },
     };
+    /* the switches: 0 or 1 */
+    const struct {
+        const char *name;
+        uint32_t v;
+    } flags[] = {
+        { "speed_ref_mu", c->speed_ref_mu }, { "rear_steer", c->rear_steer },
+        { "bank_est", c->bank_est },         { "stiff_est", c->stiff_est },
+    };
+    size_t k;
     int a;
     if (!check_ranges(r, sizeof r / sizeof r[0], d)) {
         return GRIP_ERR_PARAM;
@@ -162,21 +171,11 @@ static grip_status_t check_config(const grip_est_config_t *c, grip_check_detail_
         (void)check_fail(d, "", -1, "rate_hz", "in 50..2000 Hz");
         return GRIP_ERR_PARAM;
     }
-    if (c->speed_ref_mu > 1u) {
-        (void)check_fail(d, "", -1, "speed_ref_mu", "0 or 1");
-        return GRIP_ERR_PARAM;
-    }
-    if (c->rear_steer > 1u) {
-        (void)check_fail(d, "", -1, "rear_steer", "0 or 1");
-        return GRIP_ERR_PARAM;
-    }
-    if (c->bank_est > 1u) {
-        (void)check_fail(d, "", -1, "bank_est", "0 or 1");
-        return GRIP_ERR_PARAM;
-    }
-    if (c->stiff_est > 1u) {
-        (void)check_fail(d, "", -1, "stiff_est", "0 or 1");
-        return GRIP_ERR_PARAM;
+    for (k = 0; k < sizeof flags / sizeof flags[0]; ++k) {
+        if (flags[k].v > 1u) {
+            (void)check_fail(d, "", -1, flags[k].name, "0 or 1");
+            return GRIP_ERR_PARAM;
+        }
     }
     if (!check_ranges(r2, sizeof r2 / sizeof r2[0], d)) {
         return GRIP_ERR_PARAM;
@@ -437,7 +436,7 @@ grip_status_t grip_est_init_detail(grip_est_t *est, const grip_est_config_t *cfg
     est->stf_k[1] = R_ONE;
     est->stf_x[0] = RC(1.0 / EST_STF_S_U);
     est->stf_x[1] = RC(1.0 / EST_STF_S_U);
-    est->stf_p[0] = RC((EST_STF_P0 / EST_STF_S_U) * (EST_STF_P0 / EST_STF_S_U));
+    est->stf_p[0] = RC(EST_STF_P_MAX);
     est->stf_p[1] = R_ZERO;
     est->stf_p[2] = est->stf_p[0];
     est->stf_updates = 0u;

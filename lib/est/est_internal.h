@@ -238,7 +238,13 @@ void est_observer_switch(grip_est_t *est, est_ctx_t *s);
  * the Jacobians */
 void est_tires(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s, grip_est_output_t *out);
 
-/* est_stiffness.c: the axles' cornering-stiffness scales learned (stiff_est) */
+/* est_stiffness.c: the axles' cornering-stiffness scales learned (stiff_est).
+ * Bounds of its filter in scaled units (est_tuning.h's EST_STF_*): the
+ * variance's floor and prior, the state 1 / k's range. */
+#define EST_STF_P_MIN ((EST_STF_SD_MIN / EST_STF_S_U) * (EST_STF_SD_MIN / EST_STF_S_U))
+#define EST_STF_P_MAX ((EST_STF_P0 / EST_STF_S_U) * (EST_STF_P0 / EST_STF_S_U))
+#define EST_STF_X_LO  (1.0 / (EST_STF_K_MAX * EST_STF_S_U))
+#define EST_STF_X_HI  (1.0 / (EST_STF_K_MIN * EST_STF_S_U))
 void est_stiffness(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t *out);
 
 /* With the observer running: */

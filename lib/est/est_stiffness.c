@@ -43,11 +43,9 @@ static grip_real_t stf_scale(grip_real_t x)
 /* The covariance within the floor, the prior and a correlation below 1 */
 static void stf_condition(grip_est_t *est)
 {
-    grip_real_t p_min = RC((EST_STF_SD_MIN / EST_STF_S_U) * (EST_STF_SD_MIN / EST_STF_S_U));
-    grip_real_t p_max = RC((EST_STF_P0 / EST_STF_S_U) * (EST_STF_P0 / EST_STF_S_U));
     grip_real_t c;
-    est->stf_p[0] = r_clamp(est->stf_p[0], p_min, p_max);
-    est->stf_p[2] = r_clamp(est->stf_p[2], p_min, p_max);
+    est->stf_p[0] = r_clamp(est->stf_p[0], RC(EST_STF_P_MIN), RC(EST_STF_P_MAX));
+    est->stf_p[2] = r_clamp(est->stf_p[2], RC(EST_STF_P_MIN), RC(EST_STF_P_MAX));
     c = r_mul(RC(0.99), r_sqrt(r_mul(est->stf_p[0], est->stf_p[2])));
     est->stf_p[1] = sym_clamp(est->stf_p[1], c);
 }
@@ -62,11 +60,8 @@ void est_stiffness(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t 
     }
     /* a random walk: what is not measured returns towards the prior (the
      * variances grow, so the floor and the correlation's bound hold) */
-    {
-        grip_real_t p_max = RC((EST_STF_P0 / EST_STF_S_U) * (EST_STF_P0 / EST_STF_S_U));
-        est->stf_p[0] = r_min(r_add(est->stf_p[0], est->stf_q), p_max);
-        est->stf_p[2] = r_min(r_add(est->stf_p[2], est->stf_q), p_max);
-    }
+    est->stf_p[0] = r_min(r_add(est->stf_p[0], est->stf_q), RC(EST_STF_P_MAX));
+    est->stf_p[2] = r_min(r_add(est->stf_p[2], est->stf_q), RC(EST_STF_P_MAX));
     /* the yaw acceleration from the last step's yaw rate, when that step
      * learned too (else 0, and the low-pass starts from this step) */
     rdot = (est->stf_n > 0) ? r_mul(r_sub(s->yaw, est->stf_yaw), est->rate) : R_ZERO; /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
@@ -110,9 +105,8 @@ void est_stiffness(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t 
         grip_real_t ph1 = r_add(r_mul(est->stf_p[1], h0), r_mul(est->stf_p[2], h1));
         grip_real_t sv = r_add(r_add(r_mul(h0, ph0), r_mul(h1, ph1)), est->stf_r);
         grip_real_t k0 = r_div(ph0, sv), k1 = r_div(ph1, sv);
-        grip_real_t x_lo = RC(1.0 / (EST_STF_K_MAX * EST_STF_S_U)), x_hi = RC(1.0 / (EST_STF_K_MIN * EST_STF_S_U));
-        est->stf_x[0] = r_clamp(r_add(est->stf_x[0], r_mul(k0, nu)), x_lo, x_hi);
-        est->stf_x[1] = r_clamp(r_add(est->stf_x[1], r_mul(k1, nu)), x_lo, x_hi);
+        est->stf_x[0] = r_clamp(r_add(est->stf_x[0], r_mul(k0, nu)), RC(EST_STF_X_LO), RC(EST_STF_X_HI));
+        est->stf_x[1] = r_clamp(r_add(est->stf_x[1], r_mul(k1, nu)), RC(EST_STF_X_LO), RC(EST_STF_X_HI));
         est->stf_p[0] = r_sub(est->stf_p[0], r_mul(k0, ph0));
         est->stf_p[1] = r_sub(est->stf_p[1], r_mul(k0, ph1));
         est->stf_p[2] = r_sub(est->stf_p[2], r_mul(k1, ph1));
@@ -193,9 +187,8 @@ grip_status_t grip_est_learned_get(const grip_est_t *est, grip_est_learned_t *bl
 
 grip_status_t grip_est_learned_set(grip_est_t *est, const grip_est_learned_t *blob)
 {
-    grip_real_t x_lo = RC(1.0 / (EST_STF_K_MAX * EST_STF_S_U)), x_hi = RC(1.0 / (EST_STF_K_MIN * EST_STF_S_U));
-    grip_real_t p_min = RC((EST_STF_SD_MIN / EST_STF_S_U) * (EST_STF_SD_MIN / EST_STF_S_U));
-    grip_real_t p_max = RC((EST_STF_P0 / EST_STF_S_U) * (EST_STF_P0 / EST_STF_S_U));
+    grip_real_t x_lo = RC(EST_STF_X_LO), x_hi = RC(EST_STF_X_HI);
+    grip_real_t p_min = RC(EST_STF_P_MIN), p_max = RC(EST_STF_P_MAX);
     int a;
     if (est == NULL || blob == NULL) {
         return GRIP_ERR_NULL;

@@ -89,7 +89,7 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
         grip_real_t alpha = r_atan(t);       /* kinematic, then lagged (relaxation) */
         grip_real_t kappa = R_ZERO;
         grip_real_t lever = r_add(r_mul(est->xw[i], cdi), r_mul(est->yw[i], sdi));
-        grip_real_t c2, dady, dadr, ca, g, u, dfda, dfdmu, fxn, fyn, fzr;
+        grip_real_t c2, dady, dadr, ca, g, u, dfda, dfdmu, fxn, fyn, fzr, ka;
         grip_mf_input ti;
         grip_mf_output to;
         grip_status_t st;
@@ -111,7 +111,8 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
         ti.kappa = kappa_at_friction(kappa, s->mu, est->kappa_pk[axle]);
         /* beyond the peak slip angle the model force is held at its peak:
          * the falling branch would make vy and mu unobservable together */
-        ti.alpha = sym_clamp(r_div(r_mul(est->stf_k[axle], alpha), s->mu), est->alpha_pk[axle]);
+        ka = r_mul(est->stf_k[axle], alpha);   /* the slip the model works at: k alpha */
+        ti.alpha = sym_clamp(r_div(ka, s->mu), est->alpha_pk[axle]);
         if (side[i] < 0) {
             ti.alpha = r_neg(ti.alpha);   /* right wheel: mirror image of the LEFT-fitted tire */
         }
@@ -172,7 +173,7 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
         dady = r_div(r_mul(c2, cdi), den);                    /* d alpha / d vy  [s/m] */
         dadr = r_div(r_mul(c2, lever), den);                  /* d alpha / d r   [s]   */
         dfda = r_neg(r_mul(g, ca));                           /* d Fy / d alpha  [N/rad] */
-        dfdmu = est_mu_secant(est, axle, r_mul(est->stf_k[axle], alpha), out->fy[i]); /* d Fy / d mu [N] */
+        dfdmu = est_mu_secant(est, axle, ka, out->fy[i]);   /* d Fy / d mu [N] */
         est->fy_dmu[i] = dfdmu; /* the output forces move along it with the updates' mu */
         s->slope[axle] = r_add(s->slope[axle], r_abs(dfda));
         {

@@ -145,6 +145,10 @@ ROAD_T_REST, ROAD_GY_MAX, ROAD_D = 0.5, 4.4, 0.15
 STF_S_U, STF_S_Y, STF_P0, STF_SD_MIN, STF_Q, STF_R = 0.05, 0.01, 0.5, 0.02, 1.0e-4, 1.0e-3
 STF_T, STF_TC, STF_V, STF_AX, STF_U, STF_D = 0.1, 2.0, 10.0, 1.0, 0.5, 0.1
 STF_H_MIN, STF_SLOPE, STF_K_MIN, STF_K_MAX, STF_RACC = 0.3, 1000.0, 0.4, 2.5, 5.0
+# the filter's bounds in scaled units (est_internal.h): variance floor and
+# prior, the range of 1 / k
+STF_P_MIN, STF_P_MAX = (STF_SD_MIN / STF_S_U) ** 2, (STF_P0 / STF_S_U) ** 2
+STF_X_LO, STF_X_HI = 1.0 / (STF_K_MAX * STF_S_U), 1.0 / (STF_K_MIN * STF_S_U)
 
 # -- the lateral filter on / off (est_lateral.c)
 V_ON, V_OFF = 3.0, 2.5  # on above V_ON, off below V_OFF [m/s]
@@ -542,8 +546,7 @@ class Estimator:
         # with the prior's covariance; the model error correlated over STF_TC
         self.stf_k = [1.0, 1.0]
         self.stf_x = np.array([1.0 / STF_S_U, 1.0 / STF_S_U])
-        p0 = (STF_P0 / STF_S_U) ** 2
-        self.stf_p = np.array([[p0, 0.0], [0.0, p0]])
+        self.stf_p = np.array([[STF_P_MAX, 0.0], [0.0, STF_P_MAX]])
         self.stf_updates = 0
         self.stf_q = STF_Q / STF_S_U ** 2 / rate
         self.stf_a = min(1.0 / (STF_T * rate), 1.0)
@@ -1299,10 +1302,9 @@ class Estimator:
 
     # ---- est_stiffness.c: the learned cornering stiffness --------------------
     def _stf_condition(self):
-        p_min, p_max = (STF_SD_MIN / STF_S_U) ** 2, (STF_P0 / STF_S_U) ** 2
         P = self.stf_p
-        P[0, 0] = _clamp(P[0, 0], p_min, p_max)
-        P[1, 1] = _clamp(P[1, 1], p_min, p_max)
+        P[0, 0] = _clamp(P[0, 0], STF_P_MIN, STF_P_MAX)
+        P[1, 1] = _clamp(P[1, 1], STF_P_MIN, STF_P_MAX)
         c = 0.99 * math.sqrt(P[0, 0] * P[1, 1])
         P[0, 1] = P[1, 0] = _clamp(P[0, 1], -c, c)
 
@@ -1323,9 +1325,8 @@ class Estimator:
         if not c.get("stiff_est", 0):
             return
         rate = c["rate_hz"]
-        p_max = (STF_P0 / STF_S_U) ** 2
-        self.stf_p[0, 0] = min(self.stf_p[0, 0] + self.stf_q, p_max)
-        self.stf_p[1, 1] = min(self.stf_p[1, 1] + self.stf_q, p_max)
+        self.stf_p[0, 0] = min(self.stf_p[0, 0] + self.stf_q, STF_P_MAX)
+        self.stf_p[1, 1] = min(self.stf_p[1, 1] + self.stf_q, STF_P_MAX)
         rdot = (s.yaw - self.stf_yaw) * rate if self.stf_n > 0 else 0.0
         self.stf_yaw = s.yaw
         slope = [float(np.sum(np.abs(s.dfda[0:2]))), float(np.sum(np.abs(s.dfda[2:4])))]
@@ -1355,8 +1356,7 @@ class Estimator:
         nu = self.stf_z - float(h @ self.stf_x)
         ph = P @ h
         k = ph / (float(h @ ph) + self.stf_r)
-        lo, hi = 1.0 / (STF_K_MAX * STF_S_U), 1.0 / (STF_K_MIN * STF_S_U)
-        self.stf_x = np.clip(self.stf_x + k * nu, lo, hi)
+        self.stf_x = np.clip(self.stf_x + k * nu, STF_X_LO, STF_X_HI)
         self.stf_p = P - np.outer(k, ph)
         self.stf_p[1, 0] = self.stf_p[0, 1]
         self._stf_condition()
