@@ -120,7 +120,8 @@ void est_friction_tests(grip_est_t *est, est_ctx_t *s, const grip_est_output_t *
                                     lim_ok && ((est->r_lin_f > R_ZERO && ay > R_ZERO) ||
                                                (est->r_lin_f < R_ZERO && ay < R_ZERO)),
                                     r_abs(ax) < RC(EST_B_AX) &&
-                                        r_abs(r_sub(r_add(ay, s->g_y), r_mul(yaw, vx))) < RC(EST_B_AX));
+                                        r_abs(r_sub(r_add(ay, s->g_y), r_mul(yaw, vx))) <
+                                            r_mul(RC(EST_STEADY_K), c->kin_acc_sd));
     }
     if (s->at_limit) {
         excited = 1;

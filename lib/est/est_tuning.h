@@ -197,8 +197,7 @@
 #define EST_B_U      0.5     /* -      model utilization below this ...                       */
 #define EST_B_A      4.0     /* m/s^2  ... |ay| below this ...                                */
 #define EST_B_AX     1.0     /* m/s^2  ... |ax| below this (also for the bias at rest, and
-                              *        "steady" for the understeer bound's withdrawal, with
-                              *        |dvy/dt| below it) ...                                   */
+                              *        |ax| for the understeer bound's withdrawal) ...          */
 #define EST_B_RACC   2.0     /* rad/s^2 ... and the model's yaw acceleration below this (the
                               *        tire lag's error is largest in fast yaw transients): a
                               *        6 mrad/s offset learned to 2.50 mrad/s; 1.0 -> 2.21
@@ -293,6 +292,12 @@
  * lifts by itself (without the upper end the value before overshot: mu
  * 0.43 -> 1.11 on the generator's 0.5 road) */
 #define EST_REL_K    0.8     /* -                                                             */
+#define EST_STEADY_K 3.0     /* -      "steady" for that withdrawal: |dvy/dt| = |ay + g_y - r vx|
+                              *        within this many kin_acc_sd (the accelerometer's offset
+                              *        and the unknown bank, what a car in a steady turn shows);
+                              *        a car whose sideslip grows at the limit (snow lane change:
+                              *        0.76 m/s^2) is not steady, and withdrawing the bound
+                              *        there put mu 0.27 above the road's                      */
 /* P_mu [scaled units^2] at mu_conf 0.5 (sigma_mu 0.1) */
 #define EST_P_CONF   (((EST_CONF_S0 - 0.05) / EST_S_MU) * ((EST_CONF_S0 - 0.05) / EST_S_MU))
 #define EST_CUT_CLEAR 0.05   /* -      the balances' memory is cleared at the understeer bound's

@@ -94,7 +94,7 @@ CLASSES = {
     "EST_STF_Q": "tuning", "EST_STF_R": "sensor", "EST_STF_T": "tuning", "EST_STF_TC": "tuning",
     "EST_STF_V": "tuning", "EST_STF_AX": "tuning", "EST_STF_U": "tuning", "EST_STF_D": "tuning",
     "EST_STF_H_MIN": "tuning", "EST_STF_SLOPE": "format", "EST_STF_K_MIN": "range", "EST_STF_K_MAX": "range",
-    "EST_STF_RACC": "range",
+    "EST_STF_RACC": "range", "EST_STEADY_K": "physics",
 }
 CLASS_TEXT = {
     "physics": "a physical or statistical constant (g, a chi-square point, the tire as fitted)",

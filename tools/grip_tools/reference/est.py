@@ -205,12 +205,14 @@ US_D, US_R, US_U0, US_U1, US_UMAX, US_ZMAX = 0.15, 0.02, 0.3, 1.4, 0.85, 0.8
 # withdrawal of that bound: mu held down by it and not confirmed since
 # (P_mu above P_CONF, i.e. mu_conf < 0.5) goes back to its value before the
 # bound once the bound's own test has said "no deficit" (-LIM_REL < d <
-# US_D) in steady cornering (|ax| and |dvy/dt| = |ay - r vx| below B_AX)
+# US_D) in steady cornering (|ax| below B_AX, |dvy/dt| = |ay + g_y - r vx|
+# within STEADY_K kin_acc_sd: a car whose sideslip grows is not steady)
 # for LIM_T at a front friction in use between REL_K and 1 / REL_K of the
 # one at which the bound was last set (far more friction in use shows the
 # bound too low, which the friction-in-use bound lifts by itself; the value
 # before would overshoot)
 REL_K = 0.8
+STEADY_K = 3.0
 # mu_conf: 1 at sigma_mu <= CONF_S0 - 0.1, 0 at >= CONF_S0 (est_tuning.h
 # lists it with the outputs; P_CONF needs it here)
 CONF_S0 = 0.15
@@ -1471,7 +1473,8 @@ class Estimator:
             # front is still at its limit, and a spinning car's yaw rate
             # can match the reference with the rear axle sliding
             if (self.us_low and lim_ok and same_turn and -LIM_REL < dd < US_D and abs(ax) < B_AX
-                    and abs(ay + g_y - yaw * vx) < B_AX and REL_K * self.use_b <= use_f <= self.use_b / REL_K):
+                    and abs(ay + g_y - yaw * vx) < STEADY_K * self.cfg.get("kin_acc_sd", KIN_ACC)
+                    and REL_K * self.use_b <= use_f <= self.use_b / REL_K):
                 self.rel_steps = min(self.rel_steps + 1, BIG)
             elif self.us_low and lim_ok and same_turn:
                 # a step out of the band counts one back, not to 0: at a
