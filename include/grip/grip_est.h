@@ -266,7 +266,8 @@ typedef struct {
                                                      * (mu's secant, docs/estimator.md) */
     grip_real_t kappa_pk[2];    /* QS |slip ratio| of the braking force's peak at static load */
     grip_real_t mu0_k[2];       /* QS load sensitivity of the peak: mu0(Fz) = mu0 + mu0_k (Fz / Fz_static - 1) */
-    grip_real_t k_us;           /* QS stability factor A [s^2/m^2] times 100 */
+    grip_real_t k_us;           /* QS stability factor A [s^2/m^2] times 100 (learned stiffness) */
+    grip_real_t k_us0;          /* QS the same of the tire file's car (the learners' gate) */
     grip_real_t steer_k;        /* QS per-step gain of the steering lag, 1: none */
     grip_real_t st_k_in;        /* QS (steer_latency - latency) rate: steps of the angle's change to the state's time */
     grip_real_t st_k_out;       /* QS steer_latency rate: ... and to the outputs' time */
@@ -410,8 +411,9 @@ grip_status_t grip_est_reset(grip_est_t *est);
 grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip_est_output_t *out);
 
 /* The linear stability factor A [s^2/m^2] of the configured car and tires
- * (seed eq. 2.17, from the tires' cornering stiffness at static load, as
- * the yaw-rate reference uses it), times 100, in *a_x100 (QS).
+ * (seed eq. 2.17, from the tires' cornering stiffness at static load times
+ * the learned scales with stiff_est, as the yaw-rate reference uses it),
+ * times 100, in *a_x100 (QS).
  * GRIP_ERR_NULL, GRIP_ERR_STATE (est not initialized). */
 grip_status_t grip_est_stability_factor(const grip_est_t *est, grip_real_t *a_x100);
 

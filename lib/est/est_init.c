@@ -385,16 +385,6 @@ grip_status_t grip_est_init_detail(grip_est_t *est, const grip_est_config_t *cfg
     }
     /* vx's deviation: the wheels' mean slip per m/s^2 of ax (kg / N) */
     est->slip_acc = r_div(cfg->mass, r_mul(RC(4.0), r_min(est->c_kappa[0], est->c_kappa[1])));
-    {
-        /* stability factor A = m (lr Cr - lf Cf) / (l^2 Cf Cr), Cf, Cr per axle
-         * (seed eq. 2.17 with K per tire = C / 2); stored as 100 A */
-        grip_real_t cf = r_mul(RC(2.0), est->c_alpha[0]);
-        grip_real_t cr = r_mul(RC(2.0), est->c_alpha[1]);
-        grip_real_t num = r_sub(r_mul(cfg->lr, cr), r_mul(cfg->lf, cf));   /* N (QL) */
-        grip_real_t a1 = r_div(num, cf);                                    /* m */
-        grip_real_t b100 = r_div(r_mul(RC(100.0), cfg->mass), cr);          /* 100 kg rad / N */
-        est->k_us = r_div(r_mul(a1, b100), r_mul(l, l));
-    }
     est->rate = r_from_int((int32_t)cfg->rate_hz);
     est->ay_fac = r_div(R_ONE, r_add(R_ONE, r_mul(RC(EST_G), cfg->roll_gradient)));
     {
@@ -434,6 +424,8 @@ grip_status_t grip_est_init_detail(grip_est_t *est, const grip_est_config_t *cfg
      * covariance; the model error counted as correlated over STF_TC */
     est->stf_k[0] = R_ONE;
     est->stf_k[1] = R_ONE;
+    est_stability_factor(est);
+    est->k_us0 = est->k_us;
     est->stf_x[0] = RC(1.0 / EST_STF_S_U);
     est->stf_x[1] = RC(1.0 / EST_STF_S_U);
     est->stf_p[0] = RC(EST_STF_P_MAX);

@@ -163,10 +163,15 @@ static inline grip_real_t relax_share(grip_real_t dist, grip_real_t sig)
  * division; r_lin low-passed there): a car nearing its limit on a friction
  * the model does not know yet is short of it, whatever mu the filter has.
  * The bank (est_road.c) and the stiffness (est_stiffness.c) learn only
- * while it holds. */
-static inline int est_yaw_linear(const grip_est_t *est, grip_real_t yaw, grip_real_t d)
+ * while it holds. The reference is the tire file's car (k_us0), not the
+ * learned one the limit tests use: a balance learned part of the way (one
+ * axle ahead of the other) would otherwise put the car short of it and stop
+ * the learning that corrects it. */
+static inline int est_yaw_linear(const grip_est_t *est, grip_real_t yaw, grip_real_t vx, grip_real_t d)
 {
-    grip_real_t r_lin = est->r_lin_f;
+    grip_real_t v2 = r_mul(RC(0.01), r_mul(vx, vx));
+    grip_real_t r_lin = r_div_keep(r_mul(est->r_lin_f, r_max(r_add(R_ONE, r_mul(est->k_us, v2)), RC(0.1))),
+                                   r_max(r_add(R_ONE, r_mul(est->k_us0, v2)), RC(0.1)));
     grip_real_t short_by = (r_lin > R_ZERO) ? r_sub(r_lin, yaw) : r_sub(yaw, r_lin);
     return (r_abs(r_lin) <= RC(EST_US_R)) || (short_by < r_mul(d, r_abs(r_lin)));
 }
@@ -246,6 +251,7 @@ void est_tires(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s, gri
 #define EST_STF_X_LO  (1.0 / (EST_STF_K_MAX * EST_STF_S_U))
 #define EST_STF_X_HI  (1.0 / (EST_STF_K_MIN * EST_STF_S_U))
 void est_stiffness(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t *out);
+void est_stability_factor(grip_est_t *est);
 
 /* With the observer running: */
 /* est_friction.c: excitation, the friction-limit test, the understeer bound */

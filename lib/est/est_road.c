@@ -43,7 +43,7 @@ void est_road(grip_est_t *est, const est_ctx_t *s)
             /* the car within EST_ROAD_D of its linear yaw response: a car
              * nearing its limit on a friction the model does not know yet
              * pulls vy the same way */
-            if (s->umax_est < RC(EST_ROAD_U) && !s->at_limit && est_yaw_linear(est, s->yaw, RC(EST_ROAD_D)) &&
+            if (s->umax_est < RC(EST_ROAD_U) && !s->at_limit && est_yaw_linear(est, s->yaw, s->vx, RC(EST_ROAD_D)) &&
                 !est->misfit && !est->sat_cap) {
                 /* the ay update's correction of vy this step */
                 gy = r_add(gy, r_mul(r_mul(s->vx, RC(1.0 / EST_ROAD_L)), r_sub(est->x[0], r_add(s->vy, s->dvy))));

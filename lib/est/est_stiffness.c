@@ -40,6 +40,22 @@ static grip_real_t stf_scale(grip_real_t x)
     return r_div(R_ONE, r_mul(x, RC(EST_STF_S_U)));
 }
 
+/* The stability factor A = m (lr Cr - lf Cf) / (l^2 Cf Cr), Cf, Cr per
+ * axle at the scales in use (seed eq. 2.17 with K per tire = C / 2), stored
+ * as 100 A: the limit tests' and the yaw-rate reference's car is the one the
+ * tires are learned to be (grip_est_init, and after each update). */
+void est_stability_factor(grip_est_t *est)
+{
+    const grip_est_config_t *c = &est->cfg;
+    grip_real_t l = r_add(c->lf, c->lr);
+    grip_real_t cf = r_mul(r_mul(RC(2.0), est->c_alpha[0]), est->stf_k[0]);
+    grip_real_t cr = r_mul(r_mul(RC(2.0), est->c_alpha[1]), est->stf_k[1]);
+    grip_real_t num = r_sub(r_mul(c->lr, cr), r_mul(c->lf, cf));   /* N (QL) */
+    grip_real_t a1 = r_div(num, cf);                                /* m */
+    grip_real_t b100 = r_div(r_mul(RC(100.0), c->mass), cr);        /* 100 kg rad / N */
+    est->k_us = r_div(r_mul(a1, b100), r_mul(l, l));
+}
+
 /* The covariance within the floor, the prior and a correlation below 1 */
 static void stf_condition(grip_est_t *est)
 {
@@ -68,7 +84,7 @@ void est_stiffness(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t 
     est->stf_yaw = s->yaw;
     ok = est->active && s->yaw_ok && s->ay_ok && s->steer_ok && ((s->flags & GRIP_EST_F_STEER_LIMIT) == 0u) && /* grip-deviation: MISRA-10.3 comparison result 0/1 stored in an int flag */
          s->vx >= RC(EST_STF_V) && r_abs(s->ax) < RC(EST_STF_AX) && s->umax_est < RC(EST_STF_U) && !s->lock &&
-         !s->spin && !s->dead_reck && !s->at_limit && est_yaw_linear(est, s->yaw, RC(EST_STF_D)) &&
+         !s->spin && !s->dead_reck && !s->at_limit && est_yaw_linear(est, s->yaw, s->vx, RC(EST_STF_D)) &&
          s->slope[0] >= RCL(EST_STF_SLOPE) &&
          s->slope[1] >= RCL(EST_STF_SLOPE) && r_abs(rdot) < RC(EST_STF_RACC);
     if (!ok) {
@@ -113,6 +129,7 @@ void est_stiffness(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t 
         stf_condition(est);
         est->stf_k[0] = stf_scale(est->stf_x[0]);
         est->stf_k[1] = stf_scale(est->stf_x[1]);
+        est_stability_factor(est);
         est->stf_updates = (est->stf_updates < 0x7fffffffu) ? est->stf_updates + 1u : est->stf_updates;
     }
 }
@@ -218,5 +235,6 @@ grip_status_t grip_est_learned_set(grip_est_t *est, const grip_est_learned_t *bl
     est->stf_updates = blob->updates;
     est->stf_k[0] = stf_scale(est->stf_x[0]);
     est->stf_k[1] = stf_scale(est->stf_x[1]);
+    est_stability_factor(est);
     return GRIP_OK;
 }

@@ -288,6 +288,20 @@ class StiffnessTests(unittest.TestCase):
               f"{math.degrees(rms[1]):.2f} deg (1); k {self.est[1].stf_k[0]:.2f} / {self.est[1].stf_k[1]:.2f}")
         self.assertLess(rms[1], 0.7 * rms[0])
 
+    def test_limit_reference_follows_the_learned_car(self):
+        # the linear yaw reference of the limit tests (k_us = 100 A) is the
+        # car the tires are learned to be: the generator's car (its tire
+        # 1.5 x as stiff) has a smaller stability factor than the file's
+        p = _params()
+        truth = est_ref.Estimator(est_ref.config(dict(p, lky=p["lky"] * golden_est.STIFF_LKY))).k_us
+        file_k, learned = self.est[0].k_us, self.est[1].k_us
+        print(f"# stiffness sequence: stability factor x 100 {file_k:.4f} (tire file), {learned:.4f} (learned), "
+              f"{truth:.4f} (generator's car)")
+        # k is 1.25 - 1.27 of the generator's 1.5 after 12 s: the factor
+        # moves part of the way, from the file's towards the car's
+        self.assertLess(truth, learned)
+        self.assertLess(learned, file_k - 0.3 * (file_k - truth))
+
     def test_reset_keeps_what_was_learned(self):
         e = est_ref.Estimator(est_ref.config(_params(), stiff_est=1))
         e.stf_k, e.stf_x = [1.3, 1.2], np.array([1.0 / (1.3 * est_ref.STF_S_U), 1.0 / (1.2 * est_ref.STF_S_U)])

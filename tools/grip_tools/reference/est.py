@@ -515,8 +515,6 @@ class Estimator:
             _, fy, _ = _tire(P, np.zeros(SHAPE_N + 1), sj, np.full(SHAPE_N + 1, fz), np.full(SHAPE_N + 1, 20.0))
             self.fy_shape[a] = list(np.abs(fy) / fz)
             self.inv_apk[a] = 1.0 / self.alpha_pk[a]
-        cf, cr = 2 * self.c_alpha[0], 2 * self.c_alpha[1]
-        self.k_us = 100.0 * c["mass"] * (c["lr"] * cr - c["lf"] * cf) / (l * l * cf * cr)
         self.q = Q_C / c["rate_hz"]
         self.ay_fac = 1.0 / (1.0 + G * c["roll_gradient"])
         # road plane and downforce (grip_est_init, same order)
@@ -547,6 +545,8 @@ class Estimator:
         # the learned cornering stiffness (est_stiffness.c): the tire file's,
         # with the prior's covariance; the model error correlated over STF_TC
         self.stf_k = [1.0, 1.0]
+        self._stability_factor()
+        self.k_us0 = self.k_us
         self.stf_x = np.array([1.0 / STF_S_U, 1.0 / STF_S_U])
         self.stf_p = np.array([[STF_P_MAX, 0.0], [0.0, STF_P_MAX]])
         self.stf_updates = 0
@@ -632,10 +632,13 @@ class Estimator:
         return o
 
     # ---- shared by the stages (est_internal.h) ------------------------------
-    def _yaw_linear(self, yaw, d):
+    def _yaw_linear(self, yaw, vx, d):
         """est_yaw_linear: the yaw rate not short of the lagged linear
-        reference by the share d of it (or that reference below US_R)."""
-        r_lin = self.r_lin_f
+        reference by the share d of it (or that reference below US_R); the
+        reference of the tire file's car (k_us0), not the learned one: a
+        balance learned part of the way would stop its own learning."""
+        v2 = 0.01 * vx * vx
+        r_lin = self.r_lin_f * max(1.0 + self.k_us * v2, 0.1) / max(1.0 + self.k_us0 * v2, 0.1)
         short_by = r_lin - yaw if r_lin > 0.0 else yaw - r_lin
         return abs(r_lin) <= US_R or short_by < d * abs(r_lin)
 
@@ -1092,7 +1095,7 @@ class Estimator:
             if (s.nis is not None and s.yaw_ok and not s.lock and not s.spin and not s.dead_reck
                     and s.vx >= V_EXC and abs(self.road_dr) < ROAD_RACC
                     and float(np.max(s.out["util"])) < ROAD_U and not s.at_limit
-                    and self._yaw_linear(s.yaw, ROAD_D) and not self.misfit and not self.sat_cap):
+                    and self._yaw_linear(s.yaw, s.vx, ROAD_D) and not self.misfit and not self.sat_cap):
                 gy += s.vx / ROAD_L * (float(self.x[0]) - (s.vy + s.dvy))
             if self.misfit or self.sat_cap:
                 gy -= abs(s.vx) * (dt / ROAD_L) * (gy - self.road_g0)
@@ -1335,7 +1338,7 @@ class Estimator:
         ok = (self.active and s.yaw_ok and s.ay_ok and s.steer_ok and not (s.flags & F_STEER_LIMIT)
               and s.vx >= STF_V and abs(s.ax) < STF_AX and float(np.max(s.out["util"])) < STF_U
               and not s.lock and not s.spin and not s.dead_reck and not s.at_limit
-              and self._yaw_linear(s.yaw, STF_D) and slope[0] >= STF_SLOPE and slope[1] >= STF_SLOPE
+              and self._yaw_linear(s.yaw, s.vx, STF_D) and slope[0] >= STF_SLOPE and slope[1] >= STF_SLOPE
               and abs(rdot) < STF_RACC)
         if not ok:
             self.stf_n = 0
@@ -1363,7 +1366,18 @@ class Estimator:
         self.stf_p[1, 0] = self.stf_p[0, 1]
         self._stf_condition()
         self.stf_k = [1.0 / (float(x) * STF_S_U) for x in self.stf_x]
+        self._stability_factor()
         self.stf_updates += 1
+
+    def _stability_factor(self):
+        """k_us = 100 A, the stability factor of the linear single-track
+        model (seed eq. 2.17, K per tire = C / 2) with the axles' cornering
+        stiffness at the scales in use (stf_k): the limit tests' and the
+        yaw-rate reference's car is the one the tires are learned to be."""
+        c = self.cfg
+        l = c["lf"] + c["lr"]
+        cf, cr = 2 * self.c_alpha[0] * self.stf_k[0], 2 * self.c_alpha[1] * self.stf_k[1]
+        self.k_us = 100.0 * c["mass"] * (c["lr"] * cr - c["lf"] * cf) / (l * l * cf * cr)
 
     # ---- est_friction.c: friction -------------------------------------------
     def friction_floor(self, s):
