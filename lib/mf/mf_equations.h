@@ -270,6 +270,34 @@ static MF_ALWAYS_INLINE grip_real_t mf_residual_at_k(const mf_trail *tc, grip_re
     return r_mul(tc->dr, r_cos_atan(r_mul(tc->br, a)));
 }
 
+/* A combined-slip weighting function G = cos(C atan(B x - E (B x - atan(B
+ * x)))) / (the same at x = sh): the curve at the slip x, normalized by its
+ * value at the shift sh (4.E51-52, 4.E59-60). The scalar path (mk NULL)
+ * skips the kernels where their result is known exactly: cos(C atan(0)) =
+ * 1 at a zero shift (B 0 and atan(0) are zeros, cos of a zero is 1 in every
+ * kernel: libm, GRIP_FLOAT_KERNELS, Q15.16), cos(0 atan(.)) = 1 when C = 0
+ * (MF 5.2 fits that switch a weighting off), and at x equal to sh (zero
+ * slip) the numerator is the normalization itself: the same bits as the
+ * curves evaluated, two atan and a cos fewer each. The lanes form both
+ * curves (no branch; the same bits). */
+static MF_ALWAYS_INLINE grip_real_t mf_g_ratio_k(grip_real_t b, grip_real_t c, grip_real_t e, grip_real_t x,
+                                                 grip_real_t sh, grip_real_t *mk)
+{
+    grip_real_t g;
+    grip_real_t g0;
+    if (mk != NULL) {
+        g = mf_cos_curve_k(b, c, e, x, mk);
+        g0 = mf_cos_curve_k(b, c, e, sh, mk);
+    } else if (c == R_ZERO) {
+        g = R_ONE;
+        g0 = R_ONE;
+    } else {
+        g0 = (sh == R_ZERO) ? R_ONE : mf_cos_curve(b, c, e, sh);
+        g = (x == sh) ? g0 : mf_cos_curve(b, c, e, x);
+    }
+    return mfk_div_lim(g, g0, MF_LIM_G, mk);
+}
+
 /* Combined-slip weighting function of Fy (4.E59-E65) at inclination g. */
 static MF_ALWAYS_INLINE grip_real_t mf_gyk_body(const grip_mf_params *p, const mf_op *op, grip_real_t g,
                                                 grip_real_t emax, grip_real_t *mk)
@@ -280,8 +308,7 @@ static MF_ALWAYS_INLINE grip_real_t mf_gyk_body(const grip_mf_params *p, const m
                                   r_cos_atan(r_mul(p->rby2, r_sub(op->alpha, p->rby3)))),
                             p->lyka);                                                             /* 4.E62 */
     grip_real_t ks = r_add(op->kappa, shyk);                                                      /* 4.E61 */
-    return mfk_div_lim(mf_cos_curve_k(byk, p->rcy1, eyk, ks, mk), mf_cos_curve_k(byk, p->rcy1, eyk, shyk, mk), MF_LIM_G,
-                       mk);
+    return mf_g_ratio_k(byk, p->rcy1, eyk, ks, shyk, mk);                                         /* 4.E59-60 */
 }
 
 /* ------------------------------------------------- Mz0 and combined slip */
@@ -307,9 +334,12 @@ static MF_ALWAYS_INLINE grip_real_t mf_alpha_eq_k(int book, grip_real_t kappa, g
         grip_real_t sa;
         grip_real_t ca;
         grip_real_t num;
+        grip_real_t den;
         mfk_sincos(a, &sa, &ca, mk);
         num = mfk_hypot(r_mul(kya, sa), r_mul(r_mul(kxk, kappa), ca), mk);
-        return mfk_atan2(num, r_abs(r_mul(kya, ca)), mk);
+        den = r_abs(r_mul(kya, ca));
+        /* num >= 0: where den > 0 the first quadrant's atan2 (arith.h) */
+        return ((mk == NULL) && (den > R_ZERO)) ? r_atan2_q1(num, den) : mfk_atan2(num, den, mk);
     }
 }
 
@@ -338,8 +368,7 @@ static MF_ALWAYS_INLINE grip_real_t mf_gxa(const grip_mf_params *p, const mf_op 
                             p->lxal);                                                             /* 4.E54 */
     grip_real_t exa = r_min(r_add(p->rex1, r_mul(p->rex2, op->dfz)), emax);                       /* 4.E56 */
     grip_real_t as = r_add(op->alpha, p->rhx1);                                                    /* 4.E53 */
-    return mfk_div_lim(mf_cos_curve_k(bxa, p->rcx1, exa, as, mk), mf_cos_curve_k(bxa, p->rcx1, exa, p->rhx1, mk),
-                       MF_LIM_G, mk);                                                             /* 4.E51-52 */
+    return mf_g_ratio_k(bxa, p->rcx1, exa, as, p->rhx1, mk);                                      /* 4.E51-52 */
 }
 
 /* The factors of SVyk (4.E66-E67) other than mu_y. */

@@ -378,7 +378,11 @@ static MF_ALWAYS_INLINE grip_real_t mf_cos_curve_k(grip_real_t b, grip_real_t c,
  * den < 0. */
 static MF_ALWAYS_INLINE grip_real_t mf_atan_ratio_k(grip_real_t num, grip_real_t den, grip_real_t *mk)
 {
-    grip_real_t a = mfk_atan2(num, den, mk);
+    grip_real_t a;
+    if ((mk == NULL) && (den > R_ZERO)) {
+        return r_atan2_q1(num, den);     /* the first quadrant (arith.h) */
+    }
+    a = mfk_atan2(num, den, mk);
     return (den < R_ZERO) ? r_sub(a, MF_PI) : a;
 }
 
