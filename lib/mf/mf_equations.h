@@ -152,10 +152,23 @@ static MF_ALWAYS_INLINE void mf_lat_body(const grip_mf_params *p, const mf_op *o
      * denominator PKY2 + PKY5 gamma^2 may pass through zero. */
     grip_real_t den = r_mul(r_add(p->pky2, r_mul(MF6_ONLY(op, p->pky5), g2)), c->kyd);
     /* Kya / Fz = PKY1 (Fz0' / Fz) sin(PKY4 atan(...)) (...): the sine divided
-     * by Fz / Fz0' (finite as Fz -> 0, where the sine is ~ PKY4 Fz / Fz0'). */
-    grip_real_t kya = r_mul(r_mul(r_mul(c->kyb, r_sub(R_ONE, r_mul(p->pky3, r_abs(g)))),
-                                  mfk_div_lim(mfk_sin(r_mul(p->pky4, mf_atan_ratio_k(op->fzp, den, mk)), mk), op->fzp, MF_LIM_B, mk)),
-                            p->lky);
+     * by Fz / Fz0' (finite as Fz -> 0, where the sine is ~ PKY4 Fz / Fz0').
+     * With PKY4 = 2 (PacejkaBook, FSAE) sin(2 atan(n / d)) / n = 2 d / (d^2 +
+     * n^2), exactly: a division for an atan2 and a sin (the lanes select). */
+    grip_real_t ksin;
+    grip_real_t kya;
+    if ((mk == NULL) && (p->pky4 != RC(2.0))) {
+        ksin = mfk_div_lim(mfk_sin(r_mul(p->pky4, mf_atan_ratio_k(op->fzp, den, mk)), mk), op->fzp, MF_LIM_B, mk);
+    } else {
+        grip_real_t k2 = mfk_div_lim(r_mul(RC(2.0), den), r_add(r_sq(den), r_sq(op->fzp)), MF_LIM_B, mk);
+        ksin = k2;
+        if (mk != NULL) {
+            grip_real_t ks = mfk_div_lim(mfk_sin(r_mul(p->pky4, mf_atan_ratio_k(op->fzp, den, mk)), mk), op->fzp,
+                                         MF_LIM_B, mk);
+            ksin = (p->pky4 == RC(2.0)) ? k2 : ks;
+        }
+    }
+    kya = r_mul(r_mul(r_mul(c->kyb, r_sub(R_ONE, r_mul(p->pky3, r_abs(g)))), ksin), p->lky);
     grip_real_t muy = r_mul(r_mul(c->mub, r_sub(R_ONE, r_mul(p->pdy3, g2))), op->lmuy_s);         /* 4.E23 */
     grip_real_t dy = muy;                                                                         /* 4.E22 */
     grip_real_t svyg = r_mul(r_mul(r_mul(r_add(p->pvy3, r_mul(p->pvy4, dfz)), g), MF_KYC(p, op)), op->lmuy_p); /* 4.E28 */
@@ -270,30 +283,50 @@ static MF_ALWAYS_INLINE grip_real_t mf_residual_at_k(const mf_trail *tc, grip_re
     return r_mul(tc->dr, r_cos_atan(r_mul(tc->br, a)));
 }
 
+/* The cosine curve of a combined-slip weighting function: with C = 1
+ * (PacejkaBook, FSAE: RCY1 = 1), cos(atan(u)) = 1 / sqrt(1 + u^2)
+ * (r_cos_atan: one square root and a division for an atan and a cos);
+ * otherwise mf_cos_curve. The lanes select between the two. */
+static MF_ALWAYS_INLINE grip_real_t mf_g_curve_k(grip_real_t b, grip_real_t c, grip_real_t e, grip_real_t x,
+                                                 grip_real_t *mk)
+{
+    if (mk != NULL) {
+        grip_real_t u = mf_shape_in_k(b, e, x, mk);
+        grip_real_t g1 = r_cos_atan(u);
+        grip_real_t gc = mfk_cos(r_mul(c, mfk_atan(u, mk)), mk);
+        return (c == R_ONE) ? g1 : gc;
+    }
+    if (c == R_ONE) {
+        return r_cos_atan(mf_shape_in_k(b, e, x, NULL));
+    }
+    return mf_cos_curve(b, c, e, x);
+}
+
 /* A combined-slip weighting function G = cos(C atan(B x - E (B x - atan(B
- * x)))) / (the same at x = sh): the curve at the slip x, normalized by its
- * value at the shift sh (4.E51-52, 4.E59-60). The scalar path (mk NULL)
- * skips the kernels where their result is known exactly: cos(C atan(0)) =
- * 1 at a zero shift (B 0 and atan(0) are zeros, cos of a zero is 1 in every
- * kernel: libm, GRIP_FLOAT_KERNELS, Q15.16), cos(0 atan(.)) = 1 when C = 0
- * (MF 5.2 fits that switch a weighting off), and at x equal to sh (zero
- * slip) the numerator is the normalization itself: the same bits as the
- * curves evaluated, two atan and a cos fewer each. The lanes form both
- * curves (no branch; the same bits). */
+ * x)))) / (the same at x = sh): the curve at the slip x (mf_g_curve_k),
+ * normalized by its value at the shift sh (4.E51-52, 4.E59-60). The scalar
+ * path (mk NULL) skips the kernels where their result is known exactly:
+ * cos(C atan(0)) = 1 at a zero shift (B 0 and atan(0) are zeros, cos of a
+ * zero is 1 in every kernel: libm, GRIP_FLOAT_KERNELS, Q15.16; 1 / sqrt(1)
+ * with C = 1), cos(0 atan(.)) = 1 when C = 0 (MF 5.2 fits that switch a
+ * weighting off), and at x equal to sh (zero slip) the numerator is the
+ * normalization itself: the same bits as the curves evaluated, two atan
+ * and a cos fewer each. The lanes form both curves (no branch; the same
+ * bits). */
 static MF_ALWAYS_INLINE grip_real_t mf_g_ratio_k(grip_real_t b, grip_real_t c, grip_real_t e, grip_real_t x,
                                                  grip_real_t sh, grip_real_t *mk)
 {
     grip_real_t g;
     grip_real_t g0;
     if (mk != NULL) {
-        g = mf_cos_curve_k(b, c, e, x, mk);
-        g0 = mf_cos_curve_k(b, c, e, sh, mk);
+        g = mf_g_curve_k(b, c, e, x, mk);
+        g0 = mf_g_curve_k(b, c, e, sh, mk);
     } else if (c == R_ZERO) {
         g = R_ONE;
         g0 = R_ONE;
     } else {
-        g0 = (sh == R_ZERO) ? R_ONE : mf_cos_curve(b, c, e, sh);
-        g = (x == sh) ? g0 : mf_cos_curve(b, c, e, x);
+        g0 = (sh == R_ZERO) ? R_ONE : mf_g_curve_k(b, c, e, sh, NULL);
+        g = (x == sh) ? g0 : mf_g_curve_k(b, c, e, x, NULL);
     }
     return mfk_div_lim(g, g0, MF_LIM_G, mk);
 }
