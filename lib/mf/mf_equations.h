@@ -140,6 +140,28 @@ static MF_ALWAYS_INLINE void mf_lat_common_init(const grip_mf_params *p, const m
     c->cy = r_mul(p->pcy1, p->lcy);                                                               /* 4.E21 */
 }
 
+/* The load factor of Kya / Fz (4.E25) at the denominator den = (PKY2 + PKY5
+ * gamma^2)(1 + PPY2 dpi): sin(PKY4 atan(Fz / Fz0' / den)) divided by Fz /
+ * Fz0' (finite as Fz -> 0, where the sine is ~ PKY4 Fz / Fz0'). With PKY4 = 2
+ * (PacejkaBook, FSAE; the MF 5.2 files, which have no PKY4 and read it as
+ * 2) sin(2 atan(n / d)) / n = 2 d / (d^2 + n^2), exactly: a division for an
+ * atan2 and a sin (the lanes form both and select). */
+static MF_ALWAYS_INLINE grip_real_t mf_kya_sin(const grip_mf_params *p, const mf_op *op, grip_real_t den,
+                                               grip_real_t *mk)
+{
+    grip_real_t k2;
+    grip_real_t ks;
+    if ((mk == NULL) && (p->pky4 != RC(2.0))) {
+        return mfk_div_lim(mfk_sin(r_mul(p->pky4, mf_atan_ratio_k(op->fzp, den, mk)), mk), op->fzp, MF_LIM_B, mk);
+    }
+    k2 = mfk_div_lim(r_mul(RC(2.0), den), r_add(r_sq(den), r_sq(op->fzp)), MF_LIM_B, mk);
+    if (mk == NULL) {
+        return k2;
+    }
+    ks = mfk_div_lim(mfk_sin(r_mul(p->pky4, mf_atan_ratio_k(op->fzp, den, mk)), mk), op->fzp, MF_LIM_B, mk);
+    return (p->pky4 == RC(2.0)) ? k2 : ks;
+}
+
 /* Pure lateral force at inclination g (gamma*, scaled for MF 5.2), with the
  * turn slip of ts when not NULL; emax limits Ey. */
 static MF_ALWAYS_INLINE void mf_lat_body(const grip_mf_params *p, const mf_op *op, const mf_lat_common *c,
@@ -151,24 +173,9 @@ static MF_ALWAYS_INLINE void mf_lat_body(const grip_mf_params *p, const mf_op *o
     /* Cornering stiffness (4.E25); the arctangent of a quotient whose
      * denominator PKY2 + PKY5 gamma^2 may pass through zero. */
     grip_real_t den = r_mul(r_add(p->pky2, r_mul(MF6_ONLY(op, p->pky5), g2)), c->kyd);
-    /* Kya / Fz = PKY1 (Fz0' / Fz) sin(PKY4 atan(...)) (...): the sine divided
-     * by Fz / Fz0' (finite as Fz -> 0, where the sine is ~ PKY4 Fz / Fz0').
-     * With PKY4 = 2 (PacejkaBook, FSAE) sin(2 atan(n / d)) / n = 2 d / (d^2 +
-     * n^2), exactly: a division for an atan2 and a sin (the lanes select). */
-    grip_real_t ksin;
-    grip_real_t kya;
-    if ((mk == NULL) && (p->pky4 != RC(2.0))) {
-        ksin = mfk_div_lim(mfk_sin(r_mul(p->pky4, mf_atan_ratio_k(op->fzp, den, mk)), mk), op->fzp, MF_LIM_B, mk);
-    } else {
-        grip_real_t k2 = mfk_div_lim(r_mul(RC(2.0), den), r_add(r_sq(den), r_sq(op->fzp)), MF_LIM_B, mk);
-        ksin = k2;
-        if (mk != NULL) {
-            grip_real_t ks = mfk_div_lim(mfk_sin(r_mul(p->pky4, mf_atan_ratio_k(op->fzp, den, mk)), mk), op->fzp,
-                                         MF_LIM_B, mk);
-            ksin = (p->pky4 == RC(2.0)) ? k2 : ks;
-        }
-    }
-    kya = r_mul(r_mul(r_mul(c->kyb, r_sub(R_ONE, r_mul(p->pky3, r_abs(g)))), ksin), p->lky);
+    /* Kya / Fz = PKY1 (Fz0' / Fz) sin(PKY4 atan(...)) (...) (mf_kya_sin) */
+    grip_real_t kya = r_mul(r_mul(r_mul(c->kyb, r_sub(R_ONE, r_mul(p->pky3, r_abs(g)))), mf_kya_sin(p, op, den, mk)),
+                            p->lky);
     grip_real_t muy = r_mul(r_mul(c->mub, r_sub(R_ONE, r_mul(p->pdy3, g2))), op->lmuy_s);         /* 4.E23 */
     grip_real_t dy = muy;                                                                         /* 4.E22 */
     grip_real_t svyg = r_mul(r_mul(r_mul(r_add(p->pvy3, r_mul(p->pvy4, dfz)), g), MF_KYC(p, op)), op->lmuy_p); /* 4.E28 */
