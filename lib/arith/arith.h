@@ -41,6 +41,8 @@ static inline grip_real_t r_qs_to_ql(grip_real_t a) { return q16_to_ql(a); }
 static inline grip_real_t r_sqrt(grip_real_t a) { return grip_q16_sqrt(a); }
 static inline grip_real_t r_atan(grip_real_t a) { return grip_q16_atan(a); }
 static inline grip_real_t r_atan2(grip_real_t y, grip_real_t x) { return grip_q16_atan2(y, x); }
+/* atan2(y, x) where the caller knows y >= 0 and x > 0 (float build: see there) */
+static inline grip_real_t r_atan2_q1(grip_real_t y, grip_real_t x) { return grip_q16_atan2(y, x); }
 static inline grip_real_t r_sin(grip_real_t a) { return grip_q16_sin(a); }
 static inline grip_real_t r_cos(grip_real_t a) { return grip_q16_cos(a); }
 /* One argument reduction for both (grip_q16_sincos): the same bits as
@@ -78,9 +80,18 @@ static inline grip_real_t r_sqrt(grip_real_t a) { return (a > 0.0f) ? sqrtf(a) :
 #include "f32_kernels.h" /* grip-deviation: MISRA-20.1 float build only, inside the kernel selection #if */
 static inline grip_real_t r_atan(grip_real_t a) { return grip_kf_atan(a); }
 static inline grip_real_t r_atan2(grip_real_t y, grip_real_t x) { return grip_kf_atan2(y, x); }
+static inline grip_real_t r_atan2_q1(grip_real_t y, grip_real_t x) { return grip_kf_atan2(y, x); }
 #else
 static inline grip_real_t r_atan(grip_real_t a) { return atanf(a); }
 static inline grip_real_t r_atan2(grip_real_t y, grip_real_t x) { return atan2f(y, x); }
+/* atan2(y, x) where the caller knows y >= 0 and x > 0 (finite or not, not
+ * NaN): atanf of the quotient. fdlibm's atan2f (newlib's) is exactly that
+ * in this quadrant - atanf(|y / x|), pi/2 where y / x > 2^60, which atanf
+ * gives too - so on newlib the bits are atan2f's, without its tests of the
+ * other quadrants and its second call (~40 Cortex-M4F instructions); a
+ * correctly rounded atan2f (glibc) may differ from it by the rounding of
+ * the quotient, within 1.5 ulp of atan(y / x). */
+static inline grip_real_t r_atan2_q1(grip_real_t y, grip_real_t x) { return atanf(y / x); }
 #endif
 #if GRIP_FLOAT_KERNELS >= 2
 static inline grip_real_t r_sin(grip_real_t a) { return grip_kf_sin(a); }

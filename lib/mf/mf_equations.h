@@ -140,6 +140,28 @@ static MF_ALWAYS_INLINE void mf_lat_common_init(const grip_mf_params *p, const m
     c->cy = r_mul(p->pcy1, p->lcy);                                                               /* 4.E21 */
 }
 
+/* The load factor of Kya / Fz (4.E25) at the denominator den = (PKY2 + PKY5
+ * gamma^2)(1 + PPY2 dpi): sin(PKY4 atan(Fz / Fz0' / den)) divided by Fz /
+ * Fz0' (finite as Fz -> 0, where the sine is ~ PKY4 Fz / Fz0'). With PKY4 = 2
+ * (PacejkaBook, FSAE; the MF 5.2 files, which have no PKY4 and read it as
+ * 2) sin(2 atan(n / d)) / n = 2 d / (d^2 + n^2), exactly: a division for an
+ * atan2 and a sin (the lanes form both and select). */
+static MF_ALWAYS_INLINE grip_real_t mf_kya_sin(const grip_mf_params *p, const mf_op *op, grip_real_t den,
+                                               grip_real_t *mk)
+{
+    grip_real_t k2;
+    grip_real_t ks;
+    if ((mk == NULL) && (p->pky4 != RC(2.0))) {
+        return mfk_div_lim(mfk_sin(r_mul(p->pky4, mf_atan_ratio_k(op->fzp, den, mk)), mk), op->fzp, MF_LIM_B, mk);
+    }
+    k2 = mfk_div_lim(r_mul(RC(2.0), den), r_add(r_sq(den), r_sq(op->fzp)), MF_LIM_B, mk);
+    if (mk == NULL) {
+        return k2;
+    }
+    ks = mfk_div_lim(mfk_sin(r_mul(p->pky4, mf_atan_ratio_k(op->fzp, den, mk)), mk), op->fzp, MF_LIM_B, mk);
+    return (p->pky4 == RC(2.0)) ? k2 : ks;
+}
+
 /* Pure lateral force at inclination g (gamma*, scaled for MF 5.2), with the
  * turn slip of ts when not NULL; emax limits Ey. */
 static MF_ALWAYS_INLINE void mf_lat_body(const grip_mf_params *p, const mf_op *op, const mf_lat_common *c,
@@ -151,10 +173,8 @@ static MF_ALWAYS_INLINE void mf_lat_body(const grip_mf_params *p, const mf_op *o
     /* Cornering stiffness (4.E25); the arctangent of a quotient whose
      * denominator PKY2 + PKY5 gamma^2 may pass through zero. */
     grip_real_t den = r_mul(r_add(p->pky2, r_mul(MF6_ONLY(op, p->pky5), g2)), c->kyd);
-    /* Kya / Fz = PKY1 (Fz0' / Fz) sin(PKY4 atan(...)) (...): the sine divided
-     * by Fz / Fz0' (finite as Fz -> 0, where the sine is ~ PKY4 Fz / Fz0'). */
-    grip_real_t kya = r_mul(r_mul(r_mul(c->kyb, r_sub(R_ONE, r_mul(p->pky3, r_abs(g)))),
-                                  mfk_div_lim(mfk_sin(r_mul(p->pky4, mf_atan_ratio_k(op->fzp, den, mk)), mk), op->fzp, MF_LIM_B, mk)),
+    /* Kya / Fz = PKY1 (Fz0' / Fz) sin(PKY4 atan(...)) (...) (mf_kya_sin) */
+    grip_real_t kya = r_mul(r_mul(r_mul(c->kyb, r_sub(R_ONE, r_mul(p->pky3, r_abs(g)))), mf_kya_sin(p, op, den, mk)),
                             p->lky);
     grip_real_t muy = r_mul(r_mul(c->mub, r_sub(R_ONE, r_mul(p->pdy3, g2))), op->lmuy_s);         /* 4.E23 */
     grip_real_t dy = muy;                                                                         /* 4.E22 */
@@ -270,6 +290,54 @@ static MF_ALWAYS_INLINE grip_real_t mf_residual_at_k(const mf_trail *tc, grip_re
     return r_mul(tc->dr, r_cos_atan(r_mul(tc->br, a)));
 }
 
+/* The cosine curve of a combined-slip weighting function: with C = 1
+ * (PacejkaBook, FSAE: RCY1 = 1), cos(atan(u)) = 1 / sqrt(1 + u^2)
+ * (r_cos_atan: one square root and a division for an atan and a cos);
+ * otherwise mf_cos_curve. The lanes select between the two. */
+static MF_ALWAYS_INLINE grip_real_t mf_g_curve_k(grip_real_t b, grip_real_t c, grip_real_t e, grip_real_t x,
+                                                 grip_real_t *mk)
+{
+    if (mk != NULL) {
+        grip_real_t u = mf_shape_in_k(b, e, x, mk);
+        grip_real_t g1 = r_cos_atan(u);
+        grip_real_t gc = mfk_cos(r_mul(c, mfk_atan(u, mk)), mk);
+        return (c == R_ONE) ? g1 : gc;
+    }
+    if (c == R_ONE) {
+        return r_cos_atan(mf_shape_in_k(b, e, x, NULL));
+    }
+    return mf_cos_curve(b, c, e, x);
+}
+
+/* A combined-slip weighting function G = cos(C atan(B x - E (B x - atan(B
+ * x)))) / (the same at x = sh): the curve at the slip x (mf_g_curve_k),
+ * normalized by its value at the shift sh (4.E51-52, 4.E59-60). The scalar
+ * path (mk NULL) skips the kernels where their result is known exactly:
+ * cos(C atan(0)) = 1 at a zero shift (B 0 and atan(0) are zeros, cos of a
+ * zero is 1 in every kernel: libm, GRIP_FLOAT_KERNELS, Q15.16; 1 / sqrt(1)
+ * with C = 1), cos(0 atan(.)) = 1 when C = 0 (MF 5.2 fits that switch a
+ * weighting off), and at x equal to sh (zero slip) the numerator is the
+ * normalization itself: the same bits as the curves evaluated, two atan
+ * and a cos fewer each. The lanes form both curves (no branch; the same
+ * bits). */
+static MF_ALWAYS_INLINE grip_real_t mf_g_ratio_k(grip_real_t b, grip_real_t c, grip_real_t e, grip_real_t x,
+                                                 grip_real_t sh, grip_real_t *mk)
+{
+    grip_real_t g;
+    grip_real_t g0;
+    if (mk != NULL) {
+        g = mf_g_curve_k(b, c, e, x, mk);
+        g0 = mf_g_curve_k(b, c, e, sh, mk);
+    } else if (c == R_ZERO) {
+        g = R_ONE;
+        g0 = R_ONE;
+    } else {
+        g0 = (sh == R_ZERO) ? R_ONE : mf_g_curve_k(b, c, e, sh, NULL);
+        g = (x == sh) ? g0 : mf_g_curve_k(b, c, e, x, NULL);
+    }
+    return mfk_div_lim(g, g0, MF_LIM_G, mk);
+}
+
 /* Combined-slip weighting function of Fy (4.E59-E65) at inclination g. */
 static MF_ALWAYS_INLINE grip_real_t mf_gyk_body(const grip_mf_params *p, const mf_op *op, grip_real_t g,
                                                 grip_real_t emax, grip_real_t *mk)
@@ -280,8 +348,7 @@ static MF_ALWAYS_INLINE grip_real_t mf_gyk_body(const grip_mf_params *p, const m
                                   r_cos_atan(r_mul(p->rby2, r_sub(op->alpha, p->rby3)))),
                             p->lyka);                                                             /* 4.E62 */
     grip_real_t ks = r_add(op->kappa, shyk);                                                      /* 4.E61 */
-    return mfk_div_lim(mf_cos_curve_k(byk, p->rcy1, eyk, ks, mk), mf_cos_curve_k(byk, p->rcy1, eyk, shyk, mk), MF_LIM_G,
-                       mk);
+    return mf_g_ratio_k(byk, p->rcy1, eyk, ks, shyk, mk);                                         /* 4.E59-60 */
 }
 
 /* ------------------------------------------------- Mz0 and combined slip */
@@ -307,9 +374,12 @@ static MF_ALWAYS_INLINE grip_real_t mf_alpha_eq_k(int book, grip_real_t kappa, g
         grip_real_t sa;
         grip_real_t ca;
         grip_real_t num;
+        grip_real_t den;
         mfk_sincos(a, &sa, &ca, mk);
         num = mfk_hypot(r_mul(kya, sa), r_mul(r_mul(kxk, kappa), ca), mk);
-        return mfk_atan2(num, r_abs(r_mul(kya, ca)), mk);
+        den = r_abs(r_mul(kya, ca));
+        /* num >= 0: where den > 0 the first quadrant's atan2 (arith.h) */
+        return ((mk == NULL) && (den > R_ZERO)) ? r_atan2_q1(num, den) : mfk_atan2(num, den, mk);
     }
 }
 
@@ -338,8 +408,7 @@ static MF_ALWAYS_INLINE grip_real_t mf_gxa(const grip_mf_params *p, const mf_op 
                             p->lxal);                                                             /* 4.E54 */
     grip_real_t exa = r_min(r_add(p->rex1, r_mul(p->rex2, op->dfz)), emax);                       /* 4.E56 */
     grip_real_t as = r_add(op->alpha, p->rhx1);                                                    /* 4.E53 */
-    return mfk_div_lim(mf_cos_curve_k(bxa, p->rcx1, exa, as, mk), mf_cos_curve_k(bxa, p->rcx1, exa, p->rhx1, mk),
-                       MF_LIM_G, mk);                                                             /* 4.E51-52 */
+    return mf_g_ratio_k(bxa, p->rcx1, exa, as, p->rhx1, mk);                                      /* 4.E51-52 */
 }
 
 /* The factors of SVyk (4.E66-E67) other than mu_y. */

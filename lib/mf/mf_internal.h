@@ -318,13 +318,19 @@ static MF_ALWAYS_INLINE grip_real_t mfk_hypot(grip_real_t a, grip_real_t b, grip
     return mf_hypot(a, b);
 }
 
+/* The argument of the Magic Formula's outer arctangent: B x - E (B x -
+ * atan(B x)). */
+static MF_ALWAYS_INLINE grip_real_t mf_shape_in_k(grip_real_t b, grip_real_t e, grip_real_t x, grip_real_t *mk)
+{
+    grip_real_t bx = r_mul(b, x);
+    return r_sub(bx, r_mul(e, r_sub(bx, mfk_atan(bx, mk))));
+}
+
 /* The argument of the Magic Formula: C * atan(B x - E (B x - atan(B x))). */
 static MF_ALWAYS_INLINE grip_real_t mf_shape_eq(grip_real_t b, grip_real_t c, grip_real_t e, grip_real_t x,
                                                 grip_real_t *mk)
 {
-    grip_real_t bx = r_mul(b, x);
-    grip_real_t arg = r_sub(bx, r_mul(e, r_sub(bx, mfk_atan(bx, mk))));
-    return r_mul(c, mfk_atan(arg, mk));
+    return r_mul(c, mfk_atan(mf_shape_in_k(b, e, x, mk), mk));
 }
 
 /* The scalar form: a function the compiler may keep out of line (-Os on
@@ -378,7 +384,11 @@ static MF_ALWAYS_INLINE grip_real_t mf_cos_curve_k(grip_real_t b, grip_real_t c,
  * den < 0. */
 static MF_ALWAYS_INLINE grip_real_t mf_atan_ratio_k(grip_real_t num, grip_real_t den, grip_real_t *mk)
 {
-    grip_real_t a = mfk_atan2(num, den, mk);
+    grip_real_t a;
+    if ((mk == NULL) && (den > R_ZERO)) {
+        return r_atan2_q1(num, den);     /* the first quadrant (arith.h) */
+    }
+    a = mfk_atan2(num, den, mk);
     return (den < R_ZERO) ? r_sub(a, MF_PI) : a;
 }
 
