@@ -363,6 +363,7 @@ typedef struct {
     /* learned longitudinal slip stiffness (est_stiffness_long.c) */
     grip_real_t kx;             /* QS the tires' longitudinal slip-stiffness scale (1: the tire
                                  * file's); the tires work at kx kappa */
+    grip_real_t c_kappa_kx[2];  /* QL c_kappa x kx, front / rear (the step's slip stiffness) */
     grip_real_t kx_x[2];        /* QS the filter's state: 1 / kx in units of EST_KX_S_U, the
                                  * axles' rolling-radius mismatch in units of EST_KX_S_Y */
     grip_real_t kx_p[3];        /* QS its covariance P00, P01, P11 (scaled) */

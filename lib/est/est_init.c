@@ -456,6 +456,8 @@ grip_status_t grip_est_init_detail(grip_est_t *est, const grip_est_config_t *cfg
     /* the learned longitudinal slip stiffness: the tire file's, no radius
      * mismatch, the priors' covariance (est_stiffness_long.c) */
     est->kx = R_ONE;
+    est->c_kappa_kx[0] = est->c_kappa[0];
+    est->c_kappa_kx[1] = est->c_kappa[1];
     est->kx_x[0] = RC(1.0 / EST_KX_S_U);
     est->kx_x[1] = R_ZERO;
     est->kx_p[0] = RC(EST_KX_P_MAX);

@@ -260,8 +260,8 @@ int est_stiffness(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t *
 #define EST_KX_X_HI   (1.0 / (EST_KX_K_MIN * EST_KX_S_U))
 #define EST_KX_XD_MAX (EST_KX_D_MAX / EST_KX_S_Y)
 void est_stiffness_long(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t *out, int stf_upd);
-/* est_stiffness_long.c: est->kx from its state and the vx bound's slip per
- * m/s^2 (slip_acc) at that scale */
+/* est_stiffness_long.c: est->kx from its state, the slip stiffnesses at
+ * that scale (c_kappa_kx) and the vx bound's slip per m/s^2 (slip_acc) */
 void est_kx_apply(grip_est_t *est);
 
 /* With the observer running: */

@@ -44,33 +44,28 @@ static void kx_condition(grip_est_t *est)
 void est_kx_apply(grip_est_t *est)
 {
     est->kx = r_div(R_ONE, r_mul(est->kx_x[0], RC(EST_KX_S_U)));
+    est->c_kappa_kx[0] = r_mul(est->c_kappa[0], est->kx);
+    est->c_kappa_kx[1] = r_mul(est->c_kappa[1], est->kx);
     est->slip_acc = r_div(est->cfg.mass, r_mul(RC(4.0), r_mul(r_min(est->c_kappa[0], est->c_kappa[1]), est->kx)));
 }
 
-void est_stiffness_long(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t *out, int stf_upd)
+/* The regression and the update, once the gates that need no arithmetic
+ * hold: kept out of line, so that the step that leaves at those gates (the
+ * worst-case step, in a turn at the limit) saves no registers for it.
+ * Returns 0 when the remaining gates fail (the run of steps restarts). */
+static EST_NOINLINE int kx_regress(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t *out, int stf_upd)
 {
     const grip_est_config_t *c = &est->cfg;
     grip_real_t f, ad, fzf, fzr, cf, cr, g, dk, a = est->kx_a;
-    int ok, coast;
-    if (!c->kx_est || c->drive_front < R_ZERO) {
-        return;
-    }
-    /* a random walk: what is not measured returns towards the prior */
-    est->kx_p[0] = r_min(r_add(est->kx_p[0], est->kx_q), RC(EST_KX_P_MAX));
-    est->kx_p[2] = r_min(r_add(est->kx_p[2], est->kx_qd), RC(EST_KX_PD_MAX));
-    /* the tires' total longitudinal force (N) and its share of the mass */
+    int coast;
+    /* the tires' total longitudinal force (N) and its share of the mass;
+     * the axles' loads */
     f = r_add(r_mul(c->mass, s->ax), r_add(r_mul(est->k_drag, r_qs_to_ql(r_sq(s->vx))), est->f_roll));
     ad = r_div(f, c->mass);
     fzf = r_add(out->fz[0], out->fz[1]);
     fzr = r_add(out->fz[2], out->fz[3]);
-    ok = s->ax_ok && s->ay_ok && s->yaw_ok && s->steer_ok && s->wheels_ok && /* grip-deviation: MISRA-10.3 comparison result 0/1 stored in an int flag */
-         ((s->flags & GRIP_EST_F_STEER_LIMIT) == 0u) && s->vx >= RC(EST_KX_V) && r_abs(s->ay) < RC(EST_KX_AY) &&
-         r_abs(s->delta) < RC(EST_KX_STEER) && s->umax_est < RC(EST_KX_U) && !s->lock && !s->spin &&
-         !s->dead_reck && !s->at_limit && !s->kappa_slip && ad >= RC(-EST_KX_AX_C) && fzf >= est->fz_static[0] &&
-         fzr >= est->fz_static[1];
-    if (!ok) {
-        est->kx_n = 0;
-        return;
+    if (ad < RC(-EST_KX_AX_C) || fzf < est->fz_static[0] || fzr < est->fz_static[1]) {
+        return 0; /* braking, or an axle unloaded */
     }
     /* each axle's slip stiffness at its load (N per per mille: divided by
      * 1000, which Q15.16 holds exactly, not multiplied by 0.001), the model
@@ -87,11 +82,11 @@ void est_stiffness_long(grip_est_t *est, const est_ctx_t *s, const grip_est_outp
     est->kx_h = r_add(est->kx_h, r_mul(a, r_sub(g, est->kx_h)));
     est->kx_n = count_up(est->kx_n);
     if (est->kx_n < est->kx_n_min || stf_upd) {
-        return; /* the low-pass not settled, or the cornering stiffness updated in this step */
+        return 1; /* the low-pass not settled, or the cornering stiffness updated in this step */
     }
     coast = r_abs(ad) <= RC(EST_KX_AX_C); /* grip-deviation: MISRA-10.3 comparison result 0/1 stored in an int flag */
     if (!coast && !(ad >= RC(EST_KX_AX_T) && r_abs(est->kx_h) >= RC(EST_KX_H_MIN))) {
-        return; /* neither coasting nor traction with excitation */
+        return 1; /* neither coasting nor traction with excitation */
     }
     {
         /* coasting measures the mismatch alone: the small drive slip is
@@ -111,5 +106,26 @@ void est_stiffness_long(grip_est_t *est, const est_ctx_t *s, const grip_est_outp
         kx_condition(est);
         est_kx_apply(est);
         est->kx_updates = (est->kx_updates < 0x7fffffffu) ? est->kx_updates + 1u : est->kx_updates;
+    }
+    return 1;
+}
+
+void est_stiffness_long(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t *out, int stf_upd)
+{
+    const grip_est_config_t *c = &est->cfg;
+    int ok;
+    if (!c->kx_est || c->drive_front < R_ZERO) {
+        return;
+    }
+    /* a random walk: what is not measured returns towards the prior */
+    est->kx_p[0] = r_min(r_add(est->kx_p[0], est->kx_q), RC(EST_KX_P_MAX));
+    est->kx_p[2] = r_min(r_add(est->kx_p[2], est->kx_qd), RC(EST_KX_PD_MAX));
+    /* the gates that need no arithmetic first: the linear tire, straight
+     * ahead, at speed, every input there */
+    ok = r_abs(s->ay) < RC(EST_KX_AY) && s->ax_ok && s->ay_ok && s->yaw_ok && s->steer_ok && s->wheels_ok && /* grip-deviation: MISRA-10.3 comparison result 0/1 stored in an int flag */
+         ((s->flags & GRIP_EST_F_STEER_LIMIT) == 0u) && s->vx >= RC(EST_KX_V) && r_abs(s->delta) < RC(EST_KX_STEER) &&
+         s->umax_est < RC(EST_KX_U) && !s->lock && !s->spin && !s->dead_reck && !s->at_limit && !s->kappa_slip;
+    if (!ok || !kx_regress(est, s, out, stf_upd)) {
+        est->kx_n = 0;
     }
 }

@@ -154,7 +154,7 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
         umax_est = r_max(umax_est, out->util[i]);
         g = r_max(RC(EST_G_MIN), r_sqrt(r_sub(R_ONE, r_min(u, R_ONE))));
         ca = r_mul(r_mul(fzr, est->c_alpha[axle]), est->stf_k[axle]); /* N/rad at this load */
-        ck = r_mul(r_mul(fzr, est->c_kappa[axle]), est->kx);           /* N at this load */
+        ck = r_mul(fzr, est->c_kappa_kx[axle]);                        /* N at this load, at kx */
         {
             /* Excitation: the utilization the slips would cause on the
              * tire's own friction (mu = 1), never measured against the

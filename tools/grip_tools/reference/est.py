@@ -1303,7 +1303,7 @@ class Estimator:
         o["util"] = np.minimum(u, 1.5)
         g = np.maximum(G_MIN, np.sqrt(1.0 - np.minimum(u, 1.0)))
         ca = fzr * caw * kw
-        ck = fzr * ckw * self.kx
+        ck = fzr * (ckw * self.kx)
         # Excitation: the utilization the slips would cause on the tire's
         # own friction (mu = 1), never measured against the estimate
         # itself, which would let a falling mu excite its own adaptation.
