@@ -392,8 +392,6 @@ grip_status_t grip_est_init_detail(grip_est_t *est, const grip_est_config_t *cfg
             est->fy_shape[a][k] = r_abs(r_div(o1.fy, in.fz));
         }
     }
-    /* vx's deviation: the wheels' mean slip per m/s^2 of ax (kg / N) */
-    est->slip_acc = r_div(cfg->mass, r_mul(RC(4.0), r_min(est->c_kappa[0], est->c_kappa[1])));
     {
         /* stability factor A = m (lr Cr - lf Cf) / (l^2 Cf Cr), Cf, Cr per axle
          * (seed eq. 2.17 with K per tire = C / 2); stored as 100 A */
@@ -455,15 +453,14 @@ grip_status_t grip_est_init_detail(grip_est_t *est, const grip_est_config_t *cfg
     est->stf_n_min = r_to_int(r_mul(RC(3.0 * EST_STF_T), est->rate));
     /* the learned longitudinal slip stiffness: the tire file's, no radius
      * mismatch, the priors' covariance (est_stiffness_long.c) */
-    est->kx = R_ONE;
-    est->c_kappa_kx[0] = est->c_kappa[0];
-    est->c_kappa_kx[1] = est->c_kappa[1];
     est->kx_x[0] = RC(1.0 / EST_KX_S_U);
     est->kx_x[1] = R_ZERO;
     est->kx_p[0] = RC(EST_KX_P_MAX);
     est->kx_p[1] = R_ZERO;
     est->kx_p[2] = RC(EST_KX_PD_MAX);
     est->kx_updates = 0u;
+    est_kx_apply(est); /* kx 1, c_kappa_kx = c_kappa, and vx's deviation: the wheels'
+                        * mean slip per m/s^2 of ax, slip_acc = m / (4 c_kappa) */
     est->kx_q = r_div(RC(EST_KX_Q / (EST_KX_S_U * EST_KX_S_U)), est->rate);
     est->kx_qd = r_div(RC(EST_KX_QD / (EST_KX_S_Y * EST_KX_S_Y)), est->rate);
     est->kx_a = r_min(r_div(R_ONE, r_mul(RC(EST_KX_T), est->rate)), R_ONE);

@@ -243,8 +243,6 @@ grip_status_t grip_est_learned_set(grip_est_t *est, const grip_est_learned_t *bl
     est->kx_p[1] = blob->kx_p[1];
     est->kx_p[2] = blob->kx_p[2];
     est->kx_updates = blob->kx_updates;
-    if (est->kx_updates > 0u) {
-        est_kx_apply(est); /* else kx stays exactly 1, the tire file's */
-    }
+    est_kx_apply(est);
     return GRIP_OK;
 }

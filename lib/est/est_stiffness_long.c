@@ -43,7 +43,9 @@ static void kx_condition(grip_est_t *est)
 
 void est_kx_apply(grip_est_t *est)
 {
-    est->kx = r_div(R_ONE, r_mul(est->kx_x[0], RC(EST_KX_S_U)));
+    /* nothing learned: exactly the tire file's (1 / (x S_U) is 0.99994 in
+     * Q15.16 at the prior) */
+    est->kx = (est->kx_updates > 0u) ? r_div(R_ONE, r_mul(est->kx_x[0], RC(EST_KX_S_U))) : R_ONE;
     est->c_kappa_kx[0] = r_mul(est->c_kappa[0], est->kx);
     est->c_kappa_kx[1] = r_mul(est->c_kappa[1], est->kx);
     est->slip_acc = r_div(est->cfg.mass, r_mul(RC(4.0), r_mul(r_min(est->c_kappa[0], est->c_kappa[1]), est->kx)));
@@ -104,8 +106,8 @@ static EST_NOINLINE int kx_regress(grip_est_t *est, const est_ctx_t *s, const gr
         est->kx_p[1] = r_sub(est->kx_p[1], r_mul(k0, ph1));
         est->kx_p[2] = r_sub(est->kx_p[2], r_mul(k1, ph1));
         kx_condition(est);
-        est_kx_apply(est);
         est->kx_updates = (est->kx_updates < 0x7fffffffu) ? est->kx_updates + 1u : est->kx_updates;
+        est_kx_apply(est);
     }
     return 1;
 }

@@ -226,6 +226,17 @@ static void test_learned_blob(void **state)
         assert_int_equal(grip_est_learned_set(&b, &bad), GRIP_ERR_PARAM);
         assert_true(dq(b.kx) == 1.0);
     }
+    {
+        /* a blob with nothing learned of kx takes a learned kx back to 1 */
+        grip_est_t c;
+        grip_est_learned_t fresh;
+        assert_int_equal(grip_est_init(&c, &cfg), GRIP_OK);
+        assert_int_equal(grip_est_learned_get(&c, &fresh), GRIP_OK);
+        assert_int_equal(grip_est_learned_set(&b, &blob), GRIP_OK);
+        assert_true(dq(b.kx) > 1.32);
+        assert_int_equal(grip_est_learned_set(&b, &fresh), GRIP_OK);
+        assert_true(dq(b.kx) == 1.0 && b.kx_updates == 0u && b.slip_acc == c.slip_acc);
+    }
     cfg.drive_front = qs(1.0);                            /* another drive layout */
     assert_int_equal(grip_est_init(&b, &cfg), GRIP_OK);
     assert_int_equal(grip_est_learned_set(&b, &blob), GRIP_ERR_PARAM);

@@ -355,7 +355,7 @@ class LongStiffnessTests(unittest.TestCase):
 
     def test_reset_keeps_what_was_learned(self):
         e = est_ref.Estimator(est_ref.config(_params(), kx_est=1, drive_front=0.0))
-        e.kx_x = np.array([1.0 / (1.3 * est_ref.KX_S_U), 3.0])
+        e.kx_x, e.kx_updates = np.array([1.0 / (1.3 * est_ref.KX_S_U), 3.0]), 1
         e.kx_apply()
         e.reset()
         self.assertAlmostEqual(e.kx, 1.3, places=12)

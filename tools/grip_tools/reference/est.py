@@ -579,7 +579,6 @@ class Estimator:
         self.stf_n_min = int(math.floor(3.0 * STF_T * rate + 0.5))
         # the learned longitudinal slip stiffness (est_stiffness_long.c): the
         # tire file's, no radius mismatch, the priors' covariance
-        self.kx = 1.0
         self.kx_x = np.array([1.0 / KX_S_U, 0.0])
         self.kx_p = np.array([[KX_P_MAX, 0.0], [0.0, KX_PD_MAX]])
         self.kx_updates = 0
@@ -588,8 +587,9 @@ class Estimator:
         self.kx_a = min(1.0 / (KX_T * rate), 1.0)
         self.kx_r = (KX_R / KX_S_Y) ** 2 * KX_TC * rate
         self.kx_n_min = int(math.floor(3.0 * KX_T * rate + 0.5))
-        # vx's deviation: the wheels' mean slip per m/s^2 of ax at kx
-        self.slip_acc = c["mass"] / (4.0 * min(self.c_kappa))
+        # kx 1, and vx's deviation: the wheels' mean slip per m/s^2 of ax at
+        # kx, slip_acc = m / (4 kx c_kappa)
+        self.kx_apply()
         self.reset()
 
     def reset(self):
@@ -1418,9 +1418,9 @@ class Estimator:
         P[0, 1] = P[1, 0] = _clamp(P[0, 1], -c, c)
 
     def kx_apply(self):
-        """est_kx_apply: kx from its state, and the vx bound's slip per m/s^2
-        at that scale."""
-        self.kx = 1.0 / (float(self.kx_x[0]) * KX_S_U)
+        """est_kx_apply: kx from its state (exactly 1 while nothing was
+        learned), and the vx bound's slip per m/s^2 at that scale."""
+        self.kx = 1.0 / (float(self.kx_x[0]) * KX_S_U) if self.kx_updates > 0 else 1.0
         self.slip_acc = self.cfg["mass"] / (4.0 * (min(self.c_kappa) * self.kx))
 
     def stiffness_long(self, s, stf_upd):
@@ -1485,8 +1485,8 @@ class Estimator:
         self.kx_p = P - np.outer(k, ph)
         self.kx_p[1, 0] = self.kx_p[0, 1]
         self._kx_condition()
-        self.kx_apply()
         self.kx_updates += 1
+        self.kx_apply()
 
     # ---- est_friction.c: friction -------------------------------------------
     def friction_floor(self, s):
