@@ -93,6 +93,16 @@ typedef struct {
                                 * (default): the tire file's stiffness, as without it.
                                 * What was learned is kept across grip_est_reset and
                                 * can be saved and restored (grip_est_learned_get/set). */
+    uint32_t kx_est;           /* 1: learn the tires' longitudinal slip-stiffness scale kx
+                                * online (est_stiffness_long.c, docs/estimator/stiffness.md):
+                                * the tire model's slip ratio is multiplied by it. Needs
+                                * drive_front; 0 (default): the tire file's, as without it.
+                                * Kept and saved like stiff_est's scales.             */
+    grip_real_t drive_front;   /* QS front share of the drive torque, [0, 1]: 0 rear-wheel
+                                * drive, 1 front-wheel drive, 0.4 an AWD split 40 / 60.
+                                * Negative (default -1, range [-1, 1]): not known, and
+                                * kx_est learns nothing (the axles' force split is what
+                                * the longitudinal stiffness is measured against)    */
     /* vehicle-level effects of the residual tool (docs/estimator.md); all 0 =
      * without them (grip_est_config_default) */
     grip_real_t cla;           /* QS m^2 aerodynamic downforce coefficient C_L A, [0, 20]:
@@ -351,24 +361,45 @@ typedef struct {
     int32_t stf_n;              /* consecutive steps the regression's conditions held */
     int32_t stf_n_min;          /* steps they must hold before an update (the low-pass settled) */
     uint32_t stf_updates;       /* updates since init (saturating) */
+    /* learned longitudinal slip stiffness (est_stiffness_long.c) */
+    grip_real_t kx;             /* QS the tires' longitudinal slip-stiffness scale (1: the tire
+                                 * file's); the tires work at kx kappa */
+    grip_real_t c_kappa_kx[2];  /* QL c_kappa x kx, front / rear (the step's slip stiffness) */
+    grip_real_t kx_x[2];        /* QS the filter's state: 1 / kx in units of EST_KX_S_U, the
+                                 * axles' rolling-radius mismatch in units of EST_KX_S_Y */
+    grip_real_t kx_p[3];        /* QS its covariance P00, P01, P11 (scaled) */
+    grip_real_t kx_q, kx_qd, kx_r; /* QS process noises per step (1 / kx, mismatch), measurement noise */
+    grip_real_t kx_a;           /* QS low-pass gain per step of the regression's signals */
+    grip_real_t kx_z;           /* QS per mille low-passed front-minus-rear axle slip (wheel speeds) */
+    grip_real_t kx_h;           /* QS per mille low-passed model slip difference of the drive force */
+    grip_real_t kx_dv;          /* QS m/s this step's front-minus-rear mean wheel speed at the CG
+                                 * (est_speed.c) */
+    int32_t kx_n;               /* consecutive steps the regression's conditions held */
+    int32_t kx_n_min;           /* steps they must hold before an update (the low-pass settled) */
+    uint32_t kx_updates;        /* updates since init (saturating) */
 } grip_est_t;
 
 /* What the estimator learned that outlives an ignition cycle: the axles'
- * cornering-stiffness scales and their covariance. A caller-owned blob,
+ * cornering-stiffness scales, the longitudinal slip-stiffness scale (with the
+ * axles' rolling-radius mismatch) and their covariances. A caller-owned blob,
  * stored as bytes in non-volatile memory; grip_est_learned_set checks its
  * format, build, configuration fingerprint, ranges and checksum before any
  * of it is used. */
 #define GRIP_EST_LEARNED_MAGIC 0x474C524Eu /* "GLRN" */
-#define GRIP_EST_LEARNED_VERSION 1u
+#define GRIP_EST_LEARNED_VERSION 2u
 typedef struct {
     uint32_t magic;             /* GRIP_EST_LEARNED_MAGIC */
     uint32_t version;           /* GRIP_EST_LEARNED_VERSION x 2 + 1 in the fixed build */
     uint32_t config_crc;        /* CRC-32 of the axle constants the scales apply to */
-    uint32_t updates;           /* updates behind it (0: nothing learned) */
+    uint32_t updates;           /* cornering-stiffness updates behind it (0: nothing learned) */
     grip_real_t k[2];           /* QS the learned scales, front / rear (for reading; set
                                  * recomputes them from x) */
     grip_real_t x[2];           /* QS the filter's state (grip_est_t.stf_x) */
     grip_real_t p[3];           /* QS its covariance */
+    uint32_t kx_updates;        /* longitudinal-stiffness updates behind kx (0: nothing learned) */
+    grip_real_t kx;             /* QS the longitudinal slip-stiffness scale (for reading) */
+    grip_real_t kx_x[2];        /* QS its filter's state (grip_est_t.kx_x) */
+    grip_real_t kx_p[3];        /* QS its covariance */
     uint32_t crc;               /* CRC-32 (IEEE 802.3) of every byte before it */
 } grip_est_learned_t;
 

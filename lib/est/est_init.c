@@ -41,6 +41,8 @@ grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_para
     cfg->rear_steer = 0u;
     cfg->bank_est = 0u;
     cfg->stiff_est = 0u;
+    cfg->kx_est = 0u;
+    cfg->drive_front = RC(-1.0);
     cfg->cla = R_ZERO;
     cfg->aero_front = RC(0.5);
     cfg->air_density = RC(1.2);
@@ -138,6 +140,7 @@ static grip_status_t check_config(const grip_est_config_t *c, grip_check_detail_
         { "roll_gradient", c->roll_gradient, R_ZERO, RC(0.05), "in [0, 0.05] rad/(m/s^2)" },
     };
     const check_range_t r2[] = {
+        { "drive_front", c->drive_front, RC(-1.0), R_ONE, "in [0, 1], or in [-1, 0) for not known" },
         { "cla", c->cla, R_ZERO, RC(20.0), "in [0, 20] m^2" },
         { "aero_front", c->aero_front, R_ZERO, R_ONE, "in [0, 1]" },
         { "air_density", c->air_density, RC(0.5), RC(1.5), "in [0.5, 1.5] kg/m^3" },
@@ -161,6 +164,7 @@ static grip_status_t check_config(const grip_est_config_t *c, grip_check_detail_
     } flags[] = {
         { "speed_ref_mu", c->speed_ref_mu }, { "rear_steer", c->rear_steer },
         { "bank_est", c->bank_est },         { "stiff_est", c->stiff_est },
+        { "kx_est", c->kx_est },
     };
     size_t k;
     int a;
@@ -262,12 +266,17 @@ grip_status_t grip_est_reset(grip_est_t *est)
     est->vy_k = R_ZERO;
     est->sd_k = RC(EST_SD_CAP);
     est->sd_vx = RC(EST_SD_CAP);
-    /* the learned stiffness stays (est_stiffness.c); its regression restarts */
+    /* the learned stiffnesses stay (est_stiffness.c, est_stiffness_long.c);
+     * their regressions restart */
     est->stf_z = R_ZERO;
     est->stf_h[0] = R_ZERO;
     est->stf_h[1] = R_ZERO;
     est->stf_yaw = R_ZERO;
     est->stf_n = 0;
+    est->kx_z = R_ZERO;
+    est->kx_h = R_ZERO;
+    est->kx_dv = R_ZERO;
+    est->kx_n = 0;
     return GRIP_OK;
 }
 
@@ -383,8 +392,6 @@ grip_status_t grip_est_init_detail(grip_est_t *est, const grip_est_config_t *cfg
             est->fy_shape[a][k] = r_abs(r_div(o1.fy, in.fz));
         }
     }
-    /* vx's deviation: the wheels' mean slip per m/s^2 of ax (kg / N) */
-    est->slip_acc = r_div(cfg->mass, r_mul(RC(4.0), r_min(est->c_kappa[0], est->c_kappa[1])));
     est->rate = r_from_int((int32_t)cfg->rate_hz);
     est->ay_fac = r_div(R_ONE, r_add(R_ONE, r_mul(RC(EST_G), cfg->roll_gradient)));
     {
@@ -436,6 +443,21 @@ grip_status_t grip_est_init_detail(grip_est_t *est, const grip_est_config_t *cfg
     est->stf_a = r_min(r_div(R_ONE, r_mul(RC(EST_STF_T), est->rate)), R_ONE);
     est->stf_r = r_mul(RC((EST_STF_R / EST_STF_S_Y) * (EST_STF_R / EST_STF_S_Y) * EST_STF_TC), est->rate);
     est->stf_n_min = r_to_int(r_mul(RC(3.0 * EST_STF_T), est->rate));
+    /* the learned longitudinal slip stiffness: the tire file's, no radius
+     * mismatch, the priors' covariance (est_stiffness_long.c) */
+    est->kx_x[0] = RC(1.0 / EST_KX_S_U);
+    est->kx_x[1] = R_ZERO;
+    est->kx_p[0] = RC(EST_KX_P_MAX);
+    est->kx_p[1] = R_ZERO;
+    est->kx_p[2] = RC(EST_KX_PD_MAX);
+    est->kx_updates = 0u;
+    est_kx_apply(est); /* kx 1, c_kappa_kx = c_kappa, and vx's deviation: the wheels'
+                        * mean slip per m/s^2 of ax, slip_acc = m / (4 c_kappa) */
+    est->kx_q = r_div(RC(EST_KX_Q / (EST_KX_S_U * EST_KX_S_U)), est->rate);
+    est->kx_qd = r_div(RC(EST_KX_QD / (EST_KX_S_Y * EST_KX_S_Y)), est->rate);
+    est->kx_a = r_min(r_div(R_ONE, r_mul(RC(EST_KX_T), est->rate)), R_ONE);
+    est->kx_r = r_mul(RC((EST_KX_R / EST_KX_S_Y) * (EST_KX_R / EST_KX_S_Y) * EST_KX_TC), est->rate);
+    est->kx_n_min = r_to_int(r_mul(RC(3.0 * EST_KX_T), est->rate));
     est->magic = EST_MAGIC;
     return grip_est_reset(est);
 }

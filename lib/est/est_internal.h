@@ -250,8 +250,25 @@ void est_tires(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s, gri
 #define EST_STF_P_MAX ((EST_STF_P0 / EST_STF_S_U) * (EST_STF_P0 / EST_STF_S_U))
 #define EST_STF_X_LO  (1.0 / (EST_STF_K_MAX * EST_STF_S_U))
 #define EST_STF_X_HI  (1.0 / (EST_STF_K_MIN * EST_STF_S_U))
-void est_stiffness(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t *out);
+int est_stiffness(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t *out);
 void est_stability_factor(grip_est_t *est);
+
+/* est_stiffness_long.c: the tires' longitudinal slip-stiffness scale learned
+ * (kx_est); its Kalman update waits while est_stiffness updated in this step
+ * (stf_upd 1: one learner's update per step). Bounds of its filter in scaled
+ * units (est_tuning.h's EST_KX_*): the variances' floors and priors, the
+ * states' ranges. */
+#define EST_KX_P_MIN  ((EST_KX_SD_MIN / EST_KX_S_U) * (EST_KX_SD_MIN / EST_KX_S_U))
+#define EST_KX_P_MAX  ((EST_KX_P0 / EST_KX_S_U) * (EST_KX_P0 / EST_KX_S_U))
+#define EST_KX_PD_MIN ((EST_KX_D_SD_MIN / EST_KX_S_Y) * (EST_KX_D_SD_MIN / EST_KX_S_Y))
+#define EST_KX_PD_MAX ((EST_KX_D0 / EST_KX_S_Y) * (EST_KX_D0 / EST_KX_S_Y))
+#define EST_KX_X_LO   (1.0 / (EST_KX_K_MAX * EST_KX_S_U))
+#define EST_KX_X_HI   (1.0 / (EST_KX_K_MIN * EST_KX_S_U))
+#define EST_KX_XD_MAX (EST_KX_D_MAX / EST_KX_S_Y)
+void est_stiffness_long(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t *out, int stf_upd);
+/* est_stiffness_long.c: est->kx from its state, the slip stiffnesses at
+ * that scale (c_kappa_kx) and the vx bound's slip per m/s^2 (slip_acc) */
+void est_kx_apply(grip_est_t *est);
 
 /* With the observer running: */
 /* est_friction.c: excitation, the friction-limit test, the understeer bound */

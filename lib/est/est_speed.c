@@ -95,6 +95,10 @@ void est_speed(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)
             wheels_ok = 0;
         }
     }
+    /* the axles' mean speeds at the CG, front minus rear (the longitudinal
+     * stiffness's measurement, est_stiffness_long.c; used with every wheel
+     * valid) */
+    est->kx_dv = r_mul(RC(0.5), r_sub(r_add(vcs[0], vcs[1]), r_add(vcs[2], vcs[3])));
     /* the far-steered wheels out of the reference while a wheel steered
      * less is valid (not outliers by speed: no lock / spin flag) */
     if (n_near > 0 && (far[0] || far[2])) {

@@ -56,6 +56,7 @@ static EST_NOINLINE void zero_output(grip_est_output_t *out)
 grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip_est_output_t *out)
 {
     est_ctx_t s;
+    int stf_upd;
 
     if (out == NULL) {
         return GRIP_ERR_NULL;
@@ -74,7 +75,8 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     est_tires(est, in, &s, out);
     if (est->active) {
         est_friction_tests(est, &s, out);
-        est_stiffness(est, &s, out);
+        stf_upd = est_stiffness(est, &s, out);
+        est_stiffness_long(est, &s, out, stf_upd);
         est_lateral_update(est, &s, out);
         est_road(est, &s);
         est_balances(est, &s);

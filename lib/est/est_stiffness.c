@@ -66,13 +66,13 @@ static void stf_condition(grip_est_t *est)
     est->stf_p[1] = sym_clamp(est->stf_p[1], c);
 }
 
-void est_stiffness(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t *out)
+int est_stiffness(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t *out)
 {
     const grip_est_config_t *c = &est->cfg;
     grip_real_t rdot, l, ff, fr, af, ar, hf, hr, y, a = est->stf_a;
     int ok;
     if (!c->stiff_est) {
-        return;
+        return 0;
     }
     /* a random walk: what is not measured returns towards the prior (the
      * variances grow, so the floor and the correlation's bound hold) */
@@ -89,7 +89,7 @@ void est_stiffness(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t 
          s->slope[1] >= RCL(EST_STF_SLOPE) && r_abs(rdot) < RC(EST_STF_RACC);
     if (!ok) {
         est->stf_n = 0;
-        return;
+        return 0;
     }
     /* the axle forces the sensors measure (N), and each one's model slip:
      * the axle's mean lagged angle moved along the step's slope by the
@@ -111,7 +111,7 @@ void est_stiffness(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t 
     est->stf_h[1] = r_add(est->stf_h[1], r_mul(a, r_sub(r_mul(hr, RC(1.0 / EST_STF_S_Y)), est->stf_h[1])));
     est->stf_n = count_up(est->stf_n);
     if (est->stf_n < est->stf_n_min || r_add(r_abs(est->stf_h[0]), r_abs(est->stf_h[1])) < RC(EST_STF_H_MIN)) {
-        return; /* the low-pass not settled on these conditions, or no excitation */
+        return 0; /* the low-pass not settled on these conditions, or no excitation */
     }
     {
         grip_real_t h0 = r_mul(est->stf_h[0], RC(EST_STF_S_U));
@@ -132,6 +132,7 @@ void est_stiffness(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t 
         est_stability_factor(est);
         est->stf_updates = (est->stf_updates < 0x7fffffffu) ? est->stf_updates + 1u : est->stf_updates;
     }
+    return 1;
 }
 
 /* ---- the learned blob ---- */
@@ -150,11 +151,12 @@ static uint32_t crc32_bytes(const uint8_t *b, uint32_t n, uint32_t crc)
     return crc;
 }
 
-/* The fingerprint of what the scales apply to: the axles' cornering
- * stiffnesses and loads at init, the axle distances and the mass */
+/* The fingerprint of what the scales apply to: the axles' cornering and
+ * slip stiffnesses and loads at init, the axle distances, the mass and the
+ * drive split */
 static uint32_t stf_config_crc(const grip_est_t *est)
 {
-    grip_real_t v[7];
+    grip_real_t v[10];
     v[0] = est->c_alpha[0];
     v[1] = est->c_alpha[1];
     v[2] = est->fz_static[0];
@@ -162,6 +164,9 @@ static uint32_t stf_config_crc(const grip_est_t *est)
     v[4] = est->cfg.lf;
     v[5] = est->cfg.lr;
     v[6] = est->cfg.mass;
+    v[7] = est->c_kappa[0];
+    v[8] = est->c_kappa[1];
+    v[9] = est->cfg.drive_front;
     return ~crc32_bytes((const uint8_t *)v, (uint32_t)sizeof v, 0xFFFFFFFFu);
 }
 
@@ -198,6 +203,13 @@ grip_status_t grip_est_learned_get(const grip_est_t *est, grip_est_learned_t *bl
     blob->p[0] = est->stf_p[0];
     blob->p[1] = est->stf_p[1];
     blob->p[2] = est->stf_p[2];
+    blob->kx_updates = est->kx_updates;
+    blob->kx = est->kx;
+    blob->kx_x[0] = est->kx_x[0];
+    blob->kx_x[1] = est->kx_x[1];
+    blob->kx_p[0] = est->kx_p[0];
+    blob->kx_p[1] = est->kx_p[1];
+    blob->kx_p[2] = est->kx_p[2];
     blob->crc = blob_crc(blob);
     return GRIP_OK;
 }
@@ -227,6 +239,13 @@ grip_status_t grip_est_learned_set(grip_est_t *est, const grip_est_learned_t *bl
         !(r_mul(blob->p[1], blob->p[1]) <= r_mul(blob->p[0], blob->p[2]))) {
         return GRIP_ERR_PARAM;
     }
+    if (!(blob->kx_x[0] >= RC(EST_KX_X_LO) && blob->kx_x[0] <= RC(EST_KX_X_HI)) ||
+        !(blob->kx_x[1] >= RC(-EST_KX_XD_MAX) && blob->kx_x[1] <= RC(EST_KX_XD_MAX)) ||
+        !(blob->kx_p[0] >= RC(EST_KX_P_MIN) && blob->kx_p[0] <= RC(EST_KX_P_MAX)) ||
+        !(blob->kx_p[2] >= RC(EST_KX_PD_MIN) && blob->kx_p[2] <= RC(EST_KX_PD_MAX)) ||
+        !(r_mul(blob->kx_p[1], blob->kx_p[1]) <= r_mul(blob->kx_p[0], blob->kx_p[2]))) {
+        return GRIP_ERR_PARAM;
+    }
     est->stf_x[0] = blob->x[0];
     est->stf_x[1] = blob->x[1];
     est->stf_p[0] = blob->p[0];
@@ -236,5 +255,12 @@ grip_status_t grip_est_learned_set(grip_est_t *est, const grip_est_learned_t *bl
     est->stf_k[0] = stf_scale(est->stf_x[0]);
     est->stf_k[1] = stf_scale(est->stf_x[1]);
     est_stability_factor(est);
+    est->kx_x[0] = blob->kx_x[0];
+    est->kx_x[1] = blob->kx_x[1];
+    est->kx_p[0] = blob->kx_p[0];
+    est->kx_p[1] = blob->kx_p[1];
+    est->kx_p[2] = blob->kx_p[2];
+    est->kx_updates = blob->kx_updates;
+    est_kx_apply(est);
     return GRIP_OK;
 }

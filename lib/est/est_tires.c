@@ -2,7 +2,7 @@
  * est_tires.c - the tire model at the prior state: the wheels' vertical
  * loads (quasi-static load transfer), then with the lateral observer
  * running the four tire evaluations (the lagged slip angles, the learned
- * stiffness scale k, mu's similarity scaling), the model's accelerations and the analytic
+ * stiffness scales k and kx, mu's similarity scaling), the model's accelerations and the analytic
  * Jacobians the filter's predict and updates use. These evaluations are the
  * only tire calls of the step.
  */
@@ -89,7 +89,7 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
         grip_real_t alpha = r_atan(t);       /* kinematic, then lagged (relaxation) */
         grip_real_t kappa = R_ZERO;
         grip_real_t lever = r_add(r_mul(est->xw[i], cdi), r_mul(est->yw[i], sdi));
-        grip_real_t c2, dady, dadr, ca, g, u, dfda, dfdmu, fxn, fyn, fzr, ka;
+        grip_real_t c2, dady, dadr, ca, ck, g, u, dfda, dfdmu, fxn, fyn, fzr, ka;
         grip_mf_input ti;
         grip_mf_output to;
         grip_status_t st;
@@ -108,7 +108,7 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
         alpha = r_add(est->alpha_t[i], r_mul(relax_share(r_div(r_abs(vxw), est->rate), wheel_sigma(est, axle, out->fz[i])),
                                               r_sub(alpha, est->alpha_t[i])));
         est->alpha_t[i] = alpha;
-        ti.kappa = kappa_at_friction(kappa, s->mu, est->kappa_pk[axle]);
+        ti.kappa = kappa_at_friction(r_mul(est->kx, kappa), s->mu, est->kappa_pk[axle]); /* at kx kappa */
         /* beyond the peak slip angle the model force is held at its peak:
          * the falling branch would make vy and mu unobservable together */
         ka = r_mul(est->stf_k[axle], alpha);   /* the slip the model works at: k alpha */
@@ -154,6 +154,7 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
         umax_est = r_max(umax_est, out->util[i]);
         g = r_max(RC(EST_G_MIN), r_sqrt(r_sub(R_ONE, r_min(u, R_ONE))));
         ca = r_mul(r_mul(fzr, est->c_alpha[axle]), est->stf_k[axle]); /* N/rad at this load */
+        ck = r_mul(fzr, est->c_kappa_kx[axle]);                        /* N at this load, at kx */
         {
             /* Excitation: the utilization the slips would cause on the
              * tire's own friction (mu = 1), never measured against the
@@ -161,7 +162,7 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
              * own adaptation. */
             grip_real_t cap = r_max(r_mul(est->mu0[axle], out->fz[i]), RCL(50.0));
             grip_real_t ulin_y = r_div(r_mul(r_abs(alpha), ca), cap);
-            grip_real_t ulin_x = r_div(r_mul(r_abs(kappa), r_mul(fzr, est->c_kappa[axle])), cap);
+            grip_real_t ulin_x = r_div(r_mul(r_abs(kappa), ck), cap);
             umax = r_max(umax, r_max(ulin_y, ulin_x));
             umax_x = r_max(umax_x, ulin_x);
             kappa_sum = r_add(kappa_sum, kappa);
@@ -188,7 +189,7 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
         }
         {
             /* d Fx / d mu under similarity: (Fx - kappa dFx/dkappa) / mu */
-            grip_real_t dfxdk = r_mul(g, r_mul(fzr, est->c_kappa[axle]));
+            grip_real_t dfxdk = r_mul(g, ck);
             grip_real_t dfxdmu = r_div_keep(between_zero(r_sub(out->fx[i], r_mul(kappa, dfxdk)), out->fx[i]), s->mu);
             jax_mu = r_add(jax_mu, r_sub(r_mul(cdi, dfxdmu), r_mul(sdi, dfdmu)));
         }

@@ -150,6 +150,57 @@
 #define EST_STF_K_MIN 0.4    /* -      learned scales within [K_MIN, K_MAX]                      */
 #define EST_STF_K_MAX 2.5    /* -                                                               */
 
+/* ---- learned longitudinal slip stiffness (est_stiffness_long.c,
+ * docs/estimator/stiffness.md) A two-state Kalman filter on 1 / kx and the
+ * axles' rolling-radius mismatch, from the front-minus-rear axle slip the
+ * wheel speeds give (which vx leaves out) against the model slips of the
+ * drive force the accelerometer measures, split by drive_front. */
+#define EST_KX_S_U   0.05    /* -      unit of the filter's state 1 / kx (as EST_STF_S_U)         */
+#define EST_KX_S_Y   0.001   /* -      unit of the slips in the regression and of the radius
+                              *        mismatch (per mille): a driven axle's slip at 2 m/s^2
+                              *        is ~25 units, the innovation's variance O(100)           */
+#define EST_KX_P0    0.5     /* -      prior deviation of 1 / kx (as EST_STF_P0)                 */
+#define EST_KX_SD_MIN 0.02   /* -      1 / kx is never held more certain than this               */
+#define EST_KX_Q     1.0e-4  /* 1/s    random walk of 1 / kx, variance per second (as EST_STF_Q) */
+#define EST_KX_D0    0.02    /* -      prior deviation of the radius mismatch: tread depth (8 mm
+                              *        on a 0.3 m radius: 2.7 %), pressure and load (~1 %)      */
+#define EST_KX_D_SD_MIN 2.0e-4 /* -    the mismatch is never held more certain than this        */
+#define EST_KX_QD    1.0e-7  /* 1/s    random walk of the mismatch, variance per second: wear
+                              *        over months, pressure and temperature over minutes       */
+#define EST_KX_R     1.0e-3  /* -      deviation of the measured axle-slip difference: the wheel
+                              *        speeds' tone-wheel noise, the accelerometer's offset and
+                              *        grade (0.1 m/s^2: ~1e-3 of a driven axle's slip), the
+                              *        drive split's and the load transfer's error           */
+#define EST_KX_T     0.2     /* s      time constant of the low-pass on the regression's signals
+                              *        (the wheel speeds' noise over the drive-force changes)    */
+#define EST_KX_TC    2.0     /* s      the regression's error persists through a manoeuvre (the
+                              *        accelerometer's offset, the split): TC rate steps count as
+                              *        one measurement                                         */
+#define EST_KX_V     10.0    /* m/s    learns above this speed (the slip is a wheel-speed
+                              *        difference over vx)                                      */
+#define EST_KX_AY    1.0     /* m/s^2  ... with |ay| below this (the lateral slip and the
+                              *        combined slip stay out)                                  */
+#define EST_KX_STEER 0.05    /* rad    ... with the road-wheel angle within this (the front
+                              *        wheels' speeds are taken along the car's axis)           */
+#define EST_KX_U     0.35    /* -      ... with the model's utilization below this: the
+                              *        regression is linear in the force, and the tire's secant
+                              *        stiffness falls below its initial slope as it is used
+                              *        (drive sequence, tire 1.4 x: kx 1.35 up to 0.3, 1.29
+                              *        with traction up to 0.46)                              */
+#define EST_KX_AX_C  0.3     /* m/s^2  ... and the drive force over the mass above -AX_C: never
+                              *        while braking (the brake balance is not the drive split
+                              *        and moves with EBD / ABS); within +-AX_C it is coasting,
+                              *        which measures the mismatch                              */
+#define EST_KX_AX_T  0.5     /* m/s^2  above this it is traction, which measures kx ...          */
+#define EST_KX_H_MIN 5.0     /* per mille ... when the drive force's model slip difference is
+                              *        at least this (excitation: an AWD whose split follows
+                              *        the axle loads has none)                                  */
+#define EST_KX_DV_MAX 2.0    /* m/s    the wheel-speed difference taken within this (Q15.16: x
+                              *        1000 per mille stays in range)                           */
+#define EST_KX_K_MIN 0.4     /* -      learned scale within [K_MIN, K_MAX]                       */
+#define EST_KX_K_MAX 2.5     /* -                                                               */
+#define EST_KX_D_MAX 0.05    /* -      the mismatch within +-D_MAX                               */
+
 /* ---- lateral observer on / off (est_lateral.c) ------------------------- */
 #define EST_V_ON     3.0     /* m/s    the lateral observer starts above ...                 */
 #define EST_V_OFF    2.5     /* m/s    ... and stops below (hysteresis; tuning); also the

@@ -8,11 +8,15 @@
  *                    updates (yaw rate, ay, ax: the vehicle-speed input is
  *                    valid, which the ax update needs), four tire
  *                    evaluations, braking in a turn with every input valid;
- *                    stiff_est = 1 (its gates run, its update does not:
- *                    braking, at the limit)
+ *                    stiff_est = 1 and kx_est = 1 (rear-wheel drive; their
+ *                    gates run, their updates do not: braking, at the limit)
  *   est_step_learn   one step where the cornering stiffness learns
- *                    (stiff_est = 1, a steady turn at 20 m/s, ay 3 m/s^2,
- *                    no braking): the stiffness update instead of the ax
+ *                    (stiff_est = 1, kx_est = 1, a steady turn at 20 m/s, ay
+ *                    3 m/s^2, no braking): the stiffness update instead of
+ *                    the ax update
+ *   est_step_learn_kx one step where the longitudinal slip stiffness learns
+ *                    (the same configuration, straight ahead at 20 m/s,
+ *                    traction at 1.5 m/s^2, the rear wheels 2 % fast): its
  *                    update
  *   est_step_low     one step at standstill (observer off, no tire calls)
  *
@@ -51,13 +55,36 @@ static void learn_input(grip_input_sample_t *s, int i)
     }
 }
 
+/* straight ahead at 20 m/s in traction, ax 1.5 m/s^2, the driven rear
+ * wheels 2 % faster than the front ones, the steering weaving a little */
+static void learn_kx_input(grip_input_sample_t *s, int i)
+{
+    static const grip_real_t swa[4] = { RC(0.00), RC(0.01), RC(0.02), RC(0.01) };
+    static const grip_real_t wsr[4] = { RC(20.40), RC(20.41), RC(20.40), RC(20.39) };
+    int k;
+    memset(s, 0, sizeof *s);
+    s->value[GRIP_IN_WHEEL_SPEED_FL] = RC(20.0);
+    s->value[GRIP_IN_WHEEL_SPEED_FR] = RC(20.0);
+    s->value[GRIP_IN_WHEEL_SPEED_RL] = wsr[i & 3];
+    s->value[GRIP_IN_WHEEL_SPEED_RR] = wsr[(i + 1) & 3];
+    s->value[GRIP_IN_STEER_ANGLE] = swa[i & 3];
+    s->value[GRIP_IN_YAW_RATE] = RC(0.0);
+    s->value[GRIP_IN_AX] = RC(1.5);
+    s->value[GRIP_IN_AY] = RC(0.0);
+    for (k = 0; k <= GRIP_IN_AY; ++k) {
+        s->valid[k] = 1;
+    }
+}
+
 void bench_est_setup(void);
 
 static grip_est_t est_worst;
 static grip_est_t est_learn;
+static grip_est_t est_learn_kx;
 static grip_est_t est_low;
 static grip_input_sample_t in_worst[BENCH_INPUTS];
 static grip_input_sample_t in_learn[BENCH_INPUTS];
+static grip_input_sample_t in_learn_kx[BENCH_INPUTS];
 static grip_input_sample_t in_low;
 static volatile uint32_t est_sink;
 
@@ -96,17 +123,22 @@ void bench_est_setup(void)
     (void)grip_est_config_default(&cfg, est_tire());
     (void)grip_est_init(&est_low, &cfg);
     cfg.stiff_est = 1u;
+    cfg.kx_est = 1u;
+    cfg.drive_front = R_ZERO;
     (void)grip_est_init(&est_worst, &cfg);
     (void)grip_est_init(&est_learn, &cfg);
+    (void)grip_est_init(&est_learn_kx, &cfg);
     for (i = 0; i < BENCH_INPUTS; ++i) {
         worst_input(&in_worst[i], i);
         learn_input(&in_learn[i], i);
+        learn_kx_input(&in_learn_kx[i], i);
     }
     for (k = 0; k < 60; ++k) {
         (void)grip_est_step(&est_worst, &in_worst[k % BENCH_INPUTS], &out);
     }
     for (k = 0; k < 100; ++k) {
         (void)grip_est_step(&est_learn, &in_learn[k % BENCH_INPUTS], &out);
+        (void)grip_est_step(&est_learn_kx, &in_learn_kx[k % BENCH_INPUTS], &out);
     }
     memset(&in_low, 0, sizeof in_low);
     for (k = 0; k < 8; ++k) {
@@ -137,6 +169,13 @@ static void b_est_learn(int i)
     est_sink = out.valid ^ out.flags ^ est_learn.stf_updates;
 }
 
+static void b_est_learn_kx(int i)
+{
+    grip_est_output_t out;
+    (void)grip_est_step(&est_learn_kx, &in_learn_kx[i], &out);
+    est_sink = out.valid ^ out.flags ^ est_learn_kx.kx_updates;
+}
+
 static void b_est_low(int i)
 {
     grip_est_output_t out;
@@ -148,6 +187,7 @@ static void b_est_low(int i)
 const bench_case bench_est_cases[] = {
     { "est_step_worst", b_est_worst },
     { "est_step_learn", b_est_learn },
+    { "est_step_learn_kx", b_est_learn_kx },
     { "est_step_low", b_est_low },
 };
 const int bench_est_case_count = (int)(sizeof(bench_est_cases) / sizeof(bench_est_cases[0]));

@@ -281,6 +281,14 @@ static void test_est(void **state)
     expect_detail(&d, "", -1, "steer_latency", "in [0, 0.1] s");
     assert_int_equal(grip_est_init(&est, &c), GRIP_ERR_PARAM);
     c = cfg;
+    c.kx_est = 2u;
+    assert_int_equal(grip_est_init_detail(&est, &c, &d), GRIP_ERR_PARAM);
+    expect_detail(&d, "", -1, "kx_est", "0 or 1");
+    c = cfg;
+    c.drive_front = q(1.5);
+    assert_int_equal(grip_est_init_detail(&est, &c, &d), GRIP_ERR_PARAM);
+    expect_detail(&d, "", -1, "drive_front", "in [0, 1]");
+    c = cfg;
     c.tire[1].model.mf = NULL;
     assert_int_equal(grip_est_init_detail(&est, &c, &d), GRIP_ERR_PARAM);
     expect_detail(&d, "tire", 1, "model.mf", "not NULL");

@@ -21,7 +21,8 @@
  *   Fy [N]           0.1 % of the sequence peak  0.3 % of the peak
  *                    (measured 0.0005 %)         (measured 0.11 %)
  *   valid mask       no row may differ           rows differing <= 1 % (measured 2 of 4000)
- * (measured: the worst of the eight sequences, docs/estimator.md).
+ * (measured: the worst of the eight sequences, docs/estimator.md). The
+ * longitudinal stiffness's sequence also compares the learned kx (below).
  * A GRIP_DEBUG_SATURATION build prints the saturation count (the estimator
  * is allowed to clamp on purpose; the count is reported, not asserted).
  */
@@ -68,6 +69,12 @@ static double from_ql(grip_real_t v) { return (double)v; }
 #define TOL(f, x) (f)
 #endif
 
+/* the learned longitudinal scale kx (stiffness_long_100hz), float / fixed:
+ * set from the measured figures (9.5e-7 and 1.3e-3; fixed: its regression
+ * takes each axle's slip stiffness from the Q15.16 Magic Formula at init) */
+#define KX_TOL_FLOAT 1e-5
+#define KX_TOL_FIXED 3e-3
+
 /* column layout of est_*.txt (golden/est.py) */
 #define C_T 0
 #define C_IN 1
@@ -90,7 +97,8 @@ typedef struct {
     double dt;
     int optional;
     int aero_bank;   /* 1: the AERO_BANK configuration of tools/grip_tools/golden/est.py; 2: rear_steer = 1; 3: bank_est = 1;
-                      * 4: stiff_est = 1 */
+                      * 4: stiff_est = 1; 5: kx_est = 1, drive_front = 0 (the file
+                      * has one column more: the learned kx) */
 } seq_t;
 
 static void run_sequence(const seq_t *sq)
@@ -100,7 +108,10 @@ static void run_sequence(const seq_t *sq)
     grip_est_t est;
     grip_est_output_t out;
     grip_input_sample_t in;
-    err_stats e_vx, e_beta, e_yaw, e_bias, e_ref, e_mu, e_conf, e_fz, e_fy, e_alpha, e_kappa, e_fx, e_bsd, e_musd, e_vxsd, e_fysd;
+    err_stats e_vx, e_beta, e_yaw, e_bias, e_ref, e_mu, e_conf, e_fz, e_fy, e_alpha, e_kappa, e_fx, e_bsd, e_musd, e_vxsd, e_fysd,
+        e_kx;
+    int cols = C_OUT + O_COUNT + ((sq->aero_bank == 5) ? 1 : 0);
+    double kx_got = 1.0, kx_want = 1.0;
     double fy_peak = 0.0;
     long rows = 0, mask_diff = 0;
     int n, i;
@@ -137,6 +148,10 @@ static void run_sequence(const seq_t *sq)
     if (sq->aero_bank == 4) {
         cfg.stiff_est = 1u;
     }
+    if (sq->aero_bank == 5) {
+        cfg.kx_est = 1u;
+        cfg.drive_front = to_qs(0.0);
+    }
     assert_int_equal(grip_est_init(&est, &cfg), GRIP_OK);
     grip_debug_saturation_reset();
     err_init(&e_vx, "vx", 1.0);
@@ -155,10 +170,11 @@ static void run_sequence(const seq_t *sq)
     err_init(&e_musd, "mu_sd", 0.01);
     err_init(&e_vxsd, "vx_sd", 0.01);
     err_init(&e_fysd, "fy_axle_sd", 1000.0);
+    err_init(&e_kx, "kx", 1.0);
     while ((n = golden_next(&g)) > 0) {
         double mask;
         unsigned long m;
-        assert_int_equal(n, C_OUT + O_COUNT);
+        assert_int_equal(n, cols);
         memset(&in, 0, sizeof in);
         mask = golden_num(&g, C_MASK);
         m = (unsigned long)mask;
@@ -196,6 +212,11 @@ static void run_sequence(const seq_t *sq)
                 fy_peak = fabs(W(O_FY + i));
             }
         }
+        if (sq->aero_bank == 5) {
+            kx_got = from_qs(est.kx);
+            kx_want = W(O_COUNT);
+            err_add(&e_kx, kx_got, kx_want, golden_num(&g, C_T), 0, 0);
+        }
         if ((unsigned long)W(O_VALID) != (unsigned long)out.valid) {
             mask_diff += 1;
         }
@@ -221,6 +242,10 @@ static void run_sequence(const seq_t *sq)
     err_print(&e_musd, "-");
     err_print(&e_vxsd, "m/s");
     err_print(&e_fysd, "N");
+    if (sq->aero_bank == 5) {
+        err_print(&e_kx, "-");
+        printf("# learned kx at the end: %.4f (reference %.4f)\n", kx_got, kx_want);
+    }
     printf("# saturations: %lu\n", (unsigned long)grip_debug_saturation_count());
     assert_true(rows > 100);
     assert_true(e_vx.max_abs <= TOL(2e-4, 3e-3));
@@ -236,6 +261,7 @@ static void run_sequence(const seq_t *sq)
     assert_true(e_fz.max_abs <= TOL(0.02, 0.5));
     assert_true(e_fy.max_abs <= TOL(0.001, 0.003) * fy_peak);
     assert_true((double)mask_diff <= TOL(0.0, 0.01) * (double)rows);
+    assert_true(e_kx.max_abs <= TOL(KX_TOL_FLOAT, KX_TOL_FIXED));
 }
 
 static const seq_t seqs[] = {
@@ -248,6 +274,7 @@ static const seq_t seqs[] = {
     { "est_rear_steer_100hz.txt", 0.01, 0, 2 },
     { "est_road_bank_100hz.txt", 0.01, 0, 3 },
     { "est_stiffness_100hz.txt", 0.01, 0, 4 },
+    { "est_stiffness_long_100hz.txt", 0.01, 0, 5 },
 };
 
 static void test_bicycle_100hz(void **state) { (void)state; run_sequence(&seqs[0]); }
@@ -259,6 +286,7 @@ static void test_steer_offset_100hz(void **state) { (void)state; run_sequence(&s
 static void test_rear_steer_100hz(void **state) { (void)state; run_sequence(&seqs[6]); }
 static void test_road_bank_100hz(void **state) { (void)state; run_sequence(&seqs[7]); }
 static void test_stiffness_100hz(void **state) { (void)state; run_sequence(&seqs[8]); }
+static void test_stiffness_long_100hz(void **state) { (void)state; run_sequence(&seqs[9]); }
 
 int main(void)
 {
@@ -272,6 +300,7 @@ int main(void)
         cmocka_unit_test(test_rear_steer_100hz),
         cmocka_unit_test(test_road_bank_100hz),
         cmocka_unit_test(test_stiffness_100hz),
+        cmocka_unit_test(test_stiffness_long_100hz),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -162,9 +162,10 @@ static void test_api_errors(void **state)
 }
 
 /* The learned blob (grip_est_learned_get / _set): NULL and state errors;
- * a round trip moves the scales; a reset keeps them; a blob with one bit
- * changed, another version or another car's fingerprint is refused and the
- * estimator keeps what it had. */
+ * a round trip moves the scales (cornering and longitudinal, with the
+ * radius mismatch); a reset keeps them; a blob with one bit changed,
+ * another version, a state out of range, another car's or another drive
+ * split's fingerprint is refused and the estimator keeps what it had. */
 static void test_learned_blob(void **state)
 {
     grip_est_t a, b;
@@ -173,8 +174,11 @@ static void test_learned_blob(void **state)
     (void)state;
     assert_int_equal(grip_est_config_default(&cfg, tire()), GRIP_OK);
     cfg.stiff_est = 1u;
+    cfg.kx_est = 1u;
+    cfg.drive_front = qs(0.0);
     assert_int_equal(grip_est_init(&a, &cfg), GRIP_OK);
     assert_int_equal(grip_est_init(&b, &cfg), GRIP_OK);
+    assert_true(dq(a.kx) == 1.0 && a.kx_updates == 0u);
     assert_int_equal(grip_est_learned_get(NULL, &blob), GRIP_ERR_NULL);
     assert_int_equal(grip_est_learned_get(&a, NULL), GRIP_ERR_NULL);
     assert_int_equal(grip_est_learned_set(NULL, &blob), GRIP_ERR_NULL);
@@ -182,10 +186,22 @@ static void test_learned_blob(void **state)
     /* a state as if learned: 1 / k = 0.8 and 0.7 (k 1.25, 1.43) */
     a.stf_x[0] = qs(0.8 / 0.05);
     a.stf_x[1] = qs(0.7 / 0.05);
+    /* ... and 1 / kx = 0.75 (kx 1.33), a mismatch of 4 per mille */
+    a.kx_x[0] = qs(0.75 / 0.05);
+    a.kx_x[1] = qs(4.0);
+    a.kx_p[0] = qs(2.0);
+    a.kx_p[1] = qs(-0.5);
+    a.kx_p[2] = qs(3.0);
+    a.kx_updates = 321u;
     assert_int_equal(grip_est_learned_get(&a, &blob), GRIP_OK);
     assert_int_equal(blob.magic, GRIP_EST_LEARNED_MAGIC);
     assert_int_equal(grip_est_learned_set(&b, &blob), GRIP_OK);
     assert_true(b.stf_x[0] == a.stf_x[0] && b.stf_x[1] == a.stf_x[1]);
+    assert_true(b.kx_x[0] == a.kx_x[0] && b.kx_x[1] == a.kx_x[1] && b.kx_p[1] == a.kx_p[1]);
+    assert_true(b.kx_updates == 321u);
+    assert_true(dq(b.kx) > 1.32 && dq(b.kx) < 1.34);
+    /* the vx bound's slip per m/s^2 follows kx */
+    assert_true(fabs(dq(b.slip_acc) * dq(b.kx) - dq(a.slip_acc)) < 1e-3 * dq(a.slip_acc));
     assert_true(dq(b.stf_k[0]) > 1.24 && dq(b.stf_k[0]) < 1.26);
     assert_true(dq(b.stf_k[1]) > 1.42 && dq(b.stf_k[1]) < 1.44);
     /* reset keeps what was learned: the same blob before and after */
@@ -201,6 +217,30 @@ static void test_learned_blob(void **state)
     bad.version += 2u;
     assert_int_equal(grip_est_learned_set(&b, &bad), GRIP_ERR_PARAM);
     assert_true(dq(b.stf_k[0]) == 1.0 && dq(b.stf_k[1]) == 1.0);
+    assert_true(dq(b.kx) == 1.0 && b.kx_updates == 0u);
+    {
+        /* kx beyond its range (1 / kx = 3: kx 0.33 < 0.4), checksum made good */
+        grip_est_t c = a;
+        c.kx_x[0] = qs(3.0 / 0.05);
+        assert_int_equal(grip_est_learned_get(&c, &bad), GRIP_OK);
+        assert_int_equal(grip_est_learned_set(&b, &bad), GRIP_ERR_PARAM);
+        assert_true(dq(b.kx) == 1.0);
+    }
+    {
+        /* a blob with nothing learned of kx takes a learned kx back to 1 */
+        grip_est_t c;
+        grip_est_learned_t fresh;
+        assert_int_equal(grip_est_init(&c, &cfg), GRIP_OK);
+        assert_int_equal(grip_est_learned_get(&c, &fresh), GRIP_OK);
+        assert_int_equal(grip_est_learned_set(&b, &blob), GRIP_OK);
+        assert_true(dq(b.kx) > 1.32);
+        assert_int_equal(grip_est_learned_set(&b, &fresh), GRIP_OK);
+        assert_true(dq(b.kx) == 1.0 && b.kx_updates == 0u && b.slip_acc == c.slip_acc);
+    }
+    cfg.drive_front = qs(1.0);                            /* another drive layout */
+    assert_int_equal(grip_est_init(&b, &cfg), GRIP_OK);
+    assert_int_equal(grip_est_learned_set(&b, &blob), GRIP_ERR_PARAM);
+    cfg.drive_front = qs(0.0);
     cfg.mass = ql(1600.0);                                /* another car */
     assert_int_equal(grip_est_init(&b, &cfg), GRIP_OK);
     assert_int_equal(grip_est_learned_set(&b, &blob), GRIP_ERR_PARAM);

@@ -228,31 +228,42 @@ class TestStandAlone(common.BindingTest):
 
 
 class TestLearned(common.BindingTest):
-    """grip_est_learned_get / _set (stiff_est = 1): the blob carries the
-    learned stiffness to another instance bit for bit, and every kind of
-    blob that is not this car's, tire's and build's is refused with the
-    estimator unchanged."""
+    """grip_est_learned_get / _set (stiff_est = 1, kx_est = 1 with a
+    rear-wheel drive): the blob carries the learned stiffnesses to another
+    instance bit for bit, and every kind of blob that is not this car's,
+    tire's, drive layout's and build's is refused with the estimator
+    unchanged."""
 
     def test_round_trip_and_refusals(self):
         t, value, valid, _ = golden_est.bicycle_inputs(duration=12.0)
         s = samples(t, value, valid)
+        t2, value2, valid2, _ = golden_est.drive_inputs(lkx=golden_est.STIFF_LKX,
+                                                        radius_front=golden_est.STIFF_RADIUS)
+        s2 = samples(t2, value2, valid2)
+        on = {"stiff_est": 1, "kx_est": 1, "drive_front": 0.0}
         tyre = grip.mf.load(TIR)
         other = grip.mf.load(os.path.join(ROOT, "tests", "data", "mfeval-tir", "MagicFormula61_Paramerters.tir"))
         blobs = {}
         for arith in ARITHS:
             with self.subTest(arith=arith):
-                a = grip.est.Estimator({"tire": tyre, "stiff_est": 1}, arith=arith)
+                a = grip.est.Estimator({"tire": tyre, **on}, arith=arith)
                 fresh = a.learned()
                 self.assertEqual((fresh["k_front"], fresh["k_rear"], fresh["updates"]), (1.0, 1.0, 0))
+                self.assertEqual((fresh["kx"], fresh["radius_mismatch"], fresh["kx_updates"]), (1.0, 0.0, 0))
                 a.step(s)
+                a.reset()
+                a.step(s2)
                 la = a.learned()
                 self.assertGreater(la["updates"], 0)     # the generator's steering taught it
+                self.assertGreater(la["kx_updates"], 0)  # ... and the drive its slip stiffness
+                self.assertGreater(la["kx"], 1.25)
+                self.assertLess(abs(la["radius_mismatch"] - golden_est.STIFF_RADIUS), 1e-3)
                 a.reset()
                 self.assertEqual(a.learned()["blob"], la["blob"])   # a reset keeps what was learned
-                b = grip.est.Estimator({"tire": tyre, "stiff_est": 1}, arith=arith)
+                b = grip.est.Estimator({"tire": tyre, **on}, arith=arith)
                 b.learned_set(la["blob"])
                 self.assertEqual(b.learned(), la)
-                c = grip.est.Estimator({"tire": tyre, "stiff_est": 1}, arith=arith)
+                c = grip.est.Estimator({"tire": tyre, **on}, arith=arith)
                 before = c.learned()
                 bad = bytearray(la["blob"])
                 bad[20] ^= 0x01                          # one bit of the state
@@ -260,13 +271,16 @@ class TestLearned(common.BindingTest):
                     with self.assertRaises(grip.GripError):
                         c.learned_set(blob)
                     self.assertEqual(c.learned(), before)
-                d = grip.est.Estimator({"tire": other, "stiff_est": 1}, arith=arith)
+                d = grip.est.Estimator({"tire": other, **on}, arith=arith)
                 with self.assertRaises(grip.GripError):   # another tire: another fingerprint
                     d.learned_set(la["blob"])
+                e = grip.est.Estimator({"tire": tyre, **on, "drive_front": 1.0}, arith=arith)
+                with self.assertRaises(grip.GripError):   # another drive layout: another fingerprint
+                    e.learned_set(la["blob"])
                 blobs[arith] = la["blob"]
         if len(blobs) == 2:
             with self.assertRaises(grip.GripError):       # the other build's blob
-                grip.est.Estimator({"tire": tyre, "stiff_est": 1}, arith="float").learned_set(blobs["fixed"])
+                grip.est.Estimator({"tire": tyre, **on}, arith="float").learned_set(blobs["fixed"])
 
 
 if __name__ == "__main__":

@@ -21,6 +21,7 @@ import csv
 import io
 import math
 import os
+import struct
 import subprocess
 import tempfile
 import unittest
@@ -236,11 +237,11 @@ class CsvModeTests(unittest.TestCase):
         self.assertIn("--csv FILE", out)
 
     def test_learned_blob(self):
-        """--learned-out writes what stiff_est learned, --learned-in restores
-        it (the run then starts from it: another estimate, and the same
-        blob as the binding's after the same inputs); a blob of another
-        size, a corrupt one, one of the other build or another tire exits 4
-        naming the file."""
+        """--learned-out writes what stiff_est and kx_est learned,
+        --learned-in restores it (the run then starts from it: another
+        estimate, and the same blob as the binding's after the same inputs);
+        a blob of another size, a corrupt one, one of the other build, another
+        tire or another drive layout exits 4 naming the file."""
         d = self.tmp.name
         t, v, ok, _ = golden_est.bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 1.0), seed=golden_est.SEED + 4,
                                                 steer_gain=0.5, brake_demand=0.5, lky=golden_est.STIFF_LKY)
@@ -248,7 +249,10 @@ class CsvModeTests(unittest.TestCase):
         write_csv(path, t, v, ok)
         veh = os.path.join(d, "stiff.txt")
         with open(veh, "w") as f:
-            f.write("stiff_est = 1\n")
+            f.write("stiff_est = 1\nkx_est = 1\ndrive_front = 0\n")
+        veh_fwd = os.path.join(d, "stiff_fwd.txt")
+        with open(veh_fwd, "w") as f:
+            f.write("stiff_est = 1\nkx_est = 1\ndrive_front = 1\n")
         blobs = {}
         for arith in ("float", "fixed"):
             if not os.path.exists(BINS[arith]):
@@ -261,7 +265,9 @@ class CsvModeTests(unittest.TestCase):
             with open(learned, "rb") as f:
                 blob = f.read()
             blobs[arith] = learned
-            self.assertEqual(len(blob), 48)
+            self.assertEqual(len(blob), 76)
+            kx_updates, = struct.unpack_from("<I", blob, 44)
+            self.assertGreater(kx_updates, 0)      # the straight start while coasting
             rc, out2, err = run(b, base + ["--learned-in", learned, "--learned-out", learned + ".2"])
             self.assertEqual(rc, 0, err)
             b1, b2 = col(read_out(out1), "beta"), col(read_out(out2), "beta")
@@ -277,6 +283,10 @@ class CsvModeTests(unittest.TestCase):
                 self.assertIn(name, err)
             other = os.path.join(ROOT, "tests", "data", "mfeval-tir", "MagicFormula61_Paramerters.tir")
             rc, _, err = run(b, ["-e", other, "--vehicle", "generic", "--vehicle-file", veh, "--csv", path,
+                                 "--learned-in", learned])
+            self.assertEqual(rc, 4, err)
+            self.assertIn("not a learned blob of this car, tire and arithmetic build", err)
+            rc, _, err = run(b, ["-e", TIR, "--vehicle", "generic", "--vehicle-file", veh_fwd, "--csv", path,
                                  "--learned-in", learned])
             self.assertEqual(rc, 4, err)
             self.assertIn("not a learned blob of this car, tire and arithmetic build", err)

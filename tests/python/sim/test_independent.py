@@ -183,6 +183,29 @@ class JudgeTests(unittest.TestCase):
 
 
 @unittest.skipUnless(judge.est_eval.binding_available() is None, "the Python binding is not built (make setup)")
+class LearnedSlipStiffnessTests(unittest.TestCase):
+    """est-eval --independent --kx-est: the BMW 320i (rear-wheel drive, the
+    parameter set's T_se 0) learns its tire's slip stiffness on the learning
+    drives: kx 1.354 (float) against the model tire's 1.39 x the generic
+    one's at the static loads (docs/estimator/stiffness.md)."""
+
+    def test_learns_towards_the_model_tire(self):
+        veh = mb.Vehicle("bmw320i")
+        values = judge.oem_vehicle(veh)
+        self.assertEqual(values["drive_front"], float(veh.p.T_se))
+        bins = {a: ("binding", a) for a in ("float", "fixed")}
+        ratio = judge.stiffness_ratios(veh, judge.GENERIC_TIR)["model_kx_r"]
+        with tempfile.TemporaryDirectory() as d:
+            learned = judge.learn("bmw320i", values, bins, d, kx=True)
+        for arith, x in learned.items():
+            print(f"\n# BMW 320i learning drives, {arith}: kx {x['kx']:.3f} (model tire / generic {ratio:.2f}), "
+                  f"{x['kx_updates']} updates, radius mismatch {1000 * x['radius_mismatch']:.2f} per mille", flush=True)
+            self.assertGreater(x["kx_updates"], 1000, arith)
+            self.assertGreater(x["kx"], 1.25, arith)
+            self.assertLess(x["kx"], ratio + 0.05, arith)
+
+
+@unittest.skipUnless(judge.est_eval.binding_available() is None, "the Python binding is not built (make setup)")
 class BankedCurveTests(unittest.TestCase):
     """The estimator on the judge's 8 deg banked curve on wet (BMW 320i,
     generic configuration: tan_bank = 0), bank_est 1 against 0. The

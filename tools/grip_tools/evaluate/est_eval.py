@@ -762,6 +762,10 @@ def main(argv=None):
     ap.add_argument("--stiff-est", action="store_true",
                     help="every run with the estimator's stiff_est = 1 (each axle's cornering stiffness learned "
                          "online, docs/estimator/stiffness.md)")
+    ap.add_argument("--kx-est", action="store_true",
+                    help="--independent: the learned configuration learns the longitudinal slip stiffness too "
+                         "(kx_est = 1, the drive split from the vehicle's parameter set; "
+                         "docs/estimator/stiffness.md)")
     ap.add_argument("--bank-est", action="store_true",
                     help="every run with the estimator's bank_est = 1 (the road's bank estimated, "
                          "docs/estimator/road.md); default the configuration's 0")
@@ -794,7 +798,7 @@ def main(argv=None):
     if a.independent:
         from grip_tools.sim.independent import judge
         judge.run(a.out, full=a.full, vehicles=a.vehicles, manoeuvres=a.manoeuvres, surfaces=a.surfaces,
-                  c_bins=a.c_bin, vehicle_extra=dict(EXTRA))
+                  c_bins=a.c_bin, vehicle_extra=dict(EXTRA), learn_kx=a.kx_est)
         return 0
     os.makedirs(a.out, exist_ok=True)
     runs = list(a.runs)

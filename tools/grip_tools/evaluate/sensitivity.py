@@ -95,6 +95,12 @@ CLASSES = {
     "EST_STF_V": "tuning", "EST_STF_AX": "tuning", "EST_STF_U": "tuning", "EST_STF_D": "tuning",
     "EST_STF_H_MIN": "tuning", "EST_STF_SLOPE": "format", "EST_STF_K_MIN": "range", "EST_STF_K_MAX": "range",
     "EST_STF_RACC": "range", "EST_STEADY_K": "physics",
+    "EST_KX_S_U": "format", "EST_KX_S_Y": "format", "EST_KX_P0": "tuning", "EST_KX_SD_MIN": "tuning",
+    "EST_KX_Q": "tuning", "EST_KX_D0": "range", "EST_KX_D_SD_MIN": "tuning", "EST_KX_QD": "tuning",
+    "EST_KX_R": "sensor", "EST_KX_T": "tuning", "EST_KX_TC": "tuning", "EST_KX_V": "tuning",
+    "EST_KX_AY": "tuning", "EST_KX_STEER": "tuning", "EST_KX_U": "tuning", "EST_KX_AX_C": "tuning",
+    "EST_KX_AX_T": "tuning", "EST_KX_H_MIN": "tuning", "EST_KX_DV_MAX": "format", "EST_KX_K_MIN": "range",
+    "EST_KX_K_MAX": "range", "EST_KX_D_MAX": "range",
 }
 CLASS_TEXT = {
     "physics": "a physical or statistical constant (g, a chi-square point, the tire as fitted)",

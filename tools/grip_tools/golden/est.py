@@ -16,6 +16,14 @@ Input sequences (the C test replays exactly the same rows):
   stiffness_100hz the internal generator on mu 1.0 with half the steering,
                   its tires 1.5 x as stiff (LKY) as the estimator's, run
                   with stiff_est = 1 (each axle's stiffness learned)
+  stiffness_long_100hz a straight drive (drive_inputs below: a light sine of
+                  steering, coasting, traction at 1.5 and 2.5 m/s^2, braking,
+                  a slalom while coasting at the end),
+                  rear-wheel drive, the generator's tire 1.4 x as stiff in
+                  slip (LKX) as the estimator's, the front wheels' rolling
+                  radius 0.4 % larger, run with kx_est = 1, drive_front = 0
+                  (the longitudinal slip stiffness and the mismatch learned);
+                  one column more than the others: the learned kx
   aero_bank_100hz the internal generator at 26 m/s, run with the vehicle-level
                   effects on: downforce C_L A = 2.5 m^2 (front share 0.42,
                   rho 1.2), road bank tan = 0.04 (rise to the left) and grade
@@ -174,6 +182,94 @@ def bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED, v0=22.
     return t, value, valid, truth
 
 
+def _axle_slip(P, fz, fx):
+    """The slip ratio at which the tire P at wheel load fz gives the
+    longitudinal force fx (pure longitudinal slip, 20 m/s): the model's
+    force over a grid of slips, interpolated (within the grid's +-0.3)."""
+    k = np.linspace(-0.3, 0.3, 1201)
+    o = est_ref.mf.evaluate(P, k, np.zeros_like(k), 0.0, np.full_like(k, fz), None, 20.0)
+    f = np.asarray(o["fx"], float)
+    j = int(np.argmax(f))
+    i = int(np.argmin(f[:j]))      # the monotonic branch between the two peaks
+    return float(np.interp(fx, f[i:j + 1], k[i:j + 1]))
+
+
+def drive_inputs(dt=0.01, duration=14.0, seed=SEED + 5, v0=15.0, lkx=1.0, drive_front=0.0, radius_front=0.0,
+                 profile=None):
+    """A straight drive with a light sine of steering, coasting and traction
+    phases, one braking and a slalom at the end (the longitudinal
+    stiffness's sequence). The
+    single-track lateral dynamics of bicycle_inputs; the tires' total
+    longitudinal force m ax shared between the axles by drive_front while
+    driving or coasting and 70 / 30 while braking; each axle's slip ratio the
+    one at which the generator's tire (LKX x lkx: its slip stiffness a scale
+    of the estimator's) gives the axle's force at the wheel's load with the
+    longitudinal load transfer; the front wheels' rolling radius (1 +
+    radius_front) x the rear's (their speeds read that much high). profile:
+    [(t_end [s], ax [m/s^2]), ...] (default DRIVE_PROFILE). Returns time,
+    value (N, 18), valid (N, 18) and the truth dict (vx, kappa_f, kappa_r)."""
+    P0 = tire_params()
+    cfg = est_ref.config(P0)
+    PX = dict(P0, lkx=P0["lkx"] * lkx)
+    m, iz, lf, lr, h = cfg["mass"], cfg["iz"], cfg["lf"], cfg["lr"], cfg["h_cg"]
+    l = lf + lr
+    fzf, fzr = 9.80665 * m * lr / l / 2, 9.80665 * m * lf / l / 2
+    profile = DRIVE_PROFILE if profile is None else profile
+    rng = np.random.default_rng(seed)
+    n = int(round(duration / dt))
+    t = np.arange(n) * dt
+    value = np.zeros((n, est_ref.N_IN))
+    valid = np.zeros((n, est_ref.N_IN), dtype=np.uint8)
+    truth = {k: np.zeros(n) for k in ("vx", "kappa_f", "kappa_r")}
+    vx, vy, r = v0, 0.0, 0.0
+    for k in range(n):
+        tk = t[k]
+        ax = next((a for te, a in profile if tk < te), 0.0)
+        swa = 0.04 * math.sin(2.0 * math.pi * 0.2 * tk)
+        if DRIVE_SLALOM[0] <= tk < DRIVE_SLALOM[1]:
+            swa += DRIVE_SLALOM[2] * math.sin(2.0 * math.pi * 0.5 * (tk - DRIVE_SLALOM[0]))
+        delta = swa / cfg["steer_ratio"]
+        af = math.atan2(vy + lf * r, vx) - delta
+        ar = math.atan2(vy - lr * r, vx)
+        o = est_ref.mf.evaluate(P0, np.zeros(2), np.array([af, ar]), 0.0, np.array([fzf, fzr]), None, vx)
+        fyf, fyr = 2 * o["fy"][0], 2 * o["fy"][1]
+        vyd = (fyf * math.cos(delta) + fyr) / m - r * vx
+        rd = (lf * fyf * math.cos(delta) - lr * fyr) / iz
+        ay = vyd + r * vx
+        share = drive_front if ax >= 0.0 or ax > -0.3 else 0.7
+        dfz = m * ax * h / l / 2                     # per wheel
+        kf = _axle_slip(PX, fzf - dfz, share * m * ax / 2)
+        kr = _axle_slip(PX, fzr + dfz, (1.0 - share) * m * ax / 2)
+        truth["vx"][k], truth["kappa_f"][k], truth["kappa_r"][k] = vx, kf, kr
+        tf, tr = cfg["track_f"], cfg["track_r"]
+        wsf = [(vx - r * tf / 2) * math.cos(delta) + (vy + lf * r) * math.sin(delta),
+               (vx + r * tf / 2) * math.cos(delta) + (vy + lf * r) * math.sin(delta)]
+        wsr = [vx - r * tr / 2, vx + r * tr / 2]
+        ws = [wsf[0] * (1 + kf) * (1 + radius_front), wsf[1] * (1 + kf) * (1 + radius_front),
+              wsr[0] * (1 + kr), wsr[1] * (1 + kr)]
+        for i in range(4):
+            value[k, i] = ws[i] + rng.normal(0, 0.01)
+        value[k, est_ref.STEER] = swa + rng.normal(0, 0.001)
+        value[k, est_ref.YAW] = r + rng.normal(0, 0.002)
+        value[k, est_ref.AX] = ax + rng.normal(0, 0.03)
+        value[k, est_ref.AY] = ay + rng.normal(0, 0.03)
+        valid[k, :8] = 1
+        vx = max(vx + (ax + r * vy) * dt, 0.0)
+        vy += vyd * dt
+        r += rd * dt
+    return t, value, valid, truth
+
+
+# the drive sequence's longitudinal specific force [m/s^2] until each time
+# [s]: coasting, traction, coasting, harder traction, coasting, braking,
+# coasting
+DRIVE_PROFILE = [(2.0, 0.0), (5.0, 1.5), (7.0, 0.0), (10.0, 2.5), (11.0, 0.0), (12.0, -2.0), (14.0, 0.0)]
+# ... and a slalom while coasting at its end (start, end [s], steering-wheel
+# amplitude [rad]): the lateral forces of the other sequences, and the
+# cornering gate
+DRIVE_SLALOM = (12.5, 14.0, 1.0)
+
+
 def road_bank(t):
     """The road_bank_100hz sequence's bank [rad] at time t: 0.1 rad (5.7 deg)
     plus 0.04 rad over a 6 s period, as a road whose bank changes along it."""
@@ -288,17 +384,30 @@ REAR_STEER_V0, REAR_STEER_GAIN = 9.0, -0.3   # [m/s], rear angle / front angle
 AERO_BANK_LOCK = (4.6, 4.9)   # [s] rear-left wheel locked while braking (the locked-wheel ax update)
 
 
-def write_sequence(outdir, name, dt, t, value, valid, note, **cfg_kw):
+def write_sequence(outdir, name, dt, t, value, valid, note, with_kx=False, **cfg_kw):
+    """Runs the reference over the inputs and writes est_<name>.txt;
+    with_kx: one more column, the learned longitudinal scale kx after each
+    step."""
     cfg = est_ref.config(tire_params(), rate_hz=int(round(1.0 / dt)), **cfg_kw)
-    outs = est_ref.run(cfg, value, valid, t)
+    if with_kx:
+        e = est_ref.Estimator(cfg)
+        outs = []
+        for k in range(len(t)):
+            o = e.step(value[k], valid[k], int(round(float(t[k]) * 1e6)))
+            outs.append(dict(o, kx=e.kx))
+    else:
+        outs = est_ref.run(cfg, value, valid, t)
     in_cols = ["t"] + [f"in{i}" for i in range(est_ref.N_IN)] + ["valid_mask"]
-    text = header("grip_tools.golden.est", est_ref.Estimator, SEED, in_cols + out_columns(),
+    text = header("grip_tools.golden.est", est_ref.Estimator, SEED,
+                  in_cols + out_columns() + (["kx"] if with_kx else []),
                   {"sequence": name, "dt": dt, "tire": TIRE, "vehicle": "est_ref.config (passenger)",
                    "note": note, **{k: repr(v) for k, v in cfg_kw.items()}})
     lines = [text.rstrip("\n")]
     for k in range(len(t)):
         mask = int(sum(int(valid[k, i]) << i for i in range(est_ref.N_IN)))
         vals = [float(t[k])] + [float(x) for x in value[k]] + [mask] + out_row(outs[k])
+        if with_kx:
+            vals.append(outs[k]["kx"])
         lines.append(" ".join(_fmt(x) for x in vals))
     with open(os.path.join(outdir, f"est_{name}.txt"), "w") as f:
         f.write("\n".join(lines) + "\n")
@@ -319,6 +428,9 @@ def _fmt(x):
 # the stiffness sequence's generator tire: this much stiffer than the
 # estimator's (LKY), so that the learned scales move
 STIFF_LKY = 1.5
+# the longitudinal stiffness sequence's generator tire: this much stiffer in
+# slip (LKX), and its front wheels' rolling radius this much larger
+STIFF_LKX, STIFF_RADIUS = 1.4, 0.004
 
 
 def write_golden(outdir):
@@ -356,6 +468,11 @@ def write_golden(outdir):
     write_sequence(outdir, "stiffness_100hz", 0.01, t, v, ok,
                    f"internal generator, mu 1.0, half steering, the generator's tire {STIFF_LKY} x as stiff, stiff_est = 1",
                    stiff_est=1)
+    t, v, ok, _ = drive_inputs(lkx=STIFF_LKX, radius_front=STIFF_RADIUS)
+    write_sequence(outdir, "stiffness_long_100hz", 0.01, t, v, ok,
+                   f"straight drive, coasting, traction and braking, rear-wheel drive, the generator's tire "
+                   f"{STIFF_LKX} x as stiff in slip, front radius {STIFF_RADIUS} larger, kx_est = 1, "
+                   f"drive_front = 0", with_kx=True, kx_est=1, drive_front=0.0)
     sim = sim_inputs()
     path = os.path.join(outdir, "est_sim_sine_dwell.txt")
     if sim is not None:

@@ -19,6 +19,9 @@ one method each, in a section named after the C file that holds the stage:
                                            understeer bound and its withdrawal
     stiffness              est_stiffness.c each axle's cornering-stiffness
                                            scale learned (stiff_est)
+    stiffness_long         est_stiffness_long.c the tires' longitudinal
+                                           slip-stiffness scale learned
+                                           (kx_est)
     lateral_filter         est_lateral.c   EKF predict of x = [vy, r, mu, b],
                                            scalar Joseph updates of yaw rate
                                            and ay
@@ -149,6 +152,28 @@ STF_H_MIN, STF_SLOPE, STF_K_MIN, STF_K_MAX, STF_RACC = 0.3, 1000.0, 0.4, 2.5, 5.
 # prior, the range of 1 / k
 STF_P_MIN, STF_P_MAX = (STF_SD_MIN / STF_S_U) ** 2, (STF_P0 / STF_S_U) ** 2
 STF_X_LO, STF_X_HI = 1.0 / (STF_K_MAX * STF_S_U), 1.0 / (STF_K_MIN * STF_S_U)
+
+# -- learned longitudinal slip stiffness (est_stiffness_long.c,
+# docs/estimator/stiffness.md): a two-state Kalman filter on 1 / kx (units
+# KX_S_U) and the axles' rolling-radius mismatch d (units KX_S_Y), from the
+# front-minus-rear axle slip of the wheel speeds against the model slips of
+# the drive force split by drive_front (per mille, KX_S_Y); priors KX_P0,
+# KX_D0, floors KX_SD_MIN, KX_D_SD_MIN, random walks KX_Q, KX_QD [1/s],
+# measurement deviation KX_R correlated over KX_TC [s]; signals low-passed
+# over KX_T [s]; learns above KX_V [m/s], |ay| < KX_AY, |delta| < KX_STEER,
+# model utilization < KX_U, drive force / m >= -KX_AX_C (coasting within
+# +-KX_AX_C, traction above KX_AX_T with a model slip difference >= KX_H_MIN
+# per mille); the wheel-speed difference within KX_DV_MAX [m/s]; kx within
+# [KX_K_MIN, KX_K_MAX], d within +-KX_D_MAX
+KX_S_U, KX_S_Y, KX_P0, KX_SD_MIN, KX_Q = 0.05, 0.001, 0.5, 0.02, 1.0e-4
+KX_D0, KX_D_SD_MIN, KX_QD, KX_R, KX_T, KX_TC = 0.02, 2.0e-4, 1.0e-7, 1.0e-3, 0.2, 2.0
+KX_V, KX_AY, KX_STEER, KX_U, KX_AX_C, KX_AX_T, KX_H_MIN = 10.0, 1.0, 0.05, 0.35, 0.3, 0.5, 5.0
+KX_DV_MAX, KX_K_MIN, KX_K_MAX, KX_D_MAX = 2.0, 0.4, 2.5, 0.05
+# the filter's bounds in scaled units (est_internal.h)
+KX_P_MIN, KX_P_MAX = (KX_SD_MIN / KX_S_U) ** 2, (KX_P0 / KX_S_U) ** 2
+KX_PD_MIN, KX_PD_MAX = (KX_D_SD_MIN / KX_S_Y) ** 2, (KX_D0 / KX_S_Y) ** 2
+KX_X_LO, KX_X_HI = 1.0 / (KX_K_MAX * KX_S_U), 1.0 / (KX_K_MIN * KX_S_U)
+KX_XD_MAX = KX_D_MAX / KX_S_Y
 
 # -- the lateral filter on / off (est_lateral.c)
 V_ON, V_OFF = 3.0, 2.5  # on above V_ON, off below V_OFF [m/s]
@@ -339,7 +364,7 @@ def config(tire_front, tire_rear=None, rate_hz=100, **kw):
              steer_ratio=15.5, wheel_radius=0.30, roll_split_front=0.60, roll_gradient=0.0088,
              rate_hz=int(rate_hz),
              dt=1.0 / int(rate_hz),
-             speed_ref_mu=0, rear_steer=0, bank_est=0, stiff_est=0,
+             speed_ref_mu=0, rear_steer=0, bank_est=0, stiff_est=0, kx_est=0, drive_front=-1.0,
              tire_tol=TIRE_TOL, kin_acc_sd=KIN_ACC, beta_sd_max=BETA_SD_MAX, vx_sd_max=0.0, fy_sd_max=0.0,
              cla=0.0, aero_front=0.5, air_density=1.2, cda=0.0, crr=0.0, tan_bank=0.0, tan_grade=0.0,
              tire=(tire_front, tire_rear if tire_rear is not None else tire_front))
@@ -554,6 +579,19 @@ class Estimator:
         self.stf_a = min(1.0 / (STF_T * rate), 1.0)
         self.stf_r = (STF_R / STF_S_Y) ** 2 * STF_TC * rate
         self.stf_n_min = int(math.floor(3.0 * STF_T * rate + 0.5))
+        # the learned longitudinal slip stiffness (est_stiffness_long.c): the
+        # tire file's, no radius mismatch, the priors' covariance
+        self.kx_x = np.array([1.0 / KX_S_U, 0.0])
+        self.kx_p = np.array([[KX_P_MAX, 0.0], [0.0, KX_PD_MAX]])
+        self.kx_updates = 0
+        self.kx_q = KX_Q / KX_S_U ** 2 / rate
+        self.kx_qd = KX_QD / KX_S_Y ** 2 / rate
+        self.kx_a = min(1.0 / (KX_T * rate), 1.0)
+        self.kx_r = (KX_R / KX_S_Y) ** 2 * KX_TC * rate
+        self.kx_n_min = int(math.floor(3.0 * KX_T * rate + 0.5))
+        # kx 1, and vx's deviation: the wheels' mean slip per m/s^2 of ax at
+        # kx, slip_acc = m / (4 kx c_kappa)
+        self.kx_apply()
         self.reset()
 
     def reset(self):
@@ -599,6 +637,7 @@ class Estimator:
         self.rlx_init = False        # alpha_t set since the observer started
         # the learned stiffness stays; its regression restarts
         self.stf_z, self.stf_h, self.stf_yaw, self.stf_n = 0.0, np.zeros(2), 0.0, 0
+        self.kx_z, self.kx_h, self.kx_dv, self.kx_n = 0.0, 0.0, 0.0, 0
 
     # ---- est_step.c: the stages in their order ------------------------------
     def step(self, value, valid, t_us=None):
@@ -612,7 +651,8 @@ class Estimator:
         self.tire_model(s)
         if self.active:
             self.friction_tests(s)
-            self.stiffness(s)
+            stf_upd = self.stiffness(s)
+            self.stiffness_long(s, stf_upd)
             self.lateral_filter(s)
             self.road(s)
             self.update_balances(s)
@@ -844,6 +884,9 @@ class Estimator:
             outl = [False] * 4
             n_good = n_ws
             lock = spin = False
+        # the axles' mean speeds at the CG, front minus rear (the
+        # longitudinal stiffness's measurement; used with every wheel valid)
+        self.kx_dv = 0.5 * ((vcs[0] + vcs[1]) - (vcs[2] + vcs[3]))
         for i in range(4):
             if ws_ok[i] and (not outl[i] or n_good == 0):
                 vmin, vmax, vsum = min(vmin, vcs[i]), max(vmax, vcs[i]), vsum + vcs[i]
@@ -1234,7 +1277,8 @@ class Estimator:
         # sliding branch, shifted to start at the stretched peak (a locked
         # wheel slides at the tire's sliding ratio of the road's friction)
         kpk = np.array([self.kappa_pk[0], self.kappa_pk[0], self.kappa_pk[1], self.kappa_pk[1]])
-        ak = np.abs(kappa)
+        # the tires work at kx kappa (the learned slip stiffness, stiffness_long)
+        ak = np.abs(self.kx * kappa)
         tk = np.clip(np.sign(kappa) * np.where(ak <= mu * kpk, ak / mu, kpk + ak - mu * kpk), -1.5, 1.5)
         apk = np.array([self.alpha_pk[0], self.alpha_pk[0], self.alpha_pk[1], self.alpha_pk[1]])
         kw = np.array([self.stf_k[0], self.stf_k[0], self.stf_k[1], self.stf_k[1]])
@@ -1264,12 +1308,13 @@ class Estimator:
         o["util"] = np.minimum(u, 1.5)
         g = np.maximum(G_MIN, np.sqrt(1.0 - np.minimum(u, 1.0)))
         ca = fzr * caw * kw
+        ck = fzr * (ckw * self.kx)
         # Excitation: the utilization the slips would cause on the tire's
         # own friction (mu = 1), never measured against the estimate
         # itself, which would let a falling mu excite its own adaptation.
         cap = np.maximum(mu0w * fz, 50.0)
         ulin_y = np.abs(alpha) * ca / cap
-        ulin_x = np.abs(kappa) * (fzr * ckw) / cap
+        ulin_x = np.abs(kappa) * ck / cap
         s.umax = float(np.max(np.maximum(ulin_y, ulin_x)))
         s.umax_x = float(np.max(ulin_x))
         c2 = 1.0 / (1.0 + np.clip(t, -100.0, 100.0) ** 2)
@@ -1286,7 +1331,7 @@ class Estimator:
         dfy_dvy, dfy_dr = dady * dfda, dadr * dfda
         jay = [float(np.sum(cdi * dfy_dvy)), float(np.sum(cdi * dfy_dr)), float(np.sum(cdi * dfdmu))]
         jr = [float(np.sum(lever * dfy_dvy)), float(np.sum(lever * dfy_dr)), float(np.sum(lever * dfdmu))]
-        dfxdk = g * (fzr * ckw)
+        dfxdk = g * ck
         dfxdmu = _between(fx - kappa * dfxdk, fx) / mu
         jax_mu = float(np.sum(cdi * dfxdmu - sdi * dfdmu))
         fbx = cdi * fx - sdi * fy
@@ -1328,7 +1373,7 @@ class Estimator:
         stage's fy, dfda, util."""
         c = self.cfg
         if not c.get("stiff_est", 0):
-            return
+            return False
         rate = c["rate_hz"]
         self.stf_p[0, 0] = min(self.stf_p[0, 0] + self.stf_q, STF_P_MAX)
         self.stf_p[1, 1] = min(self.stf_p[1, 1] + self.stf_q, STF_P_MAX)
@@ -1342,7 +1387,7 @@ class Estimator:
               and abs(rdot) < STF_RACC)
         if not ok:
             self.stf_n = 0
-            return
+            return False
         l = c["lf"] + c["lr"]
         ff = (c["mass"] * c["lr"] * s.ay + c["iz"] * rdot) / l
         fr = (c["mass"] * c["lf"] * s.ay - c["iz"] * rdot) / l
@@ -1355,7 +1400,7 @@ class Estimator:
         self.stf_h = self.stf_h + a * (np.array([hf, hr]) / STF_S_Y - self.stf_h)
         self.stf_n += 1
         if self.stf_n < self.stf_n_min or abs(self.stf_h[0]) + abs(self.stf_h[1]) < STF_H_MIN:
-            return
+            return False
         h = np.array([self.stf_h[0], -self.stf_h[1]]) * STF_S_U
         P = self.stf_p
         nu = self.stf_z - float(h @ self.stf_x)
@@ -1368,6 +1413,86 @@ class Estimator:
         self.stf_k = [1.0 / (float(x) * STF_S_U) for x in self.stf_x]
         self._stability_factor()
         self.stf_updates += 1
+        return True
+
+    # ---- est_stiffness_long.c: the learned longitudinal slip stiffness ------
+    def _kx_condition(self):
+        P = self.kx_p
+        P[0, 0] = _clamp(P[0, 0], KX_P_MIN, KX_P_MAX)
+        P[1, 1] = _clamp(P[1, 1], KX_PD_MIN, KX_PD_MAX)
+        c = 0.99 * math.sqrt(P[0, 0] * P[1, 1])
+        P[0, 1] = P[1, 0] = _clamp(P[0, 1], -c, c)
+
+    def kx_apply(self):
+        """est_kx_apply: kx from its state (exactly 1 while nothing was
+        learned), and the vx bound's slip per m/s^2 at that scale."""
+        self.kx = 1.0 / (float(self.kx_x[0]) * KX_S_U) if self.kx_updates > 0 else 1.0
+        self.slip_acc = self.cfg["mass"] / (4.0 * (min(self.c_kappa) * self.kx))
+
+    def stiffness_long(self, s, stf_upd):
+        """The tires' longitudinal slip-stiffness scale kx (kx_est = 1 with
+        drive_front known): the accelerometer's total longitudinal force F =
+        m ax + drag + rolling resistance, split by drive_front, over each
+        axle's slip stiffness c_kappa at its load gives the model slip
+        difference g (kx = 1); the wheel speeds at the CG give the
+        front-minus-rear axle slip dk = g / kx + d (d the axles'
+        rolling-radius mismatch): a Kalman update of (1 / kx, d) on the
+        low-passed signals while coasting (|F / m| <= KX_AX_C: d alone) or in
+        traction with excitation (F / m >= KX_AX_T, |g| >= KX_H_MIN), never
+        braking; it waits while the cornering stiffness updated in this
+        step (stf_upd). A random walk every step.
+        docs/estimator/stiffness.md.
+
+        State: kx_x, kx_p, kx, kx_z, kx_h, kx_n, kx_updates, slip_acc.
+        Step: reads ax, ay, vx, delta, the gates' flags, fz, kx_dv (from
+        estimate_speed)."""
+        c = self.cfg
+        if not c.get("kx_est", 0) or c.get("drive_front", -1.0) < 0.0:
+            return
+        self.kx_p[0, 0] = min(self.kx_p[0, 0] + self.kx_q, KX_P_MAX)
+        self.kx_p[1, 1] = min(self.kx_p[1, 1] + self.kx_qd, KX_PD_MAX)
+        f = c["mass"] * s.ax + (self.k_drag * s.vx * s.vx + self.f_roll)
+        ad = f / c["mass"]
+        fz = s.out["fz"]
+        fzf, fzr = fz[0] + fz[1], fz[2] + fz[3]
+        ok = (s.ax_ok and s.ay_ok and s.yaw_ok and s.steer_ok and s.wheels_ok
+              and not (s.flags & F_STEER_LIMIT) and s.vx >= KX_V and abs(s.ay) < KX_AY
+              and abs(s.delta) < KX_STEER and float(np.max(s.out["util"])) < KX_U
+              and not s.lock and not s.spin and not s.dead_reck and not s.at_limit
+              and not bool(np.any(np.abs(s.kappa) >= LOCK_K))
+              and ad >= -KX_AX_C and fzf >= self.fz_static[0] and fzr >= self.fz_static[1])
+        if not ok:
+            self.kx_n = 0
+            return
+        sf = c["drive_front"]
+        cf = fzf / self.fz_static[0] * self.c_kappa[0] / (1.0 / KX_S_Y)
+        cr = fzr / self.fz_static[1] * self.c_kappa[1] / (1.0 / KX_S_Y)
+        g = sf * f / cf - (1.0 - sf) * f / cr
+        dk = _clamp(self.kx_dv, -KX_DV_MAX, KX_DV_MAX) / KX_S_Y / s.vx
+        a = 1.0 if self.kx_n == 0 else self.kx_a
+        self.kx_z += a * (dk - self.kx_z)
+        self.kx_h += a * (g - self.kx_h)
+        self.kx_n += 1
+        if self.kx_n < self.kx_n_min or stf_upd:
+            return
+        coast = abs(ad) <= KX_AX_C
+        if not coast and not (ad >= KX_AX_T and abs(self.kx_h) >= KX_H_MIN):
+            return
+        # coasting measures the mismatch alone: the small drive slip is taken
+        # out at the current kx, and the row has no kx term
+        hs = self.kx_h * KX_S_U
+        h = np.array([0.0 if coast else hs, 1.0])
+        P = self.kx_p
+        nu = self.kx_z - (hs * float(self.kx_x[0]) + float(self.kx_x[1]))
+        ph = P @ h
+        k = ph / (float(h @ ph) + self.kx_r)
+        x = self.kx_x + k * nu
+        self.kx_x = np.array([_clamp(x[0], KX_X_LO, KX_X_HI), _clamp(x[1], -KX_XD_MAX, KX_XD_MAX)])
+        self.kx_p = P - np.outer(k, ph)
+        self.kx_p[1, 0] = self.kx_p[0, 1]
+        self._kx_condition()
+        self.kx_updates += 1
+        self.kx_apply()
 
     def _stability_factor(self):
         """k_us = 100 A, the stability factor of the linear single-track
@@ -1733,7 +1858,7 @@ class Estimator:
         acc = c.get("kin_acc_sd", KIN_ACC) + abs(s.yaw) * vyb
         sd = min(self.sd_vx + acc * c["dt"], SD_CAP)
         if kk > 0.0:
-            slip = c["mass"] / (4.0 * min(self.c_kappa)) * min(abs(s.ax), ACC_MAX)
+            slip = self.slip_acc * min(abs(s.ax), ACC_MAX)
             if self.active:
                 # a tire beyond its peak slip angle slides: its slip ratio
                 # follows the force's direction, not ax (up to a peak slip

@@ -21,7 +21,10 @@ two configurations an OEM could have:
            (stiff_est = 1) and starting from what it learned in 90 s of
            ordinary driving on a dry road (learn: the learning drive, its
            grip_est_learned_t blob restored at every run's start, as after
-           an ignition cycle); needs the binding
+           an ignition cycle); needs the binding. With learn_kx (est-eval
+           --kx-est) also the longitudinal slip stiffness (kx_est = 1, the
+           drive split from the parameter set's T_se), learned on a further
+           64 s of straight driving with traction, rolling and braking
 
 Metrics (metrics()), "moving" = true vx >= 3 m/s (the estimator's own
 switch-on speed), "spin" = from the first moving step where the true
@@ -104,7 +107,8 @@ def oem_vehicle(veh):
     p = veh.p
     return dict(mass=float(p.m), iz=float(p.I_z), lf=float(p.a), lr=float(p.b), track_f=float(p.T_f),
                 track_r=float(p.T_r), h_cg=float(p.h_cg), steer_ratio=mb.STEER_RATIO, wheel_radius=float(p.R_w),
-                latency=sensors.LATENCY, steer_latency=sensors.STEER_LATENCY, cda=0.0, crr=0.0)
+                latency=sensors.LATENCY, steer_latency=sensors.STEER_LATENCY, cda=0.0, crr=0.0,
+                drive_front=float(p.T_se))
 
 
 def vehicle_lines(values):
@@ -126,16 +130,27 @@ def cornering_stiffness(params, fz):
     return float(abs(out["fy"][1] - out["fy"][0]) / (2 * d))
 
 
+def slip_stiffness(params, fz):
+    """|dFx / dkappa| at kappa = 0 [N] of a .tir parameter set."""
+    d = 1e-4
+    k = np.array([-d, d])
+    out = mf.evaluate(params, k, np.zeros(2), np.zeros(2), np.full(2, fz), mirror=False)
+    return float(abs(out["fx"][1] - out["fx"][0]) / (2 * d))
+
+
 def stiffness_ratios(veh, fitted_tir):
     """The model car's tire and the fitted tire against the generic one:
-    cornering stiffness ratios at the static wheel loads, front and rear."""
+    cornering stiffness ratios at the static wheel loads, front and rear;
+    the model tire's slip stiffness ratio (model_kx_f, model_kx_r)."""
     fzf, fzr = veh.static_wheel_loads()
     g = tir.load_params(GENERIC_TIR)
     f = tir.load_params(fitted_tir)
     ky = abs(float(veh.p.tire.p_ky1))
+    kx = abs(float(veh.p.tire.p_kx1))
     return dict(model_f=ky * fzf / cornering_stiffness(g, fzf), model_r=ky * fzr / cornering_stiffness(g, fzr),
                 fitted_f=cornering_stiffness(f, fzf) / cornering_stiffness(g, fzf),
-                fitted_r=cornering_stiffness(f, fzr) / cornering_stiffness(g, fzr))
+                fitted_r=cornering_stiffness(f, fzr) / cornering_stiffness(g, fzr),
+                model_kx_f=kx * fzf / slip_stiffness(g, fzf), model_kx_r=kx * fzr / slip_stiffness(g, fzr))
 
 
 def mu_norm(veh, tir_path):
@@ -246,24 +261,35 @@ def characterize(vname, out_dir, work_dir):
                 ay_max=float(np.max(np.abs(ay[mov]))))
 
 
-def learn(vname, values, bins, work_dir):
+def learn(vname, values, bins, work_dir, kx=False):
     """The learning drive of one vehicle (manoeuvres.learning_drive, dry)
     through each binding build with stiff_est = 1: {arith: learned()} (the
-    scales, the updates, the blob). Builds that are grip-replay programs
-    are left out (the blob goes through grip.est)."""
+    scales, the updates, the blob). kx: kx_est = 1 too, and after it (an
+    ignition cycle later, from its blob) the straight drive with speed
+    changes (manoeuvres.learning_drive_long). Builds that are grip-replay
+    programs are left out (the blob goes through grip.est)."""
     veh = mb.Vehicle(vname)
-    sc = man_mod.build("learning-drive", veh, 1.0)
-    sim = mb.simulate(veh, sc, 1.0)
-    t, meas = sensors.measure(sim, veh, seed=_seed(vname, "learning-drive", "dry"))
-    value, valid = sensors.estimator_inputs(t, meas, est_eval.IN_COLS)
-    os.makedirs(work_dir, exist_ok=True)
-    est_eval.write_input_csv(os.path.join(work_dir, f"learning_{vname}_inputs.csv"), t, value, valid)
+    drives = ("learning-drive", "learning-drive-long") if kx else ("learning-drive",)
+    vv = dict(values, stiff_est=1, **({"kx_est": 1} if kx else {}))
+    inputs = []
+    for name in drives:
+        sc = man_mod.build(name, veh, 1.0)
+        sim = mb.simulate(veh, sc, 1.0)
+        t, meas = sensors.measure(sim, veh, seed=_seed(vname, name, "dry"))
+        value, valid = sensors.estimator_inputs(t, meas, est_eval.IN_COLS)
+        os.makedirs(work_dir, exist_ok=True)
+        tag = "" if name == "learning-drive" else "_long"
+        est_eval.write_input_csv(os.path.join(work_dir, f"learning{tag}_{vname}_inputs.csv"), t, value, valid)
+        inputs.append((t, value, valid))
     out = {}
     for arith, b in bins.items():
         if b[0] != "binding":
             continue
-        out[arith] = est_eval.run_est(b, GENERIC_TIR, t, value, valid, vehicle="generic",
-                                      vehicle_values=dict(values, stiff_est=1), keep_learned=True)["learned"]
+        blob = None
+        for t, value, valid in inputs:
+            out[arith] = est_eval.run_est(b, GENERIC_TIR, t, value, valid, vehicle="generic", vehicle_values=vv,
+                                          learned=blob, keep_learned=True)["learned"]
+            blob = out[arith]["blob"]
     return out
 
 
@@ -624,6 +650,19 @@ def summary_md(results, configs, builds, in_family, step_err, chars):
                              f"{_f(ref.get('model_f'), '.2f')} / {_f(ref.get('model_r'), '.2f')} | "
                              f"{_f(ref.get('fitted_f'), '.2f')} / {_f(ref.get('fitted_r'), '.2f')} |")
         lines.append("")
+        if any("kx" in x for c in chars for x in c.get("learned", {}).values()):
+            lines.append("The longitudinal slip-stiffness scale (`kx_est` = 1, the drive split from the parameter "
+                         "set's T_se) and the axles' rolling-radius mismatch learned, against the model car's "
+                         "tire's slip stiffness over the generic one's at the static wheel loads.\n")
+            lines.append("| vehicle | build | kx learned | radius mismatch [per mille] | updates | model tire / generic f / r |")
+            lines.append("|---|---|---|---|---|---|")
+            for c in chars:
+                for a, x in c.get("learned", {}).items():
+                    ref = c.get("stiffness_ratio", {})
+                    lines.append(f"| {c['vehicle']} | {a} | {x['kx']:.3f} | {1000 * x['radius_mismatch']:.2f} | "
+                                 f"{x['kx_updates']} | {_f(ref.get('model_kx_f'), '.2f')} / "
+                                 f"{_f(ref.get('model_kx_r'), '.2f')} |")
+            lines.append("")
     return "\n".join(lines)
 
 
@@ -688,11 +727,12 @@ def find_bins(specs=()):
 
 
 def run(out, full=False, vehicles=None, manoeuvres=None, surfaces=None, jobs=None, runs_dir=None,
-        c_bins=(), fitted=True, step_checks=True, plots=True, vehicle_extra=None, learned=True):
+        c_bins=(), fitted=True, step_checks=True, plots=True, vehicle_extra=None, learned=True, learn_kx=False):
     """The whole judge; writes out/independent.json and .md (and PNGs).
     vehicle_extra: estimator settings added to every configuration's
-    vehicle values (est-eval --bank-est: {"bank_est": 1}). Returns the JSON
-    dict."""
+    vehicle values (est-eval --bank-est: {"bank_est": 1}); learn_kx: the
+    learned configuration learns the longitudinal slip stiffness too
+    (est-eval --kx-est). Returns the JSON dict."""
     t_start = time.time()
     sel = dict(FULL_SET if full else DEFAULT_SET)
     if vehicles:
@@ -734,20 +774,21 @@ def run(out, full=False, vehicles=None, manoeuvres=None, surfaces=None, jobs=Non
                     c["mu_norm"] = {"generic": per_vehicle[v]["generic"]["mu_norm"],
                                     "fitted": per_vehicle[v]["fitted"]["mu_norm"]}
         if learned:
-            taught = pmap(_learn_job, [(v, per_vehicle[v]["generic"]["values"], bins, runs_dir)
+            taught = pmap(_learn_job, [(v, per_vehicle[v]["generic"]["values"], bins, runs_dir, learn_kx)
                                        for v in sel["vehicles"]])
             for v, tv in zip(sel["vehicles"], taught):
                 # every build needs its own blob: with a grip-replay
                 # program among the builds the configuration is left out
                 if set(tv) == set(bins):
                     g = per_vehicle[v]["generic"]
-                    vl = dict(g["values"], stiff_est=1)
+                    vl = dict(g["values"], stiff_est=1, **({"kx_est": 1} if learn_kx else {}))
                     per_vehicle[v]["learned"] = dict(tir=GENERIC_TIR, lines=vehicle_lines(vl), values=vl,
                                                      mu_norm=g["mu_norm"], bicycle=g["bicycle"], learned=tv)
                     for c in chars:
                         if c["vehicle"] == v:
-                            c["learned"] = {a: {k: x[k] for k in ("k_front", "k_rear", "updates")}
-                                            for a, x in tv.items()}
+                            keys = ("k_front", "k_rear", "updates") + (
+                                ("kx", "radius_mismatch", "kx_updates") if learn_kx else ())
+                            c["learned"] = {a: {k: x[k] for k in keys} for a, x in tv.items()}
                             c["stiffness_ratio"] = stiffness_ratios(mb.Vehicle(v), c["tir"])
         configs = list(next(iter(per_vehicle.values())).keys())
         joblist = []
@@ -771,7 +812,7 @@ def run(out, full=False, vehicles=None, manoeuvres=None, surfaces=None, jobs=Non
     results.sort(key=lambda r: order[(r["vehicle"], r["manoeuvre"], r["surface"])])
     builds = [a for a in ("float", "fixed") if a in bins]
     in_family = in_family_counts(os.path.join(REPO_ROOT, "docs", "estimator", "accuracy.json"))
-    doc = {"command": "grip est-eval --independent" + (" --full" if full else ""),
+    doc = {"command": "grip est-eval --independent" + (" --full" if full else "") + (" --kx-est" if learn_kx else ""),
            "selection": {k: list(v) for k, v in sel.items()}, "targets": TARGETS, "builds": builds,
            "configs": {v: {c: {"tir": os.path.relpath(d["tir"], REPO_ROOT), "vehicle": d["values"],
                                "mu_norm": d["mu_norm"], "bicycle_baseline": d["bicycle"]}

@@ -353,6 +353,28 @@ def learning_drive(veh, mu_surface, v0=80 * KMH, duration=90.0):
     return Scenario("learning-drive", v0, duration, steer, lambda drv, t, x: ("hold", v0, 0.0))
 
 
+def learning_drive_long(veh, mu_surface, v0=60 * KMH, cycles=4):
+    """Ordinary straight driving with speed changes for the estimator's
+    longitudinal stiffness learning (judge.learn with kx_est): per 16 s
+    cycle 3 s at constant speed, 4 s of traction at 1.5 m/s^2, 4 s rolling
+    without drive or brake, 4 s of braking at 1.5 m/s^2, 1 s rolling; not a
+    judged manoeuvre."""
+    period = 16.0
+
+    def speed(drv, t, x):
+        ph = t % period
+        if ph < 3.0:
+            return ("hold", v0, 0.0)
+        if ph < 7.0:
+            return ("accel", 1.5)
+        if ph < 11.0:
+            return ("coast",)
+        if ph < 15.0:
+            return ("accel", -1.5)
+        return ("coast",)
+    return Scenario("learning-drive-long", v0, period * cycles, lambda drv, t, x, dt: 0.0, speed)
+
+
 MANOEUVRES = {
     "circle-ramp": circle_ramp, "step-steer": step_steer, "sine-dwell": sine_dwell, "slalom": slalom,
     "double-lane-change": double_lane_change, "brake-in-turn": brake_in_turn, "mu-step": mu_step,
@@ -365,4 +387,6 @@ def build(name, vehicle, surface_factor):
         return ramp_steer(vehicle, surface_factor)
     if name == "learning-drive":
         return learning_drive(vehicle, surface_factor)
+    if name == "learning-drive-long":
+        return learning_drive_long(vehicle, surface_factor)
     return MANOEUVRES[name](vehicle, surface_factor)
