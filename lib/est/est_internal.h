@@ -92,6 +92,27 @@ static inline grip_real_t sym_clamp(grip_real_t x, grip_real_t m)
     return r_clamp(x, r_neg(m), m);
 }
 
+/* A two-state filter's covariance {P00, P01, P11} (the learned stiffness
+ * scales): each variance within [lo, hi] of its own, the correlation below
+ * 0.99 (conditioning after an update) */
+static inline void cov2_condition(grip_real_t p[3], grip_real_t lo0, grip_real_t hi0, grip_real_t lo1,
+                                  grip_real_t hi1)
+{
+    p[0] = r_clamp(p[0], lo0, hi0);
+    p[2] = r_clamp(p[2], lo1, hi1);
+    p[1] = sym_clamp(p[1], r_mul(RC(0.99), r_sqrt(r_mul(p[0], p[2]))));
+}
+
+/* The same covariance from outside (a restored blob): 1 when each variance
+ * lies within its bounds and P01^2 <= P00 P11; the negated comparisons
+ * also refuse NaN in the float build */
+static inline int cov2_in_range(const grip_real_t p[3], grip_real_t lo0, grip_real_t hi0, grip_real_t lo1,
+                                grip_real_t hi1)
+{
+    return (p[0] >= lo0 && p[0] <= hi0) && (p[2] >= lo1 && p[2] <= hi1) &&
+           (r_mul(p[1], p[1]) <= r_mul(p[0], p[2]));
+}
+
 /* A step counter, saturating so that it never wraps */
 static inline int32_t count_up(int32_t n)
 {

@@ -56,16 +56,6 @@ void est_stability_factor(grip_est_t *est)
     est->k_us = r_div(r_mul(a1, b100), r_mul(l, l));
 }
 
-/* The covariance within the floor, the prior and a correlation below 1 */
-static void stf_condition(grip_est_t *est)
-{
-    grip_real_t c;
-    est->stf_p[0] = r_clamp(est->stf_p[0], RC(EST_STF_P_MIN), RC(EST_STF_P_MAX));
-    est->stf_p[2] = r_clamp(est->stf_p[2], RC(EST_STF_P_MIN), RC(EST_STF_P_MAX));
-    c = r_mul(RC(0.99), r_sqrt(r_mul(est->stf_p[0], est->stf_p[2])));
-    est->stf_p[1] = sym_clamp(est->stf_p[1], c);
-}
-
 int est_stiffness(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t *out)
 {
     const grip_est_config_t *c = &est->cfg;
@@ -126,7 +116,8 @@ int est_stiffness(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t *
         est->stf_p[0] = r_sub(est->stf_p[0], r_mul(k0, ph0));
         est->stf_p[1] = r_sub(est->stf_p[1], r_mul(k0, ph1));
         est->stf_p[2] = r_sub(est->stf_p[2], r_mul(k1, ph1));
-        stf_condition(est);
+        /* within the floor, the prior and a correlation below 1 */
+        cov2_condition(est->stf_p, RC(EST_STF_P_MIN), RC(EST_STF_P_MAX), RC(EST_STF_P_MIN), RC(EST_STF_P_MAX));
         est->stf_k[0] = stf_scale(est->stf_x[0]);
         est->stf_k[1] = stf_scale(est->stf_x[1]);
         est_stability_factor(est);
@@ -235,15 +226,12 @@ grip_status_t grip_est_learned_set(grip_est_t *est, const grip_est_learned_t *bl
             return GRIP_ERR_PARAM;
         }
     }
-    if (!(blob->p[0] >= p_min && blob->p[0] <= p_max) || !(blob->p[2] >= p_min && blob->p[2] <= p_max) ||
-        !(r_mul(blob->p[1], blob->p[1]) <= r_mul(blob->p[0], blob->p[2]))) {
+    if (!cov2_in_range(blob->p, p_min, p_max, p_min, p_max)) {
         return GRIP_ERR_PARAM;
     }
     if (!(blob->kx_x[0] >= RC(EST_KX_X_LO) && blob->kx_x[0] <= RC(EST_KX_X_HI)) ||
         !(blob->kx_x[1] >= RC(-EST_KX_XD_MAX) && blob->kx_x[1] <= RC(EST_KX_XD_MAX)) ||
-        !(blob->kx_p[0] >= RC(EST_KX_P_MIN) && blob->kx_p[0] <= RC(EST_KX_P_MAX)) ||
-        !(blob->kx_p[2] >= RC(EST_KX_PD_MIN) && blob->kx_p[2] <= RC(EST_KX_PD_MAX)) ||
-        !(r_mul(blob->kx_p[1], blob->kx_p[1]) <= r_mul(blob->kx_p[0], blob->kx_p[2]))) {
+        !cov2_in_range(blob->kx_p, RC(EST_KX_P_MIN), RC(EST_KX_P_MAX), RC(EST_KX_PD_MIN), RC(EST_KX_PD_MAX))) {
         return GRIP_ERR_PARAM;
     }
     est->stf_x[0] = blob->x[0];

@@ -31,16 +31,6 @@
  */
 #include "est_internal.h"
 
-/* The covariance within its floors, its priors and a correlation below 1 */
-static void kx_condition(grip_est_t *est)
-{
-    grip_real_t c;
-    est->kx_p[0] = r_clamp(est->kx_p[0], RC(EST_KX_P_MIN), RC(EST_KX_P_MAX));
-    est->kx_p[2] = r_clamp(est->kx_p[2], RC(EST_KX_PD_MIN), RC(EST_KX_PD_MAX));
-    c = r_mul(RC(0.99), r_sqrt(r_mul(est->kx_p[0], est->kx_p[2])));
-    est->kx_p[1] = sym_clamp(est->kx_p[1], c);
-}
-
 void est_kx_apply(grip_est_t *est)
 {
     /* nothing learned: exactly the tire file's (1 / (x S_U) is 0.99994 in
@@ -105,7 +95,8 @@ static EST_NOINLINE int kx_regress(grip_est_t *est, const est_ctx_t *s, const gr
         est->kx_p[0] = r_sub(est->kx_p[0], r_mul(k0, ph0));
         est->kx_p[1] = r_sub(est->kx_p[1], r_mul(k0, ph1));
         est->kx_p[2] = r_sub(est->kx_p[2], r_mul(k1, ph1));
-        kx_condition(est);
+        /* within its floors, its priors and a correlation below 1 */
+        cov2_condition(est->kx_p, RC(EST_KX_P_MIN), RC(EST_KX_P_MAX), RC(EST_KX_PD_MIN), RC(EST_KX_PD_MAX));
         est->kx_updates = (est->kx_updates < 0x7fffffffu) ? est->kx_updates + 1u : est->kx_updates;
         est_kx_apply(est);
     }

@@ -1351,10 +1351,12 @@ class Estimator:
         s.dfda, s.dfdmu, s.jay, s.jr, s.jax_mu = dfda, dfdmu, jay, jr, jax_mu
 
     # ---- est_stiffness.c: the learned cornering stiffness --------------------
-    def _stf_condition(self):
-        P = self.stf_p
-        P[0, 0] = _clamp(P[0, 0], STF_P_MIN, STF_P_MAX)
-        P[1, 1] = _clamp(P[1, 1], STF_P_MIN, STF_P_MAX)
+    @staticmethod
+    def _cov2_condition(P, lo0, hi0, lo1, hi1):
+        """est_internal.h cov2_condition: a two-state covariance's
+        variances within their bounds, its correlation below 0.99."""
+        P[0, 0] = _clamp(P[0, 0], lo0, hi0)
+        P[1, 1] = _clamp(P[1, 1], lo1, hi1)
         c = 0.99 * math.sqrt(P[0, 0] * P[1, 1])
         P[0, 1] = P[1, 0] = _clamp(P[0, 1], -c, c)
 
@@ -1409,20 +1411,13 @@ class Estimator:
         self.stf_x = np.clip(self.stf_x + k * nu, STF_X_LO, STF_X_HI)
         self.stf_p = P - np.outer(k, ph)
         self.stf_p[1, 0] = self.stf_p[0, 1]
-        self._stf_condition()
+        self._cov2_condition(self.stf_p, STF_P_MIN, STF_P_MAX, STF_P_MIN, STF_P_MAX)
         self.stf_k = [1.0 / (float(x) * STF_S_U) for x in self.stf_x]
         self._stability_factor()
         self.stf_updates += 1
         return True
 
     # ---- est_stiffness_long.c: the learned longitudinal slip stiffness ------
-    def _kx_condition(self):
-        P = self.kx_p
-        P[0, 0] = _clamp(P[0, 0], KX_P_MIN, KX_P_MAX)
-        P[1, 1] = _clamp(P[1, 1], KX_PD_MIN, KX_PD_MAX)
-        c = 0.99 * math.sqrt(P[0, 0] * P[1, 1])
-        P[0, 1] = P[1, 0] = _clamp(P[0, 1], -c, c)
-
     def kx_apply(self):
         """est_kx_apply: kx from its state (exactly 1 while nothing was
         learned), and the vx bound's slip per m/s^2 at that scale."""
@@ -1490,7 +1485,7 @@ class Estimator:
         self.kx_x = np.array([_clamp(x[0], KX_X_LO, KX_X_HI), _clamp(x[1], -KX_XD_MAX, KX_XD_MAX)])
         self.kx_p = P - np.outer(k, ph)
         self.kx_p[1, 0] = self.kx_p[0, 1]
-        self._kx_condition()
+        self._cov2_condition(self.kx_p, KX_P_MIN, KX_P_MAX, KX_PD_MIN, KX_PD_MAX)
         self.kx_updates += 1
         self.kx_apply()
 
