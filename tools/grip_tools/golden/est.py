@@ -85,6 +85,26 @@ def tire_params():
 # ---------------------------------------------------------------------------
 # internal generator: single-track model with Magic Formula axle forces
 
+def _measure(rng, value, valid, ws, swa, r, ax, ay, rear_steer=None):
+    """One row of the generators' sensor inputs from the true states, in
+    place: value, valid the row's (18,) slices; ws the four wheel speeds
+    [m/s], swa the steering-wheel angle [rad], r the yaw rate [rad/s], ax, ay
+    the specific forces [m/s^2], rear_steer the rear road-wheel angle [rad]
+    (None: not measured, the input left invalid). Gaussian noise from rng,
+    drawn in this order: the wheel speeds (0.01 m/s), steering (0.001 rad),
+    yaw rate (0.002 rad/s), ax, ay (0.03 m/s^2), rear steering (0.0002 rad);
+    the order is part of every golden sequence the generators make."""
+    for i in range(4):
+        value[est_ref.WS[i]] = ws[i] + rng.normal(0, 0.01)
+    value[est_ref.STEER] = swa + rng.normal(0, 0.001)
+    value[est_ref.YAW] = r + rng.normal(0, 0.002)
+    value[est_ref.AX] = ax + rng.normal(0, 0.03)
+    value[est_ref.AY] = ay + rng.normal(0, 0.03)
+    valid[:8] = 1
+    if rear_steer is not None:
+        value[est_ref.REAR_STEER] = rear_steer + rng.normal(0, 0.0002)
+        valid[est_ref.REAR_STEER] = 1
+
 def bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED, v0=22.0, steer_gain=1.0,
                    brake_demand=3.0, rear_gain=0.0, bank=None, lky=1.0):
     """A nonlinear single-track run (steer steps, slalom, braking in a turn).
@@ -166,16 +186,7 @@ def bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED, v0=22.
         wsr = [(vx - r * tr / 2) * math.cos(dr_) + (vy - lr * r) * math.sin(dr_),
                (vx + r * tr / 2) * math.cos(dr_) + (vy - lr * r) * math.sin(dr_)]
         ws = [wsf[0] * (1 + slip), wsf[1] * (1 + slip), wsr[0] * (1 + slip), wsr[1] * (1 + slip)]
-        for i in range(4):
-            value[k, i] = ws[i] + rng.normal(0, 0.01)
-        value[k, est_ref.STEER] = swa + rng.normal(0, 0.001)
-        value[k, est_ref.YAW] = r + rng.normal(0, 0.002)
-        value[k, est_ref.AX] = ax + rng.normal(0, 0.03)
-        value[k, est_ref.AY] = ay + rng.normal(0, 0.03)
-        valid[k, :8] = 1
-        if rear_gain != 0.0:
-            value[k, est_ref.REAR_STEER] = dr_ + rng.normal(0, 0.0002)
-            valid[k, est_ref.REAR_STEER] = 1
+        _measure(rng, value[k], valid[k], ws, swa, r, ax, ay, dr_ if rear_gain != 0.0 else None)
         vx = max(vx + (ax + r * vy) * dt, 0.0)
         vy += vyd * dt
         r += rd * dt
@@ -247,13 +258,7 @@ def drive_inputs(dt=0.01, duration=14.0, seed=SEED + 5, v0=15.0, lkx=1.0, drive_
         wsr = [vx - r * tr / 2, vx + r * tr / 2]
         ws = [wsf[0] * (1 + kf) * (1 + radius_front), wsf[1] * (1 + kf) * (1 + radius_front),
               wsr[0] * (1 + kr), wsr[1] * (1 + kr)]
-        for i in range(4):
-            value[k, i] = ws[i] + rng.normal(0, 0.01)
-        value[k, est_ref.STEER] = swa + rng.normal(0, 0.001)
-        value[k, est_ref.YAW] = r + rng.normal(0, 0.002)
-        value[k, est_ref.AX] = ax + rng.normal(0, 0.03)
-        value[k, est_ref.AY] = ay + rng.normal(0, 0.03)
-        valid[k, :8] = 1
+        _measure(rng, value[k], valid[k], ws, swa, r, ax, ay)
         vx = max(vx + (ax + r * vy) * dt, 0.0)
         vy += vyd * dt
         r += rd * dt
