@@ -139,6 +139,34 @@ class JudgeTests(unittest.TestCase):
                           "fy_front_rms_pct": None, "fy_rear_rms_pct": 3.0})
         self.assertEqual(p, {"beta": None, "baseline": None, "valid": False, "mu": None, "fy": True, "all": False})
 
+    @staticmethod
+    def characterized(learned, ratios):
+        """A characterization entry of summary_md with the given learned
+        scales per build and stiffness ratios."""
+        return {"vehicle": "car", "tir": "/x/fitted_car.tir", "fit_rms_N": 100.0, "fit_points": 10,
+                "values": {"roll_gradient": 0.01, "roll_split_front": 0.5},
+                "mu_norm": {"generic": 1.0, "fitted": 1.0}, "learned": learned, "stiffness_ratio": ratios}
+
+    def test_learned_tables(self):
+        # the learned scales' tables: a row per vehicle and build, the
+        # slip-stiffness table only when kx was learned, "-" for a ratio
+        # that is not there
+        k = {"k_front": 1.23456, "k_rear": 0.98765, "updates": 12}
+        kx = dict(k, kx=1.3544, radius_mismatch=0.000531, kx_updates=7)
+        ratios = {"model_f": 1.661, "model_r": 1.6, "fitted_r": 1.834, "model_kx_f": 1.386, "model_kx_r": 1.394}
+        md = judge.summary_md([], [], ["float"], None, None,
+                              [self.characterized({"float": k, "fixed": dict(k, updates=13)}, ratios)])
+        self.assertIn("| vehicle | build | k front / rear learned | updates | model tire / generic f / r | "
+                      "fitted / generic f / r |\n|---|---|---|---|---|---|\n"
+                      "| car | float | 1.235 / 0.988 | 12 | 1.66 / 1.60 | - / 1.83 |\n"
+                      "| car | fixed | 1.235 / 0.988 | 13 | 1.66 / 1.60 | - / 1.83 |\n", md)
+        self.assertNotIn("kx learned", md)
+        md = judge.summary_md([], [], ["float"], None, None, [self.characterized({"float": kx}, ratios)])
+        self.assertIn("| car | float | 1.235 / 0.988 | 12 | 1.66 / 1.60 | - / 1.83 |\n", md)
+        self.assertIn("| vehicle | build | kx learned | radius mismatch [per mille] | updates | "
+                      "model tire / generic f / r |\n|---|---|---|---|---|---|\n"
+                      "| car | float | 1.354 | 0.53 | 7 | 1.39 / 1.39 |\n", md)
+
     def test_bicycle_baseline_is_kinematic_at_low_speed(self):
         bp = dict(m=1200.0, lf=1.1, lr=1.5, cf=8e4, cr=8e4)
         b = judge.bicycle_beta(bp, np.array([0.05]), np.array([1.0]))
