@@ -641,29 +641,50 @@ def summary_md(results, configs, builds, in_family, step_err, chars):
         lines.append("The cornering-stiffness scales the estimator learned (`stiff_est` = 1), restored at the start of "
                      "every run of the `learned` rows, against the ratios of the model car's tire and of the fitted "
                      "tire to the generic one at the static wheel loads.\n")
-        lines.append("| vehicle | build | k front / rear learned | updates | model tire / generic f / r | fitted / generic f / r |")
-        lines.append("|---|---|---|---|---|---|")
-        for c in chars:
-            for a, x in c.get("learned", {}).items():
-                ref = c.get("stiffness_ratio", {})
-                lines.append(f"| {c['vehicle']} | {a} | {x['k_front']:.3f} / {x['k_rear']:.3f} | {x['updates']} | "
-                             f"{_f(ref.get('model_f'), '.2f')} / {_f(ref.get('model_r'), '.2f')} | "
-                             f"{_f(ref.get('fitted_f'), '.2f')} / {_f(ref.get('fitted_r'), '.2f')} |")
-        lines.append("")
+        lines += _learned_table(chars, LEARNED_K_TABLE)
         if any("kx" in x for c in chars for x in c.get("learned", {}).values()):
             lines.append("The longitudinal slip-stiffness scale (`kx_est` = 1, the drive split from the parameter "
                          "set's T_se) and the axles' rolling-radius mismatch learned, against the model car's "
                          "tire's slip stiffness over the generic one's at the static wheel loads.\n")
-            lines.append("| vehicle | build | kx learned | radius mismatch [per mille] | updates | model tire / generic f / r |")
-            lines.append("|---|---|---|---|---|---|")
-            for c in chars:
-                for a, x in c.get("learned", {}).items():
-                    ref = c.get("stiffness_ratio", {})
-                    lines.append(f"| {c['vehicle']} | {a} | {x['kx']:.3f} | {1000 * x['radius_mismatch']:.2f} | "
-                                 f"{x['kx_updates']} | {_f(ref.get('model_kx_f'), '.2f')} / "
-                                 f"{_f(ref.get('model_kx_r'), '.2f')} |")
-            lines.append("")
+            lines += _learned_table(chars, LEARNED_KX_TABLE)
     return "\n".join(lines)
+
+
+def _ratio_pair(front, rear):
+    """A cell "front / rear" of two of the vehicle's stiffness ratios
+    (stiffness_ratios' keys; "-" where absent)."""
+    return lambda x, ref: f"{_f(ref.get(front), '.2f')} / {_f(ref.get(rear), '.2f')}"
+
+
+# The two tables of what the learned configuration learned, one row per
+# vehicle and build: (column title, cell(learned values of the build, the
+# vehicle's stiffness_ratio) -> text) after the vehicle and build columns.
+LEARNED_K_TABLE = (
+    ("k front / rear learned", lambda x, ref: f"{x['k_front']:.3f} / {x['k_rear']:.3f}"),
+    ("updates", lambda x, ref: f"{x['updates']}"),
+    ("model tire / generic f / r", _ratio_pair("model_f", "model_r")),
+    ("fitted / generic f / r", _ratio_pair("fitted_f", "fitted_r")),
+)
+LEARNED_KX_TABLE = (
+    ("kx learned", lambda x, ref: f"{x['kx']:.3f}"),
+    ("radius mismatch [per mille]", lambda x, ref: f"{1000 * x['radius_mismatch']:.2f}"),
+    ("updates", lambda x, ref: f"{x['kx_updates']}"),
+    ("model tire / generic f / r", _ratio_pair("model_kx_f", "model_kx_r")),
+)
+
+
+def _learned_table(chars, columns):
+    """The markdown lines of one table of the learned scales (columns:
+    LEARNED_K_TABLE or LEARNED_KX_TABLE), a row per characterized vehicle
+    and build, and the blank line after it."""
+    cols = ("vehicle", "build") + tuple(title for title, _ in columns)
+    lines = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+    for c in chars:
+        ref = c.get("stiffness_ratio", {})
+        for a, x in c.get("learned", {}).items():
+            lines.append("| " + " | ".join([c["vehicle"], a] + [cell(x, ref) for _, cell in columns]) + " |")
+    lines.append("")
+    return lines
 
 
 def worst(results, cname="generic", arith="float", n=4):
