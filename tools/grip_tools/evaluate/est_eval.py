@@ -780,8 +780,8 @@ def main(argv=None):
     ap.add_argument("--surfaces", nargs="+", help="--independent: only these surfaces")
     ap.add_argument("--integrity", action="store_true",
                     help="the validity flags' integrity on every judge (est_ref): <out>/integrity_table.md, .json")
-    ap.add_argument("--judges", default=",".join(("own", "mismatch", "independent", "av21")),
-                    help="--integrity: comma-separated subset of own, mismatch, independent, av21")
+    ap.add_argument("--judges", default="own,mismatch,independent,av21,faults",
+                    help="--integrity: comma-separated subset of own, mismatch, independent, av21, faults")
     ap.add_argument("--const", action="append", default=[], metavar="NAME=VALUE",
                     help="--integrity: an est_ref constant changed for the run (sensitivity: TIRE_TOL, KIN_ACC, ...)")
     a = ap.parse_args(argv)

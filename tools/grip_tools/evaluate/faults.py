@@ -216,7 +216,7 @@ def run_chain(value, valid, monitor=True):
     est = est_ref.Estimator(_EST_CFG)
     mon = monitor_ref.Monitor(monitor_ref.config(rate_hz=100))
     n = len(value)
-    r = {k: np.zeros(n) for k in ("beta", "mu", "vx", "yaw")}
+    r = {k: np.zeros(n) for k in ("beta", "beta_sd", "mu", "mu_sd", "vx", "yaw")}
     r["valid"] = np.zeros(n, np.int64)
     r["flags"] = np.zeros(n, np.int64)
     r["faulty"] = np.zeros(n, np.int64)
@@ -240,6 +240,7 @@ def run_chain(value, valid, monitor=True):
         o = est_ref.Estimator.step(est, v_in, ok_in)
         prev = o
         r["beta"][k], r["mu"][k], r["vx"][k], r["yaw"][k] = o["beta"], o["mu"], o["vx"], o["yaw_rate"]
+        r["beta_sd"][k], r["mu_sd"][k] = o["beta_sd"], o["mu_sd"]
         r["valid"][k], r["flags"][k] = o["valid"], o["flags"]
         fin = True
         for key in ("vx", "vy", "beta", "yaw_rate", "yaw_rate_ref", "yaw_error", "delta", "mu", "mu_conf",

@@ -25,8 +25,15 @@ Judges, all through the float64 reference (grip_tools.reference.est):
                generic configuration (PacejkaBook_Defaults on both axles)
   av21         the Dallara AV-21 road course (476 s), sideslip from the INS
                (est_eval --av21's stand-in tire and preset)
-The RAV4 log has no sideslip or friction truth and the fault table no
-truth of beta, so neither is a judge of this table.
+  faults       the fault campaign (grip faults): every fault of every ESC
+               signal injected into the project's simulator in six
+               manoeuvres, through the monitor and the estimator; one row
+               per manoeuvre (its fault-free run and 56 fault runs), once
+               for each consumer rule: the monitor's gate with its default
+               degraded bits (docs/faults.md), the SUSPECT bit only, and
+               the estimator's own valid bits without the monitor's gate
+The RAV4 log has no sideslip or friction truth, so it is not a judge of
+this table.
 """
 import json
 import math
@@ -37,7 +44,7 @@ import numpy as np
 
 from grip_tools.evaluate import est_eval
 from grip_tools.golden import est as golden_est
-from grip_tools.reference import est as est_ref, tir
+from grip_tools.reference import est as est_ref, monitor as monitor_ref, tir
 
 DEG = 180.0 / math.pi
 V_MIN = 5.0
@@ -45,7 +52,11 @@ FLOOR = {"beta": 1.0 / DEG, "mu": 0.1, "vx": 0.1, "fy_axle": 100.0}
 K = 3.0
 TARGET_RATE, TARGET_RUN_S, TARGET_VALID = 0.001, 0.1, 0.90
 SAT_U = 0.95
-JUDGES = ("own", "mismatch", "independent", "av21")
+JUDGES = ("own", "mismatch", "independent", "av21", "faults")
+# The fault campaign's consumer rules: grip_monitor_gate's degraded bits
+# (docs/faults.md); "estimator alone" is the estimator's valid bits ungated.
+FAULT_RULES = {"monitor gate": monitor_ref.DEGR_SUSPECT | monitor_ref.DEGR_UNVERIFIED,
+               "SUSPECT only": monitor_ref.DEGR_SUSPECT, "estimator alone": 0}
 MISMATCH_LKY = 0.4
 
 
@@ -236,6 +247,61 @@ def judge_av21(outdir, log=None):
     return {"road course (INS sideslip)": judge_run(t, est, truth, ins["vx"] > 10.0)}
 
 
+def _faults_scenario(args):
+    """One manoeuvre of the fault campaign (si, an index of faults.SCENARIOS):
+    its fault-free run and every fault run (only: just these fault cases,
+    e.g. ("ay delay",)) through monitor_ref -> est_ref (faults.run_chain);
+    per consumer rule (FAULT_RULES) the totals over those runs, as one row."""
+    from grip_tools.evaluate import faults as F
+    si, cache, only = args
+    scn, man, surf, kw, t0 = F.SCENARIOS[si]
+    cols, truth = F.simulate(man, surf, kw, cache)
+    runs = [] if only else [("fault-free", F.inputs(cols))]
+    for gi, sig in enumerate(F.SIGNALS):
+        for fi, fault in enumerate(F.FAULTS):
+            if only and f"{sig[0]} {fault}" not in only:
+                continue
+            c2, drop = F.inject(cols, sig, fault, t0, t0 + F.FAULT_T, [F.FAULT_SEED, si, gi, fi])
+            runs.append((f"{sig[0]} {fault}", F.inputs(c2, drop, sig[1])))
+    per_rule = {rule: [] for rule in FAULT_RULES}
+    for _, (t, value, valid) in runs:
+        run = F.run_chain(value, valid)
+        moving = truth["vx"] > V_MIN
+        for rule, mask in FAULT_RULES.items():
+            gated, _ = monitor_ref.gate(run["degraded"], mask, run["valid"], run["flags"])
+            est = dict(run, valid=gated)
+            r = judge_run(t, est, {"beta": truth["beta"], "mu": truth["mu"]}, moving)
+            r["beta_valid_steps_moving"] = int(np.sum(((gated & est_ref.V_BETA) != 0) & moving))
+            per_rule[rule].append(r)
+    rows = {}
+    for rule, rs in per_rule.items():
+        sds = [r["beta"]["sd_med_deg"] for r in rs if r["beta"]["sd_med_deg"] is not None]
+        beta = totals(rs, "beta")
+        beta["sd_med_deg"] = float(np.median(sds)) if sds else None
+        n_mov = sum(r["moving_steps"] for r in rs)
+        rows[rule] = {"runs": len(rs), "moving_steps": n_mov, "beta": beta, "mu": totals(rs, "mu"),
+                      "beta_valid_share": (sum(r["beta_valid_steps_moving"] for r in rs) / n_mov) if n_mov else None,
+                      "kin_steps": sum(r["kin_steps"] for r in rs),
+                      "disagree_steps": sum(r["disagree_steps"] for r in rs)}
+    print(f"integrity: faults {scn}: {rows[next(iter(FAULT_RULES))]['beta']}", file=sys.stderr)
+    return f"{scn} ({len(runs)} runs)", rows
+
+
+def judge_faults(cache, jobs=2):
+    """The fault campaign under each consumer rule: {rule judge: {manoeuvre: row}}."""
+    from grip_tools.evaluate import faults as F
+    for scn, man, surf, kw, t0 in F.SCENARIOS:
+        F.simulate(man, surf, kw, cache)            # simulate (cached) before the workers start
+    tasks = [(si, cache, None) for si in range(len(F.SCENARIOS))]
+    if jobs > 1:
+        import multiprocessing
+        with multiprocessing.Pool(jobs) as pool:
+            done = pool.map(_faults_scenario, tasks, chunksize=1)
+    else:
+        done = [_faults_scenario(tk) for tk in tasks]
+    return {f"faults, {rule}": {name: rows[rule] for name, rows in done} for rule in FAULT_RULES}
+
+
 def _pct(x):
     return "-" if x is None else f"{100.0 * x:.2f}"
 
@@ -328,6 +394,8 @@ def _run(out, judges, runs_dir, full, av21_log, consts):
             res[j] = judge_independent(os.path.join(runs_dir, "independent"), full=full)
         elif j == "av21":
             res[j] = judge_av21(out, av21_log)
+        elif j == "faults":
+            res.update(judge_faults(os.path.join(est_eval.ROOT, "build", "faults-cache")))
         else:
             raise ValueError(f"unknown judge {j!r} (have {', '.join(JUDGES)})")
         print(f"integrity: {j} done", file=sys.stderr)
