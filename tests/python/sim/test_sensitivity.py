@@ -34,6 +34,19 @@ class ClassTests(unittest.TestCase):
                 float(v)
 
 
+class ConfigTests(unittest.TestCase):
+    """The learners' and the bank observer's constants are studied with
+    their part switched on: with it off they do nothing."""
+
+    def test_each_constant_in_the_configuration_it_acts_in(self):
+        self.assertEqual(sens.config_of("EST_K_HI"), "generic")
+        self.assertEqual(sens.config_of("EST_STF_T"), "stiff_est")
+        self.assertEqual(sens.config_of("EST_KX_T"), "kx_est")
+        self.assertEqual(sens.config_of("EST_ROAD_L"), "bank_est")
+        for n, _ in sens.constants():
+            self.assertIn(sens.config_of(n), sens.CONFIGS)
+
+
 class OverrideTests(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -93,6 +106,24 @@ class VariantBuildTests(unittest.TestCase):
         a, b = self._run(exe), self._run(PRODUCT)
         for k in ("beta", "vx", "mu", "fyf", "valid"):
             self.assertTrue(np.array_equal(a[k], b[k], equal_nan=k != "valid"), k)
+
+    def test_learner_constant_moves_the_estimate_in_its_configuration(self):
+        # the stiffness learner's constants act only with stiff_est = 1: a
+        # learner that never starts (EST_STF_V, its lowest speed, at 1000 m/s)
+        # gives the product's output without it and a different one with it
+        # (the 12 s drive of the golden sequences: the learner needs more
+        # than the 5 s of the other tests to move)
+        exe = sens.build_variant(self.tmp.name, self.base_obj, "stf_v", {"EST_STF_V": "1000.0"})
+        csv = os.path.join(self.tmp.name, "drive12.csv")
+        t, value, valid, _ = golden_est.bicycle_inputs(duration=12.0)
+        write_csv(csv, t, value, valid)
+        on = ["stiff_est = 1"]
+        a_off, b_off = (est_eval.run_c(x, golden_est.tire_path(), csv) for x in (exe, PRODUCT))
+        a_on, b_on = (est_eval.run_c(x, golden_est.tire_path(), csv, vehicle_lines=on) for x in (exe, PRODUCT))
+        self.assertTrue(np.array_equal(a_off["beta"], b_off["beta"], equal_nan=True))
+        d = float(np.nanmax(np.abs(a_on["beta"] - b_on["beta"])))
+        print(f"\n  stiff_est = 1: beta moves up to {d:.2e} rad with the learner held off")
+        self.assertGreater(d, 0.0)
 
     def test_override_moves_the_estimate(self):
         # the lateral observer starting at 30 m/s instead of 3 m/s never runs
