@@ -40,8 +40,8 @@ class ConfigTests(unittest.TestCase):
 
     def test_each_constant_in_the_configuration_it_acts_in(self):
         self.assertEqual(sens.config_of("EST_K_HI"), "generic")
-        self.assertEqual(sens.config_of("EST_STF_T"), "stiff_est")
-        self.assertEqual(sens.config_of("EST_KX_T"), "kx_est")
+        self.assertEqual(sens.config_of("EST_STF_T"), "learned")
+        self.assertEqual(sens.config_of("EST_KX_T"), "learned")
         self.assertEqual(sens.config_of("EST_ROAD_L"), "bank_est")
         for n, _ in sens.constants():
             self.assertIn(sens.config_of(n), sens.CONFIGS)

@@ -198,10 +198,12 @@ def read_replay(text):
     return out
 
 
-def run_c(binary, tir_path, csv_path, vehicle="generic", vehicle_lines=(), step_ms=10.0):
-    """Runs grip-replay -e TIR --csv over csv_path; returns read_replay's dict."""
+def run_c(binary, tir_path, csv_path, vehicle="generic", vehicle_lines=(), step_ms=10.0, extra_args=()):
+    """Runs grip-replay -e TIR --csv over csv_path (extra_args: more options,
+    e.g. --learned-in F); returns read_replay's dict."""
     with tempfile.TemporaryDirectory() as d:
-        args = [binary, "-q", "-e", tir_path, "--vehicle", vehicle, "--step-ms", repr(step_ms), "--csv", csv_path]
+        args = [binary, "-q", "-e", tir_path, "--vehicle", vehicle, "--step-ms", repr(step_ms)] + list(extra_args)
+        args += ["--csv", csv_path]
         if vehicle_lines:
             vf = os.path.join(d, "vehicle.txt")
             with open(vf, "w") as f:

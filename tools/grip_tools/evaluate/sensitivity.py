@@ -17,7 +17,8 @@ simulated once and reused from build/est_eval/independent) with the generic
 tire, and scores it with the judge's own metrics. A constant of the
 stiffness learners or of the bank observer (CONFIGS, config_of) is run with
 its part switched on, against a baseline in that configuration: with it off
-the constant does nothing.
+the constant does nothing (the learners' after the judge's learning drives,
+run by the same build).
 
     beta pass   runs meeting the beta target (RMS <= 0.5 deg, max <= 1.5 deg
                 where flagged valid)
@@ -117,10 +118,15 @@ PERTURBED = ("tuning", "sensor")
 
 # The configuration in which a constant acts: the learners' and the bank
 # observer's constants do nothing with them off (the generic configuration),
-# so they are perturbed with their part switched on (from the start of each
-# run, nothing learned before), against a baseline in that configuration.
-CONFIGS = {"generic": {}, "stiff_est": {"stiff_est": 1}, "kx_est": {"kx_est": 1}, "bank_est": {"bank_est": 1}}
-_CONFIG_PREFIX = (("EST_STF_", "stiff_est"), ("EST_KX_", "kx_est"), ("EST_ROAD_", "bank_est"))
+# so they are perturbed with their part switched on, against a baseline in
+# that configuration. "learned" is the judge's learned configuration with
+# the slip stiffness too: both learners on, each vehicle's learning drives
+# (LEARNING_DRIVES, dry: the judge's) run first by the same build, and every
+# run restored from what they learned (grip-replay --learned-in); bank_est
+# is switched on from the start of each run.
+CONFIGS = {"generic": {}, "learned": {"stiff_est": 1, "kx_est": 1}, "bank_est": {"bank_est": 1}}
+_CONFIG_PREFIX = (("EST_STF_", "learned"), ("EST_KX_", "learned"), ("EST_ROAD_", "bank_est"))
+LEARNING_DRIVES = {"learned": ("learning-drive", "learning-drive-long")}
 
 
 def config_of(name):
@@ -219,6 +225,39 @@ def run_dirs(vehicles, manoeuvres, surfaces, runs_dir, resimulate=False):
     return out
 
 
+def learning_inputs(vehicles, runs_dir):
+    """The learning drives' input files of each vehicle {vehicle: [csv]},
+    simulated as the judge's learn() does where not yet on disk."""
+    from grip_tools.sim.independent import judge, mb, manoeuvres as man_mod, sensors
+    out = {}
+    for v in vehicles:
+        veh = mb.Vehicle(v)
+        out[v] = []
+        for name in LEARNING_DRIVES["learned"]:
+            path = os.path.join(runs_dir, "learning", f"{v}_{name}_inputs.csv")
+            if not os.path.exists(path):
+                sim = mb.simulate(veh, man_mod.build(name, veh, 1.0), 1.0)
+                t, meas = sensors.measure(sim, veh, seed=judge._seed(v, name, "dry"))
+                value, valid = sensors.estimator_inputs(t, meas, est_eval.IN_COLS)
+                os.makedirs(os.path.dirname(path), exist_ok=True)
+                est_eval.write_input_csv(path, t, value, valid)
+            out[v].append(path)
+    return out
+
+
+def learn_blob(exe, v, lines, drives, work):
+    """Runs the vehicle's learning drives through exe, each from the last
+    one's blob; the path of the blob they leave."""
+    from grip_tools.sim.independent import judge
+    blob = None
+    for k, csv in enumerate(drives):
+        out = os.path.join(work, f"learned_{v}_{k}.bin")
+        extra = (["--learned-in", blob] if blob else []) + ["--learned-out", out]
+        est_eval.run_c(exe, judge.GENERIC_TIR, csv, vehicle_lines=lines, extra_args=extra)
+        blob = out
+    return blob
+
+
 def load_run(v, d):
     """What scoring a run needs besides the estimate, read and derived once:
     truth, inputs and the judge's generic configuration of the vehicle."""
@@ -242,11 +281,17 @@ def score(exe, runs, loaded, config="generic"):
     from grip_tools.sim.independent import judge
     per_run = []
     bad = valid_steps = 0
+    blobs = {}
+    if config in LEARNING_DRIVES:
+        for v in sorted({r[0] for r in runs}):
+            blobs[v] = learn_blob(exe, v, loaded[("lines", v)][config], loaded[("learning", v)],
+                                  os.path.dirname(exe))
     for (v, m, s, d) in runs:
         run = loaded[d]
         tr = run["truth"]
         est = est_eval.run_c(exe, judge.GENERIC_TIR, os.path.join(d, "inputs.csv"),
-                             vehicle_lines=run["lines"][config])
+                             vehicle_lines=run["lines"][config],
+                             extra_args=["--learned-in", blobs[v]] if v in blobs else ())
         r = judge.metrics(tr, run["meas"], est, run["norm"], run["bicycle"], run["geom"])
         n = min(len(tr["time"]), len(est["time"]))
         vb = ((est["valid"][:n] & est_ref.V_BETA) != 0) & (tr["vx"][:n] >= judge.V_MOVING)
@@ -314,9 +359,12 @@ def markdown(doc):
     others = [c for c in bases if c != "generic"]
     if others:
         lines += ["", "The constants of the stiffness learners and of the bank observer act only with their "
-                  "part switched on; they are perturbed in that configuration (switched on from the start "
-                  "of each run, nothing learned before) and compared with it as shipped:", ""]
-        lines += [f"- `{c} = 1`: {_cell(bases[c], bases[c])}" for c in others]
+                  "part switched on; they are perturbed in that configuration and compared with it as shipped:",
+                  ""]
+        text = {"learned": "`stiff_est = 1`, `kx_est = 1`, every run restored from what the same build learned "
+                           "in the judge's learning drives (dry, ramp steer and speed changes)",
+                "bank_est": "`bank_est = 1` from the start of each run"}
+        lines += [f"- {c} ({text.get(c, c)}): {_cell(bases[c], bases[c])}" for c in others]
     lines += ["", "| constant | class | configuration | value | x " + " | x ".join(f"{f:g}" for f in doc["factors"])
               + " |", "|---|---|---|---|" + "---|" * len(doc["factors"])]
     for row in doc["rows"]:
@@ -374,6 +422,10 @@ def main(argv=None):
     base_obj = prepare_base(a.work)
     for (v, _, _, d) in runs:
         _LOADED[d] = load_run(v, d)   # before the pool forks: its workers share it
+        _LOADED[("lines", v)] = _LOADED[d]["lines"]
+    if any(config_of(n) in LEARNING_DRIVES for n, _ in study):
+        for v, paths in learning_inputs(a.vehicles, a.runs_dir).items():
+            _LOADED[("learning", v)] = paths
     configs = ["generic"] + sorted({config_of(n) for n, _ in study} - {"generic"})
     jobs = [(a.work, base_obj, "baseline" if c == "generic" else f"baseline_{c}", {}, runs, c) for c in configs]
     for n, v in study:
