@@ -262,20 +262,20 @@ static inline float grip_kf_sin_poly(float x, float mf, uint32_t neg)
 }
 
 /* sin x and cos x for |x| <= pi (a = |x|, x up to PI_HI, pi rounded up to
- * float): one exact subtraction instead of the four-part reduction. The
- * polynomial runs on r >= 0 for sin (the sign applied after it: a zero x
- * gives r = +0 and keeps its sign) and on r != 0 for cos (pi/2 - a is a
- * multiple of a's spacing, PIO2_LO is not), so grip_kf_sin_r's test of a
- * zero is not needed: the same bits without it. sin:
- * r = x where a <= pi/2, else sin x = sign(x) sin(pi - a), pi - a as
- * (PI_HI - a) + PI_LO, whose subtraction is exact (Sterbenz: PI_HI/2 <=
- * a <= PI_HI); cos x = sin(pi/2 - a), (PIO2_HI - a) + PIO2_LO, exact where
- * a >= PIO2_HI/2, i.e. wherever cos x is below 0.71 and its relative
- * accuracy depends on r; below, r >= pi/4 and the rounding of the
- * subtraction moves the result by at most cos(pi/4) 2^-24. The Magic
- * Formula's sines and cosines are mostly of C atan(u), |C atan u| <= |C|
- * pi/2, within pi for |C| <= 2 (every shipped set's C), and of the slip
- * angle (|alpha| <= pi/2). Error bounds: docs/numerics.md. */
+ * float): one exact subtraction instead of the four-part reduction.
+ * sin: r = a where a <= pi/2, else pi - a as (PI_HI - a) + PI_LO, whose
+ * subtraction is exact (Sterbenz: PI_HI/2 <= a <= PI_HI); sin x =
+ * sign(x) sin r, the sign applied after the polynomial, so that a zero x
+ * (r = +0) keeps its sign. cos x = sin(pi/2 - a), (PIO2_HI - a) + PIO2_LO,
+ * exact where a >= PIO2_HI/2, i.e. wherever cos x is below 0.71 and its
+ * relative accuracy depends on r; below, r >= pi/4 and the rounding of the
+ * subtraction moves the result by at most cos(pi/4) 2^-24. r is never -0
+ * in either (cos: pi/2 - a is a multiple of a's spacing, PIO2_LO is not),
+ * so grip_kf_sin_r's test of a zero is not needed: the same bits without
+ * it. The Magic Formula's sines and cosines are mostly of C atan(u),
+ * |C atan u| <= |C| pi/2, within pi for |C| <= 2 (every C of the shipped
+ * sets but the MF 6.1 / 6.2 examples' PKY4), and of the slip angle
+ * (|alpha| <= pi/2). Error bounds: docs/numerics.md. */
 static inline float grip_kf_sin_pi(float x, float a)
 {
     float r = (a > GRIP_KF_PIO2_HI) ? ((GRIP_KF_PI_HI - a) + GRIP_KF_PI_LO) : a;
