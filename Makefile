@@ -28,7 +28,10 @@ CPUFLAGS :=
 ifeq ($(TARGET),m4f)
 override CC    := arm-none-eabi-gcc
 override ARITH := float
-CPUFLAGS := -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard
+# -ffp-contract=fast: -std=c99 alone leaves every a*b + c as a multiply and
+# an add (gcc's ISO mode does not contract); FPv4-SP has vfma.f32, one
+# instruction and one rounding (docs/performance.md, "Fused multiply-add").
+CPUFLAGS := -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -ffp-contract=fast
 else ifeq ($(TARGET),m0p)
 override CC    := arm-none-eabi-gcc
 override ARITH := fixed

@@ -27,16 +27,21 @@
  *   1 = grip's own single-precision polynomial kernels
  *       (lib/arith/f32_kernels.h) for atan and atan2, libm for the rest;
  *   2 = grip's kernels for atan, atan2, sin, cos and exp.
- * grip's kernels are inline and branch-free on their main path, give the
- * same bits on every IEEE-754 single-precision target and are each within a
- * measured, tested bound of the exact function (docs/numerics.md, "Float
- * kernels"); which is faster depends on the target's libm
- * (docs/performance.md: on the x86-64 host with glibc and on the Cortex-M4F
- * with newlib neither level makes a Magic Formula evaluation faster, so the
- * default is 0). sqrt and log are libm's in every case. The fixed build has
- * its own Q15.16 kernels and needs 0. */
+ * grip's kernels are inline, each within a measured, tested bound of the
+ * exact function (docs/numerics.md, "Float kernels"). Default: 2 on a
+ * Cortex-M core with a single-precision fused multiply-add (Cortex-M4F,
+ * M7, M33 with FPU: __ARM_FEATURE_FMA), where they make a Magic Formula
+ * evaluation a quarter shorter than newlib's functions; 0 elsewhere (on the
+ * x86-64 host glibc's functions are faster; docs/performance.md, "Float
+ * kernels"). sqrt and log are libm's in every case. The fixed build has its
+ * own Q15.16 kernels and needs 0. */
 #ifndef GRIP_FLOAT_KERNELS
+#if (GRIP_ARITH_FIXED == 0) && defined(__ARM_FEATURE_FMA) && defined(__ARM_ARCH_PROFILE) && \
+    (__ARM_ARCH_PROFILE == 'M')
+#define GRIP_FLOAT_KERNELS 2
+#else
 #define GRIP_FLOAT_KERNELS 0
+#endif
 #endif
 
 /* Fixed build only: count every saturation of a fixed-point operation and

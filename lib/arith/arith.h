@@ -80,7 +80,7 @@ static inline grip_real_t r_sqrt(grip_real_t a) { return (a > 0.0f) ? sqrtf(a) :
 #include "f32_kernels.h" /* grip-deviation: MISRA-20.1 float build only, inside the kernel selection #if */
 static inline grip_real_t r_atan(grip_real_t a) { return grip_kf_atan(a); }
 static inline grip_real_t r_atan2(grip_real_t y, grip_real_t x) { return grip_kf_atan2(y, x); }
-static inline grip_real_t r_atan2_q1(grip_real_t y, grip_real_t x) { return grip_kf_atan2(y, x); }
+static inline grip_real_t r_atan2_q1(grip_real_t y, grip_real_t x) { return grip_kf_atan2_q1(y, x); }
 #else
 static inline grip_real_t r_atan(grip_real_t a) { return atanf(a); }
 static inline grip_real_t r_atan2(grip_real_t y, grip_real_t x) { return atan2f(y, x); }

@@ -1,6 +1,8 @@
 /*
  * test_f32_kernels.c - the float build's polynomial kernels
- * (lib/arith/f32_kernels.h) against double-precision libm over the whole
+ * (lib/arith/f32_kernels.h; the form of GRIP_KF_FMA, 0 on the host unless
+ * test_f32_kernels_fma.c includes this file with 1) against
+ * double-precision libm over the whole
  * float domain; prints the measured maximum error and enforces the bound of
  * each (docs/numerics.md, "Float kernels"), like test_q16.c for the Q15.16
  * kernels.
@@ -31,14 +33,35 @@
 #include "f32_kernels.h"
 
 /* The bounds enforced: the exhaustively measured maxima (docs/numerics.md,
- * GRIP_KERNELS_EXHAUSTIVE=1), rounded up: atan 1.313e-7 at 1.00182104,
- * atan2 1.315e-7, sin 1.686e-7 at 40.8720627, cos 1.732e-7 at 70.7015381,
- * exp 9.866e-8 at 5.19916725 (1.10, 1.10, 1.41, 1.45, 0.83 x 2^-23). */
+ * GRIP_KERNELS_EXHAUSTIVE=1), rounded up. sin and cos have two: |x| <= pi
+ * (PI_HI; the one-subtraction path, grip_kf_sin_pi, grip_kf_cos_pi) and
+ * beyond (the reduction by m pi/2).
+ * GRIP_KF_FMA 0, the host's form (Estrin, separate operations): atan
+ * 1.313e-7 at 1.00182104, atan2 1.315e-7, sin 1.404e-7 at 1.65542936 and
+ * beyond pi 1.686e-7 at 40.8720627, cos 1.414e-7 at 3.05695963 and beyond
+ * pi 1.732e-7 at 70.7015381, exp 9.866e-8 at 5.19916725.
+ * GRIP_KF_FMA 1, the Cortex-M4F's (Horner with fmaf, the rest contracted;
+ * test_f32_kernels_fma.c): atan 1.259e-7 at 1.8279804, atan2 1.315e-7, sin
+ * 1.302e-7 at 1.57064819 and beyond pi 1.686e-7 at 40.8720627, cos 1.302e-7
+ * at 0.000148236752 and beyond pi 1.732e-7 at 70.7015381, exp 1.011e-7 at
+ * -5.19644022. */
+#if GRIP_KF_FMA
+#define BOUND_ATAN   1.3e-7
+#define BOUND_ATAN2  1.4e-7
+#define BOUND_SIN_PI 1.4e-7
+#define BOUND_COS_PI 1.4e-7
+#define BOUND_SIN    1.8e-7
+#define BOUND_COS    1.8e-7
+#define BOUND_EXP    1.1e-7
+#else
 #define BOUND_ATAN   1.4e-7
 #define BOUND_ATAN2  1.4e-7
+#define BOUND_SIN_PI 1.5e-7
+#define BOUND_COS_PI 1.5e-7
 #define BOUND_SIN    1.8e-7
 #define BOUND_COS    1.8e-7
 #define BOUND_EXP    1.0e-7
+#endif
 
 typedef struct {
     double max_err;
@@ -108,14 +131,19 @@ static void report(const stats_t *st, const char *name, double bound)
 typedef float (*kernel1)(float);
 typedef double (*ref1)(double);
 
-static void sweep1(const char *name, kernel1 k, ref1 f, double bound)
+/* Every float (with the stride) and the edges below; where split > 0 the
+ * arguments |x| <= split are reported and bounded apart (bound_in), the
+ * rest with bound. */
+static void sweep1(const char *name, kernel1 k, ref1 f, double bound, float split, double bound_in,
+                   const char *name_in)
 {
     stats_t st = { 0.0, 0.0f, 0.0f, 0u };
+    stats_t sti = { 0.0, 0.0f, 0.0f, 0u };
     uint64_t u;
     uint64_t step = stride();
     for (u = 0u; u <= 0xFFFFFFFFu; u += step) {
         float x = from_bits((uint32_t)u);
-        add(&st, k(x), f((double)x), x, 0.0f, name);
+        add((fabsf(x) <= split) ? &sti : &st, k(x), f((double)x), x, 0.0f, name);
     }
     /* the edges of every range the kernels switch at, and their neighbours */
     {
@@ -128,10 +156,13 @@ static void sweep1(const char *name, kernel1 k, ref1 f, double bound)
             for (d = -64; d <= 64; d++) {
                 uint32_t b = to_bits(edges[i]);
                 float x = from_bits(b + (uint32_t)d);
-                add(&st, k(x), f((double)x), x, 0.0f, name);
-                add(&st, k(-x), f((double)-x), -x, 0.0f, name);
+                add((fabsf(x) <= split) ? &sti : &st, k(x), f((double)x), x, 0.0f, name);
+                add((fabsf(x) <= split) ? &sti : &st, k(-x), f((double)-x), -x, 0.0f, name);
             }
         }
+    }
+    if (split > 0.0f) {
+        report(&sti, name_in, bound_in);
     }
     report(&st, name, bound);
 }
@@ -152,10 +183,18 @@ static float k_cos_of_sincos(float x)
     return c;
 }
 
-static void test_atan(void **s) { (void)s; sweep1("atan", grip_kf_atan, atan, BOUND_ATAN); }
-static void test_sin(void **s) { (void)s; sweep1("sin", grip_kf_sin, sin, BOUND_SIN); }
-static void test_cos(void **s) { (void)s; sweep1("cos", grip_kf_cos, cos, BOUND_COS); }
-static void test_exp(void **s) { (void)s; sweep1("exp", grip_kf_exp, exp, BOUND_EXP); }
+static void test_atan(void **s) { (void)s; sweep1("atan", grip_kf_atan, atan, BOUND_ATAN, 0.0f, 0.0, ""); }
+static void test_sin(void **s)
+{
+    (void)s;
+    sweep1("sin", grip_kf_sin, sin, BOUND_SIN, GRIP_KF_PI_HI, BOUND_SIN_PI, "sin|pi");
+}
+static void test_cos(void **s)
+{
+    (void)s;
+    sweep1("cos", grip_kf_cos, cos, BOUND_COS, GRIP_KF_PI_HI, BOUND_COS_PI, "cos|pi");
+}
+static void test_exp(void **s) { (void)s; sweep1("exp", grip_kf_exp, exp, BOUND_EXP, 0.0f, 0.0, ""); }
 
 /* sincos gives exactly sin and cos (the same code), every float sampled. */
 static void test_sincos(void **s)
@@ -179,6 +218,18 @@ static uint32_t rnd(void)
     rng_state ^= rng_state << 25;
     rng_state ^= rng_state >> 27;
     return (uint32_t)((rng_state * 0x2545F4914F6CDD1Dull) >> 32);
+}
+
+/* atan2 of one pair, and where y >= +0 and x > 0 the first-quadrant
+ * kernel's result, which must be atan2's bits */
+static void add_atan2(stats_t *st, float y, float x)
+{
+    float r = grip_kf_atan2(y, x);
+    add(st, r, atan2((double)y, (double)x), x, y, "atan2");
+    if ((to_bits(y) >> 31) == 0u && y == y && x > 0.0f && !same(grip_kf_atan2_q1(y, x), r)) {
+        fail_msg("atan2_q1(%.9g, %.9g) = %.9g differs from atan2 %.9g", (double)y, (double)x,
+                 (double)grip_kf_atan2_q1(y, x), (double)r);
+    }
 }
 
 static void test_atan2(void **s)
@@ -216,7 +267,7 @@ static void test_atan2(void **s)
         for (j = 0; j < nset; j++) {
             float y = set[i];
             float x = set[j];
-            add(&st, grip_kf_atan2(y, x), atan2((double)y, (double)x), x, y, "atan2");
+            add_atan2(&st, y, x);
         }
     }
     /* equal and nearly equal magnitudes (the octant boundary) */
@@ -226,12 +277,12 @@ static void test_atan2(void **s)
         if (rnd() & 1u) {
             y = -y;
         }
-        add(&st, grip_kf_atan2(y, x), atan2((double)y, (double)x), x, y, "atan2");
+        add_atan2(&st, y, x);
     }
     for (k = 0; k < nrand; k++) {
         float y = from_bits(rnd());
         float x = from_bits(rnd());
-        add(&st, grip_kf_atan2(y, x), atan2((double)y, (double)x), x, y, "atan2");
+        add_atan2(&st, y, x);
     }
     report(&st, "atan2", BOUND_ATAN2);
 }
@@ -307,5 +358,13 @@ int main(void)
         cmocka_unit_test(test_exp),
     };
 #endif
-    return cmocka_run_group_tests_name("f32_kernels", tests, NULL, NULL);
+#if defined(GRIP_TEST_KF_HOST_FMA)
+    /* compiled for a host with the fused multiply-add (test_f32_kernels_fma.c) */
+    __builtin_cpu_init();
+    if (!__builtin_cpu_supports("fma")) {
+        printf("# skip: this host has no fused multiply-add instruction\n");
+        return 0;
+    }
+#endif
+    return cmocka_run_group_tests_name(GRIP_KF_FMA ? "f32_kernels_fma" : "f32_kernels", tests, NULL, NULL);
 }
