@@ -110,6 +110,7 @@ def judge_run(t, est, truth, moving, outside=None):
         r["fy_axle"]["sd_med"] = float(np.median(est["fy_axle_sd"][va])) if va.any() else None
     den = moving if outside is None else (moving & outside)
     r["beta_valid_share"] = float(np.sum(vb & den) / den.sum()) if den.sum() else None
+    r["share_steps"], r["share_valid_steps"] = int(den.sum()), int(np.sum(vb & den))
     r["kin_steps"] = int(np.sum(((est["flags"] & est_ref.F_BETA_KIN) != 0) & moving))
     r["disagree_steps"] = int(np.sum(((est["flags"] & est_ref.F_BETA_DISAGREE) != 0) & moving))
     return r
@@ -280,6 +281,7 @@ def _faults_scenario(args):
         beta["sd_med_deg"] = float(np.median(sds)) if sds else None
         n_mov = sum(r["moving_steps"] for r in rs)
         rows[rule] = {"runs": len(rs), "moving_steps": n_mov, "beta": beta, "mu": totals(rs, "mu"),
+                      "share_steps": n_mov, "share_valid_steps": sum(r["beta_valid_steps_moving"] for r in rs),
                       "beta_valid_share": (sum(r["beta_valid_steps_moving"] for r in rs) / n_mov) if n_mov else None,
                       "kin_steps": sum(r["kin_steps"] for r in rs),
                       "disagree_steps": sum(r["disagree_steps"] for r in rs)}
@@ -324,8 +326,9 @@ def table(results):
              "| beta sd median [deg] | kinematic / disagree steps | mu valid steps | mu violations "
              "| mu longest [ms] |", "|" + "---|" * 11]
     summary = ["| judge | runs | beta valid steps | beta violations | beta longest [ms] | beta target "
-               "| mu valid steps | mu violations | mu longest [ms] | mu target | beta valid >= 90 % (runs) |",
-               "|" + "---|" * 11]
+               "| mu valid steps | mu violations | mu longest [ms] | mu target | beta valid >= 90 % (runs) "
+               "| beta valid, all runs' steps [%] |",
+               "|" + "---|" * 12]
     for j, runs in results.items():
         for name, r in runs.items():
             b, m = _cell(r["beta"]), _cell(r.get("mu"))
@@ -341,8 +344,11 @@ def table(results):
         def ok(tt):
             return "met" if tt["rate"] <= TARGET_RATE and tt["longest_s"] <= TARGET_RUN_S + 1e-9 else "**missed**"
         b, m = _cell(tb), _cell(tm)
+        n_share = sum(r.get("share_steps", 0) for r in rows)
+        agg = _pct(sum(r.get("share_valid_steps", 0) for r in rows) / n_share) if n_share else "-"
         summary.append(f"| {j} | {len(rows)} | {b[0]} | {b[1]} | {b[2]} | {ok(tb)} | {m[0]} | {m[1]} | {m[2]} "
-                       f"| {ok(tm) if tm else '-'} | {sum(s >= TARGET_VALID for s in shares)} / {len(shares)} |")
+                       f"| {ok(tm) if tm else '-'} | {sum(s >= TARGET_VALID for s in shares)} / {len(shares)} "
+                       f"| {agg} |")
     summary += ["", "| judge | vx valid steps | vx violations | vx longest [ms] | vx sd median [m/s] | vx target "
                 "| axle valid steps | axle violations | axle longest [ms] | axle sd median [N] | axle target |",
                 "|" + "---|" * 11]
