@@ -63,5 +63,32 @@ class CallgrindSplit(unittest.TestCase):
         self.assertFalse(bench.M_KERNEL_FN.match("grip_mf_eval_prepared_f32"))
 
 
+
+DECODEDLINE = """Contents of the .debug_line section:
+
+lib/mf/mf_eval.c:
+File name                            Line number    Starting address    View    Stmt
+mf_eval.c                                     10               0x100               x
+lib/arith/f32_kernels.h:
+f32_kernels.h                                175               0x104               x
+f32_kernels.h                                176               0x108       1
+lib/mf/mf_eval.c:
+mf_eval.c                                     11               0x108       2       x
+mf_eval.c                                     12               0x10c
+lib/arith/f32_kernels.h:
+f32_kernels.h                                 90               0x110
+f32_kernels.h                                  -               0x114
+"""
+
+
+class InlineKernels(unittest.TestCase):
+    def test_ranges_from_the_line_table(self):
+        addrs, flags = bench.decodedline_ranges(DECODEDLINE)
+        # 0x108: of the two rows at one address the last (mf_eval.c) counts;
+        # 0x114: the end of the sequence
+        self.assertEqual(addrs, [0x100, 0x104, 0x108, 0x10c, 0x110, 0x114])
+        self.assertEqual(flags, [0, 1, 0, 0, 1, 0])
+
+
 if __name__ == "__main__":
     unittest.main()

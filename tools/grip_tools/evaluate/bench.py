@@ -130,12 +130,52 @@ def symbol_classes(elf):
     return [s[0] for s in syms], syms
 
 
+# grip's float kernels (lib/arith/f32_kernels.h) are inlined into their callers:
+# their instructions are found through the line table, as the addresses the
+# compiler attributes to that header.
+INLINE_KERNEL_SOURCES = ("lib/arith/f32_kernels.h",)
+
+
+def inline_kernel_ranges(elf, sources=INLINE_KERNEL_SOURCES):
+    """Sorted (start addresses, flags) of the line table's address ranges:
+    flag 1 where the range's source is one of `sources`."""
+    out = subprocess.run(["arm-none-eabi-objdump", "--dwarf=decodedline", elf], check=True,
+                         capture_output=True, text=True).stdout
+    return decodedline_ranges(out, sources)
+
+
+def decodedline_ranges(text, sources=INLINE_KERNEL_SOURCES):
+    """inline_kernel_ranges from objdump --dwarf=decodedline's text: a
+    "path:" line names the source of the rows after it; a row is "file line
+    address [view] [stmt]", line "-" ending a sequence."""
+    rows, cur = [], None
+    for line in text.splitlines():
+        s = line.strip()
+        if s.endswith(":") and " " not in s:
+            cur = s[:-1]
+            continue
+        p = s.split()
+        if len(p) >= 3 and p[2].startswith("0x"):
+            end = p[1] == "-"
+            rows.append((int(p[2], 16), 0 if end or cur is None else int(cur.endswith(sources))))
+    rows.sort(key=lambda r: r[0])   # stable: of the rows at one address the last counts
+    addrs, flags = [], []
+    for a, f in rows:
+        if addrs and addrs[-1] == a:
+            flags[-1] = f
+        else:
+            addrs.append(a)
+            flags.append(f)
+    return addrs, flags
+
+
 def qemu_counts(target, machine):
     """Per case: (mean, max, mean inside the math kernels) instructions per call."""
     elf = os.path.join(ROOT, f"build/{target}/grip-bench.elf")
     nm = subprocess.run(["arm-none-eabi-nm", elf], check=True, capture_output=True, text=True).stdout
     mark = next(int(l.split()[0], 16) & ~1 for l in nm.splitlines() if l.endswith(" bench_mark"))
     starts, syms = symbol_classes(elf)
+    k_addrs, k_flags = inline_kernel_ranges(elf)
     with tempfile.TemporaryDirectory() as d:
         log = os.path.join(d, "trace.log")
         run = subprocess.run(["qemu-system-arm", "-M", machine, "-nographic", "-singlestep",
@@ -167,7 +207,8 @@ def qemu_counts(target, machine):
                             cls_last = syms[i][2]
                     else:
                         cls_last = 0
-                    ksince += cls_last
+                    j = bisect.bisect_right(k_addrs, pc) - 1
+                    ksince += cls_last or (k_flags[j] if j >= 0 else 0)
     # marks come in pairs (start, end): keep the start->end intervals
     spans = counts[0::2]
     kspans = kcounts[0::2]
@@ -221,7 +262,8 @@ def main(argv=None):
     print("x86 instr: valgrind callgrind, mean over the 16 input sets; 'in kernels': the part of it in "
           "libm's functions (float) or grip_q16_sqrt/atan/atan2/sin/cos/exp/log (fixed), the rest is outside; "
           "M4F/M0+ instr: (in kernels: newlib's float functions, grip_q16_* and their helpers, libgcc "
-          "counted with its caller) "
+          "counted with its caller, and the instructions the line table attributes to the inlined "
+          "lib/arith/f32_kernels.h) "
           "qemu-system-arm trace, mean and max over the 16 input sets; host ns: median of 5 runs",
           file=sys.stderr)
     return 0
