@@ -32,6 +32,27 @@ class StatsTests(unittest.TestCase):
         self.assertEqual(s["violations"], 6)
 
 
+class CommandLineTests(unittest.TestCase):
+    """grip est-eval --integrity refuses what it cannot run with exit 2 and
+    the option named, before any judge runs."""
+
+    def test_bad_options_are_refused(self):
+        import contextlib
+        import io
+        from grip_tools.evaluate import est_eval
+        for args, said in ((["--judges", "own,bogus"], "--judges: bogus"), (["--judges", ","], "--judges"),
+                           (["--const", "NO_SUCH=1"], "--const NO_SUCH=1"),
+                           (["--const", "TIRE_TOL=x"], "'x' is not a number"),
+                           (["--const", "TIRE_TOL"], "--const TIRE_TOL")):
+            err = io.StringIO()
+            with tempfile.TemporaryDirectory() as d, contextlib.redirect_stderr(err):
+                with self.assertRaises(SystemExit) as cm:
+                    est_eval.main(["--integrity", "--out", d] + args)
+                self.assertEqual(os.listdir(d), [], args)       # nothing written
+            self.assertEqual(cm.exception.code, 2, args)
+            self.assertIn(said, err.getvalue(), args)
+
+
 class RunAwayTests(unittest.TestCase):
     """The generic-tire run-away: the car's rear tire much stiffer than the
     estimator's (the estimator's rear LKY at 0.4 x the car's), a steady turn

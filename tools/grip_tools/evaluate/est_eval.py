@@ -794,8 +794,21 @@ def main(argv=None):
         EXTRA["stiff_est"] = 1
     if a.integrity:
         from grip_tools.evaluate import integrity
-        integrity.run(a.out, judges=[j for j in a.judges.split(",") if j], runs_dir=a.runs_dir, full=a.full,
-                      av21_log=a.av21, consts=a.const)
+        judges = [j for j in a.judges.split(",") if j]
+        unknown = [j for j in judges if j not in integrity.JUDGES]
+        if unknown or not judges:
+            ap.error(f"--judges: {', '.join(unknown) or 'none given'}: not a judge "
+                     f"(have {', '.join(integrity.JUDGES)})")
+        from grip_tools.reference import est as est_ref
+        for spec in a.const:
+            name, eq, value = spec.partition("=")
+            if not eq or not hasattr(est_ref, name):
+                ap.error(f"--const {spec}: not NAME=VALUE with NAME a constant of the reference estimator")
+            try:
+                float(value)
+            except ValueError:
+                ap.error(f"--const {spec}: {value!r} is not a number")
+        integrity.run(a.out, judges=judges, runs_dir=a.runs_dir, full=a.full, av21_log=a.av21, consts=a.const)
         return 0
     if a.independent:
         from grip_tools.sim.independent import judge
