@@ -211,6 +211,32 @@ class JudgeTests(unittest.TestCase):
 
 
 @unittest.skipUnless(judge.est_eval.binding_available() is None, "the Python binding is not built (make setup)")
+class SelectionTests(unittest.TestCase):
+    """A vehicle, manoeuvre or surface the judge does not have is refused
+    with exit 2 and the option named, by every command that selects runs
+    (est-eval --independent, the judge's own, est-sensitivity), before any
+    run is simulated."""
+
+    def test_unknown_names_are_refused(self):
+        import contextlib
+        import io
+        from grip_tools.evaluate import est_eval, sensitivity
+        self.assertIsNone(judge.selection_error(["bmw320i"], ["step-steer"], ["snow"]))
+        cases = ((["--vehicles", "nocar"], "--vehicles: nocar"), (["--manoeuvres", "nope"], "--manoeuvres: nope"),
+                 (["--surfaces", "dry", "ice"], "--surfaces: ice"))
+        for args, said in cases:
+            for main, pre in ((est_eval.main, ["--independent"]), (judge.main, []), (sensitivity.main, [])):
+                err = io.StringIO()
+                with tempfile.TemporaryDirectory() as d, contextlib.redirect_stderr(err):
+                    try:
+                        code = main(pre + ["--out", d] + args)
+                    except SystemExit as e:
+                        code = e.code
+                    self.assertEqual(os.listdir(d), [], (main, args))
+                self.assertEqual(code, 2, (main, args))
+                self.assertIn(said, err.getvalue(), (main, args))
+
+
 class LearnedSlipStiffnessTests(unittest.TestCase):
     """est-eval --independent --kx-est: the BMW 320i (rear-wheel drive, the
     parameter set's T_se 0) learns its tire's slip stiffness on the learning

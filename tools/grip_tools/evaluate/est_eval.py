@@ -812,6 +812,9 @@ def main(argv=None):
         return 0
     if a.independent:
         from grip_tools.sim.independent import judge
+        err = judge.selection_error(a.vehicles, a.manoeuvres, a.surfaces)
+        if err:
+            ap.error(err)
         judge.run(a.out, full=a.full, vehicles=a.vehicles, manoeuvres=a.manoeuvres, surfaces=a.surfaces,
                   c_bins=a.c_bin, vehicle_extra=dict(EXTRA), learn_kx=a.kx_est)
         return 0

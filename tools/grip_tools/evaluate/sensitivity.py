@@ -394,6 +394,10 @@ def main(argv=None):
     ap.add_argument("--work", default=os.path.join(REPO_ROOT, "build", "sensitivity"))
     ap.add_argument("--out", default=os.path.join(REPO_ROOT, "build", "sensitivity"))
     a = ap.parse_args(argv)
+    err = judge.selection_error(a.vehicles, a.manoeuvres, a.surfaces)
+    if err or a.jobs < 1:
+        print(f"grip est-sensitivity: {err or f'--jobs: {a.jobs}: at least 1'}", file=sys.stderr)
+        return 2
     consts = constants()
     missing, extra = check_classes(consts)
     if missing or extra:

@@ -84,6 +84,17 @@ SURFACES = tuple(mb.SURFACES)
 # the reduced default set (CI-sized) and the full set
 DEFAULT_SET = dict(vehicles=("bmw320i",), manoeuvres=MANOEUVRES, surfaces=SURFACES)
 FULL_SET = dict(vehicles=VEHICLES, manoeuvres=MANOEUVRES, surfaces=SURFACES)
+
+
+def selection_error(vehicles=None, manoeuvres=None, surfaces=None):
+    """None when every name given is one of FULL_SET's, else what is wrong
+    (the option and the names), for a command line's error."""
+    for opt, given, have in (("--vehicles", vehicles, VEHICLES), ("--manoeuvres", manoeuvres, MANOEUVRES),
+                             ("--surfaces", surfaces, SURFACES)):
+        bad = [n for n in (given or ()) if n not in have]
+        if bad:
+            return f"{opt}: {', '.join(bad)}: unknown (have {', '.join(have)})"
+    return None
 # the fitted configuration's lateral fit: coefficients held (a ramp steer
 # reaches a wheel lift-off before the tires' peak: curvature, shape and the
 # load dependence of the peak are not in its data) and PKY2
@@ -912,6 +923,11 @@ def main(argv=None):
     ap.add_argument("--surfaces", nargs="*")
     ap.add_argument("--jobs", type=int)
     a = ap.parse_args(argv)
+    err = selection_error(a.vehicles, a.manoeuvres, a.surfaces)
+    if err:
+        ap.error(err)
+    if a.jobs is not None and a.jobs < 1:
+        ap.error(f"--jobs: {a.jobs}: at least 1")
     run(a.out, a.full, a.vehicles, a.manoeuvres, a.surfaces, a.jobs)
     return 0
 
