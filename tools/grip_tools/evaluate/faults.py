@@ -540,6 +540,13 @@ def main(argv=None):
     ap.add_argument("--skip-table", action="store_true", help="no fault table")
     ap.add_argument("--jobs", type=int, default=2, help="parallel processes for the fault table")
     a = ap.parse_args(argv)
+    if a.only is not None:
+        try:
+            re.compile(a.only)
+        except re.error as e:
+            ap.error(f"--only {a.only!r}: not a regular expression ({e})")
+    if a.jobs < 1:
+        ap.error(f"--jobs: {a.jobs}: at least 1")
     os.makedirs(a.out, exist_ok=True)
     cache = None if a.no_cache else a.cache
     t_start = time.time()
