@@ -218,6 +218,22 @@ class SineWithDwellTest(unittest.TestCase):
 
 
 class CommandLineTest(unittest.TestCase):
+    def test_values_it_cannot_run_with_are_refused(self):
+        import contextlib
+        import io
+        from grip_tools.sim import cli
+        for args, said in ((["-s", "ice"], "--surface: 'ice'"), (["-s", "nan"], "--surface: 'nan'"),
+                           (["--speed", "-5"], "--speed: -5.0"), (["--dt", "0"], "--dt: 0.0"),
+                           (["--duration", "inf"], "--duration: inf"), (["--bank", "90"], "--bank: 90.0")):
+            err = io.StringIO()
+            with tempfile.TemporaryDirectory() as d, contextlib.redirect_stderr(err):
+                out = os.path.join(d, "out")
+                with self.assertRaises(SystemExit) as cm:
+                    cli.main(["-m", "step-steer", "-o", out, "--no-plot"] + args)
+                self.assertFalse(os.path.exists(out), args)
+            self.assertEqual(cm.exception.code, 2, args)
+            self.assertIn(said, err.getvalue(), args)
+
     def test_simulate_writes_truth_sensors_can_and_plot(self):
         out = tempfile.mkdtemp()
         env = dict(os.environ, PYTHONPATH=os.path.join(ROOT, "tools"))

@@ -133,8 +133,34 @@ def plot_overview(res, path, i=0, title=""):
     plt.close(fig)
 
 
+def _check(p, a):
+    """Values the simulator cannot run with: exit 2 with the option named."""
+    import math
+
+    def bad(opt, value, why):
+        p.error(f"{opt}: {value!r}: {why}")
+    if a.surface not in M.SURFACES:
+        try:
+            mu = float(a.surface)
+        except ValueError:
+            mu = None
+        if mu is None or not (math.isfinite(mu) and 0.0 < mu <= 2.0):
+            bad("--surface", a.surface, f"one of {', '.join(sorted(M.SURFACES))} or a friction scale in (0, 2]")
+    checks = (("--dt", a.dt, 0.0, 0.01, False), ("--speed", a.speed, 0.0, 400.0, True),
+              ("--duration", a.duration, 0.0, 3600.0, False), ("--amplitude", a.amplitude, -720.0, 720.0, True),
+              ("--scale", a.scale, 0.0, 50.0, False), ("--swa03", a.swa03, 0.0, 720.0, False),
+              ("--bank", a.bank, -45.0, 45.0, True), ("--grade", a.grade, -100.0, 100.0, True))
+    for opt, v, lo, hi, lo_ok in checks:
+        if v is None:
+            continue
+        if not (math.isfinite(v) and (v >= lo if lo_ok else v > lo) and v <= hi):
+            bad(opt, v, f"outside {'[' if lo_ok else '('}{lo:g}, {hi:g}]")
+
+
 def main(argv=None):
-    a = _parser().parse_args(argv)
+    p = _parser()
+    a = p.parse_args(argv)
+    _check(p, a)
     vehicle = vehicles.get(a.vehicle)
     effects = Effects(relaxation=not a.no_relaxation, thermal=a.thermal, aero=not a.no_aero,
                       load_transfer=not a.no_load_transfer)
