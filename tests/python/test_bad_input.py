@@ -65,6 +65,8 @@ CASES = [
     ("long line", b"fz,alpha,fy\n" + b"1" * 20000 + b"\n", ["fit-mf", "{f}", "--model", "fy", "--tir", MF61],
      3, ["{f}:2:", "cap"]),
     ("missing file", None, ["fit-mf", "/nonexistent/x.csv", "--model", "fy"], 2, ["cannot open", "/nonexistent/x.csv"]),
+    ("missing AV-21 log", None, ["est-eval", "--av21", "/nonexistent/av21.csv", "--out", "/tmp/grip-bad-input-av21"], 2,
+     ["cannot open", "/nonexistent/av21.csv"]),
     ("missing tir", GOOD_FY.encode(), ["fit-mf", "{f}", "--model", "fy", "--tir", "/nonexistent/x.tir"], 3,
      ["/nonexistent/x.tir", "cannot open"]),
     ("analyze empty", b"", ["analyze", "{f}", "--tir", MF61], 3, ["{f}:1:", "empty file"]),

@@ -76,7 +76,10 @@ def run_command(name, argv):
         print(f"{prog}: {e}", file=sys.stderr)
         return EXIT_USAGE
     except (FileNotFoundError, IsADirectoryError, PermissionError, NotADirectoryError) as e:
-        print(f"{prog}: cannot open {e.filename}: {e.strerror}", file=sys.stderr)
+        if e.filename is not None:
+            print(f"{prog}: cannot open {e.filename}: {e.strerror}", file=sys.stderr)
+        else:                           # raised without the OS's fields (numpy's readers): its text names the file
+            print(f"{prog}: cannot open: {e}", file=sys.stderr)
         return EXIT_USAGE
     except UnicodeDecodeError as e:
         print(f"{prog}: input is not UTF-8 text (byte offset {e.start}: {e.reason})", file=sys.stderr)
