@@ -25,7 +25,8 @@ class UsageError(Exception):
 
 class DataError(ValueError):
     """Input that was read but cannot be used (exit 3). str():
-    'FILE:LINE: FIELD: message', with '-' for what is not known."""
+    'FILE:LINE: FIELD: message', with '-' for what is not known; without a
+    file (a value from the command line), 'FIELD: message'."""
 
     exit_code = EXIT_DATA
 
@@ -34,5 +35,8 @@ class DataError(ValueError):
         self.line = line
         self.field = field
         self.message = message
-        where = f"{file}:{line if line is not None else '-'}"
+        if file is None and line is None:
+            super().__init__(f"{field or '-'}: {message}")
+            return
+        where = f"{file if file is not None else '-'}:{line if line is not None else '-'}"
         super().__init__(f"{where}: {field or '-'}: {message}")
