@@ -274,6 +274,24 @@ class FleetRunTests(unittest.TestCase):
 
 @unittest.skipUnless(HAVE_DEPS, "dask, distributed, pandas, pyarrow not installed")
 @unittest.skipUnless(os.path.exists(BIN["float"]) and os.path.exists(BIN["fixed"]), "grip-replay not built")
+class SimFleetOptionsTests(unittest.TestCase):
+    """grip sim-fleet refuses what the simulator cannot run with (exit 2,
+    the option named) before it plans or writes anything."""
+
+    def test_bad_options_are_refused(self):
+        from grip_tools.cli import run_command
+        for args, said in ((["--surfaces", "dry,ice"], "unknown surface 'ice'"), (["--surfaces", "0"], "'0'"),
+                           (["--dt", "0"], "--dt: 0.0"), (["--duration", "-5"], "--duration: -5.0"),
+                           (["--manoeuvres", "nope"], "unknown manoeuvre 'nope'")):
+            err = io.StringIO()
+            with tempfile.TemporaryDirectory() as d, contextlib.redirect_stderr(err):
+                out = os.path.join(d, "fleet")
+                code = run_command("sim-fleet", ["2", "--out", out] + args)
+                self.assertFalse(os.path.exists(out), args)
+            self.assertEqual(code, 2, args)
+            self.assertIn(said, err.getvalue(), args)
+
+
 class FleetInputsTests(unittest.TestCase):
     def test_candump_and_parquet_and_both_arithmetics(self):
         import pandas as pd

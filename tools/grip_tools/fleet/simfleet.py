@@ -29,6 +29,7 @@ a braked car stands still); default: each manoeuvre's own length (2-20 s).
 """
 import argparse
 import json
+import math
 import os
 import sys
 import time
@@ -238,6 +239,20 @@ def main(argv=None):
         if m not in M.MANOEUVRES:
             raise UsageError(f"unknown manoeuvre '{m}' (one of {', '.join(M.MANOEUVRES)})")
     surfs = [s.strip() for s in a.surfaces.split(",") if s.strip()]
+    for sf in surfs:
+        try:
+            mu = M.surface_mu(float(sf) if sf not in M.SURFACES else sf)
+        except ValueError:
+            mu = None
+        if mu is None or not (math.isfinite(mu) and 0.0 < mu <= 2.0):
+            raise UsageError(f"--surfaces: unknown surface '{sf}' (one of {', '.join(sorted(M.SURFACES))} "
+                             "or a friction scale in (0, 2])")
+    if not surfs or not mans:
+        raise UsageError("--manoeuvres and --surfaces need at least one name each")
+    if not (math.isfinite(a.dt) and 0.0 < a.dt <= 0.01):
+        raise UsageError(f"--dt: {a.dt!r}: outside (0, 0.01] s")
+    if a.duration is not None and not (math.isfinite(a.duration) and 0.0 < a.duration <= 3600.0):
+        raise UsageError(f"--duration: {a.duration!r}: outside (0, 3600] s")
     t0 = time.time()
     runs, logs = plan(a.n, a.seed, mans, surfs, a.variants)
     groups = batches(runs, a.batch)
