@@ -33,8 +33,9 @@ class StatsTests(unittest.TestCase):
 
 
 class CommandLineTests(unittest.TestCase):
-    """grip est-eval --integrity refuses what it cannot run with exit 2 and
-    the option named, before any judge runs."""
+    """grip est-eval --integrity refuses what it cannot run with (and an
+    option of another mode, which it would ignore) with exit 2 and the
+    option named, before any judge runs."""
 
     def test_bad_options_are_refused(self):
         import contextlib
@@ -43,7 +44,9 @@ class CommandLineTests(unittest.TestCase):
         for args, said in ((["--judges", "own,bogus"], "--judges: bogus"), (["--judges", ","], "--judges"),
                            (["--const", "NO_SUCH=1"], "--const NO_SUCH=1"),
                            (["--const", "TIRE_TOL=x"], "'x' is not a number"),
-                           (["--const", "TIRE_TOL"], "--const TIRE_TOL")):
+                           (["--const", "TIRE_TOL"], "--const TIRE_TOL"),
+                           (["--manoeuvres", "step-steer"], "--manoeuvres: only with --independent"),
+                           (["--independent"], "one at a time")):
             err = io.StringIO()
             with tempfile.TemporaryDirectory() as d, contextlib.redirect_stderr(err):
                 with self.assertRaises(SystemExit) as cm:

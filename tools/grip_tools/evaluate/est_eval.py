@@ -782,11 +782,26 @@ def main(argv=None):
     ap.add_argument("--surfaces", nargs="+", help="--independent: only these surfaces")
     ap.add_argument("--integrity", action="store_true",
                     help="the validity flags' integrity on every judge (est_ref): <out>/integrity_table.md, .json")
-    ap.add_argument("--judges", default="own,mismatch,independent,av21,faults",
-                    help="--integrity: comma-separated subset of own, mismatch, independent, av21, faults")
+    ap.add_argument("--judges", default=None,
+                    help="--integrity: comma-separated subset of own, mismatch, independent, av21, faults "
+                         "(default all)")
     ap.add_argument("--const", action="append", default=[], metavar="NAME=VALUE",
                     help="--integrity: an est_ref constant changed for the run (sensitivity: TIRE_TOL, KIN_ACC, ...)")
     a = ap.parse_args(argv)
+    # an option outside its mode would be ignored without a word: refused
+    for opt, given, ok, mode in (("--vehicles", a.vehicles, a.independent, "--independent"),
+                                 ("--manoeuvres", a.manoeuvres, a.independent, "--independent"),
+                                 ("--surfaces", a.surfaces, a.independent, "--independent"),
+                                 ("--kx-est", a.kx_est, a.independent, "--independent"),
+                                 ("--full", a.full, a.independent or a.integrity, "--independent or --integrity"),
+                                 ("--judges", a.judges is not None, a.integrity, "--integrity"),
+                                 ("--const", a.const, a.integrity, "--integrity")):
+        if given and not ok:
+            ap.error(f"{opt}: only with {mode}")
+    if a.independent and a.integrity:
+        ap.error("--independent and --integrity: one at a time")
+    if a.judges is None:
+        a.judges = "own,mismatch,independent,av21,faults"
     EXTRA.clear()
     if a.bank_est:
         EXTRA["bank_est"] = 1

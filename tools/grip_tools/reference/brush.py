@@ -1016,10 +1016,22 @@ def main(argv=None):
                     "with --cases 10000)")
     ap.add_argument("--iters", default="4,5,6,7", help="step counts of the study")
     args = ap.parse_args(argv)
+    if args.cases < 1:
+        ap.error(f"--cases: {args.cases}: at least 1 (a verification over no case proves nothing)")
+
+    def int_list(opt, text, lo):
+        try:
+            vals = tuple(int(v) for v in text.split(","))
+        except ValueError:
+            vals = ()
+        if not vals or min(vals) < lo:
+            ap.error(f"{opt}: {text!r}: comma-separated integers >= {lo}")
+        return vals
     if args.study:
-        its = tuple(int(v) for v in args.iters.split(","))
+        its = int_list("--iters", args.iters, 1)
+        seeds = int_list("--study", args.study, 0)
         print(f"{'seed':>5} {'cases':>6} " + " ".join(f"{f'{it} steps':>18}" for it in its) + "  min slope")
-        for seed in (int(v) for v in args.study.split(",")):
+        for seed in seeds:
             res, slope = convergence_study(seed, args.cases, its)
             print(f"{seed:5d} {args.cases:6d} " + " ".join(f"{res[it][0]:9.2e} ({res[it][1]:5d})" for it in its)
                   + f"  {slope:.3f}", flush=True)
