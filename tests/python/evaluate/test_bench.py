@@ -90,5 +90,18 @@ class InlineKernels(unittest.TestCase):
         self.assertEqual(flags, [0, 1, 0, 0, 1, 0])
 
 
+
+class CommandLine(unittest.TestCase):
+    def test_bad_options_are_refused_before_measuring(self):
+        import contextlib
+        import io
+        for args, said in ((["--cases", "("], "--cases '('"), (["--targets", "m4f,m5x"], "--targets: m5x")):
+            err = io.StringIO()
+            with contextlib.redirect_stderr(err), self.assertRaises(SystemExit) as cm:
+                bench.main(args)
+            self.assertEqual(cm.exception.code, 2, args)
+            self.assertIn(said, err.getvalue(), args)
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -230,6 +230,13 @@ def main(argv=None):
     ap.add_argument("--targets", default="m4f,m0p",
                     help="comma-separated Cortex-M images to run (m4f, m0p, or empty for none)")
     args = ap.parse_args(argv)
+    try:
+        re.compile(args.cases)
+    except re.error as e:
+        ap.error(f"--cases {args.cases!r}: not a regular expression ({e})")
+    unknown = [t for t in args.targets.split(",") if t and t not in ("m4f", "m0p")]
+    if unknown:
+        ap.error(f"--targets: {', '.join(unknown)}: unknown (have m4f, m0p, or empty for none)")
     os.makedirs(args.outdir, exist_ok=True)
     ns = {a: host_ns(a) for a in ("float", "fixed")}
     cases = [c for c in ns["float"] if re.search(args.cases, c)]
