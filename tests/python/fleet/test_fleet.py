@@ -292,6 +292,26 @@ class SimFleetOptionsTests(unittest.TestCase):
             self.assertIn(said, err.getvalue(), args)
 
 
+class FleetRunOptionsTests(unittest.TestCase):
+    """grip fleet run refuses what the whole run cannot go with before it
+    reads a log (it once ran every log into an error row and exited 0)."""
+
+    def test_bad_options_are_refused(self):
+        from grip_tools.cli import run_command
+        for args, said, code in ((["--step-ms", "0"], "--step-ms 0.0", 2), (["--step-ms", "nan"], "--step-ms nan", 2),
+                                 (["--timeout", "-1"], "--timeout -1.0", 2), (["--retries", "-1"], "--retries -1", 2),
+                                 (["--flush", "0"], "--flush 0", 2),
+                                 (["--tir", "/no/such/file.tir"], "--tir /no/such/file.tir: cannot open", 2),
+                                 (["--tir", os.path.join(REPO_ROOT, "README.md")], "README.md:1:", 3)):
+            err = io.StringIO()
+            with tempfile.TemporaryDirectory() as d, contextlib.redirect_stderr(err):
+                out = os.path.join(d, "res")
+                got = run_command("fleet", ["run", d, "--out", out] + args)
+                self.assertFalse(os.path.exists(out), args)
+            self.assertEqual(got, code, args)
+            self.assertIn(said, err.getvalue(), args)
+
+
 class FleetInputsTests(unittest.TestCase):
     def test_candump_and_parquet_and_both_arithmetics(self):
         import pandas as pd

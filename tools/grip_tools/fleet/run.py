@@ -29,6 +29,7 @@ reused by the other). A log that fails becomes an error row
 has its tasks run again elsewhere (Dask).
 """
 import argparse
+import math
 import os
 import resource
 import sys
@@ -272,6 +273,27 @@ def parse_args(argv):
     return ap.parse_args(argv)
 
 
+def check_args(a):
+    """What the whole run cannot go with, refused before any log is read
+    (UsageError, exit 2): a step or count out of range, a --timeout where it
+    has no effect, and a tire, vehicle file or signal table that cannot be
+    opened (a .tir that is read but refused: its DataError, exit 3)."""
+    if not (math.isfinite(a.step_ms) and 0.5 <= a.step_ms <= 20.0):
+        raise UsageError(f"--step-ms {a.step_ms!r}: the estimator runs at 50 - 2000 Hz, a step in [0.5, 20] ms")
+    if not (math.isfinite(a.timeout) and a.timeout > 0.0):
+        raise UsageError(f"--timeout {a.timeout!r}: give seconds > 0")
+    if a.retries < 0:
+        raise UsageError(f"--retries {a.retries}: give a count >= 0")
+    if a.flush < 1:
+        raise UsageError(f"--flush {a.flush}: give a number of logs >= 1")
+    for opt, path in (("--tir", a.tir), ("--vehicle-file", a.vehicle_file), ("--table", a.table)):
+        if path is not None and not os.path.isfile(path):
+            raise UsageError(f"{opt} {path}: cannot open (no such file)")
+    if a.tir is not None:
+        from grip_tools.reference import tir as tir_ref
+        tir_ref.load_params(a.tir)          # a refused file: its DataError names file, line and field
+
+
 def options(a):
     ariths = list(ARITHS) if a.arith == "both" else [a.arith]
     bins = dict(DEFAULT_BINS)
@@ -319,6 +341,7 @@ def _extension_path(arith):
 def run_fleet(a, specs=None, client=None, on_result=None):
     """Runs the fleet; returns the run info dict (also DIR/run.json)."""
     t_start = time.time()
+    check_args(a)
     defaults = {"tir": os.path.abspath(a.tir) if a.tir else default_tir(), "preset": a.preset,
                 "vehicle_file": os.path.abspath(a.vehicle_file) if a.vehicle_file else None,
                 "table": os.path.abspath(a.table) if a.table else None, "step_ms": a.step_ms}
