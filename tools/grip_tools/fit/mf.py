@@ -708,6 +708,8 @@ def main(argv=None):
     ap.add_argument("--noise", type=float, default=0.0, help="--synthetic: noise std [N or N m]")
     ap.add_argument("--seed", type=int, default=0)
     args = ap.parse_args(argv)
+    if not (math.isfinite(args.noise) and args.noise >= 0.0):
+        ap.error(f"--noise {args.noise!r}: a standard deviation >= 0")
     tir.apply_reader_options(args)
 
     if args.synthetic:

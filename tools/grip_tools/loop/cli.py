@@ -122,6 +122,27 @@ def apply_main(argv):
     return 0
 
 
+def _check_options(ap, a):
+    """Values the loop cannot run with, refused with exit 2 and the option
+    named before anything is read or generated."""
+    import math
+    from grip_tools.loop import attribution, datasets
+    if a.benchmark is not None and a.benchmark < 1:
+        ap.error("--benchmark: at least one set")
+    if a.generate is not None and a.generate not in datasets.KINDS:
+        ap.error(f"--generate {a.generate}: one of {', '.join(datasets.KINDS)}")
+    if not (math.isfinite(a.duration) and 0.0 < a.duration <= 3600.0):
+        ap.error(f"--duration {a.duration!r}: a record length in (0, 3600] s")
+    if not (math.isfinite(a.rate) and 1.0 <= a.rate <= 10000.0):
+        ap.error(f"--rate {a.rate!r}: a sample rate in [1, 10000] Hz")
+    if a.jobs < 1:
+        ap.error(f"--jobs {a.jobs}: at least 1")
+    try:
+        attribution.holdout_masks(16, a.holdout)
+    except ValueError as e:
+        ap.error(f"--holdout: {e}")
+
+
 def main(argv=None):
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv and argv[0] == "apply":
@@ -153,10 +174,9 @@ def main(argv=None):
     ap.add_argument("--jobs", type=int, default=2, help="processes (the benchmark's sets; the refinement of long records)")
     ap.add_argument("-o", "--outdir", "--out", default="build/analyze")
     a = ap.parse_args(argv)
-    if a.benchmark:
+    _check_options(ap, a)
+    if a.benchmark is not None:
         from grip_tools.loop import benchmark
-        if a.benchmark < 1:
-            ap.error("--benchmark: at least one set")
         cmd = ("grip analyze --benchmark " + f"{a.benchmark} --seed {a.seed} --duration {a.duration:g} "
                f"--rate {a.rate:g} --jobs {a.jobs} --out {a.outdir}")
         path, s = benchmark.main(a.benchmark, a.outdir, a.seed, a.duration, a.rate, a.jobs, cmd)
