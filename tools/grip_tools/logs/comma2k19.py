@@ -23,10 +23,12 @@ Timestamps: the logger's boot-time seconds, rounded to microseconds.
 import argparse
 import glob
 import os
+import re
 import sys
 
 import numpy as np
 
+from grip_tools.errors import DataError, UsageError
 from grip_tools.paths import SHARED_DATA
 
 DEFAULT_DATA = os.path.join(SHARED_DATA, "comma2k19-rav4")
@@ -37,10 +39,11 @@ def load_raw_can(data_dir):
     try:
         arrays = {k: np.load(os.path.join(base, k)) for k in ("t", "src", "address", "data")}
     except OSError as e:
-        raise SystemExit(f"comma2k19: cannot read {base}/{{t,src,address,data}}: {e}")
+        raise UsageError(f"cannot read {base}/{{t,src,address,data}}: {e}") from None
     n = len(arrays["t"])
     if any(len(a) != n for a in arrays.values()):
-        raise SystemExit(f"comma2k19: arrays in {base} differ in length")
+        raise DataError(base, None, "t, src, address, data",
+                        f"the arrays differ in length ({', '.join(str(len(a)) for a in arrays.values())})")
     return arrays
 
 
@@ -108,10 +111,17 @@ def main(argv=None):
     ap.add_argument("--dbc", action="append", help="DBC file(s) for payload lengths (default: DATA/dbc/*.dbc)")
     ap.add_argument("-o", "--output", default="-", help="output log (default stdout)")
     args = ap.parse_args(argv)
+    if not 0 <= args.bus <= 255:
+        ap.error(f"--bus {args.bus}: a bus number in [0, 255]")
+    if not re.fullmatch(r"[A-Za-z0-9_.-]{1,15}", args.iface):
+        ap.error(f"--iface {args.iface!r}: an interface name of 1 - 15 letters, digits, '_', '.', '-' "
+                 "(the candump format separates fields by spaces)")
     out = "/dev/stdout" if args.output == "-" else args.output
     n = convert(args.data, out, args.bus, args.iface, args.dbc)
     if n == 0:
-        print(f"comma2k19: no frame on bus {args.bus}", file=sys.stderr)
-        return 1
+        if args.output != "-":
+            os.remove(args.output)          # no log rather than an empty one
+        raise DataError(os.path.join(args.data, "processed_log", "CAN", "raw_can", "src"), None, "src",
+                        f"no frame on bus {args.bus}")
     print(f"comma2k19: wrote {n} frames of bus {args.bus} to {args.output}", file=sys.stderr)
     return 0
