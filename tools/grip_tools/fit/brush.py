@@ -29,6 +29,7 @@ import sys
 import numpy as np
 from scipy import optimize
 
+from grip_tools.errors import DataError
 from grip_tools.paths import TEST_DATA
 from grip_tools.reference import brush as B
 
@@ -221,16 +222,34 @@ def g275_demo(tir_path, loads, outdir, ns=range(B.N_MIN, B.N_MAX + 1), max_nfev=
 # ---------------------------------------------------------------------------
 
 def read_sweeps_csv(path):
-    with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
+    """The sweeps CSV: a header row naming at least NEED, one number per
+    cell; anything else is a DataError naming the file, line and column."""
     need = ("kappa", "alpha", "gamma", "fz", "vx", "fx", "fy", "mz")
-    for k in need:
-        if rows and k not in rows[0]:
-            raise SystemExit(f"{path}: missing column '{k}' (need {', '.join(need)})")
-    cols = {k: np.array([float(r[k]) for r in rows]) for k in need}
-    cols["weight"] = np.array([float(r.get("weight", 1.0) or 1.0) for r in rows])
-    cols["group"] = np.array(["all"] * len(rows))
-    return cols
+    with open(path, newline="") as f:
+        reader = csv.DictReader(f)
+        header = reader.fieldnames or []
+        missing = [k for k in need if k not in header]
+        if missing:
+            raise DataError(path, 1, missing[0], f"missing column (need {', '.join(need)})")
+        cols = {k: [] for k in need + ("weight",)}
+        for i, r in enumerate(reader, start=2):
+            for k in need + ("weight",):
+                cell = r.get(k)
+                if k == "weight" and not cell:
+                    cols[k].append(1.0)
+                    continue
+                try:
+                    v = float(cell)
+                except (TypeError, ValueError):
+                    raise DataError(path, i, k, f"{cell!r} is not a number") from None
+                if not math.isfinite(v):
+                    raise DataError(path, i, k, f"{cell!r} is not finite")
+                cols[k].append(v)
+    if not cols["fz"]:
+        raise DataError(path, 2, "-", "no data rows")
+    out = {k: np.array(v) for k, v in cols.items()}
+    out["group"] = np.array(["all"] * len(out["fz"]))
+    return out
 
 
 def main(argv=None):
@@ -247,9 +266,21 @@ def main(argv=None):
                          "Table 5.4; combined slip is then a prediction)")
     ap.add_argument("--out", default="build/fit_brush")
     args = ap.parse_args(argv)
-    ns = [int(v) for v in args.n.split(",")] if args.n else list(range(B.N_MIN, B.N_MAX + 1))
+    try:
+        ns = [int(v) for v in args.n.split(",")] if args.n else list(range(B.N_MIN, B.N_MAX + 1))
+    except ValueError:
+        ns = []
+    if not ns or any(not B.N_MIN <= n <= B.N_MAX for n in ns):
+        ap.error(f"--n {args.n!r}: comma-separated exponents in [{B.N_MIN}, {B.N_MAX}]")
+    if args.max_nfev < 1:
+        ap.error(f"--max-nfev {args.max_nfev}: at least 1")
     if args.g275:
-        loads = [float(v) for v in args.loads.split(",")]
+        try:
+            loads = [float(v) for v in args.loads.split(",")]
+        except ValueError:
+            loads = []
+        if not loads or any(not (math.isfinite(v) and 0.0 < v <= 1.0e5) for v in loads):
+            ap.error(f"--loads {args.loads!r}: comma-separated loads in (0, 100000] N")
         groups = None if args.fit_combined else ("pure_fx", "pure_fy_mz")
         _, text = g275_demo(args.tir, loads, args.out, ns=ns, max_nfev=args.max_nfev, fit_groups=groups)
         print(text)
