@@ -284,8 +284,21 @@ def main(argv=None):
                     help="load range in kN for the constraint check")
     ap.add_argument("--gamma-max", type=float, default=DEFAULT_LIMITS["gamma_max_deg"])
     args = ap.parse_args(argv)
-    p = DEFAULT_PARAMS if args.params is None else np.array([float(v) for v in args.params.split(",")])
-    fr = tuple(float(v) for v in args.fz_range.split(","))
+
+    def numbers(opt, text, count):
+        try:
+            vals = [float(v) for v in text.split(",")]
+        except ValueError:
+            vals = []
+        if len(vals) != count or not all(np.isfinite(vals)):
+            ap.error(f"{opt} {text!r}: {count} comma-separated finite numbers")
+        return vals
+    p = DEFAULT_PARAMS if args.params is None else np.array(numbers("--params", args.params, 18))
+    fr = tuple(numbers("--fz-range", args.fz_range, 2))
+    if not 0.0 < fr[0] < fr[1]:
+        ap.error(f"--fz-range {args.fz_range!r}: a load range LO,HI in kN with 0 < LO < HI")
+    if not (np.isfinite(args.gamma_max) and 0.0 <= args.gamma_max <= 90.0):
+        ap.error(f"--gamma-max {args.gamma_max!r}: a camber in [0, 90] deg")
     print(constraints_report(p, fz_range_kn=fr, gamma_max_deg=args.gamma_max))
     return 0 if constraints_ok(p, fz_range_kn=fr, gamma_max_deg=args.gamma_max) else 1
 
