@@ -90,6 +90,7 @@ CASES = [
     ("fit-brush exponent out of range", None, ["fit-brush", "--g275", "--n", "0"], 2, ["--n '0'"]),
     ("mf89 three coefficients", None, ["mf89", "--params", "1,2,3"], 2, ["--params '1,2,3'", "18"]),
     ("mf89 reversed load range", None, ["mf89", "--fz-range", "10,2"], 2, ["--fz-range '10,2'"]),
+    ("stack malformed expression", None, ["stack", "build", "--public", "("], 2, ["--public '('"]),
     ("missing AV-21 log", None, ["est-eval", "--av21", "/nonexistent/av21.csv", "--out", "/tmp/grip-bad-input-av21"], 2,
      ["cannot open", "/nonexistent/av21.csv"]),
     ("missing tir", GOOD_FY.encode(), ["fit-mf", "{f}", "--model", "fy", "--tir", "/nonexistent/x.tir"], 3,

@@ -70,13 +70,18 @@ def main(argv=None):
     ap.add_argument("--public", default=r"^grip_", help="regex of the functions to report")
     ap.add_argument("--budget", type=int, default=0, help="fail if any reported function exceeds this (bytes)")
     args = ap.parse_args(argv)
+    try:
+        public = re.compile(args.public)
+    except re.error as e:
+        ap.error(f"--public {args.public!r}: not a regular expression ({e})")
+    if args.budget < 0:
+        ap.error(f"--budget {args.budget}: bytes >= 0 (0: no budget)")
     paths = sorted(glob.glob(f"{args.builddir}/**/*.ci", recursive=True))
     if not paths:
         print(f"stack: no .ci files under {args.builddir}", file=sys.stderr)
         return 2
     frames, kinds, edges = load(paths)
     total, externals = worst_case(frames, edges)
-    public = re.compile(args.public)
     rows = sorted((n for n in frames if public.search(n) and frames[n] is not None), key=lambda n: -total[n])
     dynamic = [n for n in kinds if kinds[n] != "static"]
     print(f"{'function':40s} {'frame':>6s} {'worst':>6s}  (bytes)")
