@@ -312,6 +312,22 @@ class FleetRunOptionsTests(unittest.TestCase):
             self.assertIn(said, err.getvalue(), args)
 
 
+class FleetArithTests(unittest.TestCase):
+    """fleet analyze / report of an arithmetic the run does not hold: exit 2
+    (it wrote an analysis of 0 logs and exited 0)."""
+
+    def test_missing_arithmetic_is_refused(self):
+        import pandas as pd
+        from grip_tools.errors import UsageError
+        from grip_tools.fleet import analyze
+        logs = pd.DataFrame({"arith": ["float", "float"]})
+        self.assertEqual(analyze.pick_arith(logs, None), "float")
+        self.assertEqual(analyze.pick_arith(logs, "float"), "float")
+        with self.assertRaises(UsageError) as cm:
+            analyze.pick_arith(logs, "fixed")
+        self.assertIn("--arith fixed", str(cm.exception))
+
+
 class FleetInputsTests(unittest.TestCase):
     def test_candump_and_parquet_and_both_arithmetics(self):
         import pandas as pd

@@ -62,10 +62,13 @@ def load(results, arith=None):
 
 
 def pick_arith(logs, arith):
-    """The arithmetic to analyse: the one asked for, else float if present."""
-    if arith:
-        return arith
+    """The arithmetic to analyse: the one asked for (UsageError when the run
+    has none of its rows), else float if present."""
     have = sorted(logs["arith"].unique())
+    if arith:
+        if have and arith not in have:
+            raise UsageError(f"--arith {arith}: the run has rows of {', '.join(have)} only")
+        return arith
     return "float" if "float" in have else (have[0] if have else "float")
 
 
