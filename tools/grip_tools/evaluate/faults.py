@@ -359,6 +359,21 @@ def evaluate_case(t, run, base, truth, t0, t1, sig_idx):
 
 # ---------------------------------------------------------------------------
 
+def fault_runs(si, cols, keep=None):
+    """The fault runs of scenario si (an index of SCENARIOS) from its sensor
+    columns: (signal index, signal, case name, (t, value, valid)) for every
+    signal x fault (keep: a predicate on the case name, tested before the
+    fault is injected), with the table's fixed fault seeds."""
+    t0 = SCENARIOS[si][4]
+    for gi, sig in enumerate(SIGNALS):
+        for fi, fault in enumerate(FAULTS):
+            case = f"{sig[0]} {fault}"
+            if keep is not None and not keep(case):
+                continue
+            c2, drop = inject(cols, sig, fault, t0, t0 + FAULT_T, [FAULT_SEED, si, gi, fi])
+            yield gi, sig, case, inputs(c2, drop, sig[1])
+
+
 def _scenario(args):
     si, cache, only = args
     scn, man, surf, kw, t0 = SCENARIOS[si]
@@ -373,29 +388,24 @@ def _scenario(args):
                         "degraded_rows": int((base["degraded"] != 0).sum()),
                         "nomon_all": errors(base_nomon, truth, t >= 0)}, "cases": {}}
     t1 = t0 + FAULT_T
-    for gi, sig in enumerate(SIGNALS):
-        for fi, fault in enumerate(FAULTS):
-            case = f"{sig[0]} {fault}"
-            if only and not re.search(only, f"{scn} {case}"):
-                continue
-            c2, drop = inject(cols, sig, fault, t0, t1, [FAULT_SEED, si, gi, fi])
-            tt, vv, oo = inputs(c2, drop, sig[1])
-            run = run_chain(vv, oo)
-            POLICY["mask"] = monitor_ref.DEGR_SUSPECT
-            d1 = evaluate_case(tt, run, base, truth, t0, t1, sig[1])
-            POLICY["mask"] = DEGR_ALL
-            d = evaluate_case(tt, run, base, truth, t0, t1, sig[1])
-            d["suspect_only"] = {"verdict": d1["verdict"], "unflagged_rows": d1["unflagged_rows"],
-                                 "during": d1["during"], "after": d1["after"]}
-            nm = run_chain(vv, oo, monitor=False)
-            d["nomon_during"] = errors(nm, truth, (tt >= t0) & (tt < t1))
-            d["nomon_after"] = errors(nm, truth, tt >= t1)
-            d["nomon_nonfinite"] = int((~nm["finite"]).sum())
-            out["cases"][case] = d
-            print(f"faults: {scn:18s} {case:14s} det {d['det_t']} {d['verdict']} "
-                  f"beta {d['during']['beta_rms']}/{d['during']['beta_max']} "
-                  f"(no monitor {d['nomon_during']['beta_rms']}/{d['nomon_during']['beta_max']})",
-                  file=sys.stderr, flush=True)
+    keep = (lambda case: re.search(only, f"{scn} {case}") is not None) if only else None
+    for gi, sig, case, (tt, vv, oo) in fault_runs(si, cols, keep):
+        run = run_chain(vv, oo)
+        POLICY["mask"] = monitor_ref.DEGR_SUSPECT
+        d1 = evaluate_case(tt, run, base, truth, t0, t1, sig[1])
+        POLICY["mask"] = DEGR_ALL
+        d = evaluate_case(tt, run, base, truth, t0, t1, sig[1])
+        d["suspect_only"] = {"verdict": d1["verdict"], "unflagged_rows": d1["unflagged_rows"],
+                             "during": d1["during"], "after": d1["after"]}
+        nm = run_chain(vv, oo, monitor=False)
+        d["nomon_during"] = errors(nm, truth, (tt >= t0) & (tt < t1))
+        d["nomon_after"] = errors(nm, truth, tt >= t1)
+        d["nomon_nonfinite"] = int((~nm["finite"]).sum())
+        out["cases"][case] = d
+        print(f"faults: {scn:18s} {case:14s} det {d['det_t']} {d['verdict']} "
+              f"beta {d['during']['beta_rms']}/{d['during']['beta_max']} "
+              f"(no monitor {d['nomon_during']['beta_rms']}/{d['nomon_during']['beta_max']})",
+              file=sys.stderr, flush=True)
     return scn, out
 
 

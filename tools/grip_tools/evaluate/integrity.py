@@ -255,19 +255,14 @@ def _faults_scenario(args):
     per consumer rule (FAULT_RULES) the totals over those runs, as one row."""
     from grip_tools.evaluate import faults as F
     si, cache, only = args
-    scn, man, surf, kw, t0 = F.SCENARIOS[si]
+    scn, man, surf, kw, _ = F.SCENARIOS[si]
     cols, truth = F.simulate(man, surf, kw, cache)
     runs = [] if only else [("fault-free", F.inputs(cols))]
-    for gi, sig in enumerate(F.SIGNALS):
-        for fi, fault in enumerate(F.FAULTS):
-            if only and f"{sig[0]} {fault}" not in only:
-                continue
-            c2, drop = F.inject(cols, sig, fault, t0, t0 + F.FAULT_T, [F.FAULT_SEED, si, gi, fi])
-            runs.append((f"{sig[0]} {fault}", F.inputs(c2, drop, sig[1])))
+    runs += [(case, tvv) for _, _, case, tvv in F.fault_runs(si, cols, (lambda c: c in only) if only else None)]
     per_rule = {rule: [] for rule in FAULT_RULES}
+    moving = truth["vx"] > V_MIN
     for _, (t, value, valid) in runs:
         run = F.run_chain(value, valid)
-        moving = truth["vx"] > V_MIN
         for rule, mask in FAULT_RULES.items():
             gated, _ = monitor_ref.gate(run["degraded"], mask, run["valid"], run["flags"])
             est = dict(run, valid=gated)
