@@ -185,19 +185,12 @@ def independent_run(vname, mname, sname, cache):
     """One independent-judge run (simulated and sampled as judge.run_one
     does, cached in cache/<run>/) through est_ref in the generic
     configuration."""
-    from grip_tools.sim.independent import judge, mb, manoeuvres as man_mod, sensors
+    from grip_tools.sim.independent import judge, mb
     veh = mb.Vehicle(vname)
     d = os.path.join(cache, f"{vname}_{mname}_{sname}")
     inputs, truth_csv = os.path.join(d, "inputs.csv"), os.path.join(d, "truth.csv")
     if not (os.path.exists(inputs) and os.path.exists(truth_csv)):
-        factor = mb.SURFACES[sname]
-        sim = mb.simulate(veh, man_mod.build(mname, veh, factor), factor)
-        t, meas = sensors.measure(sim, veh, seed=judge._seed(vname, mname, sname))
-        tr = sensors.truth(sim, veh, t)
-        os.makedirs(d, exist_ok=True)
-        sensors.write_csv(truth_csv, tr)
-        value, valid = sensors.estimator_inputs(t, meas, est_eval.IN_COLS)
-        est_eval.write_input_csv(inputs, t, value, valid)
+        judge.simulate_run(vname, mname, sname, d)
     cols = est_eval.read_csv(inputs)
     t = cols["t_s"]
     value = np.zeros((len(t), est_ref.N_IN))

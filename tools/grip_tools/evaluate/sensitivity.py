@@ -228,17 +228,14 @@ def run_dirs(vehicles, manoeuvres, surfaces, runs_dir, resimulate=False):
 def learning_inputs(vehicles, runs_dir):
     """The learning drives' input files of each vehicle {vehicle: [csv]},
     simulated as the judge's learn() does where not yet on disk."""
-    from grip_tools.sim.independent import judge, mb, manoeuvres as man_mod, sensors
+    from grip_tools.sim.independent import judge
     out = {}
     for v in vehicles:
-        veh = mb.Vehicle(v)
         out[v] = []
         for name in LEARNING_DRIVES["learned"]:
             path = os.path.join(runs_dir, "learning", f"{v}_{name}_inputs.csv")
             if not os.path.exists(path):
-                sim = mb.simulate(veh, man_mod.build(name, veh, 1.0), 1.0)
-                t, meas = sensors.measure(sim, veh, seed=judge._seed(v, name, "dry"))
-                value, valid = sensors.estimator_inputs(t, meas, est_eval.IN_COLS)
+                t, value, valid = judge.learning_drive_inputs(v, name)
                 os.makedirs(os.path.dirname(path), exist_ok=True)
                 est_eval.write_input_csv(path, t, value, valid)
             out[v].append(path)

@@ -272,6 +272,16 @@ def characterize(vname, out_dir, work_dir):
                 ay_max=float(np.max(np.abs(ay[mov]))))
 
 
+def learning_drive_inputs(vname, name):
+    """The estimator's inputs (t, value, valid) of one of the vehicle's
+    learning drives (manoeuvres.learning_drive, learning_drive_long; dry)."""
+    veh = mb.Vehicle(vname)
+    sim = mb.simulate(veh, man_mod.build(name, veh, 1.0), 1.0)
+    t, meas = sensors.measure(sim, veh, seed=_seed(vname, name, "dry"))
+    value, valid = sensors.estimator_inputs(t, meas, est_eval.IN_COLS)
+    return t, value, valid
+
+
 def learn(vname, values, bins, work_dir, kx=False):
     """The learning drive of one vehicle (manoeuvres.learning_drive, dry)
     through each binding build with stiff_est = 1: {arith: learned()} (the
@@ -279,15 +289,11 @@ def learn(vname, values, bins, work_dir, kx=False):
     ignition cycle later, from its blob) the straight drive with speed
     changes (manoeuvres.learning_drive_long). Builds that are grip-replay
     programs are left out (the blob goes through grip.est)."""
-    veh = mb.Vehicle(vname)
     drives = ("learning-drive", "learning-drive-long") if kx else ("learning-drive",)
     vv = dict(values, stiff_est=1, **({"kx_est": 1} if kx else {}))
     inputs = []
     for name in drives:
-        sc = man_mod.build(name, veh, 1.0)
-        sim = mb.simulate(veh, sc, 1.0)
-        t, meas = sensors.measure(sim, veh, seed=_seed(vname, name, "dry"))
-        value, valid = sensors.estimator_inputs(t, meas, est_eval.IN_COLS)
+        t, value, valid = learning_drive_inputs(vname, name)
         os.makedirs(work_dir, exist_ok=True)
         tag = "" if name == "learning-drive" else "_long"
         est_eval.write_input_csv(os.path.join(work_dir, f"learning{tag}_{vname}_inputs.csv"), t, value, valid)
