@@ -810,19 +810,9 @@ def main(argv=None):
     if a.integrity:
         from grip_tools.evaluate import integrity
         judges = [j for j in a.judges.split(",") if j]
-        unknown = [j for j in judges if j not in integrity.JUDGES]
-        if unknown or not judges:
-            ap.error(f"--judges: {', '.join(unknown) or 'none given'}: not a judge "
-                     f"(have {', '.join(integrity.JUDGES)})")
-        from grip_tools.reference import est as est_ref
-        for spec in a.const:
-            name, eq, value = spec.partition("=")
-            if not eq or not hasattr(est_ref, name):
-                ap.error(f"--const {spec}: not NAME=VALUE with NAME a constant of the reference estimator")
-            try:
-                float(value)
-            except ValueError:
-                ap.error(f"--const {spec}: {value!r} is not a number")
+        err = integrity.option_error(judges, a.const)
+        if err:
+            ap.error(err)
         integrity.run(a.out, judges=judges, runs_dir=a.runs_dir, full=a.full, av21_log=a.av21, consts=a.const)
         return 0
     if a.independent:

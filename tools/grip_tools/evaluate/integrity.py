@@ -356,17 +356,37 @@ def table(results):
     return "\n".join(summary) + "\n", "\n".join(lines) + "\n"
 
 
+def option_error(judges, consts):
+    """None when run() can go with these judges and "NAME=VALUE" constants,
+    else what is wrong, naming the option (--judges, --const)."""
+    unknown = [j for j in judges if j not in JUDGES]
+    if unknown or not judges:
+        return f"--judges: {', '.join(unknown) or 'none given'}: not a judge (have {', '.join(JUDGES)})"
+    for spec in consts:
+        name, eq, value = spec.partition("=")
+        if not eq or not hasattr(est_ref, name):
+            return f"--const {spec}: not NAME=VALUE with NAME a constant of the reference estimator"
+        try:
+            float(value)
+        except ValueError:
+            return f"--const {spec}: {value!r} is not a number"
+    return None
+
+
 def run(out, judges=JUDGES, runs_dir=None, full=False, av21_log=None, consts=()):
     """consts: "NAME=VALUE" pairs, est_ref module constants changed for the
-    run (the sensitivity of TIRE_TOL, KIN_ACC, ROLL_TOL, DIS_K, ...)."""
+    run (the sensitivity of TIRE_TOL, KIN_ACC, ROLL_TOL, DIS_K, ...);
+    ValueError (option_error's text) before anything runs where they or
+    the judges cannot be run."""
     from unittest import mock
+    err = option_error(list(judges), consts)
+    if err:
+        raise ValueError(err)
     runs_dir = runs_dir or os.path.join(est_eval.ROOT, "build", "est_eval")
     os.makedirs(out, exist_ok=True)
     patches = []
     for spec in consts:
         name, _, value = spec.partition("=")
-        if not hasattr(est_ref, name):
-            raise ValueError(f"--const {spec}: est_ref has no constant {name}")
         patches.append(mock.patch.object(est_ref, name, float(value)))
     for p in patches:
         p.start()
@@ -388,10 +408,8 @@ def _run(out, judges, runs_dir, full, av21_log, consts):
             res[j] = judge_independent(os.path.join(runs_dir, "independent"), full=full)
         elif j == "av21":
             res[j] = judge_av21(out, av21_log)
-        elif j == "faults":
+        else:                                   # "faults" (run() checked the names)
             res.update(judge_faults(os.path.join(est_eval.ROOT, "build", "faults-cache")))
-        else:
-            raise ValueError(f"unknown judge {j!r} (have {', '.join(JUDGES)})")
         print(f"integrity: {j} done", file=sys.stderr)
     summary, detail = table(res)
     with open(os.path.join(out, "integrity.json"), "w") as f:
