@@ -292,6 +292,14 @@ class SimFleetOptionsTests(unittest.TestCase):
             self.assertIn(said, err.getvalue(), args)
 
 
+    def test_a_friction_scale_is_a_surface(self):
+        # "dry, wet, snow or numbers": a number written on the command line
+        # plans a run on that friction (it raised a ValueError in plan)
+        from grip_tools.fleet import simfleet
+        runs, _ = simfleet.plan(2, 0, ["step-steer"], ["dry", "0.5"], 1)
+        self.assertEqual([r["mu"] for r in runs], [1.0, 0.5])
+
+
 class FleetRunOptionsTests(unittest.TestCase):
     """grip fleet run refuses what the whole run cannot go with before it
     reads a log (it once ran every log into an error row and exited 0)."""

@@ -241,12 +241,9 @@ def main(argv=None):
     surfs = [s.strip() for s in a.surfaces.split(",") if s.strip()]
     for sf in surfs:
         try:
-            mu = M.surface_mu(float(sf) if sf not in M.SURFACES else sf)
-        except ValueError:
-            mu = None
-        if mu is None or not (math.isfinite(mu) and 0.0 < mu <= 2.0):
-            raise UsageError(f"--surfaces: unknown surface '{sf}' (one of {', '.join(sorted(M.SURFACES))} "
-                             "or a friction scale in (0, 2])")
+            M.parse_surface(sf)
+        except ValueError as e:
+            raise UsageError(f"--surfaces: unknown surface {e}") from None
     if not surfs or not mans:
         raise UsageError("--manoeuvres and --surfaces need at least one name each")
     if not (math.isfinite(a.dt) and 0.0 < a.dt <= 0.01):

@@ -183,12 +183,33 @@ def fishhook_profile(t0, amp, rate=720.0 * DEG, dwell1=0.25, hold=3.0):
 
 
 def surface_mu(surface):
+    """The friction scale of a surface: a name of SURFACES, a number, or a
+    number written as text (a command line's "0.5")."""
     if isinstance(surface, (int, float)):
         return float(surface)
     try:
         return SURFACES[surface]
     except KeyError:
+        pass
+    try:
+        return float(surface)
+    except (TypeError, ValueError):
         raise ValueError(f"surface must be one of {sorted(SURFACES)} or a number, not {surface!r}") from None
+
+
+def parse_surface(text):
+    """A surface given on a command line: a name of SURFACES (returned as it
+    is) or a friction scale in (0, 2] (returned as a float); ValueError
+    naming the text otherwise."""
+    if text in SURFACES:
+        return text
+    try:
+        mu = float(text)
+    except ValueError:
+        mu = None
+    if mu is None or not (math.isfinite(mu) and 0.0 < mu <= 2.0):
+        raise ValueError(f"{text!r}: one of {', '.join(sorted(SURFACES))} or a friction scale in (0, 2]")
+    return mu
 
 
 def brake_pressure_for(vehicle, decel):
