@@ -55,6 +55,18 @@ static inline int r_is_finite(grip_real_t a) { (void)a; return 1; }
 /* cos(atan(a)): kept literal in fixed point, where 1 + a^2 would leave QS
  * for |a| > 181. */
 static inline grip_real_t r_cos_atan(grip_real_t a) { return grip_q16_cos(grip_q16_atan(a)); }
+/* c0 + c1 x and a / (b1 b2) - 1: see the float build. Q15.16 carries no
+ * residual (its resolution is its own tolerance): the plain forms, 0. */
+static inline grip_real_t r_lin_ext(grip_real_t c0, grip_real_t c1, grip_real_t x, grip_real_t x_lo)
+{
+    (void)x_lo;
+    return q16_add(c0, q16_mul(c1, x));
+}
+static inline grip_real_t r_quot_m1_lo(grip_real_t a, grip_real_t b1, grip_real_t b2, grip_real_t q, grip_real_t d)
+{
+    (void)a; (void)b1; (void)b2; (void)q; (void)d;
+    return R_ZERO;
+}
 
 #else /* float */
 #include <math.h> /* grip-deviation: MISRA-20.1 float build only, inside the arithmetic selection #if */
@@ -109,6 +121,41 @@ static inline int r_is_finite(grip_real_t a) { return isfinite(a) ? 1 : 0; }
 /* cos(atan(a)) = 1 / sqrt(1 + a^2), exactly; a^2 = inf gives 0, as the
  * limit. One square root and a division instead of atanf and cosf. */
 static inline grip_real_t r_cos_atan(grip_real_t a) { return 1.0f / sqrtf(1.0f + a * a); }
+
+/* A quotient carried beyond single precision, for the few terms whose
+ * parts cancel: in c0 + c1 x with c0 ~ -c1 x (a slip stiffness that falls
+ * through zero with load, PKX1 + PKX2 dfz) one rounding of x (2^-24 of x)
+ * becomes 2^-24 |c1 x| of a result near zero. d = q - 1 where q is the
+ * float a / b1 / b2; r_quot_m1_lo is what d lacks of the exact a / (b1 b2)
+ * - 1 (to ~2^-48 of it), r_lin_ext is c0 + c1 (x + x_lo) with one rounding
+ * of c0 + c1 x. With a fused multiply-add (Cortex-M4F, M7, M33, Arm64) the
+ * residuals are exact products: a - q b1 b2 from two fmaf, d's own rounding
+ * (only where q < 0.5: for q >= 0.5, q - 1 is exact) by Fast2Sum with -1 as
+ * the larger term. Without one (x86-64's baseline) the same quantities in
+ * double, which that core has in hardware. */
+#if defined(__ARM_FEATURE_FMA)
+static inline grip_real_t r_quot_m1_lo(grip_real_t a, grip_real_t b1, grip_real_t b2, grip_real_t q, grip_real_t d)
+{
+    float b = b1 * b2;
+    float b_lo = fmaf(b1, b2, -b);           /* b1 b2 = b + b_lo exactly */
+    float r = fmaf(-q, b_lo, fmaf(-q, b, a)); /* a - q b1 b2 */
+    return (q - (d + 1.0f)) + r / b;
+}
+static inline grip_real_t r_lin_ext(grip_real_t c0, grip_real_t c1, grip_real_t x, grip_real_t x_lo)
+{
+    return fmaf(c1, x_lo, fmaf(c1, x, c0));
+}
+#else
+static inline grip_real_t r_quot_m1_lo(grip_real_t a, grip_real_t b1, grip_real_t b2, grip_real_t q, grip_real_t d)
+{
+    (void)q;
+    return (float)(((double)a / ((double)b1 * (double)b2) - 1.0) - (double)d);
+}
+static inline grip_real_t r_lin_ext(grip_real_t c0, grip_real_t c1, grip_real_t x, grip_real_t x_lo)
+{
+    return (float)((double)c0 + (double)c1 * ((double)x + (double)x_lo));
+}
+#endif
 #endif
 
 static inline grip_real_t r_min(grip_real_t a, grip_real_t b) { return (a < b) ? a : b; }

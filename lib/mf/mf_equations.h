@@ -98,8 +98,11 @@ static MF_ALWAYS_INLINE void mf_long_pure(const grip_mf_params *p, const mf_op *
                                  r_sub(R_ONE, r_mul(p->pex4, r_sign(kx)))),
                            p->lex);                                                  /* 4.E14 */
     /* Kxk / Fz: the slip stiffness per unit load, so that Bx is formed
-     * without dividing two loads (4.E15, 4.E16). */
-    grip_real_t kx_per = r_mul(r_mul(r_mul(r_add(p->pkx1, r_mul(p->pkx2, dfz)), mfk_exp(r_mul(p->pkx3, dfz), mk)),
+     * without dividing two loads (4.E15, 4.E16);
+     * PKX1 + PKX2 dfz with dfz beyond single precision: it falls through
+     * zero with load in some files (FSAE_Defaults: 50 - 80 dfz), where one
+     * rounding of dfz alone moved Fx by 3e-6 Fz (r_lin_ext). */
+    grip_real_t kx_per = r_mul(r_mul(r_mul(r_lin_ext(p->pkx1, p->pkx2, dfz, op->dfz_lo), mfk_exp(r_mul(p->pkx3, dfz), mk)),
                                      mf_dp(p, op->dp, op->dpi, MF_DP_PX_K)),
                                p->lkx);
     grip_real_t bx = mfk_div_lim(kx_per, r_mul(cx, dx), MF_LIM_B, mk);                    /* 4.E16 */
@@ -485,6 +488,7 @@ static MF_ALWAYS_INLINE void mf_load(const grip_mf_params *p, grip_real_t fz, mf
     op->fz = r_div(fz, p->fnomin);
     op->fzp = r_div(op->fz, p->lfzo);                                               /* 4.E1 */
     op->dfz = r_sub(op->fzp, R_ONE);                                                /* 4.E2a */
+    op->dfz_lo = r_quot_m1_lo(fz, p->fnomin, p->lfzo, op->fzp, op->dfz);
 }
 
 /* The low-speed model (VXLOW, as MF-Tyre) at |Vx| <= VXLOW, rl = |Vx| /

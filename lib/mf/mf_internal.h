@@ -53,6 +53,7 @@ typedef struct {
     grip_real_t fz;      /* Fz / FNOMIN                                        */
     grip_real_t fzp;     /* Fz / Fz0' with Fz0' = LFZO * FNOMIN                 */
     grip_real_t dfz;     /* (Fz - Fz0') / Fz0'                       (4.E2a)   */
+    grip_real_t dfz_lo;  /* what dfz lacks of the exact value (float; 0 fixed) */
     grip_real_t dpi;     /* (p - NOMPRES) / NOMPRES                  (4.E2b)   */
     grip_real_t kappa;   /* longitudinal slip (ISO)                            */
     grip_real_t alpha;   /* alpha* : alpha (MF-Tyre) or tan(alpha) (book)      */
@@ -164,10 +165,19 @@ typedef struct {
 #define MF_PI        RC(3.14159265358979)
 #define MF_2_OVER_PI RC(0.636619772367581)
 
-/* a / b, limited to +-lim; no division (and no saturation) when the
- * quotient would leave [-lim, lim], including b == 0. 0 / 0 = 0. */
+/* a / b, limited to +-lim (the sign of a / b, b = -0 counting as positive);
+ * 0 / 0 = 0; a NaN stays NaN. Fixed build: no division (and so no
+ * saturation) where the quotient would leave [-lim, lim], including
+ * b == 0. Float build: the quotient first, and the tests only where it is
+ * not within [-lim, lim] (an infinity or NaN included): one division and
+ * one comparison on the common path instead of two divisions and three
+ * comparisons. The same results: a quotient within the limit is the same
+ * division; beyond it both give the signed limit (fl(|a| / lim) and
+ * fl(|a / b|) order |b| and lim alike but at a quotient within one
+ * rounding of lim, where either result is lim to that rounding). */
 static inline grip_real_t mf_div_lim(grip_real_t a, grip_real_t b, grip_real_t lim)
 {
+#if GRIP_ARITH_FIXED
     grip_real_t aa = r_abs(a);
     if (aa == R_ZERO) {
         return R_ZERO;
@@ -176,6 +186,16 @@ static inline grip_real_t mf_div_lim(grip_real_t a, grip_real_t b, grip_real_t l
         return ((a < R_ZERO) != (b < R_ZERO)) ? r_neg(lim) : lim;
     }
     return r_div(a, b);
+#else
+    grip_real_t q = a / b;
+    if (fabsf(q) <= lim) {
+        return q;
+    }
+    if ((a == 0.0f) || (q != q)) {
+        return (a == 0.0f) ? 0.0f : q;       /* 0 / 0 = 0; NaN in, NaN out */
+    }
+    return ((a < 0.0f) != (b < 0.0f)) ? -lim : lim;
+#endif
 }
 
 /* sqrt(a^2 + b^2) without forming the squares of large values. */

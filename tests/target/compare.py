@@ -307,6 +307,7 @@ def main():
         maxerr = [0.0] * 6
         over = [0] * 6
         bad_status = 0
+        per_fz = [0.0] * 6      # max |err| / Fz (Mz: / (Fz R0)) at Fz >= 0.05 FNOMIN
         for rec in mf[t]:
             i = rec[0]
             if rec[1] != 0 or rec[2] != 0:
@@ -336,10 +337,14 @@ def main():
                 worst[j] = max(worst[j], ratio)
                 if not ratio <= 1.0:
                     over[j] += 1
+                if fz >= 0.05 * fnomin:
+                    per_fz[j] = max(per_fz[j], e / (fz * (r0 if j in (2, 5) else 1.0)))
             n_mf += 1
         print('# MF %-28s %4d rows: max |err| %s; worst |err|/tol %.3f%s' % (
             name, len(mf[t]), ' '.join('%s %.3g' % (names[j], maxerr[j]) for j in range(6)), max(worst),
             '' if bad_status == 0 else '; %d rows with status != OK' % bad_status))
+        print('# MF %-28s max |err| / Fz (Mz: / (Fz R0)), Fz >= 0.05 FNOMIN: %s' % (
+            name, ' '.join('%s %.2g' % (names[j], per_fz[j]) for j in range(6))))
         if bad_status:
             fails.append('%s: %d rows with status != OK' % (name, bad_status))
         for j in range(6):

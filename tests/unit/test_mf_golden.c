@@ -132,6 +132,10 @@ static int check_tire(const grip_test_tire *t)
     err_stats st[NOUT];
     double worst_budget[NOUT] = { 0, 0, 0, 0, 0, 0 };   /* max |err| / allowed */
     double worst_rel_d[NOUT] = { 0, 0, 0, 0, 0, 0 };    /* max |err| / D (Fz >= 0.05 FNOMIN, D >= 1) */
+    /* max |err| / Fz (Mz: / (Fz R0)) at Fz >= 0.05 FNOMIN: the float build's
+     * accuracy target, 1e-6 (docs/magic-formula-c.md section 7.1) */
+    double worst_rel_fz[NOUT] = { 0, 0, 0, 0, 0, 0 };
+    double r0 = from_qs(t->params->unloaded_radius);
     double fnomin = from_ql(t->params->fnomin);
     long over[NOUT] = { 0, 0, 0, 0, 0, 0 };
     char label[NOUT][64];
@@ -228,6 +232,10 @@ static int check_tire(const grip_test_tire *t)
             if (fz >= 0.05 * fnomin && scale[j] >= 1.0 && e / scale[j] > worst_rel_d[j]) {
                 worst_rel_d[j] = e / scale[j];
             }
+            if (fz >= 0.05 * fnomin) {
+                double rel = e / (fz * ((j == 2 || j == 5) ? r0 : 1.0));
+                worst_rel_fz[j] = (rel > worst_rel_fz[j]) ? rel : worst_rel_fz[j];
+            }
             double ratio = (allowed[j] > 0.0) ? e / allowed[j] : (e > 0.0 ? INFINITY : 0.0);
             err_add(&st[j], r->got[j], r->want[j], r->in[0], r->in[1], r->in[3]);
             if (!(ratio <= 1.0)) {
@@ -250,12 +258,24 @@ static int check_tire(const grip_test_tire *t)
     }
     printf("# %s: max |err| / D (Fz >= 0.05 FNOMIN, D >= 1): Fx0 %.2e Fy0 %.2e Mz0 %.2e Fx %.2e Fy %.2e Mz %.2e\n", t->name,
            worst_rel_d[0], worst_rel_d[1], worst_rel_d[2], worst_rel_d[3], worst_rel_d[4], worst_rel_d[5]);
+    printf("# %s: max |err| / Fz (Mz: / (Fz R0), Fz >= 0.05 FNOMIN): Fx0 %.2e Fy0 %.2e Mz0 %.2e Fx %.2e Fy %.2e Mz %.2e\n",
+           t->name, worst_rel_fz[0], worst_rel_fz[1], worst_rel_fz[2], worst_rel_fz[3], worst_rel_fz[4],
+           worst_rel_fz[5]);
     printf("# %s: prepared set (grip_mf_eval_prepared, _pure_prepared): %ld of %d rows differ from the above\n",
            t->name, prep_differs, n);
     printf("# %s: %d rows, %lu saturations%s%s\n", t->name, n, (unsigned long)sat, sat ? ", first: " : "",
            sat ? grip_debug_saturation_first() : "");
     failures = (bad_status != 0) ? 1 : 0;
     failures += (prep_differs != 0) ? 1 : 0;
+#if !GRIP_ARITH_FIXED
+    for (j = 0; j < NOUT; j++) {
+        if (!(worst_rel_fz[j] <= 1e-6)) {
+            printf("# FAIL %s %s: max |err| / Fz %.2e above the float build's 1e-6\n", t->name, out_names[j],
+                   worst_rel_fz[j]);
+            failures++;
+        }
+    }
+#endif
     for (j = 0; j < NOUT; j++) {
         if (over[j] != 0) {
             printf("# FAIL %s %s: %ld rows beyond the tolerance (worst %.2f x)\n", t->name, out_names[j], over[j],

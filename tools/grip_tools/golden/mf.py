@@ -33,7 +33,9 @@ KPUMIN..KPUMAX, alpha ALPMIN..ALPMAX, gamma CAMMIN..CAMMAX, p PRESMIN..PRESMAX
 (0.8..1.2 NOMPRES when absent), each intersected with the library's input
 domain (GRIP_MF_* in include/grip/grip_mf.h: |kappa| <= 1.5, |alpha| <= pi/2,
 |gamma| <= 30 deg, Fz <= 4 FNOMIN, 0.5..2 NOMPRES), so that no golden row is
-clamped by the C model. vx = LONGVL except in the low-speed rows.
+clamped by the C model. vx = LONGVL except in the low-speed rows. Every
+input is a float32 value (representable): what a float build is given, so
+that the rows measure the model rather than the rounding of its inputs.
 Any .tir that fails validation makes the generation fail (TirError).
 """
 import glob
@@ -187,7 +189,24 @@ def inputs(P, rng):
     vx[10:20] = np.linspace(0.05, 1.0, 10) * P["vxlow"]
     add(rng.uniform(klo, khi, n), rng.uniform(alo, ahi, n), rng.uniform(glo, ghi, n),
         rng.uniform(fz_lo_sweep, fz_hi, n), None, vx)
-    return {c: np.concatenate([r[c] for r in rows]) for c in COLUMNS[:6]}
+    x = {c: np.concatenate([r[c] for r in rows]) for c in COLUMNS[:6]}
+    bounds = dict(R, fz=(fz_lo if fz_lo > 0 else 0.0, fz_hi), vx=(0.0, np.inf))
+    return {c: representable(x[c], *(bounds[c] if bounds.get(c) is not None else (-np.inf, np.inf)))
+            for c in COLUMNS[:6]}
+
+
+def representable(x, lo, hi):
+    """x rounded to the nearest float32 (the inputs a float build is given,
+    so that the golden rows measure the model, not the rounding of its
+    inputs: on FSAE_Defaults that rounding alone moves Fx by 2.7e-6 Fz), one
+    step back towards x where rounding left the closed range [lo, hi]."""
+    x = np.asarray(x, dtype=float)
+    r = x.astype(np.float32)
+    above = (r > hi) & (x <= hi)
+    below = (r < lo) & (x >= lo)
+    r[above] = np.nextafter(r[above], np.float32(-np.inf))
+    r[below] = np.nextafter(r[below], np.float32(np.inf))
+    return r.astype(float)
 
 
 def _ext_outputs(P, x, p):
@@ -258,7 +277,7 @@ def _mode_rows(P, x, rng):
         b["omega"] = np.where(rng.uniform(0.0, 1.0, m) < omega_frac, om, 0.0)
         blocks.append(b)
 
-    low = np.flatnonzero(x["vx"] != P["longvl"])          # the low-speed rows
+    low = np.flatnonzero(x["vx"] != representable(P["longvl"], 0.0, np.inf))  # the low-speed rows
     every3 = np.arange(0, n, 3)
     # MFeval 2xx (no limits) on every file, and 1xx with a given omega
     take(np.union1d(every3, low), OPT_NO_LIMITS, omega_frac=0.3)
@@ -302,6 +321,8 @@ def _mode_rows(P, x, rng):
         take(sub, OPT_TURN_SLIP | OPT_TS_CAMBER, ph[sub], omega_frac=0.3)
         take(sweep_idx, OPT_TURN_SLIP | OPT_TS_CAMBER, sweep_phit)
     rows = {c: np.concatenate([b[c] for b in blocks]) for c in MODE_COLUMNS[:9]}
+    for c in MODE_COLUMNS[1:9]:      # the appended sweeps, phit and omega as well
+        rows[c] = representable(rows[c], -np.inf, np.inf)
     if np.any(np.abs(rows["phit"]) > PHIT_MAX):
         raise RuntimeError("turn slip outside the library's domain")
     return rows
