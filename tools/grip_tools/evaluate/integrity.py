@@ -11,7 +11,13 @@ beside it the share of moving steps outside spins and full saturation
 (both axles of the truth at >= 95 % of their friction) that are flagged
 valid. Targets (docs/estimator/integrity.md): at most 0.1 % of valid
 steps, no run longer than 100 ms; beta valid on >= 90 % of moving steps
-outside spins and full saturation on the independent simulator.
+outside spins and full saturation on the independent simulator. Per run,
+also why beta was withheld: the ceiling (the share of those steps whose
+beta error is within max(1 deg, 3 beta_sd_max), what any bound could flag
+valid), the withheld steps' errors and how many had the filter's own
+deviation beyond beta_sd_max, and the kinematic vy's drift against the
+truth over 1 s windows divided by what its deviation grew by (est_ref's
+trace); the table lists them for the runs below 90 %.
 
 Judges, all through the float64 reference (grip_tools.reference.est):
   own          the project's simulator (est_eval --simulate's 15 runs),
@@ -52,6 +58,9 @@ FLOOR = {"beta": 1.0 / DEG, "mu": 0.1, "vx": 0.1, "fy_axle": 100.0}
 K = 3.0
 TARGET_RATE, TARGET_RUN_S, TARGET_VALID = 0.001, 0.1, 0.90
 SAT_U = 0.95
+# the kinematic vy's drift against its bound: windows of 1 s (a transient's
+# length, over which the kinematic vy carries beta) every 0.1 s
+KIN_WINDOW_S, KIN_EVERY_S = 1.0, 0.1
 JUDGES = ("own", "mismatch", "independent", "av21", "faults")
 # The fault campaign's consumer rules: grip_monitor_gate's degraded bits
 # (docs/faults.md); "estimator alone" is the estimator's valid bits ungated.
@@ -84,7 +93,44 @@ def reference_run(cfg, value, valid):
     res = {k: np.array([o[k] for o in outs]) for k in keys}
     res["valid"] = np.array([o["valid"] for o in outs], dtype=np.int64)
     res["flags"] = np.array([o["flags"] for o in outs], dtype=np.int64)
+    # the kinematic vy's increments and its deviation's, the filter's vy
+    # deviation (a reference trace, absent while the lateral filter is off)
+    for k in ("kin_dvy", "kin_dsd", "filter_vy_sd"):
+        res[k] = np.array([o.get(k, np.nan) for o in outs])
     return res
+
+
+def kinematic_drift(t, dvy, dsd, vy_true, ok, window=KIN_WINDOW_S, every=KIN_EVERY_S):
+    """The kinematic vy against the truth: over windows of window [s]
+    starting every every [s], with ok and the trace on every step, the
+    kinematic vy integrated from the true vy at the window's start (dvy:
+    each step's increment ay + g_y - r vx times the period), its error at
+    the end divided by what its deviation grew by (dsd: each step's
+    increment). The share of windows with that ratio above 1 and above K
+    (the promise's factor), and its median; None without a window."""
+    dvy, dsd, vy_true, ok = (np.asarray(a, float) if i < 3 else np.asarray(a, bool)
+                             for i, a in enumerate((dvy, dsd, vy_true, ok)))
+    ok = ok & np.isfinite(dvy) & np.isfinite(dsd)
+    if len(t) < 2:
+        return None
+    dt = float(np.median(np.diff(t)))
+    nw, ns = max(1, int(round(window / dt))), max(1, int(round(every / dt)))
+    cv = np.concatenate([[0.0], np.cumsum(np.where(ok, dvy, 0.0))])
+    cs = np.concatenate([[0.0], np.cumsum(np.where(ok, dsd, 0.0))])
+    cb = np.concatenate([[0], np.cumsum(~ok)])
+    ratios = []
+    for k0 in range(0, len(t) - nw, ns):
+        k1 = k0 + nw
+        # steps k0+1 .. k1 integrate from the truth at k0 to k1
+        if cb[k1 + 1] - cb[k0 + 1] or not ok[k0] or cs[k1 + 1] - cs[k0 + 1] <= 0.0:
+            continue
+        drift = abs((cv[k1 + 1] - cv[k0 + 1]) - (vy_true[k1] - vy_true[k0]))
+        ratios.append(drift / (cs[k1 + 1] - cs[k0 + 1]))
+    if not ratios:
+        return None
+    ratios = np.array(ratios)
+    return dict(windows=len(ratios), ratio_med=float(np.median(ratios)), over_1=float(np.mean(ratios > 1.0)),
+                over_k=float(np.mean(ratios > K)))
 
 
 def judge_run(t, est, truth, moving, outside=None):
@@ -111,6 +157,26 @@ def judge_run(t, est, truth, moving, outside=None):
     den = moving if outside is None else (moving & outside)
     r["beta_valid_share"] = float(np.sum(vb & den) / den.sum()) if den.sum() else None
     r["share_steps"], r["share_valid_steps"] = int(den.sum()), int(np.sum(vb & den))
+    # availability's ceiling: a step can be flagged valid within the promise
+    # only with |error| <= max(1 deg, 3 beta_sd_max), whatever the bound;
+    # the withheld steps, and how far off beta was on them
+    lim = max(FLOOR["beta"], K * est_ref.BETA_SD_MAX)
+    err = np.abs(est["beta"] - truth["beta"])
+    fits = den & (err <= lim)
+    wh = den & ~vb
+    r["ceiling_steps"] = int(fits.sum())
+    r["beta_ceiling_share"] = float(fits.sum() / den.sum()) if den.sum() else None
+    r["withheld"] = dict(steps=int(wh.sum()), err_over=int(np.sum(wh & ~(err <= lim))),
+                         err_med_deg=float(np.median(err[wh]) * DEG) if wh.any() else None,
+                         sd_med_deg=float(np.median(est["beta_sd"][wh]) * DEG) if wh.any() else None)
+    if "filter_vy_sd" in est:
+        # the filter's own deviation in beta (its tire model's term) beyond
+        # beta_sd_max: no share of the kinematic vy could have kept it valid
+        # without the kinematic deviation itself within the limit
+        fb = est["filter_vy_sd"] / np.maximum(np.abs(est["vx"]), est_ref.V_OFF) * np.cos(est["beta"]) ** 2
+        r["withheld"]["filter_over"] = int(np.sum(wh & ~(fb <= est_ref.BETA_SD_MAX)))
+    if truth.get("vy") is not None and "kin_dvy" in est:
+        r["kin_drift"] = kinematic_drift(t, est["kin_dvy"], est["kin_dsd"], truth["vy"], moving)
     r["kin_steps"] = int(np.sum(((est["flags"] & est_ref.F_BETA_KIN) != 0) & moving))
     r["disagree_steps"] = int(np.sum(((est["flags"] & est_ref.F_BETA_DISAGREE) != 0) & moving))
     return r
@@ -134,7 +200,7 @@ def own_truth(run_dir, t):
 
     def at(name):
         return np.interp(t, tr["time"], tr[name])
-    truth = {"beta": at("beta"), "vx": at("vx"),
+    truth = {"beta": at("beta"), "vx": at("vx"), "vy": at("vy"),
              "mu": np.mean([at(f"mu_road_{w}") for w in est_eval.WHEELS], axis=0),
              "fy_axle": np.column_stack([at("fy_fl") + at("fy_fr"), at("fy_rl") + at("fy_rr")])}
     beta_kin = np.arctan(1.60 * np.tan(at("delta")) / 2.70)
@@ -209,6 +275,7 @@ def independent_run(vname, mname, sname, cache):
     spin = judge.spin_mask(tr, veh.l, veh.p.b, tr["vx"] >= judge.V_MOVING)
     sat = _axle_saturation(tr, lambda k: tr[k])
     truth = {"beta": tr["beta"], "mu": tr["mu_surface"] * judge.mu_norm(veh, judge.GENERIC_TIR), "vx": tr["vx"],
+             "vy": tr["vy"],
              "fy_axle": np.column_stack([tr["fy_fl"] + tr["fy_fr"], tr["fy_rl"] + tr["fy_rr"]])}
     return judge_run(t, est, truth, moving, ~(spin | sat))
 
@@ -237,7 +304,7 @@ def judge_av21(outdir, log=None):
                          **dict(est_eval.AV21_VEHICLE, **est_eval.EXTRA))
     est = reference_run(cfg, full, fv)
     # no vx row: the log's vehicle speed, an estimator input, is the INS vx itself
-    truth = {"beta": np.arctan2(ins["vy"], np.maximum(ins["vx"], 1e-3)), "mu": None}
+    truth = {"beta": np.arctan2(ins["vy"], np.maximum(ins["vx"], 1e-3)), "vy": ins["vy"], "mu": None}
     return {"road course (INS sideslip)": judge_run(t, est, truth, ins["vx"] > 10.0)}
 
 
@@ -315,8 +382,11 @@ def table(results):
              "| mu longest [ms] |", "|" + "---|" * 11]
     summary = ["| judge | runs | beta valid steps | beta violations | beta longest [ms] | beta target "
                "| mu valid steps | mu violations | mu longest [ms] | mu target | beta valid >= 90 % (runs) "
-               "| beta valid, all runs' steps [%] |",
-               "|" + "---|" * 12]
+               "| beta valid, all runs' steps [%] | beta valid ceiling, all runs' steps [%] |",
+               "|" + "---|" * 13]
+    limit = ["| judge | run | steps | beta valid [%] | ceiling [%] | withheld | withheld beyond 3 deg "
+             "| withheld error median [deg] | withheld beta_sd median [deg] | withheld, filter's sd beyond the limit "
+             "| kinematic drift / bound median | windows > 1 [%] | windows > 3 [%] |", "|" + "---|" * 13]
     for j, runs in results.items():
         for name, r in runs.items():
             b, m = _cell(r["beta"]), _cell(r.get("mu"))
@@ -334,9 +404,20 @@ def table(results):
         b, m = _cell(tb), _cell(tm)
         n_share = sum(r.get("share_steps", 0) for r in rows)
         agg = _pct(sum(r.get("share_valid_steps", 0) for r in rows) / n_share) if n_share else "-"
+        n_ceil = sum(r.get("ceiling_steps", 0) for r in rows)
+        ceil = _pct(n_ceil / n_share) if n_share and any("ceiling_steps" in r for r in rows) else "-"
         summary.append(f"| {j} | {len(rows)} | {b[0]} | {b[1]} | {b[2]} | {ok(tb)} | {m[0]} | {m[1]} | {m[2]} "
                        f"| {ok(tm) if tm else '-'} | {sum(s >= TARGET_VALID for s in shares)} / {len(shares)} "
-                       f"| {agg} |")
+                       f"| {agg} | {ceil} |")
+        for name, r in runs.items():
+            if r["beta_valid_share"] is None or r["beta_valid_share"] >= TARGET_VALID or "withheld" not in r:
+                continue
+            w, kd = r["withheld"], r.get("kin_drift")
+            f2 = (lambda x: "-" if x is None else f"{x:.2f}")
+            kc = ["-"] * 3 if not kd else [f"{kd['ratio_med']:.2f}", _pct(kd["over_1"]), _pct(kd["over_k"])]
+            limit.append(f"| {j} | {name} | {r['share_steps']} | {_pct(r['beta_valid_share'])} "
+                         f"| {_pct(r['beta_ceiling_share'])} | {w['steps']} | {w['err_over']} | {f2(w['err_med_deg'])} "
+                         f"| {f2(w['sd_med_deg'])} | {w.get('filter_over', '-')} | " + " | ".join(kc) + " |")
     summary += ["", "| judge | vx valid steps | vx violations | vx longest [ms] | vx sd median [m/s] | vx target "
                 "| axle valid steps | axle violations | axle longest [ms] | axle sd median [N] | axle target |",
                 "|" + "---|" * 11]
@@ -353,7 +434,7 @@ def table(results):
             met = "met" if tt["rate"] <= TARGET_RATE and tt["longest_s"] <= TARGET_RUN_S + 1e-9 else "**missed**"
             cells += [c[0], c[1], c[2], fmt.format(float(np.median(sds))) if sds else "-", met]
         summary.append(f"| {j} | " + " | ".join(cells) + " |")
-    return "\n".join(summary) + "\n", "\n".join(lines) + "\n"
+    return "\n".join(summary) + "\n", "\n".join(lines) + "\n", "\n".join(limit) + "\n"
 
 
 def option_error(judges, consts):
@@ -411,12 +492,18 @@ def _run(out, judges, runs_dir, full, av21_log, consts):
         else:                                   # "faults" (run() checked the names)
             res.update(judge_faults(os.path.join(est_eval.ROOT, "build", "faults-cache")))
         print(f"integrity: {j} done", file=sys.stderr)
-    summary, detail = table(res)
+    summary, detail, limit = table(res)
     with open(os.path.join(out, "integrity.json"), "w") as f:
         json.dump({"consts": list(consts), "judges": res}, f, indent=1)
     note = f" with {', '.join(consts)}" if consts else ""
     with open(os.path.join(out, "integrity_table.md"), "w") as f:
         f.write(f"<!-- written by `grip est-eval --integrity`{note}; do not edit -->\n\n## Summary\n\n" + summary
-                + "\n## Every run\n\n" + detail)
+                + "\n## Every run\n\n" + detail
+                + "\n## The runs below 90 % beta valid\n\n"
+                "steps: moving, outside spins and full saturation; ceiling: the share of them with |beta error| "
+                "<= max(1 deg, 3 beta_sd_max), the most any bound could flag valid within the promise; "
+                "withheld: those not flagged valid (filter's sd beyond the limit: the filter's own vy deviation, "
+                "its tire model's term, above beta_sd_max); kinematic drift / bound: over 1 s windows of the moving steps, "
+                "the kinematic vy integrated from the true vy against what its deviation grew by\n\n" + limit)
     print(summary)
     return res

@@ -1930,13 +1930,18 @@ class Estimator:
         sd_f = S[0] * math.sqrt(self.P[0, 0])
         sd_dyn = min(math.sqrt(sd_f * sd_f + sd_m * sd_m), SD_CAP)
         ay = s.ay if s.ay_ok else s.ay_m
-        self.vy_k = _clamp(self.vy_k + (ay + s.g_y - float(self.x[1]) * vx) * c["dt"], -WS_MAX, WS_MAX)
+        dvy = (ay + s.g_y - float(self.x[1]) * vx) * c["dt"]
+        self.vy_k = _clamp(self.vy_k + dvy, -WS_MAX, WS_MAX)
         # drift rate [m/s^2]: accelerometer offset and bank, the gyro
         # offset's remaining deviation times vx, the roll compensation
         sb = S[3] * math.sqrt(self.P[3, 3])
         ka = c.get("kin_acc_sd", KIN_ACC)
         rate = math.sqrt(ka * ka + (vx * sb) ** 2) + ROLL_TOL * G * c["roll_gradient"] * abs(ay)
         self.sd_k = min(self.sd_k + rate * c["dt"], SD_CAP)
+        # a trace for the measurement of the bounds against the truth
+        # (integrity.judge_run), not a C output: this step's kinematic
+        # increment of vy and of its deviation, the filter's deviation [m/s]
+        o["kin_dvy"], o["kin_dsd"], o["filter_vy_sd"] = dvy, rate * c["dt"], sd_dyn
         x0 = float(self.x[0])
         # the filter's share c: 1 while its deviation is at most Q0 of the
         # kinematic one's, 0 from where it is the larger, linear between
