@@ -625,7 +625,8 @@ def av21_report(log, outdir, bins):
     tir_path = os.path.join(outdir, "av21_standin.tir")
     av21_standin_tir(tir_path)
     t, value, valid, ins = av21_inputs(log)
-    res = {"log": log, "rate_hz": AV21_RATE_HZ, "steps": int(len(t)), "tire": "av21_standin.tir",
+    # the log's folder and name in the shared data, not this machine's path
+    res = {"log": "/".join(os.path.normpath(log).split(os.sep)[-2:]), "rate_hz": AV21_RATE_HZ, "steps": int(len(t)), "tire": "av21_standin.tir",
            "standin": AV21_STANDIN, "builds": {}}
     # the logged angle is the steering command: how far the road wheels lag
     # it, identified with the configured car (the preset's steer_lag)
