@@ -248,6 +248,29 @@ class IndependentJudgeTests(unittest.TestCase):
         self.assertLessEqual(b["longest_s"], integrity.TARGET_RUN_S)
         self.assertGreaterEqual(r["beta_valid_share"], integrity.TARGET_VALID)
 
+    @unittest.expectedFailure
+    def test_fitted_tire_step_steer_snow(self):
+        # the fitted configuration (a tire fitted to the car on a dry ramp
+        # steer): on snow mu stays near 1 for 2 s after the step while the
+        # truth's axles saturate, and the fitted tire's stiffness puts the
+        # model in its linear range, so the bound stays ~0.3 deg while beta
+        # is 1.7 deg off (docs/estimator/integrity.md, "The fitted
+        # configuration"). Not met; this test passes once it is.
+        try:
+            from grip_tools.evaluate import integrity
+        except ImportError as e:       # pragma: no cover - scipy-less machine
+            raise unittest.SkipTest(f"simulator not importable: {e}")
+        with tempfile.TemporaryDirectory() as d:
+            c = integrity.fitted_characterization("bmw320i", d)
+            r = integrity.independent_run("bmw320i", "step-steer", "snow", d, fitted=c)
+        b = r["beta"]
+        print(f"\n# fitted bmw320i step-steer snow: beta valid {b['valid_steps']} steps, {b['violations']} beyond "
+              f"max(1 deg, 3 sd), longest {b['longest_s']:.2f} s, worst true error {b['true_err_max_deg']:.2f} deg",
+              flush=True)
+        self.assertGreater(b["valid_steps"], 100)
+        self.assertLessEqual(b["rate"], integrity.TARGET_RATE)
+        self.assertLessEqual(b["longest_s"], integrity.TARGET_RUN_S)
+
     def test_circle_ramp_dry_is_limited_by_the_tire_term(self):
         # why beta is withheld at the limit (docs/estimator/integrity.md,
         # "Availability at the limit"): on the slow circle ramp beta's true

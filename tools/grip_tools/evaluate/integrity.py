@@ -1,7 +1,7 @@
 """Integrity of the estimator's validity flags: what a valid flag promises,
 measured on every judge with a truth.
 
-    grip est-eval --integrity [--out docs/estimator] [--judges own,mismatch,independent,av21]
+    grip est-eval --integrity [--out docs/estimator] [--judges own,mismatch,independent,fitted,av21,faults]
 
 For each output with a standard deviation (beta: beta_sd, mu: mu_sd) and
 each run: over the steps the output is flagged valid (V_BETA, V_MU) with
@@ -29,6 +29,11 @@ Judges, all through the float64 reference (grip_tools.reference.est):
   independent  CommonRoad's multi-body model (sim/independent), the
                reduced set (BMW 320i, every manoeuvre and surface), the
                generic configuration (PacejkaBook_Defaults on both axles)
+  fitted       the same runs in the fitted configuration: the tire fitted
+               to a dry ramp steer with wheel-force transducers and the
+               measured roll gradient and front roll share
+               (judge.characterize, cached beside the runs), the same
+               declared tire_tol
   av21         the Dallara AV-21 road course (476 s), sideslip from the INS
                (est_eval --av21's stand-in tire and preset)
   faults       the fault campaign (grip faults): every fault of every ESC
@@ -61,7 +66,7 @@ SAT_U = 0.95
 # the kinematic vy's drift against its bound: windows of 1 s (a transient's
 # length, over which the kinematic vy carries beta) every 0.1 s
 KIN_WINDOW_S, KIN_EVERY_S = 1.0, 0.1
-JUDGES = ("own", "mismatch", "independent", "av21", "faults")
+JUDGES = ("own", "mismatch", "independent", "fitted", "av21", "faults")
 # The fault campaign's consumer rules: grip_monitor_gate's degraded bits
 # (docs/faults.md); "estimator alone" is the estimator's valid bits ungated.
 FAULT_RULES = {"monitor gate": monitor_ref.DEGR_SUSPECT | monitor_ref.DEGR_UNVERIFIED,
@@ -247,10 +252,12 @@ def judge_mismatch(runs_dir):
     return {"step-steer 90 deg, rear LKY x 0.4": own_run(mismatch_run_dir(runs_dir), mismatch_config())}
 
 
-def independent_run(vname, mname, sname, cache):
+def independent_run(vname, mname, sname, cache, fitted=None):
     """One independent-judge run (simulated and sampled as judge.run_one
     does, cached in cache/<run>/) through est_ref in the generic
-    configuration."""
+    configuration, or with fitted (fitted_characterization's: the tire
+    fitted to a ramp steer, the measured roll gradient and front roll
+    share) in the fitted one."""
     from grip_tools.sim.independent import judge, mb
     veh = mb.Vehicle(vname)
     d = os.path.join(cache, f"{vname}_{mname}_{sname}")
@@ -269,12 +276,16 @@ def independent_run(vname, mname, sname, cache):
     n = min(len(t), len(tr["time"]))
     tr = {k: v[:n] for k, v in tr.items()}
     t, value, valid = t[:n], value[:n], valid[:n]
-    cfg = est_ref.config(golden_est.tire_params(), rate_hz=100, **judge.oem_vehicle(veh))
+    if fitted is None:
+        tire_path, extra = judge.GENERIC_TIR, {}
+    else:
+        tire_path, extra = fitted["tir"], fitted["values"]
+    cfg = est_ref.config(tir.load_params(tire_path), rate_hz=100, **dict(judge.oem_vehicle(veh), **extra))
     est = reference_run(cfg, value, valid)
     moving = tr["vx"] >= V_MIN
     spin = judge.spin_mask(tr, veh.l, veh.p.b, tr["vx"] >= judge.V_MOVING)
     sat = _axle_saturation(tr, lambda k: tr[k])
-    truth = {"beta": tr["beta"], "mu": tr["mu_surface"] * judge.mu_norm(veh, judge.GENERIC_TIR), "vx": tr["vx"],
+    truth = {"beta": tr["beta"], "mu": tr["mu_surface"] * judge.mu_norm(veh, tire_path), "vx": tr["vx"],
              "vy": tr["vy"],
              "fy_axle": np.column_stack([tr["fy_fl"] + tr["fy_fr"], tr["fy_rl"] + tr["fy_rr"]])}
     return judge_run(t, est, truth, moving, ~(spin | sat))
@@ -289,6 +300,39 @@ def judge_independent(cache, full=False):
             for s in sel["surfaces"]:
                 out[f"{v} {m} {s}"] = independent_run(v, m, s, cache)
                 print(f"integrity: independent {v} {m} {s}: {out[f'{v} {m} {s}']['beta']}", file=sys.stderr)
+    return out
+
+
+def fitted_characterization(vname, cache):
+    """judge.characterize's ramp steer and fit for one vehicle (the fitted
+    configuration's tire and roll values), cached in cache/."""
+    from grip_tools.sim.independent import judge
+    os.makedirs(cache, exist_ok=True)
+    path = os.path.join(cache, f"characterization_{vname}.json")
+    if os.path.exists(path):
+        with open(path) as f:
+            c = json.load(f)
+        if os.path.exists(c["tir"]):
+            return c
+    c = judge.characterize(vname, cache, cache)
+    with open(path, "w") as f:
+        json.dump(c, f, indent=1)
+    return c
+
+
+def judge_fitted(cache, full=False):
+    """The independent simulator's runs in the fitted configuration: the
+    tire file an OEM fits to a ramp steer with wheel-force transducers
+    (docs/independent-judge.md), declared with the same tire_tol."""
+    from grip_tools.sim.independent import judge
+    sel = judge.FULL_SET if full else judge.DEFAULT_SET
+    out = {}
+    for v in sel["vehicles"]:
+        c = fitted_characterization(v, cache)
+        for m in sel["manoeuvres"]:
+            for s in sel["surfaces"]:
+                out[f"{v} {m} {s}"] = r = independent_run(v, m, s, cache, fitted=c)
+                print(f"integrity: fitted {v} {m} {s}: {r['beta']}", file=sys.stderr)
     return out
 
 
@@ -487,6 +531,8 @@ def _run(out, judges, runs_dir, full, av21_log, consts):
             res[j] = judge_mismatch(runs_dir)
         elif j == "independent":
             res[j] = judge_independent(os.path.join(runs_dir, "independent"), full=full)
+        elif j == "fitted":
+            res[j] = judge_fitted(os.path.join(runs_dir, "independent"), full=full)
         elif j == "av21":
             res[j] = judge_av21(out, av21_log)
         else:                                   # "faults" (run() checked the names)
