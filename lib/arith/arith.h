@@ -7,6 +7,9 @@
  *
  *   r_add/r_sub(a, b)   same format in, same out
  *   r_mul(a_QS, b_Qx)   -> Qx       (QS times anything keeps the other format)
+ *   r_mac(c_Qx, a_QS, b_Qx)  -> Qx  c + a b, one rounding and one saturation
+ *   r_msub(c_Qx, a_QS, b_Qx) -> Qx  c - a b, likewise
+ *   r_mul_unit(u_QS, b_Qx)   -> Qx  u b where |u| <= 1 is known: no range test
  *   r_div(a_Qx, b_Qx)   -> QS       (ratio of like quantities is dimensionless)
  *   r_div_keep(a_Qx, b_QS) -> Qx    (quantity divided by a dimensionless value)
  *   r_ql_to_qs / r_qs_to_ql          format change, no-op in float
@@ -32,6 +35,17 @@
 static inline grip_real_t r_add(grip_real_t a, grip_real_t b) { return q16_add(a, b); }
 static inline grip_real_t r_sub(grip_real_t a, grip_real_t b) { return q16_sub(a, b); }
 static inline grip_real_t r_mul(grip_real_t a, grip_real_t b) { return q16_mul(a, b); }
+/* c + a b, c - a b: the product is not clamped on its own (q16_mac). The
+ * bits of r_add(c, r_mul(a, b)), r_sub(c, r_mul(a, b)) wherever that
+ * product stays in range; one range test instead of two. */
+static inline grip_real_t r_mac(grip_real_t c, grip_real_t a, grip_real_t b) { return q16_mac(c, a, b); }
+static inline grip_real_t r_msub(grip_real_t c, grip_real_t a, grip_real_t b) { return q16_msub(c, a, b); }
+/* u b for a factor u the caller knows to be within [-1, 1] (a sine, a
+ * cosine, the low-speed smooth factor, ...), with that argument in a
+ * comment where it is used: the product cannot leave the range of b, so it
+ * has no range test (q16_mul_unit; the debug-saturation build checks
+ * |u| <= 1). */
+static inline grip_real_t r_mul_unit(grip_real_t u, grip_real_t b) { return q16_mul_unit(u, b); }
 static inline grip_real_t r_div(grip_real_t a, grip_real_t b) { return q16_div(a, b); }
 static inline grip_real_t r_div_keep(grip_real_t a, grip_real_t b) { return q16_div(a, b); }
 static inline grip_real_t r_neg(grip_real_t a) { return q16_neg(a); }
@@ -67,6 +81,10 @@ static inline grip_real_t r_cos_atan(grip_real_t a) { return grip_q16_cos(grip_q
 static inline grip_real_t r_add(grip_real_t a, grip_real_t b) { return a + b; }
 static inline grip_real_t r_sub(grip_real_t a, grip_real_t b) { return a - b; }
 static inline grip_real_t r_mul(grip_real_t a, grip_real_t b) { return a * b; }
+/* the plain operations, in the order the two-step forms had them */
+static inline grip_real_t r_mac(grip_real_t c, grip_real_t a, grip_real_t b) { return c + a * b; }
+static inline grip_real_t r_msub(grip_real_t c, grip_real_t a, grip_real_t b) { return c - a * b; }
+static inline grip_real_t r_mul_unit(grip_real_t u, grip_real_t b) { return u * b; }
 static inline grip_real_t r_div(grip_real_t a, grip_real_t b) { return a / b; }
 static inline grip_real_t r_div_keep(grip_real_t a, grip_real_t b) { return a / b; }
 static inline grip_real_t r_neg(grip_real_t a) { return -a; }

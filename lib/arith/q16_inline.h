@@ -101,6 +101,40 @@ static inline grip_q16_t q16_mul(grip_q16_t a, grip_q16_t b)
     return q16_saturate(q16_mul_round(a, b), "mul");
 }
 
+/* c + a b (c in the format of b) with one rounding and one saturation.
+ * c is an integer in the units of the result, so c + round(a b / 2^16)
+ * = round((c 2^16 + a b) / 2^16): the bits of q16_add(c, q16_mul(a, b))
+ * wherever that product does not saturate, and where it does, the exact
+ * sum clamped once. |c + round(a b / 2^16)| < 2^47: no 64-bit overflow. */
+static inline grip_q16_t q16_mac(grip_q16_t c, grip_q16_t a, grip_q16_t b)
+{
+    return q16_saturate((int64_t)c + q16_mul_round(a, b), "mac");
+}
+
+/* c - a b, likewise: q16_sub(c, q16_mul(a, b)) wherever that product does
+ * not saturate. (c - round(a b), not c + round(-a b): the rounding of a
+ * half differs.) */
+static inline grip_q16_t q16_msub(grip_q16_t c, grip_q16_t a, grip_q16_t b)
+{
+    return q16_saturate((int64_t)c - q16_mul_round(a, b), "msub");
+}
+
+/* u b where the caller knows |u| <= 1 (u Q15.16, |u| <= 65536): then
+ * |round(u b / 2^16)| <= |b| <= GRIP_Q16_MAX, so the product cannot leave
+ * the range and has no range test; the bits of q16_mul(u, b). A
+ * GRIP_DEBUG_SATURATION build checks the precondition: a violation is
+ * counted as the event "mul_unit" and the product saturated as q16_mul's. */
+static inline grip_q16_t q16_mul_unit(grip_q16_t u, grip_q16_t b)
+{
+#if GRIP_DEBUG_SATURATION
+    if ((u > 65536) || (u < -65536)) {
+        GRIP_SAT_EVENT("mul_unit");
+        return q16_mul(u, b);
+    }
+#endif
+    return (grip_q16_t)q16_mul_round(u, b);
+}
+
 static inline grip_q16_t q16_div(grip_q16_t a, grip_q16_t b)
 {
     int64_t num;
