@@ -35,6 +35,15 @@
  * QDZ11): zero for FITTYP 5, 6, 21 whatever the set holds. */
 #define MF6_ONLY(op, coef) ((op)->mf52 ? R_ZERO : (coef))
 
+/* The factors r_mul_unit (arith.h) may take, within [-1, 1] by
+ * construction (a Q15.16 sine or cosine is within +-1: grip_q16_sin clamps
+ * its polynomial to 1 before rounding):
+ *   op->smooth  1, or 0.5 (1 - cos(pi rl)) with cos in [-1, 1] (mf_low_smooth);
+ *   op->cosa    |cos alpha|, or 0;
+ *   sines and cosines of a kernel, and the curves made of them: cos(C atan(.))
+ *               (the trail), r_cos_atan (a cosine too in the fixed build,
+ *               1 / sqrt(1 + x^2) in the float build). */
+
 /* Pure longitudinal slip. */
 typedef struct {
     grip_real_t fx0;     /* Fx0 / Fz                                           */
@@ -89,7 +98,7 @@ static MF_ALWAYS_INLINE void mf_long_pure(const grip_mf_params *p, const mf_op *
                                           grip_real_t emax, grip_real_t *mk, mf_long *out)
 {
     grip_real_t dfz = op->dfz;
-    grip_real_t shx = r_mul(r_mul(r_mac(p->phx1, p->phx2, dfz), p->lhx), op->smooth); /* 4.E17 */
+    grip_real_t shx = r_mul_unit(op->smooth, r_mul(r_mac(p->phx1, p->phx2, dfz), p->lhx)); /* 4.E17 */
     grip_real_t kx = r_add(op->kappa, shx);                                          /* 4.E10 */
     grip_real_t cx = r_mul(p->pcx1, p->lcx);                                         /* 4.E11 */
     grip_real_t mux = mf_mux_dp(p, dfz, mf_dp(p, op->dp, op->dpi, MF_DP_PX_MU), op->gmux, op->lmux_s);  /* 4.E13 */
@@ -103,8 +112,7 @@ static MF_ALWAYS_INLINE void mf_long_pure(const grip_mf_params *p, const mf_op *
                                      mf_dp(p, op->dp, op->dpi, MF_DP_PX_K)),
                                p->lkx);
     grip_real_t bx = mfk_div_lim(kx_per, r_mul(cx, dx), MF_LIM_B, mk);                    /* 4.E16 */
-    grip_real_t svx = r_mul(r_mul(r_mul(r_mac(p->pvx1, p->pvx2, dfz), p->lvx), op->lmux_p),
-                            op->smooth);                                             /* 4.E18 */
+    grip_real_t svx = r_mul_unit(op->smooth, r_mul(r_mul(r_mac(p->pvx1, p->pvx2, dfz), p->lvx), op->lmux_p)); /* 4.E18 */
     if (ts != NULL) {
         svx = r_mul(svx, ts->z1);
     }
@@ -209,8 +217,8 @@ static MF_ALWAYS_INLINE void mf_lat_body(const grip_mf_params *p, const mf_op *o
         shy = r_add(shy, mfk_div_lim(r_sub(r_mul(kyg0, g), svyg), kya, MF_LIM_SHIFT, mk));
     }
     /* Low speed: the shifts fade out with the speed. */
-    shy = r_mul(shy, op->smooth);
-    svy = r_mul(svy, op->smooth);
+    shy = r_mul_unit(op->smooth, shy);
+    svy = r_mul_unit(op->smooth, svy);
     ay = r_add(op->alpha, shy);                                                                   /* 4.E20 */
     ey = r_mul(r_mul(c->eyb,
                      r_msub(r_mac(R_ONE, MF6_ONLY(op, p->pey5), g2), r_mac(p->pey3, p->pey4, g), mf_sign1(ay))),
@@ -274,19 +282,19 @@ static MF_ALWAYS_INLINE void mf_trail_body(const grip_mf_params *p, const mf_op 
                    MF_KZC(p, op));
     dr = r_mul(r_mac(dr_cam, r_mac(p->qdz6, p->qdz7, dfz), p->lres), op->lmuy_s);
     /* sgn(Vcx) cos'(alpha), with |Vx| for Vx (see mf_prepare). */
-    out->dr = r_mul(dr, op->cosa);
+    out->dr = r_mul_unit(op->cosa, dr);
 }
 
 /* Trail t / R0 at a (possibly equivalent) trail slip angle a (4.E33, 4.E73). */
 static MF_ALWAYS_INLINE grip_real_t mf_trail_at_k(const mf_op *op, const mf_trail *tc, grip_real_t a, grip_real_t *mk)
 {
-    return r_mul(r_mul(tc->dt, mf_cos_curve_k(tc->bt, tc->ct, tc->et, a, mk)), op->cosa);
+    return r_mul_unit(op->cosa, r_mul_unit(mf_cos_curve_k(tc->bt, tc->ct, tc->et, a, mk), tc->dt));
 }
 
 /* Residual moment Mzr / (Fz R0) at a residual slip angle a, Cr = 1 (4.E36). */
 static MF_ALWAYS_INLINE grip_real_t mf_residual_at_k(const mf_trail *tc, grip_real_t a)
 {
-    return r_mul(tc->dr, r_cos_atan(r_mul(tc->br, a)));
+    return r_mul_unit(r_cos_atan(r_mul(tc->br, a)), tc->dr);
 }
 
 /* The cosine curve of a combined-slip weighting function: with C = 1
@@ -343,8 +351,8 @@ static MF_ALWAYS_INLINE grip_real_t mf_gyk_body(const grip_mf_params *p, const m
 {
     grip_real_t shyk = r_mac(p->rhy1, p->rhy2, op->dfz);                                   /* 4.E65 */
     grip_real_t eyk = r_min(r_mac(p->rey1, p->rey2, op->dfz), emax);     /* 4.E64 */
-    grip_real_t byk = r_mul(r_mul(r_mac(p->rby1, MF6_ONLY(op, p->rby4), r_sq(g)),
-                                  r_cos_atan(r_mul(p->rby2, r_sub(op->alpha, p->rby3)))),
+    grip_real_t byk = r_mul(r_mul_unit(r_cos_atan(r_mul(p->rby2, r_sub(op->alpha, p->rby3))),
+                                       r_mac(p->rby1, MF6_ONLY(op, p->rby4), r_sq(g))),
                             p->lyka);                                                             /* 4.E62 */
     grip_real_t ks = r_add(op->kappa, shyk);                                                      /* 4.E61 */
     return mf_g_ratio_k(byk, p->rcy1, eyk, ks, shyk, mk);                                         /* 4.E59-60 */
@@ -375,8 +383,8 @@ static MF_ALWAYS_INLINE grip_real_t mf_alpha_eq_k(int book, grip_real_t kappa, g
         grip_real_t num;
         grip_real_t den;
         mfk_sincos(a, &sa, &ca, mk);
-        num = mfk_hypot(r_mul(kya, sa), r_mul(r_mul(kxk, kappa), ca), mk);
-        den = r_abs(r_mul(kya, ca));
+        num = mfk_hypot(r_mul_unit(sa, kya), r_mul_unit(ca, r_mul(kxk, kappa)), mk);
+        den = r_abs(r_mul_unit(ca, kya));
         /* num >= 0: where den > 0 the first quadrant's atan2 (arith.h) */
         return ((mk == NULL) && (den > R_ZERO)) ? r_atan2_q1(num, den) : mfk_atan2(num, den, mk);
     }
@@ -394,16 +402,16 @@ static MF_ALWAYS_INLINE grip_real_t mf_mz0(const grip_mf_params *p, const mf_op 
     if (!op->book) {
         t0 = r_mul(t0, p->lfzo);         /* MF-Tyre scales the trail by LFZO */
     }
-    mz0 = r_msub(r_mul(mzr0, op->cosa), t0, fy_ref);                           /* 4.E31 */
-    return r_mul(mz0, op->smooth);                                                   /* low speed */
+    mz0 = r_msub(r_mul_unit(op->cosa, mzr0), t0, fy_ref);                           /* 4.E31 */
+    return r_mul_unit(op->smooth, mz0);                                              /* low speed */
 }
 
 /* Fx's weighting function Gxa (4.E51-E57): Fx = Gxa Fx0. */
 static MF_ALWAYS_INLINE grip_real_t mf_gxa(const grip_mf_params *p, const mf_op *op, grip_real_t emax,
                                            grip_real_t *mk)
 {
-    grip_real_t bxa = r_mul(r_mul(r_mac(p->rbx1, MF6_ONLY(op, p->rbx3), r_sq(op->gx)),
-                                  r_cos_atan(r_mul(p->rbx2, op->kappa))),
+    grip_real_t bxa = r_mul(r_mul_unit(r_cos_atan(r_mul(p->rbx2, op->kappa)),
+                                       r_mac(p->rbx1, MF6_ONLY(op, p->rbx3), r_sq(op->gx))),
                             p->lxal);                                                             /* 4.E54 */
     grip_real_t exa = r_min(r_mac(p->rex1, p->rex2, op->dfz), emax);                       /* 4.E56 */
     grip_real_t as = r_add(op->alpha, p->rhx1);                                                    /* 4.E53 */
@@ -428,14 +436,14 @@ static MF_ALWAYS_INLINE void mf_svyk_factors(const grip_mf_params *p, const mf_o
 /* DVyk = mu_y (RVY1 + RVY2 dfz + RVY3 gamma*) cos(atan(RVY4 alpha*)) (4.E67) */
 static MF_ALWAYS_INLINE grip_real_t mf_dvyk(grip_real_t muy, const mf_svyk_f *f)
 {
-    return r_mul(r_mul(muy, f->dvy), f->dva);
+    return r_mul_unit(f->dva, r_mul(muy, f->dvy));
 }
 
 /* SVyk = DVyk sin(RVY5 atan(RVY6 kappa)) LVYKA (4.E66), fading at low speed */
 static MF_ALWAYS_INLINE grip_real_t mf_svyk(const grip_mf_params *p, const mf_op *op, const mf_svyk_f *f,
                                             grip_real_t dvyk)
 {
-    return r_mul(r_mul(r_mul(dvyk, f->svk), p->lvyka), op->smooth);
+    return r_mul_unit(op->smooth, r_mul(r_mul_unit(f->svk, dvyk), p->lvyka));
 }
 
 /* The moment arm s / R0 of Fx in Mz (4.E76): SSZ1 + SSZ2 Fy / Fz0 + (SSZ3 +
@@ -453,12 +461,12 @@ static MF_ALWAYS_INLINE grip_real_t mf_sarm(const grip_mf_params *p, const mf_op
 static MF_ALWAYS_INLINE void mf_mz_scale(const grip_mf_params *p, const mf_op *op, grip_real_t *t, grip_real_t *mzr)
 {
     if (op->book) {
-        *mzr = r_mul(*mzr, op->cosa);
+        *mzr = r_mul_unit(op->cosa, *mzr);
     } else {
         *t = r_mul(*t, p->lfzo);
     }
-    *t = r_mul(*t, op->smooth);
-    *mzr = r_mul(*mzr, op->smooth);
+    *t = r_mul_unit(op->smooth, *t);
+    *mzr = r_mul_unit(op->smooth, *mzr);
 }
 
 /* Mz = -t Fy' + Mzr + s Fx (4.E71) */
@@ -491,7 +499,7 @@ static MF_ALWAYS_INLINE void mf_load(const grip_mf_params *p, grip_real_t fz, mf
  * 1 - 0.5 (1 + cos(pi rl)) = 0.5 (1 - cos(pi rl)) (kappa fades by rl). */
 static MF_ALWAYS_INLINE grip_real_t mf_low_smooth(grip_real_t rl, grip_real_t *mk)
 {
-    return r_mul(RC(0.5), r_sub(R_ONE, mfk_cos(r_mul(MF_PI, rl), mk)));
+    return r_mul_unit(RC(0.5), r_sub(R_ONE, mfk_cos(r_mul(MF_PI, rl), mk)));
 }
 
 /* The low-speed model's slip angle: alpha fades by (|Vx| + |Vsy|) / VXLOW
@@ -503,7 +511,7 @@ static MF_ALWAYS_INLINE void mf_low_alpha(grip_real_t avx, grip_real_t sa, grip_
 {
     grip_real_t c = r_abs(ca);
     *num = r_mul(avx, r_add(c, r_abs(sa)));
-    *den = r_mul(vxlow, c);
+    *den = r_mul_unit(c, vxlow);
 }
 
 /* The inclination as it enters each force (op->gamma: gamma*): mu_x with

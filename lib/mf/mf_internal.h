@@ -350,7 +350,7 @@ static MF_ALWAYS_INLINE grip_real_t mf_shape_k(grip_real_t b, grip_real_t c, gri
 static MF_ALWAYS_INLINE grip_real_t mf_sin_curve_k(grip_real_t b, grip_real_t c, grip_real_t d, grip_real_t e,
                                                    grip_real_t x, grip_real_t *mk)
 {
-    return r_mul(d, mfk_sin(mf_shape_k(b, c, e, x, mk), mk));
+    return r_mul_unit(mfk_sin(mf_shape_k(b, c, e, x, mk), mk), d);   /* a sine: r_mul_unit */
 }
 
 static MF_ALWAYS_INLINE grip_real_t mf_sin_curve(grip_real_t b, grip_real_t c, grip_real_t d, grip_real_t e,
