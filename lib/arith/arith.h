@@ -26,6 +26,7 @@
 
 #if GRIP_ARITH_FIXED
 #include "q16_inline.h"
+#include "q16_math_inline.h"
 
 #define RC(x)  GRIP_QS(x)   /* QS constant */
 #define RCL(x) GRIP_QL(x)   /* QL constant */
@@ -53,22 +54,33 @@ static inline grip_real_t r_abs(grip_real_t a) { return q16_abs(a); }
 static inline grip_real_t r_ql_to_qs(grip_real_t a) { return q16_from_ql(a); }
 static inline grip_real_t r_qs_to_ql(grip_real_t a) { return q16_to_ql(a); }
 static inline grip_real_t r_sqrt(grip_real_t a) { return grip_q16_sqrt(a); }
+#if GRIP_Q16_INLINE_KERNELS
+/* atan, atan2, sin, cos inline (q16_math_inline.h): grip_q16_*'s code */
+static inline grip_real_t r_atan(grip_real_t a) { return q16_atan_k(a); }
+static inline grip_real_t r_atan2(grip_real_t y, grip_real_t x) { return q16_atan2_k(y, x); }
+/* atan2(y, x) where the caller knows y >= 0 and x > 0 (float build: see there) */
+static inline grip_real_t r_atan2_q1(grip_real_t y, grip_real_t x) { return q16_atan2_k(y, x); }
+static inline grip_real_t r_sin(grip_real_t a) { return q16_sin_k(a); }
+static inline grip_real_t r_cos(grip_real_t a) { return q16_cos_k(a); }
+/* One argument reduction for both (grip_q16_sincos): the same bits as
+ * grip_q16_sin and grip_q16_cos. */
+static inline void r_sincos(grip_real_t a, grip_real_t *s, grip_real_t *c) { q16_sincos_k(a, s, c); }
+#else
+/* -Os: the out-of-line kernels of q16.c (the same code) */
 static inline grip_real_t r_atan(grip_real_t a) { return grip_q16_atan(a); }
 static inline grip_real_t r_atan2(grip_real_t y, grip_real_t x) { return grip_q16_atan2(y, x); }
-/* atan2(y, x) where the caller knows y >= 0 and x > 0 (float build: see there) */
 static inline grip_real_t r_atan2_q1(grip_real_t y, grip_real_t x) { return grip_q16_atan2(y, x); }
 static inline grip_real_t r_sin(grip_real_t a) { return grip_q16_sin(a); }
 static inline grip_real_t r_cos(grip_real_t a) { return grip_q16_cos(a); }
-/* One argument reduction for both (grip_q16_sincos): the same bits as
- * grip_q16_sin and grip_q16_cos. */
 static inline void r_sincos(grip_real_t a, grip_real_t *s, grip_real_t *c) { grip_q16_sincos(a, s, c); }
+#endif
 static inline grip_real_t r_exp(grip_real_t a) { return grip_q16_exp(a); }
 static inline grip_real_t r_log(grip_real_t a) { return grip_q16_log(a); }
 /* Every fixed-point value is finite by construction. */
 static inline int r_is_finite(grip_real_t a) { (void)a; return 1; }
 /* cos(atan(a)): kept literal in fixed point, where 1 + a^2 would leave QS
  * for |a| > 181. */
-static inline grip_real_t r_cos_atan(grip_real_t a) { return grip_q16_cos(grip_q16_atan(a)); }
+static inline grip_real_t r_cos_atan(grip_real_t a) { return r_cos(r_atan(a)); }
 
 #else /* float */
 #include <math.h> /* grip-deviation: MISRA-20.1 float build only, inside the arithmetic selection #if */
