@@ -157,9 +157,16 @@ static inline grip_q16_t q16_div(grip_q16_t a, grip_q16_t b)
     return q16_saturate(num / den, "div");
 }
 
+/* -a: the range is symmetric, so only INT32_MIN (an input, never a result
+ * of these operations) leaves it; that one test instead of a 64-bit
+ * negation and range test, the same values. */
 static inline grip_q16_t q16_neg(grip_q16_t a)
 {
-    return q16_saturate(-(int64_t)a, "neg");
+    if (a == INT32_MIN) {
+        GRIP_SAT_EVENT("neg");
+        return GRIP_Q16_MAX;
+    }
+    return -a;
 }
 
 static inline grip_q16_t q16_abs(grip_q16_t a)
