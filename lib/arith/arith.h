@@ -56,15 +56,15 @@ static inline grip_real_t r_qs_to_ql(grip_real_t a) { return q16_to_ql(a); }
 static inline grip_real_t r_sqrt(grip_real_t a) { return grip_q16_sqrt(a); }
 #if GRIP_Q16_INLINE_KERNELS
 /* atan, atan2, sin, cos inline (q16_math_inline.h): grip_q16_*'s code */
-static inline grip_real_t r_atan(grip_real_t a) { return q16_atan_k(a); }
-static inline grip_real_t r_atan2(grip_real_t y, grip_real_t x) { return q16_atan2_k(y, x); }
+static GRIP_Q16_KINLINE grip_real_t r_atan(grip_real_t a) { return q16_atan_k(a); }
+static GRIP_Q16_KINLINE grip_real_t r_atan2(grip_real_t y, grip_real_t x) { return q16_atan2_k(y, x); }
 /* atan2(y, x) where the caller knows y >= 0 and x > 0 (float build: see there) */
-static inline grip_real_t r_atan2_q1(grip_real_t y, grip_real_t x) { return q16_atan2_k(y, x); }
-static inline grip_real_t r_sin(grip_real_t a) { return q16_sin_k(a); }
-static inline grip_real_t r_cos(grip_real_t a) { return q16_cos_k(a); }
+static GRIP_Q16_KINLINE grip_real_t r_atan2_q1(grip_real_t y, grip_real_t x) { return q16_atan2_k(y, x); }
+static GRIP_Q16_KINLINE grip_real_t r_sin(grip_real_t a) { return q16_sin_k(a); }
+static GRIP_Q16_KINLINE grip_real_t r_cos(grip_real_t a) { return q16_cos_k(a); }
 /* One argument reduction for both (grip_q16_sincos): the same bits as
  * grip_q16_sin and grip_q16_cos. */
-static inline void r_sincos(grip_real_t a, grip_real_t *s, grip_real_t *c) { q16_sincos_k(a, s, c); }
+static GRIP_Q16_KINLINE void r_sincos(grip_real_t a, grip_real_t *s, grip_real_t *c) { q16_sincos_k(a, s, c); }
 #else
 /* -Os: the out-of-line kernels of q16.c (the same code) */
 static inline grip_real_t r_atan(grip_real_t a) { return grip_q16_atan(a); }
