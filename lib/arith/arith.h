@@ -80,7 +80,7 @@ static inline grip_real_t r_log(grip_real_t a) { return grip_q16_log(a); }
 static inline int r_is_finite(grip_real_t a) { (void)a; return 1; }
 /* cos(atan(a)): kept literal in fixed point, where 1 + a^2 would leave QS
  * for |a| > 181. */
-static inline grip_real_t r_cos_atan(grip_real_t a) { return r_cos(r_atan(a)); }
+static GRIP_Q16_KINLINE grip_real_t r_cos_atan(grip_real_t a) { return r_cos(r_atan(a)); }
 
 #else /* float */
 #include <math.h> /* grip-deviation: MISRA-20.1 float build only, inside the arithmetic selection #if */
