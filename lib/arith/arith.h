@@ -10,6 +10,7 @@
  *   r_mac(c_Qx, a_QS, b_Qx)  -> Qx  c + a b, one rounding and one saturation
  *   r_msub(c_Qx, a_QS, b_Qx) -> Qx  c - a b, likewise
  *   r_mul_unit(u_QS, b_Qx)   -> Qx  u b where |u| <= 1 is known: no range test
+ *   r_mul_scale(x_Qx, s_QS)  -> Qx  x s for a scale factor s, most often exactly 1
  *   r_div(a_Qx, b_Qx)   -> QS       (ratio of like quantities is dimensionless)
  *   r_div_keep(a_Qx, b_QS) -> Qx    (quantity divided by a dimensionless value)
  *   r_ql_to_qs / r_qs_to_ql          format change, no-op in float
@@ -47,6 +48,10 @@ static inline grip_real_t r_msub(grip_real_t c, grip_real_t a, grip_real_t b) { 
  * has no range test (q16_mul_unit; the debug-saturation build checks
  * |u| <= 1). */
 static inline grip_real_t r_mul_unit(grip_real_t u, grip_real_t b) { return q16_mul_unit(u, b); }
+/* x s for a scale factor s (a lambda of the parameter set, or a factor
+ * formed from them) that is exactly 1 in most sets: no product when s = 1
+ * (q16_mul_scale; the float build multiplies, one instruction). */
+static inline grip_real_t r_mul_scale(grip_real_t x, grip_real_t s) { return q16_mul_scale(x, s); }
 static inline grip_real_t r_div(grip_real_t a, grip_real_t b) { return q16_div(a, b); }
 static inline grip_real_t r_div_keep(grip_real_t a, grip_real_t b) { return q16_div(a, b); }
 static inline grip_real_t r_neg(grip_real_t a) { return q16_neg(a); }
@@ -97,6 +102,7 @@ static inline grip_real_t r_mul(grip_real_t a, grip_real_t b) { return a * b; }
 static inline grip_real_t r_mac(grip_real_t c, grip_real_t a, grip_real_t b) { return c + a * b; }
 static inline grip_real_t r_msub(grip_real_t c, grip_real_t a, grip_real_t b) { return c - a * b; }
 static inline grip_real_t r_mul_unit(grip_real_t u, grip_real_t b) { return u * b; }
+static inline grip_real_t r_mul_scale(grip_real_t x, grip_real_t s) { return x * s; }
 static inline grip_real_t r_div(grip_real_t a, grip_real_t b) { return a / b; }
 static inline grip_real_t r_div_keep(grip_real_t a, grip_real_t b) { return a / b; }
 static inline grip_real_t r_neg(grip_real_t a) { return -a; }

@@ -135,6 +135,14 @@ static inline grip_q16_t q16_mul_unit(grip_q16_t u, grip_q16_t b)
     return (grip_q16_t)q16_mul_round(u, b);
 }
 
+/* x s for a scale factor s that is exactly 1 in most parameter sets (the
+ * lambdas of a Magic Formula set): x 1 = x exactly, so no product then; a
+ * comparison and a branch where s is not 1. The bits of q16_mul(x, s). */
+static inline grip_q16_t q16_mul_scale(grip_q16_t x, grip_q16_t s)
+{
+    return (s == 65536) ? x : q16_mul(x, s);
+}
+
 static inline grip_q16_t q16_div(grip_q16_t a, grip_q16_t b)
 {
     int64_t num;

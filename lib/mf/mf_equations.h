@@ -98,21 +98,21 @@ static MF_ALWAYS_INLINE void mf_long_pure(const grip_mf_params *p, const mf_op *
                                           grip_real_t emax, grip_real_t *mk, mf_long *out)
 {
     grip_real_t dfz = op->dfz;
-    grip_real_t shx = r_mul_unit(op->smooth, r_mul(r_mac(p->phx1, p->phx2, dfz), p->lhx)); /* 4.E17 */
+    grip_real_t shx = r_mul_unit(op->smooth, r_mul_scale(r_mac(p->phx1, p->phx2, dfz), p->lhx)); /* 4.E17 */
     grip_real_t kx = r_add(op->kappa, shx);                                          /* 4.E10 */
-    grip_real_t cx = r_mul(p->pcx1, p->lcx);                                         /* 4.E11 */
+    grip_real_t cx = r_mul_scale(p->pcx1, p->lcx);                                        /* 4.E11 */
     grip_real_t mux = mf_mux_dp(p, dfz, mf_dp(p, op->dp, op->dpi, MF_DP_PX_MU), op->gmux, op->lmux_s);  /* 4.E13 */
     grip_real_t dx = (ts != NULL) ? r_mul(mux, ts->z1) : mux;                        /* 4.E12 */
-    grip_real_t ex = r_mul(r_mul(r_add(p->pex1, r_mac(r_mul(p->pex2, dfz), p->pex3, r_sq(dfz))),
-                                 r_msub(R_ONE, p->pex4, r_sign(kx))),
-                           p->lex);                                                  /* 4.E14 */
+    grip_real_t ex = r_mul_scale(r_mul(r_add(p->pex1, r_mac(r_mul(p->pex2, dfz), p->pex3, r_sq(dfz))),
+                                       r_msub(R_ONE, p->pex4, r_sign(kx))),
+                                 p->lex);                                                  /* 4.E14 */
     /* Kxk / Fz: the slip stiffness per unit load, so that Bx is formed
      * without dividing two loads (4.E15, 4.E16). */
     grip_real_t kx_per = r_mul(r_mul(r_mul(r_add(p->pkx1, r_mul(p->pkx2, dfz)), mfk_exp(r_mul(p->pkx3, dfz), mk)),
                                      mf_dp(p, op->dp, op->dpi, MF_DP_PX_K)),
                                p->lkx);
     grip_real_t bx = mfk_div_lim(kx_per, r_mul(cx, dx), MF_LIM_B, mk);                    /* 4.E16 */
-    grip_real_t svx = r_mul_unit(op->smooth, r_mul(r_mul(r_mac(p->pvx1, p->pvx2, dfz), p->lvx), op->lmux_p)); /* 4.E18 */
+    grip_real_t svx = r_mul_unit(op->smooth, r_mul_scale(r_mul_scale(r_mac(p->pvx1, p->pvx2, dfz), p->lvx), op->lmux_p)); /* 4.E18 */
     if (ts != NULL) {
         svx = r_mul(svx, ts->z1);
     }
@@ -142,10 +142,10 @@ static MF_ALWAYS_INLINE void mf_lat_common_init(const grip_mf_params *p, const m
     c->kyb = mf_dp(p, op->dp, op->dpi, MF_DP_KYB);
     c->kyd = mf_dp(p, op->dp, op->dpi, MF_DP_KYD);
     c->mub = r_mul(r_mac(p->pdy1, p->pdy2, dfz), mf_dp(p, op->dp, op->dpi, MF_DP_PY_MU));
-    c->svb = r_mul(r_mul(r_mac(p->pvy1, p->pvy2, dfz), p->lvy), op->lmuy_p);
-    c->shb = r_mul(r_mac(p->phy1, p->phy2, dfz), p->lhy);
+    c->svb = r_mul_scale(r_mul_scale(r_mac(p->pvy1, p->pvy2, dfz), p->lvy), op->lmuy_p);
+    c->shb = r_mul_scale(r_mac(p->phy1, p->phy2, dfz), p->lhy);
     c->eyb = r_mac(p->pey1, p->pey2, dfz);
-    c->cy = r_mul(p->pcy1, p->lcy);                                                               /* 4.E21 */
+    c->cy = r_mul_scale(p->pcy1, p->lcy);                                                              /* 4.E21 */
 }
 
 /* The load factor of Kya / Fz (4.E25) at the denominator den = (PKY2 + PKY5
@@ -182,11 +182,11 @@ static MF_ALWAYS_INLINE void mf_lat_body(const grip_mf_params *p, const mf_op *o
      * denominator PKY2 + PKY5 gamma^2 may pass through zero. */
     grip_real_t den = r_mul(r_mac(p->pky2, MF6_ONLY(op, p->pky5), g2), c->kyd);
     /* Kya / Fz = PKY1 (Fz0' / Fz) sin(PKY4 atan(...)) (...) (mf_kya_sin) */
-    grip_real_t kya = r_mul(r_mul(r_mul(c->kyb, r_msub(R_ONE, p->pky3, r_abs(g))), mf_kya_sin(p, op, den, mk)),
-                            p->lky);
-    grip_real_t muy = r_mul(r_mul(c->mub, r_msub(R_ONE, p->pdy3, g2)), op->lmuy_s);         /* 4.E23 */
+    grip_real_t kya = r_mul_scale(r_mul(r_mul(c->kyb, r_msub(R_ONE, p->pky3, r_abs(g))), mf_kya_sin(p, op, den, mk)),
+                                  p->lky);
+    grip_real_t muy = r_mul_scale(r_mul(c->mub, r_msub(R_ONE, p->pdy3, g2)), op->lmuy_s);         /* 4.E23 */
     grip_real_t dy = muy;                                                                         /* 4.E22 */
-    grip_real_t svyg = r_mul(r_mul(r_mul(r_mac(p->pvy3, p->pvy4, dfz), g), MF_KYC(p, op)), op->lmuy_p); /* 4.E28 */
+    grip_real_t svyg = r_mul_scale(r_mul_scale(r_mul(r_mac(p->pvy3, p->pvy4, dfz), g), MF_KYC(p, op)), op->lmuy_p); /* 4.E28 */
     grip_real_t svb = c->svb;
     grip_real_t svy;
     grip_real_t shy = c->shb;
@@ -213,16 +213,16 @@ static MF_ALWAYS_INLINE void mf_lat_body(const grip_mf_params *p, const mf_op *o
     } else {
         /* MF 6.x: the camber shift follows from the camber stiffness Kyg0
          * (4.E30) and SVyg (4.E27). */
-        grip_real_t kyg0 = r_mul(r_mul(r_mac(p->pky6, p->pky7, dfz), mf_dp(p, op->dp, op->dpi, MF_DP_PY_G)), MF_KYC(p, op));
+        grip_real_t kyg0 = r_mul_scale(r_mul(r_mac(p->pky6, p->pky7, dfz), mf_dp(p, op->dp, op->dpi, MF_DP_PY_G)), MF_KYC(p, op));
         shy = r_add(shy, mfk_div_lim(r_sub(r_mul(kyg0, g), svyg), kya, MF_LIM_SHIFT, mk));
     }
     /* Low speed: the shifts fade out with the speed. */
     shy = r_mul_unit(op->smooth, shy);
     svy = r_mul_unit(op->smooth, svy);
     ay = r_add(op->alpha, shy);                                                                   /* 4.E20 */
-    ey = r_mul(r_mul(c->eyb,
-                     r_msub(r_mac(R_ONE, MF6_ONLY(op, p->pey5), g2), r_mac(p->pey3, p->pey4, g), mf_sign1(ay))),
-               p->ley);                                                                           /* 4.E24 */
+    ey = r_mul_scale(r_mul(c->eyb,
+                           r_msub(r_mac(R_ONE, MF6_ONLY(op, p->pey5), g2), r_mac(p->pey3, p->pey4, g), mf_sign1(ay))),
+                     p->ley);                                                                           /* 4.E24 */
     ey = r_min(ey, emax);
     by = mfk_div_lim(kya, r_mul(cy, dy), MF_LIM_B, mk);                                                /* 4.E26 */
     out->fy0 = r_add(mf_sin_curve_k(by, cy, dy, ey, ay, mk), svy);                                      /* 4.E19 */
@@ -261,10 +261,10 @@ static MF_ALWAYS_INLINE void mf_trail_body(const grip_mf_params *p, const mf_op 
         bt_cam = r_add(R_ONE, r_mac(r_mul(p->qbz4, g), p->qbz5, ga));
     }
     /* Dt / R0 = (Fz / Fz0') (QDZ1 + QDZ2 dfz)(1 - PPZ1 dpi) (...) LTR  (4.E42-43) */
-    dt = r_mul(r_mul(r_mul(r_mul(op->fzp, r_mac(p->qdz1, p->qdz2, dfz)), mf_dp(p, op->dp, op->dpi, MF_DP_PZ_T)),
-                     dt_cam),
-               p->ltr);
-    bt = r_mul(r_mul(r_add(p->qbz1, r_mac(r_mul(p->qbz2, dfz), p->qbz3, r_sq(dfz))), bt_cam), ky_mu);
+    dt = r_mul_scale(r_mul(r_mul(r_mul(op->fzp, r_mac(p->qdz1, p->qdz2, dfz)), mf_dp(p, op->dp, op->dpi, MF_DP_PZ_T)),
+                           dt_cam),
+                     p->ltr);
+    bt = r_mul_scale(r_mul(r_add(p->qbz1, r_mac(r_mul(p->qbz2, dfz), p->qbz3, r_sq(dfz))), bt_cam), ky_mu);
     out->alpha_t = r_add(op->alpha, sht);                                                        /* 4.E34 */
     out->alpha_r = r_add(op->alpha, shf);                                                        /* 4.E37 */
     out->ct = p->qcz1;                                                                           /* 4.E41 */
@@ -274,13 +274,13 @@ static MF_ALWAYS_INLINE void mf_trail_body(const grip_mf_params *p, const mf_op 
     out->et = r_min(et, emax);
     out->dt = dt;
     out->bt = bt;
-    out->br = r_mac(r_mul(p->qbz9, ky_mu), r_mul(p->qbz10, lat->by), lat->cy);            /* 4.E45 */
+    out->br = r_mac(r_mul_scale(p->qbz9, ky_mu), r_mul(p->qbz10, lat->by), lat->cy);            /* 4.E45 */
     /* Dr / (Fz R0)                                                         (4.E47) */
-    dr_cam = r_mul(r_mul(r_mac(r_mul(r_mac(p->qdz8, p->qdz9, dfz), mf_dp(p, op->dp, op->dpi, MF_DP_PZ_R)),
-                               r_mac(MF6_ONLY(op, p->qdz10), MF6_ONLY(op, p->qdz11), dfz), ga),
-                         g),
-                   MF_KZC(p, op));
-    dr = r_mul(r_mac(dr_cam, r_mac(p->qdz6, p->qdz7, dfz), p->lres), op->lmuy_s);
+    dr_cam = r_mul_scale(r_mul(r_mac(r_mul(r_mac(p->qdz8, p->qdz9, dfz), mf_dp(p, op->dp, op->dpi, MF_DP_PZ_R)),
+                                     r_mac(MF6_ONLY(op, p->qdz10), MF6_ONLY(op, p->qdz11), dfz), ga),
+                               g),
+                         MF_KZC(p, op));
+    dr = r_mul_scale(r_mac(dr_cam, r_mac(p->qdz6, p->qdz7, dfz), p->lres), op->lmuy_s);
     /* sgn(Vcx) cos'(alpha), with |Vx| for Vx (see mf_prepare). */
     out->dr = r_mul_unit(op->cosa, dr);
 }
@@ -351,9 +351,9 @@ static MF_ALWAYS_INLINE grip_real_t mf_gyk_body(const grip_mf_params *p, const m
 {
     grip_real_t shyk = r_mac(p->rhy1, p->rhy2, op->dfz);                                   /* 4.E65 */
     grip_real_t eyk = r_min(r_mac(p->rey1, p->rey2, op->dfz), emax);     /* 4.E64 */
-    grip_real_t byk = r_mul(r_mul_unit(r_cos_atan(r_mul(p->rby2, r_sub(op->alpha, p->rby3))),
-                                       r_mac(p->rby1, MF6_ONLY(op, p->rby4), r_sq(g))),
-                            p->lyka);                                                             /* 4.E62 */
+    grip_real_t byk = r_mul_scale(r_mul_unit(r_cos_atan(r_mul(p->rby2, r_sub(op->alpha, p->rby3))),
+                                             r_mac(p->rby1, MF6_ONLY(op, p->rby4), r_sq(g))),
+                                  p->lyka);                                                             /* 4.E62 */
     grip_real_t ks = r_add(op->kappa, shyk);                                                      /* 4.E61 */
     return mf_g_ratio_k(byk, p->rcy1, eyk, ks, shyk, mk);                                         /* 4.E59-60 */
 }
@@ -400,7 +400,7 @@ static MF_ALWAYS_INLINE grip_real_t mf_mz0(const grip_mf_params *p, const mf_op 
 {
     grip_real_t mz0;
     if (!op->book) {
-        t0 = r_mul(t0, p->lfzo);         /* MF-Tyre scales the trail by LFZO */
+        t0 = r_mul_scale(t0, p->lfzo);   /* MF-Tyre scales the trail by LFZO */
     }
     mz0 = r_msub(r_mul_unit(op->cosa, mzr0), t0, fy_ref);                           /* 4.E31 */
     return r_mul_unit(op->smooth, mz0);                                              /* low speed */
@@ -410,9 +410,9 @@ static MF_ALWAYS_INLINE grip_real_t mf_mz0(const grip_mf_params *p, const mf_op 
 static MF_ALWAYS_INLINE grip_real_t mf_gxa(const grip_mf_params *p, const mf_op *op, grip_real_t emax,
                                            grip_real_t *mk)
 {
-    grip_real_t bxa = r_mul(r_mul_unit(r_cos_atan(r_mul(p->rbx2, op->kappa)),
-                                       r_mac(p->rbx1, MF6_ONLY(op, p->rbx3), r_sq(op->gx))),
-                            p->lxal);                                                             /* 4.E54 */
+    grip_real_t bxa = r_mul_scale(r_mul_unit(r_cos_atan(r_mul(p->rbx2, op->kappa)),
+                                             r_mac(p->rbx1, MF6_ONLY(op, p->rbx3), r_sq(op->gx))),
+                                  p->lxal);                                                             /* 4.E54 */
     grip_real_t exa = r_min(r_mac(p->rex1, p->rex2, op->dfz), emax);                       /* 4.E56 */
     grip_real_t as = r_add(op->alpha, p->rhx1);                                                    /* 4.E53 */
     return mf_g_ratio_k(bxa, p->rcx1, exa, as, p->rhx1, mk);                                      /* 4.E51-52 */
@@ -443,7 +443,7 @@ static MF_ALWAYS_INLINE grip_real_t mf_dvyk(grip_real_t muy, const mf_svyk_f *f)
 static MF_ALWAYS_INLINE grip_real_t mf_svyk(const grip_mf_params *p, const mf_op *op, const mf_svyk_f *f,
                                             grip_real_t dvyk)
 {
-    return r_mul_unit(op->smooth, r_mul(r_mul_unit(f->svk, dvyk), p->lvyka));
+    return r_mul_unit(op->smooth, r_mul_scale(r_mul_unit(f->svk, dvyk), p->lvyka));
 }
 
 /* The moment arm s / R0 of Fx in Mz (4.E76): SSZ1 + SSZ2 Fy / Fz0 + (SSZ3 +
@@ -451,8 +451,8 @@ static MF_ALWAYS_INLINE grip_real_t mf_svyk(const grip_mf_params *p, const mf_op
 static MF_ALWAYS_INLINE grip_real_t mf_sarm(const grip_mf_params *p, const mf_op *op, grip_real_t fy)
 {
     grip_real_t fy_rel = r_mul(fy, op->book ? op->fzp : op->fz);
-    return r_mul(r_mac(r_mac(p->ssz1, p->ssz2, fy_rel), r_mac(p->ssz3, p->ssz4, op->dfz), op->gz),
-                 p->ls);
+    return r_mul_scale(r_mac(r_mac(p->ssz1, p->ssz2, fy_rel), r_mac(p->ssz3, p->ssz4, op->dfz), op->gz),
+                       p->ls);
 }
 
 /* The combined trail t and residual moment Mzr as they enter Mz: the book
@@ -463,7 +463,7 @@ static MF_ALWAYS_INLINE void mf_mz_scale(const grip_mf_params *p, const mf_op *o
     if (op->book) {
         *mzr = r_mul_unit(op->cosa, *mzr);
     } else {
-        *t = r_mul(*t, p->lfzo);
+        *t = r_mul_scale(*t, p->lfzo);
     }
     *t = r_mul_unit(op->smooth, *t);
     *mzr = r_mul_unit(op->smooth, *mzr);

@@ -459,18 +459,18 @@ void mf_ext_cz_form(const grip_mf_params *p, grip_real_t dpi, mf_ext_cz *z);
 static MF_ALWAYS_INLINE grip_real_t mf_mux(const grip_mf_params *p, grip_real_t dfz, grip_real_t dpi, grip_real_t gmux,
                                  grip_real_t lmux_s)
 {
-    return r_mul(r_mul(r_mul(r_add(p->pdx1, r_mul(p->pdx2, dfz)),
-                             r_add(R_ONE, r_add(r_mul(p->ppx3, dpi), r_mul(p->ppx4, r_sq(dpi))))),
-                       r_sub(R_ONE, r_mul(p->pdx3, r_sq(gmux)))),
-                 lmux_s);
+    return r_mul_scale(r_mul(r_mul(r_mac(p->pdx1, p->pdx2, dfz),
+                                   r_add(R_ONE, r_mac(r_mul(p->ppx3, dpi), p->ppx4, r_sq(dpi)))),
+                             r_msub(R_ONE, p->pdx3, r_sq(gmux))),
+                       lmux_s);
 }
 
 /* The same with its pressure factor already formed (MF_DP_PX_MU). */
 static MF_ALWAYS_INLINE grip_real_t mf_mux_dp(const grip_mf_params *p, grip_real_t dfz, grip_real_t px_mu,
                                               grip_real_t gmux, grip_real_t lmux_s)
 {
-    return r_mul(r_mul(r_mul(r_add(p->pdx1, r_mul(p->pdx2, dfz)), px_mu), r_sub(R_ONE, r_mul(p->pdx3, r_sq(gmux)))),
-                 lmux_s);
+    return r_mul_scale(r_mul(r_mul(r_mac(p->pdx1, p->pdx2, dfz), px_mu), r_msub(R_ONE, p->pdx3, r_sq(gmux))),
+                       lmux_s);
 }
 
 /* The part of the operating point (mf_op) the extended outputs use. */

@@ -1,11 +1,12 @@
 /*
  * test_arith_ops.c - the arithmetic layer's operations with fewer range
- * tests (lib/arith/arith.h: r_mac, r_msub, r_mul_unit) against the
+ * tests (lib/arith/arith.h: r_mac, r_msub, r_mul_unit, r_mul_scale) against the
  * two-step forms they replace, in both builds:
  *   - r_mac(c, a, b) and r_msub(c, a, b) give the bits of r_add(c, r_mul(a,
  *     b)) and r_sub(c, r_mul(a, b)) wherever the product does not saturate
  *     on its own, and the exact sum clamped once where it does (fixed);
  *   - r_mul_unit(u, b) gives the bits of r_mul(u, b) for every |u| <= 1;
+ *   - r_mul_scale(x, s) gives the bits of r_mul(x, s), s = 1 among them;
  *   - a GRIP_DEBUG_SATURATION build flags r_mul_unit called with |u| > 1
  *     (the event "mul_unit") and returns the saturated product.
  */
@@ -121,6 +122,22 @@ static void test_mul_unit_as_mul(void **s)
     print_message("# mul_unit: %d pairs with |u| <= 1 as r_mul\n", N_PAIRS);
 }
 
+static void test_mul_scale_as_mul(void **s)
+{
+    int i;
+    (void)s;
+    for (i = 0; i < N_PAIRS; ++i) {
+        grip_real_t x = any_value();
+        grip_real_t f = ((i % 4) == 0) ? R_ONE : any_value();
+#if GRIP_ARITH_FIXED
+        assert_int_equal(r_mul_scale(x, f), r_mul(x, f));
+#else
+        assert_true(r_mul_scale(x, f) == r_mul(x, f));
+#endif
+    }
+    print_message("# mul_scale: %d pairs (a quarter with s = 1) as r_mul\n", N_PAIRS);
+}
+
 /* The debug-saturation build checks the precondition |u| <= 1. */
 static void test_mul_unit_precondition_flagged(void **s)
 {
@@ -147,6 +164,7 @@ int main(void)
         cmocka_unit_test(test_mac_msub_as_two_steps),
         cmocka_unit_test(test_mul_unit_as_mul),
         cmocka_unit_test(test_mul_unit_precondition_flagged),
+        cmocka_unit_test(test_mul_scale_as_mul),
     };
     return cmocka_run_group_tests_name("arith_ops", tests, NULL, NULL);
 }
