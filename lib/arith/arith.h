@@ -63,8 +63,10 @@ static inline grip_real_t r_sqrt(grip_real_t a) { return grip_q16_sqrt(a); }
 /* atan, atan2, sin, cos inline (q16_math_inline.h): grip_q16_*'s code */
 static GRIP_Q16_KINLINE grip_real_t r_atan(grip_real_t a) { return q16_atan_k(a); }
 static GRIP_Q16_KINLINE grip_real_t r_atan2(grip_real_t y, grip_real_t x) { return q16_atan2_k(y, x); }
-/* atan2(y, x) where the caller knows y >= 0 and x > 0 (float build: see there) */
-static GRIP_Q16_KINLINE grip_real_t r_atan2_q1(grip_real_t y, grip_real_t x) { return q16_atan2_k(y, x); }
+/* atan2(y, x) where the caller knows y >= 0 and x > 0 (float build: see
+ * there): without the sign tests (q16_atan2_q1_k; the debug-saturation
+ * build checks the precondition) */
+static GRIP_Q16_KINLINE grip_real_t r_atan2_q1(grip_real_t y, grip_real_t x) { return q16_atan2_q1_k(y, x); }
 static GRIP_Q16_KINLINE grip_real_t r_sin(grip_real_t a) { return q16_sin_k(a); }
 static GRIP_Q16_KINLINE grip_real_t r_cos(grip_real_t a) { return q16_cos_k(a); }
 /* One argument reduction for both (grip_q16_sincos): the same bits as

@@ -151,6 +151,30 @@ static GRIP_Q16_KINLINE grip_q16_t q16_atan2_k(grip_q16_t y, grip_q16_t x)
     return q30_to_q16(r);
 }
 
+/* atan2(y, x) where the caller knows y >= 0 and x > 0 (the first
+ * quadrant): q16_atan2_k's two octants without its tests of the signs and
+ * of (0, 0), the same bits. A GRIP_DEBUG_SATURATION build checks the
+ * precondition: a violation is counted as the event "atan2_q1" and
+ * answered by q16_atan2_k. */
+static GRIP_Q16_KINLINE grip_q16_t q16_atan2_q1_k(grip_q16_t y, grip_q16_t x)
+{
+    uint64_t ax = (uint64_t)(uint32_t)x;
+    uint64_t ay = (uint64_t)(uint32_t)y;
+    int64_t r;
+#if GRIP_DEBUG_SATURATION
+    if ((y < 0) || (x <= 0)) {
+        GRIP_SAT_EVENT("atan2_q1");
+        return q16_atan2_k(y, x);
+    }
+#endif
+    if (ay <= ax) {
+        r = atan_poly_q30((int64_t)(((ay << 30) + (ax >> 1)) / ax));
+    } else {
+        r = Q30_PI_2 - atan_poly_q30((int64_t)(((ax << 30) + (ay >> 1)) / ay));
+    }
+    return q30_to_q16(r);
+}
+
 /* Fraction of a turn in Q32 (wraps modulo one turn). */
 static GRIP_Q16_KINLINE uint32_t phase_q32(grip_q16_t a)
 {

@@ -7,8 +7,11 @@
  *     on its own, and the exact sum clamped once where it does (fixed);
  *   - r_mul_unit(u, b) gives the bits of r_mul(u, b) for every |u| <= 1;
  *   - r_mul_scale(x, s) gives the bits of r_mul(x, s), s = 1 among them;
+ *   - r_atan2_q1(y, x) gives the bits of r_atan2(y, x) for y >= 0, x > 0
+ *     (fixed; the float build's forms are tested with the kernels);
  *   - a GRIP_DEBUG_SATURATION build flags r_mul_unit called with |u| > 1
- *     (the event "mul_unit") and returns the saturated product.
+ *     (the event "mul_unit") and returns the saturated product, and
+ *     r_atan2_q1 outside the first quadrant (the event "atan2_q1").
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -138,8 +141,30 @@ static void test_mul_scale_as_mul(void **s)
     print_message("# mul_scale: %d pairs (a quarter with s = 1) as r_mul\n", N_PAIRS);
 }
 
-/* The debug-saturation build checks the precondition |u| <= 1. */
-static void test_mul_unit_precondition_flagged(void **s)
+static void test_atan2_q1_as_atan2(void **s)
+{
+    (void)s;
+#if GRIP_ARITH_FIXED
+    int i;
+    for (i = 0; i < N_PAIRS; ++i) {
+        grip_real_t y = r_abs(any_value());
+        grip_real_t x = r_abs(any_value());
+        if (x == 0) {
+            x = 1;
+        }
+        assert_int_equal(r_atan2_q1(y, x), r_atan2(y, x));
+    }
+    assert_int_equal(r_atan2_q1(0, 1), 0);
+    assert_int_equal(r_atan2_q1(INT32_MAX, 1), r_atan2(INT32_MAX, 1));
+    assert_int_equal(r_atan2_q1(INT32_MAX, INT32_MAX), r_atan2(INT32_MAX, INT32_MAX));
+    print_message("# atan2_q1: %d pairs with y >= 0, x > 0 as r_atan2\n", N_PAIRS);
+#else
+    print_message("# atan2_q1: fixed build only here (float: test_f32_kernels)\n");
+#endif
+}
+
+/* The debug-saturation build checks the preconditions. */
+static void test_preconditions_flagged(void **s)
 {
     (void)s;
 #if GRIP_ARITH_FIXED && GRIP_DEBUG_SATURATION
@@ -152,9 +177,15 @@ static void test_mul_unit_precondition_flagged(void **s)
      * precondition and the saturation of the product) */
     assert_int_equal(r_mul_unit(RC(-2.0), RC(30000.0)), -INT32_MAX);
     assert_int_equal(grip_debug_saturation_count(), 3);
+    /* atan2_q1 outside the first quadrant: flagged, answered as atan2 */
+    grip_debug_saturation_reset();
+    assert_int_equal(r_atan2_q1(RC(-1.0), RC(1.0)), r_atan2(RC(-1.0), RC(1.0)));
+    assert_int_equal(r_atan2_q1(RC(1.0), 0), r_atan2(RC(1.0), 0));
+    assert_int_equal(grip_debug_saturation_count(), 2);
+    assert_string_equal(grip_debug_saturation_first(), "atan2_q1");
     grip_debug_saturation_reset();
 #else
-    print_message("# mul_unit precondition: checked in the fixed DEBUG_SAT=1 build only\n");
+    print_message("# preconditions: checked in the fixed DEBUG_SAT=1 build only\n");
 #endif
 }
 
@@ -163,8 +194,9 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_mac_msub_as_two_steps),
         cmocka_unit_test(test_mul_unit_as_mul),
-        cmocka_unit_test(test_mul_unit_precondition_flagged),
+        cmocka_unit_test(test_preconditions_flagged),
         cmocka_unit_test(test_mul_scale_as_mul),
+        cmocka_unit_test(test_atan2_q1_as_atan2),
     };
     return cmocka_run_group_tests_name("arith_ops", tests, NULL, NULL);
 }
