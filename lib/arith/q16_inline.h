@@ -17,6 +17,16 @@ void grip_debug_saturation_event(const char *op);
 #define GRIP_SAT_EVENT(op) ((void)0)
 #endif
 
+/* Inline whatever the optimizer's estimate: the rounded product below is
+ * shared by q16_mul, q16_mac, q16_msub and q16_mul_unit, and gcc -Os (the
+ * Cortex-M0+ firmware) made it a function of its own that each of them
+ * called. */
+#if defined(__GNUC__)
+#define GRIP_Q16_KINLINE inline __attribute__((always_inline))
+#else
+#define GRIP_Q16_KINLINE inline
+#endif
+
 /* Clamp a wide intermediate to the symmetric Q15.16 range. The in-range
  * test is one unsigned comparison (v + MAX in [0, 2 MAX]): the common path
  * of every saturating operation pays one compare and one branch instead of
@@ -71,7 +81,7 @@ static inline int64_t q_mul_wide(int32_t a, int32_t b)
 }
 
 /* round(a b / 2^16) before saturation: (a b + 2^15) >> 16. */
-static inline int64_t q16_mul_round(grip_q16_t a, grip_q16_t b)
+static GRIP_Q16_KINLINE int64_t q16_mul_round(grip_q16_t a, grip_q16_t b)
 {
 #if defined(__ARM_ARCH_6M__)
     /* ARMv6-M (Cortex-M0/M0+) multiplies 32 x 32 -> 32 only: the 64-bit

@@ -27,12 +27,6 @@
 #define GRIP_Q16_INLINE_KERNELS 1
 #endif
 
-#if defined(__GNUC__)
-#define GRIP_Q16_KINLINE inline __attribute__((always_inline))
-#else
-#define GRIP_Q16_KINLINE inline
-#endif
-
 #define Q30_ONE   ((int64_t)1 << 30)
 #define Q30_PI_2  ((int64_t)1686629713)   /* round(pi/2 * 2^30) */
 #define Q30_PI    ((int64_t)3373259426)   /* round(pi * 2^30) */
