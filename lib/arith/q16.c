@@ -43,6 +43,8 @@ static int64_t exp2_poly_q30(int64_t f)
     return horner_step(acc, f, k_exp2[0]);
 }
 
+uint32_t grip_q16_i_udiv64_32(uint64_t n, uint32_t d) { return q_udiv64_32_long(n, d); }
+
 grip_q16_t grip_q16_add(grip_q16_t a, grip_q16_t b) { return q16_add(a, b); }
 grip_q16_t grip_q16_sub(grip_q16_t a, grip_q16_t b) { return q16_sub(a, b); }
 grip_q16_t grip_q16_mul(grip_q16_t a, grip_q16_t b) { return q16_mul(a, b); }

@@ -108,7 +108,8 @@ static GRIP_Q16_KINLINE int64_t atan_mag_q30(uint32_t u)
     if (u <= 65536u) {
         z = (int64_t)u << 14;
     } else {
-        z = (int64_t)((((uint64_t)1 << 46) + (u >> 1)) / u); /* grip-deviation: MISRA-10.7 u (32 bit) mixed into the 64-bit quotient on purpose */
+        /* 1/u in Q30, < 2^30; 2^46 + u / 2 < u 2^32 */
+        z = (int64_t)q_udiv64_32(((uint64_t)1 << 46) + (u >> 1), u); /* grip-deviation: MISRA-10.7 u (32 bit) mixed into the 64-bit dividend on purpose */
     }
     r = atan_poly_q30(z);
     return (u <= 65536u) ? r : (Q30_PI_2 - r);
@@ -129,11 +130,12 @@ static GRIP_Q16_KINLINE grip_q16_t q16_atan2_k(grip_q16_t y, grip_q16_t x)
     if ((ax == 0u) && (ay == 0u)) {
         return 0;
     }
+    /* the ratio of the smaller to the larger magnitude, <= 2^30 in Q30 */
     if (ay <= ax) {
-        int64_t z = (int64_t)(((ay << 30) + (ax >> 1)) / ax);
+        int64_t z = (int64_t)q_udiv64_32((ay << 30) + (ax >> 1), (uint32_t)ax);
         r = atan_poly_q30(z);
     } else {
-        int64_t z = (int64_t)(((ax << 30) + (ay >> 1)) / ay);
+        int64_t z = (int64_t)q_udiv64_32((ax << 30) + (ay >> 1), (uint32_t)ay);
         r = Q30_PI_2 - atan_poly_q30(z);
     }
     if (x < 0) {
@@ -162,9 +164,9 @@ static GRIP_Q16_KINLINE grip_q16_t q16_atan2_q1_k(grip_q16_t y, grip_q16_t x)
     }
 #endif
     if (ay <= ax) {
-        r = atan_poly_q30((int64_t)(((ay << 30) + (ax >> 1)) / ax));
+        r = atan_poly_q30((int64_t)q_udiv64_32((ay << 30) + (ax >> 1), (uint32_t)ax));
     } else {
-        r = Q30_PI_2 - atan_poly_q30((int64_t)(((ax << 30) + (ay >> 1)) / ay));
+        r = Q30_PI_2 - atan_poly_q30((int64_t)q_udiv64_32((ax << 30) + (ay >> 1), (uint32_t)ay));
     }
     return q30_to_q16(r);
 }
