@@ -289,7 +289,11 @@ static MF_ALWAYS_INLINE void mf_trail_body(const grip_mf_params *p, const mf_op 
 /* Trail t / R0 at a (possibly equivalent) trail slip angle a (4.E33, 4.E73). */
 static MF_ALWAYS_INLINE grip_real_t mf_trail_at_k(const mf_op *op, const mf_trail *tc, grip_real_t a, grip_real_t *mk)
 {
-    return r_mul_unit(op->cosa, r_mul_unit(mf_cos_curve_k(tc->bt, tc->ct, tc->et, a, mk), tc->dt));
+    /* the curve first, then |cos alpha| (the old order: reading op->cosa
+     * before the curve's call made gcc pass it apart, and the Cortex-M4F
+     * frame of the combined evaluation 8 B larger) */
+    grip_real_t t = r_mul_unit(mf_cos_curve_k(tc->bt, tc->ct, tc->et, a, mk), tc->dt);
+    return r_mul_unit(op->cosa, t);
 }
 
 /* Residual moment Mzr / (Fz R0) at a residual slip angle a, Cr = 1 (4.E36). */
