@@ -7,6 +7,10 @@
  *
  *   r_add/r_sub(a, b)   same format in, same out
  *   r_mul(a_QS, b_Qx)   -> Qx       (QS times anything keeps the other format)
+ *   r_mac(c_Qx, a_QS, b_Qx)  -> Qx  c + a b, one rounding and one saturation
+ *   r_msub(c_Qx, a_QS, b_Qx) -> Qx  c - a b, likewise
+ *   r_mul_unit(u_QS, b_Qx)   -> Qx  u b where |u| <= 1 is known: no range test
+ *   r_mul_scale(x_Qx, s_QS)  -> Qx  x s for a scale factor s, most often exactly 1
  *   r_div(a_Qx, b_Qx)   -> QS       (ratio of like quantities is dimensionless)
  *   r_div_keep(a_Qx, b_QS) -> Qx    (quantity divided by a dimensionless value)
  *   r_ql_to_qs / r_qs_to_ql          format change, no-op in float
@@ -23,6 +27,7 @@
 
 #if GRIP_ARITH_FIXED
 #include "q16_inline.h"
+#include "q16_math_inline.h"
 
 #define RC(x)  GRIP_QS(x)   /* QS constant */
 #define RCL(x) GRIP_QL(x)   /* QL constant */
@@ -32,6 +37,21 @@
 static inline grip_real_t r_add(grip_real_t a, grip_real_t b) { return q16_add(a, b); }
 static inline grip_real_t r_sub(grip_real_t a, grip_real_t b) { return q16_sub(a, b); }
 static inline grip_real_t r_mul(grip_real_t a, grip_real_t b) { return q16_mul(a, b); }
+/* c + a b, c - a b: the product is not clamped on its own (q16_mac). The
+ * bits of r_add(c, r_mul(a, b)), r_sub(c, r_mul(a, b)) wherever that
+ * product stays in range; one range test instead of two. */
+static inline grip_real_t r_mac(grip_real_t c, grip_real_t a, grip_real_t b) { return q16_mac(c, a, b); }
+static inline grip_real_t r_msub(grip_real_t c, grip_real_t a, grip_real_t b) { return q16_msub(c, a, b); }
+/* u b for a factor u the caller knows to be within [-1, 1] (a sine, a
+ * cosine, the low-speed smooth factor, ...), with that argument in a
+ * comment where it is used: the product cannot leave the range of b, so it
+ * has no range test (q16_mul_unit; the debug-saturation build checks
+ * |u| <= 1). */
+static inline grip_real_t r_mul_unit(grip_real_t u, grip_real_t b) { return q16_mul_unit(u, b); }
+/* x s for a scale factor s (a lambda of the parameter set, or a factor
+ * formed from them) that is exactly 1 in most sets: no product when s = 1
+ * (q16_mul_scale; the float build multiplies, one instruction). */
+static inline grip_real_t r_mul_scale(grip_real_t x, grip_real_t s) { return q16_mul_scale(x, s); }
 static inline grip_real_t r_div(grip_real_t a, grip_real_t b) { return q16_div(a, b); }
 static inline grip_real_t r_div_keep(grip_real_t a, grip_real_t b) { return q16_div(a, b); }
 static inline grip_real_t r_neg(grip_real_t a) { return q16_neg(a); }
@@ -39,22 +59,35 @@ static inline grip_real_t r_abs(grip_real_t a) { return q16_abs(a); }
 static inline grip_real_t r_ql_to_qs(grip_real_t a) { return q16_from_ql(a); }
 static inline grip_real_t r_qs_to_ql(grip_real_t a) { return q16_to_ql(a); }
 static inline grip_real_t r_sqrt(grip_real_t a) { return grip_q16_sqrt(a); }
+#if GRIP_Q16_INLINE_KERNELS
+/* atan, atan2, sin, cos inline (q16_math_inline.h): grip_q16_*'s code */
+static GRIP_Q16_KINLINE grip_real_t r_atan(grip_real_t a) { return q16_atan_k(a); }
+static GRIP_Q16_KINLINE grip_real_t r_atan2(grip_real_t y, grip_real_t x) { return q16_atan2_k(y, x); }
+/* atan2(y, x) where the caller knows y >= 0 and x > 0 (float build: see
+ * there): without the sign tests (q16_atan2_q1_k; the debug-saturation
+ * build checks the precondition) */
+static GRIP_Q16_KINLINE grip_real_t r_atan2_q1(grip_real_t y, grip_real_t x) { return q16_atan2_q1_k(y, x); }
+static GRIP_Q16_KINLINE grip_real_t r_sin(grip_real_t a) { return q16_sin_k(a); }
+static GRIP_Q16_KINLINE grip_real_t r_cos(grip_real_t a) { return q16_cos_k(a); }
+/* One argument reduction for both (grip_q16_sincos): the same bits as
+ * grip_q16_sin and grip_q16_cos. */
+static GRIP_Q16_KINLINE void r_sincos(grip_real_t a, grip_real_t *s, grip_real_t *c) { q16_sincos_k(a, s, c); }
+#else
+/* -Os: the out-of-line kernels of q16.c (the same code) */
 static inline grip_real_t r_atan(grip_real_t a) { return grip_q16_atan(a); }
 static inline grip_real_t r_atan2(grip_real_t y, grip_real_t x) { return grip_q16_atan2(y, x); }
-/* atan2(y, x) where the caller knows y >= 0 and x > 0 (float build: see there) */
 static inline grip_real_t r_atan2_q1(grip_real_t y, grip_real_t x) { return grip_q16_atan2(y, x); }
 static inline grip_real_t r_sin(grip_real_t a) { return grip_q16_sin(a); }
 static inline grip_real_t r_cos(grip_real_t a) { return grip_q16_cos(a); }
-/* One argument reduction for both (grip_q16_sincos): the same bits as
- * grip_q16_sin and grip_q16_cos. */
 static inline void r_sincos(grip_real_t a, grip_real_t *s, grip_real_t *c) { grip_q16_sincos(a, s, c); }
+#endif
 static inline grip_real_t r_exp(grip_real_t a) { return grip_q16_exp(a); }
 static inline grip_real_t r_log(grip_real_t a) { return grip_q16_log(a); }
 /* Every fixed-point value is finite by construction. */
 static inline int r_is_finite(grip_real_t a) { (void)a; return 1; }
 /* cos(atan(a)): kept literal in fixed point, where 1 + a^2 would leave QS
  * for |a| > 181. */
-static inline grip_real_t r_cos_atan(grip_real_t a) { return grip_q16_cos(grip_q16_atan(a)); }
+static GRIP_Q16_KINLINE grip_real_t r_cos_atan(grip_real_t a) { return r_cos(r_atan(a)); }
 /* c0 + c1 x and a / (b1 b2) - 1: see the float build. Q15.16 carries no
  * residual (its resolution is its own tolerance): the plain forms, 0. */
 static inline grip_real_t r_lin_ext(grip_real_t c0, grip_real_t c1, grip_real_t x, grip_real_t x_lo)
@@ -79,6 +112,11 @@ static inline grip_real_t r_quot_m1_lo(grip_real_t a, grip_real_t b1, grip_real_
 static inline grip_real_t r_add(grip_real_t a, grip_real_t b) { return a + b; }
 static inline grip_real_t r_sub(grip_real_t a, grip_real_t b) { return a - b; }
 static inline grip_real_t r_mul(grip_real_t a, grip_real_t b) { return a * b; }
+/* the plain operations, in the order the two-step forms had them */
+static inline grip_real_t r_mac(grip_real_t c, grip_real_t a, grip_real_t b) { return c + a * b; }
+static inline grip_real_t r_msub(grip_real_t c, grip_real_t a, grip_real_t b) { return c - a * b; }
+static inline grip_real_t r_mul_unit(grip_real_t u, grip_real_t b) { return u * b; }
+static inline grip_real_t r_mul_scale(grip_real_t x, grip_real_t s) { return x * s; }
 static inline grip_real_t r_div(grip_real_t a, grip_real_t b) { return a / b; }
 static inline grip_real_t r_div_keep(grip_real_t a, grip_real_t b) { return a / b; }
 static inline grip_real_t r_neg(grip_real_t a) { return -a; }

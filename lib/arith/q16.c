@@ -7,21 +7,14 @@
  */
 #include "grip/grip_q16.h"
 #include "q16_inline.h"
-#include "q16_kernels.h"
+#include "q16_math_inline.h"
 
 /* The rounding shifts rely on arithmetic right shift of negative values. */
 typedef char grip_check_arithmetic_shift[((-8 >> 1) == -4) ? 1 : -1];
 
-#define Q30_ONE   ((int64_t)1 << 30)
-#define Q30_PI_2  ((int64_t)1686629713)   /* round(pi/2 * 2^30) */
-#define Q30_PI    ((int64_t)3373259426)   /* round(pi * 2^30) */
 #define Q30_LOG2E ((int64_t)1549082005)   /* round(log2(e) * 2^30) */
 #define Q30_LN2   ((int64_t)744261118)    /* round(ln(2) * 2^30) */
-/* round(2^32 / (2 pi)): Q15.16 rad times this is turns in Q48 */
-#define Q32_INV_2PI ((int64_t)683565276)
 
-static const int32_t k_sin[GRIP_K_SIN_N] = GRIP_K_SIN_COEFS;
-static const int32_t k_atan[GRIP_K_ATAN_N] = GRIP_K_ATAN_COEFS;
 static const int32_t k_exp2[GRIP_K_EXP2_N] = GRIP_K_EXP2_COEFS;
 static const int32_t k_log2[GRIP_K_LOG2_N] = GRIP_K_LOG2_COEFS;
 
@@ -36,63 +29,9 @@ static int64_t horner_q30(const int32_t *c, int n, int64_t w)
     return acc;
 }
 
-/* One Horner step c + acc * w, all Q30. The kernels of sin, atan and exp
- * (those a Magic Formula evaluation calls) are written out step by step
- * with constant indices, so that each coefficient is an immediate operand
- * and no loop counter runs: the same operations in the same order as
- * horner_q30, hence the same bits, for 4 x86 instructions less per step
- * (docs/performance.md). The checks below tie them to the generated
- * degrees. */
-/* The product of two Q30 kernel values that fit int32: the polynomial
- * arguments (0 <= z, z^2, f <= 2^30) and the Horner partial sums (|acc| <
- * 2^31: at most pi/2 in Q30). On ARMv6-M the 16-bit-halves product of
- * q_mul_wide instead of libgcc's 64 x 64 multiply; elsewhere the 64-bit
- * product as it is (the truncations to int32 would cost x86 instructions). */
-static inline int64_t k_mul(int64_t a, int64_t b)
-{
-#if defined(__ARM_ARCH_6M__)
-    return q_mul_wide((int32_t)a, (int32_t)b);
-#else
-    return a * b;
-#endif
-}
-
-static inline int64_t horner_step(int64_t acc, int64_t w, int32_t c)
-{
-    return (int64_t)c + q_round_shift(k_mul(acc, w), 30u);
-}
-
-typedef char grip_check_sin_n[(GRIP_K_SIN_N == 5) ? 1 : -1];
-typedef char grip_check_atan_n[(GRIP_K_ATAN_N == 7) ? 1 : -1];
 typedef char grip_check_exp2_n[(GRIP_K_EXP2_N == 7) ? 1 : -1];
 
-/* sin(pi/2 z) for z in Q30, 0 <= z <= 1: z * P(z^2). */
-static int64_t sin_poly_q30(int64_t z)
-{
-    int64_t z2 = q_round_shift(k_mul(z, z), 30u);
-    int64_t acc = k_sin[4];
-    acc = horner_step(acc, z2, k_sin[3]);
-    acc = horner_step(acc, z2, k_sin[2]);
-    acc = horner_step(acc, z2, k_sin[1]);
-    acc = horner_step(acc, z2, k_sin[0]);
-    return q_round_shift(k_mul(z, acc), 30u);
-}
-
-/* atan(z) for z in Q30, 0 <= z <= 1: z * P(z^2). */
-static int64_t atan_poly_q30(int64_t z)
-{
-    int64_t z2 = q_round_shift(k_mul(z, z), 30u);
-    int64_t acc = k_atan[6];
-    acc = horner_step(acc, z2, k_atan[5]);
-    acc = horner_step(acc, z2, k_atan[4]);
-    acc = horner_step(acc, z2, k_atan[3]);
-    acc = horner_step(acc, z2, k_atan[2]);
-    acc = horner_step(acc, z2, k_atan[1]);
-    acc = horner_step(acc, z2, k_atan[0]);
-    return q_round_shift(k_mul(z, acc), 30u);
-}
-
-/* 2^f for f in Q30, 0 <= f < 1. */
+/* 2^f for f in Q30, 0 <= f < 1 (horner_step: q16_math_inline.h). */
 static int64_t exp2_poly_q30(int64_t f)
 {
     int64_t acc = k_exp2[6];
@@ -104,13 +43,7 @@ static int64_t exp2_poly_q30(int64_t f)
     return horner_step(acc, f, k_exp2[0]);
 }
 
-/* Q30 -> Q15.16 of an angle or a sine: |v| <= pi in every caller (atan,
- * atan2, sin, cos), so the result is within +-2^18 and cannot saturate;
- * no range test. */
-static grip_q16_t q30_to_q16(int64_t v)
-{
-    return (grip_q16_t)q_round_shift(v, 14u);
-}
+uint32_t grip_q16_i_udiv64_32(uint64_t n, uint32_t d) { return q_udiv64_32_long(n, d); }
 
 grip_q16_t grip_q16_add(grip_q16_t a, grip_q16_t b) { return q16_add(a, b); }
 grip_q16_t grip_q16_sub(grip_q16_t a, grip_q16_t b) { return q16_sub(a, b); }
@@ -174,87 +107,12 @@ grip_q16_t grip_q16_sqrt(grip_q16_t a)
     return (grip_q16_t)r;
 }
 
-/* atan of u >= 0 given as Q16 magnitude, result in Q30 rad. */
-static int64_t atan_mag_q30(uint32_t u)
-{
-    if (u <= 65536u) {
-        return atan_poly_q30((int64_t)u << 14);
-    } else {
-        /* atan(u) = pi/2 - atan(1/u); 1/u in Q30 */
-        int64_t inv = (int64_t)((((uint64_t)1 << 46) + (u >> 1)) / u); /* grip-deviation: MISRA-10.7 u (32 bit) mixed into the 64-bit quotient on purpose */
-        return Q30_PI_2 - atan_poly_q30(inv);
-    }
-}
-
-grip_q16_t grip_q16_atan(grip_q16_t a)
-{
-    uint32_t u = (a < 0) ? (0u - (uint32_t)a) : (uint32_t)a;
-    int64_t r = atan_mag_q30(u);
-    return q30_to_q16((a < 0) ? -r : r);
-}
-
-grip_q16_t grip_q16_atan2(grip_q16_t y, grip_q16_t x)
-{
-    uint64_t ax = (x < 0) ? (uint64_t)(0u - (uint32_t)x) : (uint64_t)(uint32_t)x;
-    uint64_t ay = (y < 0) ? (uint64_t)(0u - (uint32_t)y) : (uint64_t)(uint32_t)y;
-    int64_t r;
-    if ((ax == 0u) && (ay == 0u)) {
-        return 0;
-    }
-    if (ay <= ax) {
-        int64_t z = (int64_t)(((ay << 30) + (ax >> 1)) / ax);
-        r = atan_poly_q30(z);
-    } else {
-        int64_t z = (int64_t)(((ax << 30) + (ay >> 1)) / ay);
-        r = Q30_PI_2 - atan_poly_q30(z);
-    }
-    if (x < 0) {
-        r = Q30_PI - r;
-    }
-    if (y < 0) {
-        r = -r;
-    }
-    return q30_to_q16(r);
-}
-
-/* Fraction of a turn in Q32 (wraps modulo one turn). */
-static uint32_t phase_q32(grip_q16_t a)
-{
-    int64_t turns_q48 = q_mul_wide(a, (int32_t)Q32_INV_2PI);
-    return (uint32_t)((uint64_t)q_round_shift(turns_q48, 16u) & 0xFFFFFFFFu);
-}
-
-static grip_q16_t sin_of_phase(uint32_t phase)
-{
-    uint32_t quadrant = phase >> 30;
-    int64_t z = (int64_t)(phase & 0x3FFFFFFFu);   /* Q30 position in quadrant */
-    int64_t s;
-    if ((quadrant & 1u) != 0u) {
-        z = Q30_ONE - z;
-    }
-    s = sin_poly_q30(z);
-    if (s > Q30_ONE) {
-        s = Q30_ONE;
-    }
-    return q30_to_q16((quadrant >= 2u) ? -s : s);
-}
-
-grip_q16_t grip_q16_sin(grip_q16_t a)
-{
-    return sin_of_phase(phase_q32(a));
-}
-
-grip_q16_t grip_q16_cos(grip_q16_t a)
-{
-    return sin_of_phase(phase_q32(a) + 0x40000000u);   /* + quarter turn */
-}
-
-void grip_q16_sincos(grip_q16_t a, grip_q16_t *s, grip_q16_t *c)
-{
-    uint32_t ph = phase_q32(a);
-    *s = sin_of_phase(ph);
-    *c = sin_of_phase(ph + 0x40000000u);
-}
+/* atan, atan2, sin, cos, sincos: the inline kernels of q16_math_inline.h */
+grip_q16_t grip_q16_atan(grip_q16_t a) { return q16_atan_k(a); }
+grip_q16_t grip_q16_atan2(grip_q16_t y, grip_q16_t x) { return q16_atan2_k(y, x); }
+grip_q16_t grip_q16_sin(grip_q16_t a) { return q16_sin_k(a); }
+grip_q16_t grip_q16_cos(grip_q16_t a) { return q16_cos_k(a); }
+void grip_q16_sincos(grip_q16_t a, grip_q16_t *s, grip_q16_t *c) { q16_sincos_k(a, s, c); }
 
 grip_q16_t grip_q16_exp(grip_q16_t a)
 {

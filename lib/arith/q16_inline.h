@@ -17,6 +17,16 @@ void grip_debug_saturation_event(const char *op);
 #define GRIP_SAT_EVENT(op) ((void)0)
 #endif
 
+/* Inline whatever the optimizer's estimate: the rounded product below is
+ * shared by q16_mul, q16_mac, q16_msub and q16_mul_unit, and gcc -Os (the
+ * Cortex-M0+ firmware) made it a function of its own that each of them
+ * called. */
+#if defined(__GNUC__)
+#define GRIP_Q16_KINLINE inline __attribute__((always_inline))
+#else
+#define GRIP_Q16_KINLINE inline
+#endif
+
 /* Clamp a wide intermediate to the symmetric Q15.16 range. The in-range
  * test is one unsigned comparison (v + MAX in [0, 2 MAX]): the common path
  * of every saturating operation pays one compare and one branch instead of
@@ -71,7 +81,7 @@ static inline int64_t q_mul_wide(int32_t a, int32_t b)
 }
 
 /* round(a b / 2^16) before saturation: (a b + 2^15) >> 16. */
-static inline int64_t q16_mul_round(grip_q16_t a, grip_q16_t b)
+static GRIP_Q16_KINLINE int64_t q16_mul_round(grip_q16_t a, grip_q16_t b)
 {
 #if defined(__ARM_ARCH_6M__)
     /* ARMv6-M (Cortex-M0/M0+) multiplies 32 x 32 -> 32 only: the 64-bit
@@ -101,10 +111,120 @@ static inline grip_q16_t q16_mul(grip_q16_t a, grip_q16_t b)
     return q16_saturate(q16_mul_round(a, b), "mul");
 }
 
+/* c + a b (c in the format of b) with one rounding and one saturation.
+ * c is an integer in the units of the result, so c + round(a b / 2^16)
+ * = round((c 2^16 + a b) / 2^16): the bits of q16_add(c, q16_mul(a, b))
+ * wherever that product does not saturate, and where it does, the exact
+ * sum clamped once. |c + round(a b / 2^16)| < 2^47: no 64-bit overflow. */
+static inline grip_q16_t q16_mac(grip_q16_t c, grip_q16_t a, grip_q16_t b)
+{
+    return q16_saturate((int64_t)c + q16_mul_round(a, b), "mac");
+}
+
+/* c - a b, likewise: q16_sub(c, q16_mul(a, b)) wherever that product does
+ * not saturate. (c - round(a b), not c + round(-a b): the rounding of a
+ * half differs.) */
+static inline grip_q16_t q16_msub(grip_q16_t c, grip_q16_t a, grip_q16_t b)
+{
+    return q16_saturate((int64_t)c - q16_mul_round(a, b), "msub");
+}
+
+/* u b where the caller knows |u| <= 1 (u Q15.16, |u| <= 65536): then
+ * |round(u b / 2^16)| <= |b| <= GRIP_Q16_MAX, so the product cannot leave
+ * the range and has no range test; the bits of q16_mul(u, b). A
+ * GRIP_DEBUG_SATURATION build checks the precondition: a violation is
+ * counted as the event "mul_unit" and the product saturated as q16_mul's. */
+static inline grip_q16_t q16_mul_unit(grip_q16_t u, grip_q16_t b)
+{
+#if GRIP_DEBUG_SATURATION
+    if ((u > 65536) || (u < -65536)) {
+        GRIP_SAT_EVENT("mul_unit");
+        return q16_mul(u, b);
+    }
+#endif
+    return (grip_q16_t)q16_mul_round(u, b);
+}
+
+/* x s for a scale factor s that is exactly 1 in most parameter sets (the
+ * lambdas of a Magic Formula set): x 1 = x exactly, so no product then; a
+ * comparison and a branch where s is not 1. The bits of q16_mul(x, s). */
+static inline grip_q16_t q16_mul_scale(grip_q16_t x, grip_q16_t s)
+{
+    return (s == 65536) ? x : q16_mul(x, s);
+}
+
+/* floor(n / d) for d > 0 and n < d 2^32 (the quotient is below 2^32) as
+ * long division (Knuth, TAOCP vol. 2, 4.3.1, algorithm D) in two 16-bit
+ * quotient digits, each estimated by a 32 / 32 division by the normalized
+ * divisor's top half and corrected at most twice (fixed steps, no loop):
+ * n / d exactly, without a 64-bit division. For ARMv6-M (below). */
+static inline uint32_t q_udiv64_32_long(uint64_t n, uint32_t d)
+{
+    uint32_t dn = d;
+    unsigned s = 0u;
+    uint32_t nh;
+    uint32_t nl;
+    uint32_t d1;
+    uint32_t d0;
+    uint32_t q1;
+    uint32_t r1;
+    uint32_t q0;
+    uint32_t r0;
+    uint32_t mid;
+    /* normalize: the divisor's top bit set, five fixed steps */
+    if (dn <= 0xFFFFu) { s += 16u; dn <<= 16; }
+    if (dn <= 0xFFFFFFu) { s += 8u; dn <<= 8; }
+    if (dn <= 0xFFFFFFFu) { s += 4u; dn <<= 4; }
+    if (dn <= 0x3FFFFFFFu) { s += 2u; dn <<= 2; }
+    if (dn <= 0x7FFFFFFFu) { s += 1u; dn <<= 1; }
+    n <<= s;                          /* < dn 2^32 <= 2^64: no bit lost */
+    nh = (uint32_t)(n >> 32);         /* < dn */
+    nl = (uint32_t)n;
+    d1 = dn >> 16;                    /* >= 2^15 */
+    d0 = dn & 0xFFFFu;
+    /* first digit: (nh, top half of nl) / dn; q1 < 2^17 */
+    q1 = nh / d1;
+    r1 = nh - (q1 * d1);
+    if ((q1 > 0xFFFFu) || ((q1 * d0) > ((r1 << 16) | (nl >> 16)))) {
+        q1 -= 1u;
+        r1 += d1;
+        if ((r1 <= 0xFFFFu) && ((q1 > 0xFFFFu) || ((q1 * d0) > ((r1 << 16) | (nl >> 16))))) {
+            q1 -= 1u;
+        }
+    }
+    mid = ((nh << 16) | (nl >> 16)) - (q1 * dn);   /* the remainder, < dn */
+    /* second digit: (mid, bottom half of nl) / dn */
+    q0 = mid / d1;
+    r0 = mid - (q0 * d1);
+    if ((q0 > 0xFFFFu) || ((q0 * d0) > ((r0 << 16) | (nl & 0xFFFFu)))) {
+        q0 -= 1u;
+        r0 += d1;
+        if ((r0 <= 0xFFFFu) && ((q0 > 0xFFFFu) || ((q0 * d0) > ((r0 << 16) | (nl & 0xFFFFu))))) {
+            q0 -= 1u;
+        }
+    }
+    return (q1 << 16) | q0;
+}
+
+/* q_udiv64_32_long out of line (lib/arith/q16.c): one copy in the image */
+uint32_t grip_q16_i_udiv64_32(uint64_t n, uint32_t d);
+
+/* floor(n / d) for d > 0 and n < d 2^32: the divisions of q16_div and of
+ * the atan and atan2 kernels. On ARMv6-M (Cortex-M0/M0+: no divide
+ * instruction) n / d is libgcc's 64 / 64 division, one quotient bit per
+ * step (~450 instructions for the kernels' 30-bit quotients); there it is
+ * grip_q16_i_udiv64_32, the same quotient. */
+static inline uint64_t q_udiv64_32(uint64_t n, uint32_t d)
+{
+#if defined(__ARM_ARCH_6M__)
+    return (uint64_t)grip_q16_i_udiv64_32(n, d);
+#else
+    return n / d;
+#endif
+}
+
 static inline grip_q16_t q16_div(grip_q16_t a, grip_q16_t b)
 {
-    int64_t num;
-    int64_t den;
     if (b == 0) {
         if (a == 0) {
             return 0;
@@ -112,20 +232,47 @@ static inline grip_q16_t q16_div(grip_q16_t a, grip_q16_t b)
         GRIP_SAT_EVENT("div0");
         return (a > 0) ? GRIP_Q16_MAX : GRIP_Q16_MIN;
     }
-    num = (int64_t)a * 65536;
-    den = (int64_t)b;
-    if (den < 0) {
-        num = -num;
-        den = -den;
+#if defined(__ARM_ARCH_6M__)
+    /* the magnitude floor((|a| 2^16 + floor(|b| / 2)) / |b|) by
+     * q_udiv64_32 where it fits 32 bits, with the sign of a / b: the value
+     * of the form below */
+    {
+        uint32_t ua = (a < 0) ? (0u - (uint32_t)a) : (uint32_t)a;
+        uint32_t ub = (b < 0) ? (0u - (uint32_t)b) : (uint32_t)b;
+        uint64_t un = ((uint64_t)ua << 16) + ((uint64_t)ub >> 1);
+        uint64_t q;
+        if ((uint32_t)(un >> 32) >= ub) {
+            q = 0xFFFFFFFFu;          /* the quotient is 2^32 or more */
+        } else {
+            q = q_udiv64_32(un, ub);
+        }
+        return q16_saturate(((a < 0) != (b < 0)) ? -(int64_t)q : (int64_t)q, "div");
     }
-    /* round half away from zero */
-    num += (num >= 0) ? (den / 2) : -(den / 2);
-    return q16_saturate(num / den, "div");
+#else
+    {
+        int64_t num = (int64_t)a * 65536;
+        int64_t den = (int64_t)b;
+        if (den < 0) {
+            num = -num;
+            den = -den;
+        }
+        /* round half away from zero */
+        num += (num >= 0) ? (den / 2) : -(den / 2);
+        return q16_saturate(num / den, "div");
+    }
+#endif
 }
 
+/* -a: the range is symmetric, so only INT32_MIN (an input, never a result
+ * of these operations) leaves it; that one test instead of a 64-bit
+ * negation and range test, the same values. */
 static inline grip_q16_t q16_neg(grip_q16_t a)
 {
-    return q16_saturate(-(int64_t)a, "neg");
+    if (a == INT32_MIN) {
+        GRIP_SAT_EVENT("neg");
+        return GRIP_Q16_MAX;
+    }
+    return -a;
 }
 
 static inline grip_q16_t q16_abs(grip_q16_t a)

@@ -35,6 +35,15 @@
  * QDZ11): zero for FITTYP 5, 6, 21 whatever the set holds. */
 #define MF6_ONLY(op, coef) ((op)->mf52 ? R_ZERO : (coef))
 
+/* The factors r_mul_unit (arith.h) may take, within [-1, 1] by
+ * construction (a Q15.16 sine or cosine is within +-1: grip_q16_sin clamps
+ * its polynomial to 1 before rounding):
+ *   op->smooth  1, or 0.5 (1 - cos(pi rl)) with cos in [-1, 1] (mf_low_smooth);
+ *   op->cosa    |cos alpha|, or 0;
+ *   sines and cosines of a kernel, and the curves made of them: cos(C atan(.))
+ *               (the trail), r_cos_atan (a cosine too in the fixed build,
+ *               1 / sqrt(1 + x^2) in the float build). */
+
 /* Pure longitudinal slip. */
 typedef struct {
     grip_real_t fx0;     /* Fx0 / Fz                                           */
@@ -89,14 +98,14 @@ static MF_ALWAYS_INLINE void mf_long_pure(const grip_mf_params *p, const mf_op *
                                           grip_real_t emax, grip_real_t *mk, mf_long *out)
 {
     grip_real_t dfz = op->dfz;
-    grip_real_t shx = r_mul(r_mul(r_add(p->phx1, r_mul(p->phx2, dfz)), p->lhx), op->smooth); /* 4.E17 */
+    grip_real_t shx = r_mul_unit(op->smooth, r_mul_scale(r_mac(p->phx1, p->phx2, dfz), p->lhx)); /* 4.E17 */
     grip_real_t kx = r_add(op->kappa, shx);                                          /* 4.E10 */
-    grip_real_t cx = r_mul(p->pcx1, p->lcx);                                         /* 4.E11 */
+    grip_real_t cx = r_mul_scale(p->pcx1, p->lcx);                                        /* 4.E11 */
     grip_real_t mux = mf_mux_dp(p, dfz, mf_dp(p, op->dp, op->dpi, MF_DP_PX_MU), op->gmux, op->lmux_s);  /* 4.E13 */
     grip_real_t dx = (ts != NULL) ? r_mul(mux, ts->z1) : mux;                        /* 4.E12 */
-    grip_real_t ex = r_mul(r_mul(r_add(p->pex1, r_add(r_mul(p->pex2, dfz), r_mul(p->pex3, r_sq(dfz)))),
-                                 r_sub(R_ONE, r_mul(p->pex4, r_sign(kx)))),
-                           p->lex);                                                  /* 4.E14 */
+    grip_real_t ex = r_mul_scale(r_mul(r_add(p->pex1, r_mac(r_mul(p->pex2, dfz), p->pex3, r_sq(dfz))),
+                                       r_msub(R_ONE, p->pex4, r_sign(kx))),
+                                 p->lex);                                                  /* 4.E14 */
     /* Kxk / Fz: the slip stiffness per unit load, so that Bx is formed
      * without dividing two loads (4.E15, 4.E16);
      * PKX1 + PKX2 dfz with dfz beyond single precision: it falls through
@@ -106,8 +115,7 @@ static MF_ALWAYS_INLINE void mf_long_pure(const grip_mf_params *p, const mf_op *
                                      mf_dp(p, op->dp, op->dpi, MF_DP_PX_K)),
                                p->lkx);
     grip_real_t bx = mfk_div_lim(kx_per, r_mul(cx, dx), MF_LIM_B, mk);                    /* 4.E16 */
-    grip_real_t svx = r_mul(r_mul(r_mul(r_add(p->pvx1, r_mul(p->pvx2, dfz)), p->lvx), op->lmux_p),
-                            op->smooth);                                             /* 4.E18 */
+    grip_real_t svx = r_mul_unit(op->smooth, r_mul_scale(r_mul_scale(r_mac(p->pvx1, p->pvx2, dfz), p->lvx), op->lmux_p)); /* 4.E18 */
     if (ts != NULL) {
         svx = r_mul(svx, ts->z1);
     }
@@ -136,11 +144,11 @@ static MF_ALWAYS_INLINE void mf_lat_common_init(const grip_mf_params *p, const m
     grip_real_t dfz = op->dfz;
     c->kyb = mf_dp(p, op->dp, op->dpi, MF_DP_KYB);
     c->kyd = mf_dp(p, op->dp, op->dpi, MF_DP_KYD);
-    c->mub = r_mul(r_add(p->pdy1, r_mul(p->pdy2, dfz)), mf_dp(p, op->dp, op->dpi, MF_DP_PY_MU));
-    c->svb = r_mul(r_mul(r_add(p->pvy1, r_mul(p->pvy2, dfz)), p->lvy), op->lmuy_p);
-    c->shb = r_mul(r_add(p->phy1, r_mul(p->phy2, dfz)), p->lhy);
-    c->eyb = r_add(p->pey1, r_mul(p->pey2, dfz));
-    c->cy = r_mul(p->pcy1, p->lcy);                                                               /* 4.E21 */
+    c->mub = r_mul(r_mac(p->pdy1, p->pdy2, dfz), mf_dp(p, op->dp, op->dpi, MF_DP_PY_MU));
+    c->svb = r_mul_scale(r_mul_scale(r_mac(p->pvy1, p->pvy2, dfz), p->lvy), op->lmuy_p);
+    c->shb = r_mul_scale(r_mac(p->phy1, p->phy2, dfz), p->lhy);
+    c->eyb = r_mac(p->pey1, p->pey2, dfz);
+    c->cy = r_mul_scale(p->pcy1, p->lcy);                                                              /* 4.E21 */
 }
 
 /* The load factor of Kya / Fz (4.E25) at the denominator den = (PKY2 + PKY5
@@ -157,7 +165,7 @@ static MF_ALWAYS_INLINE grip_real_t mf_kya_sin(const grip_mf_params *p, const mf
     if ((mk == NULL) && (p->pky4 != RC(2.0))) {
         return mfk_div_lim(mfk_sin(r_mul(p->pky4, mf_atan_ratio_k(op->fzp, den, mk)), mk), op->fzp, MF_LIM_B, mk);
     }
-    k2 = mfk_div_lim(r_mul(RC(2.0), den), r_add(r_sq(den), r_sq(op->fzp)), MF_LIM_B, mk);
+    k2 = mfk_div_lim(r_mul(RC(2.0), den), r_mac(r_sq(den), op->fzp, op->fzp), MF_LIM_B, mk);
     if (mk == NULL) {
         return k2;
     }
@@ -175,13 +183,13 @@ static MF_ALWAYS_INLINE void mf_lat_body(const grip_mf_params *p, const mf_op *o
     grip_real_t g2 = r_sq(g);
     /* Cornering stiffness (4.E25); the arctangent of a quotient whose
      * denominator PKY2 + PKY5 gamma^2 may pass through zero. */
-    grip_real_t den = r_mul(r_add(p->pky2, r_mul(MF6_ONLY(op, p->pky5), g2)), c->kyd);
+    grip_real_t den = r_mul(r_mac(p->pky2, MF6_ONLY(op, p->pky5), g2), c->kyd);
     /* Kya / Fz = PKY1 (Fz0' / Fz) sin(PKY4 atan(...)) (...) (mf_kya_sin) */
-    grip_real_t kya = r_mul(r_mul(r_mul(c->kyb, r_sub(R_ONE, r_mul(p->pky3, r_abs(g)))), mf_kya_sin(p, op, den, mk)),
-                            p->lky);
-    grip_real_t muy = r_mul(r_mul(c->mub, r_sub(R_ONE, r_mul(p->pdy3, g2))), op->lmuy_s);         /* 4.E23 */
+    grip_real_t kya = r_mul_scale(r_mul(r_mul(c->kyb, r_msub(R_ONE, p->pky3, r_abs(g))), mf_kya_sin(p, op, den, mk)),
+                                  p->lky);
+    grip_real_t muy = r_mul_scale(r_mul(c->mub, r_msub(R_ONE, p->pdy3, g2)), op->lmuy_s);         /* 4.E23 */
     grip_real_t dy = muy;                                                                         /* 4.E22 */
-    grip_real_t svyg = r_mul(r_mul(r_mul(r_add(p->pvy3, r_mul(p->pvy4, dfz)), g), MF_KYC(p, op)), op->lmuy_p); /* 4.E28 */
+    grip_real_t svyg = r_mul_scale(r_mul_scale(r_mul(r_mac(p->pvy3, p->pvy4, dfz), g), MF_KYC(p, op)), op->lmuy_p); /* 4.E28 */
     grip_real_t svb = c->svb;
     grip_real_t svy;
     grip_real_t shy = c->shb;
@@ -200,7 +208,7 @@ static MF_ALWAYS_INLINE void mf_lat_body(const grip_mf_params *p, const mf_op *o
     if (op->mf52) {
         /* MF 5.2: camber shift PHY3 * gamma_y (MFeval keeps it with turn
          * slip: SHyp does not enter the MF 5.2 shift). */
-        shy = r_add(shy, r_mul(p->phy3, g));
+        shy = r_mac(shy, p->phy3, g);
     } else if (ts != NULL) {
         /* 4.E27 with zeta0 = 0, zeta4 = 1 + SHyp - SVyg / Kya' (4.84): the
          * turn-slip shift replaces the camber shift */
@@ -208,17 +216,16 @@ static MF_ALWAYS_INLINE void mf_lat_body(const grip_mf_params *p, const mf_op *o
     } else {
         /* MF 6.x: the camber shift follows from the camber stiffness Kyg0
          * (4.E30) and SVyg (4.E27). */
-        grip_real_t kyg0 = r_mul(r_mul(r_add(p->pky6, r_mul(p->pky7, dfz)), mf_dp(p, op->dp, op->dpi, MF_DP_PY_G)), MF_KYC(p, op));
+        grip_real_t kyg0 = r_mul_scale(r_mul(r_mac(p->pky6, p->pky7, dfz), mf_dp(p, op->dp, op->dpi, MF_DP_PY_G)), MF_KYC(p, op));
         shy = r_add(shy, mfk_div_lim(r_sub(r_mul(kyg0, g), svyg), kya, MF_LIM_SHIFT, mk));
     }
     /* Low speed: the shifts fade out with the speed. */
-    shy = r_mul(shy, op->smooth);
-    svy = r_mul(svy, op->smooth);
+    shy = r_mul_unit(op->smooth, shy);
+    svy = r_mul_unit(op->smooth, svy);
     ay = r_add(op->alpha, shy);                                                                   /* 4.E20 */
-    ey = r_mul(r_mul(c->eyb,
-                     r_sub(r_add(R_ONE, r_mul(MF6_ONLY(op, p->pey5), g2)),
-                           r_mul(r_add(p->pey3, r_mul(p->pey4, g)), mf_sign1(ay)))),
-               p->ley);                                                                           /* 4.E24 */
+    ey = r_mul_scale(r_mul(c->eyb,
+                           r_msub(r_mac(R_ONE, MF6_ONLY(op, p->pey5), g2), r_mac(p->pey3, p->pey4, g), mf_sign1(ay))),
+                     p->ley);                                                                           /* 4.E24 */
     ey = r_min(ey, emax);
     by = mfk_div_lim(kya, r_mul(cy, dy), MF_LIM_B, mk);                                                /* 4.E26 */
     out->fy0 = r_add(mf_sin_curve_k(by, cy, dy, ey, ay, mk), svy);                                      /* 4.E19 */
@@ -238,7 +245,7 @@ static MF_ALWAYS_INLINE void mf_trail_body(const grip_mf_params *p, const mf_op 
     grip_real_t g = op->gz;
     grip_real_t ga = r_abs(g);
     grip_real_t ky_mu = op->ky_mu;                                          /* LKY / LMUY* */
-    grip_real_t sht = r_add(r_add(p->qhz1, r_mul(p->qhz2, dfz)), r_mul(r_add(p->qhz3, r_mul(p->qhz4, dfz)), g));
+    grip_real_t sht = r_mac(r_mac(p->qhz1, p->qhz2, dfz), r_mac(p->qhz3, p->qhz4, dfz), g);
     /* grip-deviation: clang-analyzer-core.CallAndMessage false positive: mf_lat_body writes every field of *lat before the trail is formed (the analyzer stops following it) */
     grip_real_t shf = r_add(lat->shy, mfk_div_lim(lat->svy, lat->kya, MF_LIM_SHIFT, mk));              /* 4.E38 */
     grip_real_t dt_cam;
@@ -250,48 +257,52 @@ static MF_ALWAYS_INLINE void mf_trail_body(const grip_mf_params *p, const mf_op 
     grip_real_t dr;
     if (op->book && !op->mf52) {
         /* Book 6.1: |gamma*| in Dt (4.E43) and QBZ5 |gamma*| + QBZ6 gamma*^2 in Bt (4.E40). */
-        dt_cam = r_add(R_ONE, r_add(r_mul(p->qdz3, ga), r_mul(p->qdz4, r_sq(g))));
-        bt_cam = r_add(R_ONE, r_add(r_mul(p->qbz5, ga), r_mul(p->qbz6, r_sq(g))));
+        dt_cam = r_add(R_ONE, r_mac(r_mul(p->qdz3, ga), p->qdz4, r_sq(g)));
+        bt_cam = r_add(R_ONE, r_mac(r_mul(p->qbz5, ga), p->qbz6, r_sq(g)));
     } else {
         /* MF-Tyre (and MF 5.2): QDZ3 gamma, QBZ4 gamma + QBZ5 |gamma|. */
-        dt_cam = r_add(R_ONE, r_add(r_mul(p->qdz3, g), r_mul(p->qdz4, r_sq(g))));
-        bt_cam = r_add(R_ONE, r_add(r_mul(p->qbz4, g), r_mul(p->qbz5, ga)));
+        dt_cam = r_add(R_ONE, r_mac(r_mul(p->qdz3, g), p->qdz4, r_sq(g)));
+        bt_cam = r_add(R_ONE, r_mac(r_mul(p->qbz4, g), p->qbz5, ga));
     }
     /* Dt / R0 = (Fz / Fz0') (QDZ1 + QDZ2 dfz)(1 - PPZ1 dpi) (...) LTR  (4.E42-43) */
-    dt = r_mul(r_mul(r_mul(r_mul(op->fzp, r_add(p->qdz1, r_mul(p->qdz2, dfz))), mf_dp(p, op->dp, op->dpi, MF_DP_PZ_T)),
-                     dt_cam),
-               p->ltr);
-    bt = r_mul(r_mul(r_add(p->qbz1, r_add(r_mul(p->qbz2, dfz), r_mul(p->qbz3, r_sq(dfz)))), bt_cam), ky_mu);
+    dt = r_mul_scale(r_mul(r_mul(r_mul(op->fzp, r_mac(p->qdz1, p->qdz2, dfz)), mf_dp(p, op->dp, op->dpi, MF_DP_PZ_T)),
+                           dt_cam),
+                     p->ltr);
+    bt = r_mul_scale(r_mul(r_add(p->qbz1, r_mac(r_mul(p->qbz2, dfz), p->qbz3, r_sq(dfz))), bt_cam), ky_mu);
     out->alpha_t = r_add(op->alpha, sht);                                                        /* 4.E34 */
     out->alpha_r = r_add(op->alpha, shf);                                                        /* 4.E37 */
     out->ct = p->qcz1;                                                                           /* 4.E41 */
-    et = r_mul(r_add(p->qez1, r_add(r_mul(p->qez2, dfz), r_mul(p->qez3, r_sq(dfz)))),
-               r_add(R_ONE, r_mul(r_mul(r_add(p->qez4, r_mul(p->qez5, g)), MF_2_OVER_PI),
-                                  mfk_atan(r_mul(r_mul(bt, out->ct), out->alpha_t), mk))));            /* 4.E44 */
+    et = r_mul(r_add(p->qez1, r_mac(r_mul(p->qez2, dfz), p->qez3, r_sq(dfz))),
+               r_mac(R_ONE, r_mul(r_mac(p->qez4, p->qez5, g), MF_2_OVER_PI),
+                     mfk_atan(r_mul(r_mul(bt, out->ct), out->alpha_t), mk)));            /* 4.E44 */
     out->et = r_min(et, emax);
     out->dt = dt;
     out->bt = bt;
-    out->br = r_add(r_mul(p->qbz9, ky_mu), r_mul(r_mul(p->qbz10, lat->by), lat->cy));            /* 4.E45 */
+    out->br = r_mac(r_mul_scale(p->qbz9, ky_mu), r_mul(p->qbz10, lat->by), lat->cy);            /* 4.E45 */
     /* Dr / (Fz R0)                                                         (4.E47) */
-    dr_cam = r_mul(r_mul(r_add(r_mul(r_add(p->qdz8, r_mul(p->qdz9, dfz)), mf_dp(p, op->dp, op->dpi, MF_DP_PZ_R)),
-                               r_mul(r_add(MF6_ONLY(op, p->qdz10), r_mul(MF6_ONLY(op, p->qdz11), dfz)), ga)),
-                         g),
-                   MF_KZC(p, op));
-    dr = r_mul(r_add(r_mul(r_add(p->qdz6, r_mul(p->qdz7, dfz)), p->lres), dr_cam), op->lmuy_s);
+    dr_cam = r_mul_scale(r_mul(r_mac(r_mul(r_mac(p->qdz8, p->qdz9, dfz), mf_dp(p, op->dp, op->dpi, MF_DP_PZ_R)),
+                                     r_mac(MF6_ONLY(op, p->qdz10), MF6_ONLY(op, p->qdz11), dfz), ga),
+                               g),
+                         MF_KZC(p, op));
+    dr = r_mul_scale(r_mac(dr_cam, r_mac(p->qdz6, p->qdz7, dfz), p->lres), op->lmuy_s);
     /* sgn(Vcx) cos'(alpha), with |Vx| for Vx (see mf_prepare). */
-    out->dr = r_mul(dr, op->cosa);
+    out->dr = r_mul_unit(op->cosa, dr);
 }
 
 /* Trail t / R0 at a (possibly equivalent) trail slip angle a (4.E33, 4.E73). */
 static MF_ALWAYS_INLINE grip_real_t mf_trail_at_k(const mf_op *op, const mf_trail *tc, grip_real_t a, grip_real_t *mk)
 {
-    return r_mul(r_mul(tc->dt, mf_cos_curve_k(tc->bt, tc->ct, tc->et, a, mk)), op->cosa);
+    /* the curve first, then |cos alpha| (the old order: reading op->cosa
+     * before the curve's call made gcc pass it apart, and the Cortex-M4F
+     * frame of the combined evaluation 8 B larger) */
+    grip_real_t t = r_mul_unit(mf_cos_curve_k(tc->bt, tc->ct, tc->et, a, mk), tc->dt);
+    return r_mul_unit(op->cosa, t);
 }
 
 /* Residual moment Mzr / (Fz R0) at a residual slip angle a, Cr = 1 (4.E36). */
 static MF_ALWAYS_INLINE grip_real_t mf_residual_at_k(const mf_trail *tc, grip_real_t a)
 {
-    return r_mul(tc->dr, r_cos_atan(r_mul(tc->br, a)));
+    return r_mul_unit(r_cos_atan(r_mul(tc->br, a)), tc->dr);
 }
 
 /* The cosine curve of a combined-slip weighting function: with C = 1
@@ -346,11 +357,11 @@ static MF_ALWAYS_INLINE grip_real_t mf_g_ratio_k(grip_real_t b, grip_real_t c, g
 static MF_ALWAYS_INLINE grip_real_t mf_gyk_body(const grip_mf_params *p, const mf_op *op, grip_real_t g,
                                                 grip_real_t emax, grip_real_t *mk)
 {
-    grip_real_t shyk = r_add(p->rhy1, r_mul(p->rhy2, op->dfz));                                   /* 4.E65 */
-    grip_real_t eyk = r_min(r_add(p->rey1, r_mul(p->rey2, op->dfz)), emax);     /* 4.E64 */
-    grip_real_t byk = r_mul(r_mul(r_add(p->rby1, r_mul(MF6_ONLY(op, p->rby4), r_sq(g))),
-                                  r_cos_atan(r_mul(p->rby2, r_sub(op->alpha, p->rby3)))),
-                            p->lyka);                                                             /* 4.E62 */
+    grip_real_t shyk = r_mac(p->rhy1, p->rhy2, op->dfz);                                   /* 4.E65 */
+    grip_real_t eyk = r_min(r_mac(p->rey1, p->rey2, op->dfz), emax);     /* 4.E64 */
+    grip_real_t byk = r_mul_scale(r_mul_unit(r_cos_atan(r_mul(p->rby2, r_sub(op->alpha, p->rby3))),
+                                             r_mac(p->rby1, MF6_ONLY(op, p->rby4), r_sq(g))),
+                                  p->lyka);                                                             /* 4.E62 */
     grip_real_t ks = r_add(op->kappa, shyk);                                                      /* 4.E61 */
     return mf_g_ratio_k(byk, p->rcy1, eyk, ks, shyk, mk);                                         /* 4.E59-60 */
 }
@@ -380,8 +391,8 @@ static MF_ALWAYS_INLINE grip_real_t mf_alpha_eq_k(int book, grip_real_t kappa, g
         grip_real_t num;
         grip_real_t den;
         mfk_sincos(a, &sa, &ca, mk);
-        num = mfk_hypot(r_mul(kya, sa), r_mul(r_mul(kxk, kappa), ca), mk);
-        den = r_abs(r_mul(kya, ca));
+        num = mfk_hypot(r_mul_unit(sa, kya), r_mul_unit(ca, r_mul(kxk, kappa)), mk);
+        den = r_abs(r_mul_unit(ca, kya));
         /* num >= 0: where den > 0 the first quadrant's atan2 (arith.h) */
         return ((mk == NULL) && (den > R_ZERO)) ? r_atan2_q1(num, den) : mfk_atan2(num, den, mk);
     }
@@ -397,20 +408,20 @@ static MF_ALWAYS_INLINE grip_real_t mf_mz0(const grip_mf_params *p, const mf_op 
 {
     grip_real_t mz0;
     if (!op->book) {
-        t0 = r_mul(t0, p->lfzo);         /* MF-Tyre scales the trail by LFZO */
+        t0 = r_mul_scale(t0, p->lfzo);   /* MF-Tyre scales the trail by LFZO */
     }
-    mz0 = r_sub(r_mul(mzr0, op->cosa), r_mul(t0, fy_ref));                           /* 4.E31 */
-    return r_mul(mz0, op->smooth);                                                   /* low speed */
+    mz0 = r_msub(r_mul_unit(op->cosa, mzr0), t0, fy_ref);                           /* 4.E31 */
+    return r_mul_unit(op->smooth, mz0);                                              /* low speed */
 }
 
 /* Fx's weighting function Gxa (4.E51-E57): Fx = Gxa Fx0. */
 static MF_ALWAYS_INLINE grip_real_t mf_gxa(const grip_mf_params *p, const mf_op *op, grip_real_t emax,
                                            grip_real_t *mk)
 {
-    grip_real_t bxa = r_mul(r_mul(r_add(p->rbx1, r_mul(MF6_ONLY(op, p->rbx3), r_sq(op->gx))),
-                                  r_cos_atan(r_mul(p->rbx2, op->kappa))),
-                            p->lxal);                                                             /* 4.E54 */
-    grip_real_t exa = r_min(r_add(p->rex1, r_mul(p->rex2, op->dfz)), emax);                       /* 4.E56 */
+    grip_real_t bxa = r_mul_scale(r_mul_unit(r_cos_atan(r_mul(p->rbx2, op->kappa)),
+                                             r_mac(p->rbx1, MF6_ONLY(op, p->rbx3), r_sq(op->gx))),
+                                  p->lxal);                                                             /* 4.E54 */
+    grip_real_t exa = r_min(r_mac(p->rex1, p->rex2, op->dfz), emax);                       /* 4.E56 */
     grip_real_t as = r_add(op->alpha, p->rhx1);                                                    /* 4.E53 */
     return mf_g_ratio_k(bxa, p->rcx1, exa, as, p->rhx1, mk);                                      /* 4.E51-52 */
 }
@@ -425,7 +436,7 @@ typedef struct {
 static MF_ALWAYS_INLINE void mf_svyk_factors(const grip_mf_params *p, const mf_op *op, grip_real_t *mk,
                                              mf_svyk_f *f)
 {
-    f->dvy = r_add(r_add(p->rvy1, r_mul(p->rvy2, op->dfz)), r_mul(p->rvy3, op->gy));
+    f->dvy = r_mac(r_mac(p->rvy1, p->rvy2, op->dfz), p->rvy3, op->gy);
     f->dva = r_cos_atan(r_mul(p->rvy4, op->alpha));
     f->svk = mfk_sin(r_mul(p->rvy5, mfk_atan(r_mul(p->rvy6, op->kappa), mk)), mk);
 }
@@ -433,14 +444,14 @@ static MF_ALWAYS_INLINE void mf_svyk_factors(const grip_mf_params *p, const mf_o
 /* DVyk = mu_y (RVY1 + RVY2 dfz + RVY3 gamma*) cos(atan(RVY4 alpha*)) (4.E67) */
 static MF_ALWAYS_INLINE grip_real_t mf_dvyk(grip_real_t muy, const mf_svyk_f *f)
 {
-    return r_mul(r_mul(muy, f->dvy), f->dva);
+    return r_mul_unit(f->dva, r_mul(muy, f->dvy));
 }
 
 /* SVyk = DVyk sin(RVY5 atan(RVY6 kappa)) LVYKA (4.E66), fading at low speed */
 static MF_ALWAYS_INLINE grip_real_t mf_svyk(const grip_mf_params *p, const mf_op *op, const mf_svyk_f *f,
                                             grip_real_t dvyk)
 {
-    return r_mul(r_mul(r_mul(dvyk, f->svk), p->lvyka), op->smooth);
+    return r_mul_unit(op->smooth, r_mul_scale(r_mul_unit(f->svk, dvyk), p->lvyka));
 }
 
 /* The moment arm s / R0 of Fx in Mz (4.E76): SSZ1 + SSZ2 Fy / Fz0 + (SSZ3 +
@@ -448,8 +459,8 @@ static MF_ALWAYS_INLINE grip_real_t mf_svyk(const grip_mf_params *p, const mf_op
 static MF_ALWAYS_INLINE grip_real_t mf_sarm(const grip_mf_params *p, const mf_op *op, grip_real_t fy)
 {
     grip_real_t fy_rel = r_mul(fy, op->book ? op->fzp : op->fz);
-    return r_mul(r_add(r_add(p->ssz1, r_mul(p->ssz2, fy_rel)), r_mul(r_add(p->ssz3, r_mul(p->ssz4, op->dfz)), op->gz)),
-                 p->ls);
+    return r_mul_scale(r_mac(r_mac(p->ssz1, p->ssz2, fy_rel), r_mac(p->ssz3, p->ssz4, op->dfz), op->gz),
+                       p->ls);
 }
 
 /* The combined trail t and residual moment Mzr as they enter Mz: the book
@@ -458,19 +469,19 @@ static MF_ALWAYS_INLINE grip_real_t mf_sarm(const grip_mf_params *p, const mf_op
 static MF_ALWAYS_INLINE void mf_mz_scale(const grip_mf_params *p, const mf_op *op, grip_real_t *t, grip_real_t *mzr)
 {
     if (op->book) {
-        *mzr = r_mul(*mzr, op->cosa);
+        *mzr = r_mul_unit(op->cosa, *mzr);
     } else {
-        *t = r_mul(*t, p->lfzo);
+        *t = r_mul_scale(*t, p->lfzo);
     }
-    *t = r_mul(*t, op->smooth);
-    *mzr = r_mul(*mzr, op->smooth);
+    *t = r_mul_unit(op->smooth, *t);
+    *mzr = r_mul_unit(op->smooth, *mzr);
 }
 
 /* Mz = -t Fy' + Mzr + s Fx (4.E71) */
 static MF_ALWAYS_INLINE grip_real_t mf_mz_sum(grip_real_t mzr, grip_real_t t, grip_real_t fy_prime, grip_real_t sarm,
                                               grip_real_t fx)
 {
-    return r_add(r_sub(mzr, r_mul(t, fy_prime)), r_mul(sarm, fx));
+    return r_mac(r_msub(mzr, t, fy_prime), sarm, fx);
 }
 
 /* ------------------------------------------------------ operating point */
@@ -497,7 +508,7 @@ static MF_ALWAYS_INLINE void mf_load(const grip_mf_params *p, grip_real_t fz, mf
  * 1 - 0.5 (1 + cos(pi rl)) = 0.5 (1 - cos(pi rl)) (kappa fades by rl). */
 static MF_ALWAYS_INLINE grip_real_t mf_low_smooth(grip_real_t rl, grip_real_t *mk)
 {
-    return r_mul(RC(0.5), r_sub(R_ONE, mfk_cos(r_mul(MF_PI, rl), mk)));
+    return r_mul_unit(RC(0.5), r_sub(R_ONE, mfk_cos(r_mul(MF_PI, rl), mk)));
 }
 
 /* The low-speed model's slip angle: alpha fades by (|Vx| + |Vsy|) / VXLOW
@@ -509,7 +520,7 @@ static MF_ALWAYS_INLINE void mf_low_alpha(grip_real_t avx, grip_real_t sa, grip_
 {
     grip_real_t c = r_abs(ca);
     *num = r_mul(avx, r_add(c, r_abs(sa)));
-    *den = r_mul(vxlow, c);
+    *den = r_mul_unit(c, vxlow);
 }
 
 /* The inclination as it enters each force (op->gamma: gamma*): mu_x with

@@ -745,7 +745,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
                                   op->cosa),
                             drp);
         }
-        fy = r_add(r_mul(gyk, s.lat.fy0), svyk);
+        fy = r_mac(svyk, gyk, s.lat.fy0);
         /* MF 5.2: the SVyk of Fy' = Fy - SVyk. MFeval (calculateMz) forms it
          * with mu_y at gamma = 0 (its muy_sub0; RVY3 keeps gamma); with
          * GRIP_MF_OPT_MZ52_SVYK_CAMBER the SVyk of Fy itself. */

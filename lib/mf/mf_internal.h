@@ -103,21 +103,21 @@ static inline grip_real_t mf_dp_form(const grip_mf_params *p, grip_real_t dpi, i
 {
     switch (idx) {
     case MF_DP_PX_MU:
-        return r_add(R_ONE, r_add(r_mul(p->ppx3, dpi), r_mul(p->ppx4, r_sq(dpi))));
+        return r_add(R_ONE, r_mac(r_mul(p->ppx3, dpi), p->ppx4, r_sq(dpi)));
     case MF_DP_PX_K:
-        return r_add(R_ONE, r_add(r_mul(p->ppx1, dpi), r_mul(p->ppx2, r_sq(dpi))));
+        return r_add(R_ONE, r_mac(r_mul(p->ppx1, dpi), p->ppx2, r_sq(dpi)));
     case MF_DP_KYB:
-        return r_mul(p->pky1, r_add(R_ONE, r_mul(p->ppy1, dpi)));
+        return r_mul(p->pky1, r_mac(R_ONE, p->ppy1, dpi));
     case MF_DP_KYD:
-        return r_add(R_ONE, r_mul(p->ppy2, dpi));
+        return r_mac(R_ONE, p->ppy2, dpi);
     case MF_DP_PY_MU:
-        return r_add(R_ONE, r_add(r_mul(p->ppy3, dpi), r_mul(p->ppy4, r_sq(dpi))));
+        return r_add(R_ONE, r_mac(r_mul(p->ppy3, dpi), p->ppy4, r_sq(dpi)));
     case MF_DP_PY_G:
-        return r_add(R_ONE, r_mul(p->ppy5, dpi));
+        return r_mac(R_ONE, p->ppy5, dpi);
     case MF_DP_PZ_T:
-        return r_sub(R_ONE, r_mul(p->ppz1, dpi));
+        return r_msub(R_ONE, p->ppz1, dpi);
     default:
-        return r_add(R_ONE, r_mul(p->ppz2, dpi));   /* MF_DP_PZ_R */
+        return r_mac(R_ONE, p->ppz2, dpi);   /* MF_DP_PZ_R */
     }
 }
 
@@ -213,7 +213,7 @@ static inline grip_real_t mf_hypot(grip_real_t a, grip_real_t b)
         return R_ZERO;
     }
     t = r_div(y, x);
-    return r_mul(r_sqrt(r_add(R_ONE, r_sq(t))), x);
+    return r_mul(r_sqrt(r_mac(R_ONE, t, t)), x);
 }
 
 /* ------------------------------------------------------------------------
@@ -343,7 +343,7 @@ static MF_ALWAYS_INLINE grip_real_t mfk_hypot(grip_real_t a, grip_real_t b, grip
 static MF_ALWAYS_INLINE grip_real_t mf_shape_in_k(grip_real_t b, grip_real_t e, grip_real_t x, grip_real_t *mk)
 {
     grip_real_t bx = r_mul(b, x);
-    return r_sub(bx, r_mul(e, r_sub(bx, mfk_atan(bx, mk))));
+    return r_msub(bx, e, r_sub(bx, mfk_atan(bx, mk)));
 }
 
 /* The argument of the Magic Formula: C * atan(B x - E (B x - atan(B x))). */
@@ -370,7 +370,7 @@ static MF_ALWAYS_INLINE grip_real_t mf_shape_k(grip_real_t b, grip_real_t c, gri
 static MF_ALWAYS_INLINE grip_real_t mf_sin_curve_k(grip_real_t b, grip_real_t c, grip_real_t d, grip_real_t e,
                                                    grip_real_t x, grip_real_t *mk)
 {
-    return r_mul(d, mfk_sin(mf_shape_k(b, c, e, x, mk), mk));
+    return r_mul_unit(mfk_sin(mf_shape_k(b, c, e, x, mk), mk), d);   /* a sine: r_mul_unit */
 }
 
 static MF_ALWAYS_INLINE grip_real_t mf_sin_curve(grip_real_t b, grip_real_t c, grip_real_t d, grip_real_t e,
@@ -479,18 +479,18 @@ void mf_ext_cz_form(const grip_mf_params *p, grip_real_t dpi, mf_ext_cz *z);
 static MF_ALWAYS_INLINE grip_real_t mf_mux(const grip_mf_params *p, grip_real_t dfz, grip_real_t dpi, grip_real_t gmux,
                                  grip_real_t lmux_s)
 {
-    return r_mul(r_mul(r_mul(r_add(p->pdx1, r_mul(p->pdx2, dfz)),
-                             r_add(R_ONE, r_add(r_mul(p->ppx3, dpi), r_mul(p->ppx4, r_sq(dpi))))),
-                       r_sub(R_ONE, r_mul(p->pdx3, r_sq(gmux)))),
-                 lmux_s);
+    return r_mul_scale(r_mul(r_mul(r_mac(p->pdx1, p->pdx2, dfz),
+                                   r_add(R_ONE, r_mac(r_mul(p->ppx3, dpi), p->ppx4, r_sq(dpi)))),
+                             r_msub(R_ONE, p->pdx3, r_sq(gmux))),
+                       lmux_s);
 }
 
 /* The same with its pressure factor already formed (MF_DP_PX_MU). */
 static MF_ALWAYS_INLINE grip_real_t mf_mux_dp(const grip_mf_params *p, grip_real_t dfz, grip_real_t px_mu,
                                               grip_real_t gmux, grip_real_t lmux_s)
 {
-    return r_mul(r_mul(r_mul(r_add(p->pdx1, r_mul(p->pdx2, dfz)), px_mu), r_sub(R_ONE, r_mul(p->pdx3, r_sq(gmux)))),
-                 lmux_s);
+    return r_mul_scale(r_mul(r_mul(r_mac(p->pdx1, p->pdx2, dfz), px_mu), r_msub(R_ONE, p->pdx3, r_sq(gmux))),
+                       lmux_s);
 }
 
 /* The part of the operating point (mf_op) the extended outputs use. */

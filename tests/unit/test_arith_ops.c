@@ -1,0 +1,202 @@
+/*
+ * test_arith_ops.c - the arithmetic layer's operations with fewer range
+ * tests (lib/arith/arith.h: r_mac, r_msub, r_mul_unit, r_mul_scale) against the
+ * two-step forms they replace, in both builds:
+ *   - r_mac(c, a, b) and r_msub(c, a, b) give the bits of r_add(c, r_mul(a,
+ *     b)) and r_sub(c, r_mul(a, b)) wherever the product does not saturate
+ *     on its own, and the exact sum clamped once where it does (fixed);
+ *   - r_mul_unit(u, b) gives the bits of r_mul(u, b) for every |u| <= 1;
+ *   - r_mul_scale(x, s) gives the bits of r_mul(x, s), s = 1 among them;
+ *   - r_atan2_q1(y, x) gives the bits of r_atan2(y, x) for y >= 0, x > 0
+ *     (fixed; the float build's forms are tested with the kernels);
+ *   - a GRIP_DEBUG_SATURATION build flags r_mul_unit called with |u| > 1
+ *     (the event "mul_unit") and returns the saturated product, and
+ *     r_atan2_q1 outside the first quadrant (the event "atan2_q1").
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include "grip/grip_q16.h"
+#include "arith.h"
+
+#define N_PAIRS 400000
+
+static uint64_t lcg = 0x2545F4914F6CDD1Dull;
+
+static uint32_t next_u32(void)
+{
+    lcg = lcg * 6364136223846793005ull + 1442695040888963407ull;
+    return (uint32_t)(lcg >> 32);
+}
+
+/* A value spread over the whole range, log-uniform in magnitude. */
+static grip_real_t any_value(void)
+{
+    uint32_t r = next_u32();
+    int sh = (int)(r % 32u);
+#if GRIP_ARITH_FIXED
+    int32_t v = (int32_t)(next_u32() >> (uint32_t)sh);
+    if (v == INT32_MIN) {
+        v = -INT32_MAX;
+    }
+    return ((r & 0x100u) != 0u) ? -v : v;
+#else
+    float v = (float)next_u32() / 4294967296.0f * (float)(1u << (uint32_t)sh) / 65536.0f;
+    return ((r & 0x100u) != 0u) ? -v : v;
+#endif
+}
+
+/* A factor within [-1, 1], its ends included. */
+static grip_real_t unit_value(void)
+{
+    uint32_t r = next_u32();
+#if GRIP_ARITH_FIXED
+    int32_t v = (int32_t)(next_u32() % 65537u);
+    return ((r & 1u) != 0u) ? -v : v;
+#else
+    float v = (r % 7u == 0u) ? 1.0f : (float)next_u32() / 4294967296.0f;
+    return ((r & 1u) != 0u) ? -v : v;
+#endif
+}
+
+static void test_mac_msub_as_two_steps(void **s)
+{
+    long same = 0;
+    long fused_only = 0;
+    int i;
+    (void)s;
+    for (i = 0; i < N_PAIRS; ++i) {
+        grip_real_t a = any_value();
+        grip_real_t b = any_value();
+        grip_real_t c = any_value();
+#if GRIP_ARITH_FIXED
+        int64_t p = ((int64_t)a * (int64_t)b + 32768) >> 16;      /* round(a b / 2^16) */
+        if ((p >= -(int64_t)INT32_MAX) && (p <= (int64_t)INT32_MAX)) {
+            assert_int_equal(r_mac(c, a, b), r_add(c, r_mul(a, b)));
+            assert_int_equal(r_msub(c, a, b), r_sub(c, r_mul(a, b)));
+            ++same;
+        } else {
+            /* the product alone saturates: the exact sum, clamped once */
+            int64_t sp = (int64_t)c + p;
+            int64_t sm = (int64_t)c - p;
+            int64_t ep = (sp > INT32_MAX) ? INT32_MAX : ((sp < -INT32_MAX) ? -INT32_MAX : sp);
+            int64_t em = (sm > INT32_MAX) ? INT32_MAX : ((sm < -INT32_MAX) ? -INT32_MAX : sm);
+            assert_int_equal(r_mac(c, a, b), (grip_real_t)ep);
+            assert_int_equal(r_msub(c, a, b), (grip_real_t)em);
+            ++fused_only;
+        }
+#else
+        /* the plain operations in the same order: the same bits */
+        assert_true(r_mac(c, a, b) == r_add(c, r_mul(a, b)));
+        assert_true(r_msub(c, a, b) == r_sub(c, r_mul(a, b)));
+        ++same;
+#endif
+    }
+    print_message("# mac, msub: %ld triples as the two-step forms, %ld with a saturating product\n", same,
+                  fused_only);
+#if GRIP_ARITH_FIXED
+    /* a product beyond the range whose sum is inside: round(1.5 MAX) - MAX = 2^30 */
+    assert_int_equal(r_mac(-INT32_MAX, RC(1.5), INT32_MAX), 1073741824);
+#endif
+}
+
+static void test_mul_unit_as_mul(void **s)
+{
+    int i;
+    (void)s;
+    grip_debug_saturation_reset();
+    for (i = 0; i < N_PAIRS; ++i) {
+        grip_real_t u = unit_value();
+        grip_real_t b = any_value();
+#if GRIP_ARITH_FIXED
+        assert_int_equal(r_mul_unit(u, b), r_mul(u, b));
+#else
+        assert_true(r_mul_unit(u, b) == r_mul(u, b));
+#endif
+    }
+    /* the ends: |u| = 1 at the largest |b| */
+    assert_true(r_mul_unit(R_ONE, RC(32767.0)) == RC(32767.0));
+    assert_true(r_mul_unit(r_neg(R_ONE), RC(32767.0)) == RC(-32767.0));
+    /* within its precondition, never a saturation */
+    assert_int_equal(grip_debug_saturation_count(), 0);
+    print_message("# mul_unit: %d pairs with |u| <= 1 as r_mul\n", N_PAIRS);
+}
+
+static void test_mul_scale_as_mul(void **s)
+{
+    int i;
+    (void)s;
+    for (i = 0; i < N_PAIRS; ++i) {
+        grip_real_t x = any_value();
+        grip_real_t f = ((i % 4) == 0) ? R_ONE : any_value();
+#if GRIP_ARITH_FIXED
+        assert_int_equal(r_mul_scale(x, f), r_mul(x, f));
+#else
+        assert_true(r_mul_scale(x, f) == r_mul(x, f));
+#endif
+    }
+    print_message("# mul_scale: %d pairs (a quarter with s = 1) as r_mul\n", N_PAIRS);
+}
+
+static void test_atan2_q1_as_atan2(void **s)
+{
+    (void)s;
+#if GRIP_ARITH_FIXED
+    int i;
+    for (i = 0; i < N_PAIRS; ++i) {
+        grip_real_t y = r_abs(any_value());
+        grip_real_t x = r_abs(any_value());
+        if (x == 0) {
+            x = 1;
+        }
+        assert_int_equal(r_atan2_q1(y, x), r_atan2(y, x));
+    }
+    assert_int_equal(r_atan2_q1(0, 1), 0);
+    assert_int_equal(r_atan2_q1(INT32_MAX, 1), r_atan2(INT32_MAX, 1));
+    assert_int_equal(r_atan2_q1(INT32_MAX, INT32_MAX), r_atan2(INT32_MAX, INT32_MAX));
+    print_message("# atan2_q1: %d pairs with y >= 0, x > 0 as r_atan2\n", N_PAIRS);
+#else
+    print_message("# atan2_q1: fixed build only here (float: test_f32_kernels)\n");
+#endif
+}
+
+/* The debug-saturation build checks the preconditions. */
+static void test_preconditions_flagged(void **s)
+{
+    (void)s;
+#if GRIP_ARITH_FIXED && GRIP_DEBUG_SATURATION
+    grip_debug_saturation_reset();
+    /* just beyond 1, a product that still fits: flagged all the same */
+    assert_int_equal(r_mul_unit(R_ONE + 1, RC(2.0)), r_mul(R_ONE + 1, RC(2.0)));
+    assert_int_equal(grip_debug_saturation_count(), 1);
+    assert_string_equal(grip_debug_saturation_first(), "mul_unit");
+    /* a product beyond the range: saturated as r_mul's (two events: the
+     * precondition and the saturation of the product) */
+    assert_int_equal(r_mul_unit(RC(-2.0), RC(30000.0)), -INT32_MAX);
+    assert_int_equal(grip_debug_saturation_count(), 3);
+    /* atan2_q1 outside the first quadrant: flagged, answered as atan2 */
+    grip_debug_saturation_reset();
+    assert_int_equal(r_atan2_q1(RC(-1.0), RC(1.0)), r_atan2(RC(-1.0), RC(1.0)));
+    assert_int_equal(r_atan2_q1(RC(1.0), 0), r_atan2(RC(1.0), 0));
+    assert_int_equal(grip_debug_saturation_count(), 2);
+    assert_string_equal(grip_debug_saturation_first(), "atan2_q1");
+    grip_debug_saturation_reset();
+#else
+    print_message("# preconditions: checked in the fixed DEBUG_SAT=1 build only\n");
+#endif
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_mac_msub_as_two_steps),
+        cmocka_unit_test(test_mul_unit_as_mul),
+        cmocka_unit_test(test_preconditions_flagged),
+        cmocka_unit_test(test_mul_scale_as_mul),
+        cmocka_unit_test(test_atan2_q1_as_atan2),
+    };
+    return cmocka_run_group_tests_name("arith_ops", tests, NULL, NULL);
+}
