@@ -202,8 +202,9 @@ def representable(x, lo, hi):
     step back towards x where rounding left the closed range [lo, hi]."""
     x = np.asarray(x, dtype=float)
     r = x.astype(np.float32)
-    above = (r > hi) & (x <= hi)
-    below = (r < lo) & (x >= lo)
+    r64 = r.astype(float)            # compared in float64 (a float32 array would round lo and hi)
+    above = (r64 > hi) & (x <= hi)
+    below = (r64 < lo) & (x >= lo)
     r[above] = np.nextafter(r[above], np.float32(-np.inf))
     r[below] = np.nextafter(r[below], np.float32(np.inf))
     return r.astype(float)
