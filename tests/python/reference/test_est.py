@@ -1110,6 +1110,21 @@ class SteeringLagTests(unittest.TestCase):
             if tau > 0.0:
                 self.assertLess(f["rms"], 0.2 * f["rms_no_lag"])
 
+    def test_av21_ins_heading_on_the_subset(self):
+        """The INS's heading misalignment the AV-21 truth removes
+        (av21_log.INS_YAW, 0.61 deg from the full log's straights): the
+        bundled subset's straights give the same within 0.1 deg, and a
+        log turned by a further 1 deg gives 1 deg more."""
+        from grip_tools.logs import av21 as av21_log
+        d = av21_log.read(av21_log.SUBSET)
+        vy, ay, _ = av21_log.lateral_at_cg(d["t"], d["vx"], d["vy"], d["r"], av21_log.INS_X)
+        psi = av21_log.ins_yaw_misalignment(d["vx"], vy, d["r"], ay)
+        print(f"\n# AV-21 subset: INS heading {math.degrees(psi):.3f} deg (INS_YAW {math.degrees(av21_log.INS_YAW):.3f})")
+        self.assertIsNotNone(psi)
+        self.assertLess(abs(psi - av21_log.INS_YAW), math.radians(0.1))
+        turned = av21_log.ins_yaw_misalignment(d["vx"], vy + d["vx"] * math.tan(math.radians(1.0)), d["r"], ay)
+        self.assertAlmostEqual(turned - psi, math.radians(1.0), delta=math.radians(0.01))
+
     def test_fit_on_the_av21_subset(self):
         """The bundled AV-21 subset (tests/data/iac-av21, 240 s at 25 Hz): the
         logged steering command leads the yaw response beyond the configured

@@ -525,7 +525,8 @@ def av21_inputs(log):
     and the lateral acceleration at the CG (av21_log.lateral_at_cg; vy in
     the log's own sign, av21_log's docstring says why).
     Returns t, value (N, 13 IN_COLS), valid and the INS arrays (vy at the
-    CG, ins_x)."""
+    CG about the car's axis: the INS's heading misalignment INS_YAW
+    removed; ins_x, ins_yaw)."""
     d = av21_log.read(log)
     t, vx, r = d["t"], d["vx"], d["r"]
     ws = d["ws"]
@@ -537,8 +538,12 @@ def av21_inputs(log):
     for i, c in enumerate(cols):
         value[:, i] = np.interp(tg, t, c)
         valid[:, i] = 1
-    ins = {"vx": np.interp(tg, t, vx), "vy": np.interp(tg, t, vy), "r": value[:, 5], "ay": value[:, 7],
-           "ins_x": x_ins}
+    # the truth about the car's axis: the INS's heading misalignment
+    # (av21_log.INS_YAW, measured on the full log's straights) removed from
+    # its vy; the inputs above keep the log's own
+    vy_axis = vy - vx * np.tan(av21_log.INS_YAW)
+    ins = {"vx": np.interp(tg, t, vx), "vy": np.interp(tg, t, vy_axis), "r": value[:, 5], "ay": value[:, 7],
+           "ins_x": x_ins, "ins_yaw": av21_log.INS_YAW}
     return tg, value, valid, ins
 
 
@@ -634,6 +639,7 @@ def av21_report(log, outdir, bins):
     fit = steer_lag_fit(t, value[:, 4], ins["vx"], value[:, 5], value[:, 7], cfg)
     res["steer_lag_fit"] = fit
     res["ins_x_m"] = ins["ins_x"]
+    res["ins_yaw_deg"] = ins["ins_yaw"] * DEG
     print(f"est-eval av21: steering lag fit {fit['lag']:.3f} s (yaw rate RMS {fit['rms']:.4f} rad/s, "
           f"{fit['rms_no_lag']:.4f} without a lag, yaw gain {fit['gain']:.3f}, {fit['n']} samples); "
           f"preset steer_lag {AV21_VEHICLE['steer_lag']}", file=sys.stderr)
