@@ -50,6 +50,33 @@ class CallgrindSplit(unittest.TestCase):
         self.assertEqual(total, 275)
         self.assertEqual(kern, 63 + 40)
 
+    def test_inlined_kernel_code(self):
+        # a kernel inlined into the model: its lines arrive as an inline file
+        # record (fi=, back with fe=), the function being the model's; a
+        # later fi= may name that file by its id alone (given first by cfi=)
+        cg = """\
+events: Ir
+ob=(1) /work/build/bench_host
+fl=(1) lib/mf/mf_equations.h
+fn=(1) mf_lat_pure
+10 100
+cfi=(3) lib/arith/q16_math_inline.h
+cfn=(2) grip_q16_atan
+calls=1 5
+* 30
+fi=(2) /work/main/lib/arith/q16_math_inline.h
+20 70
+fe=(1)
+11 5
+fi=(3)
+21 8
+fe=(1)
+12 2
+"""
+        total, kern = bench.callgrind_split(cg.splitlines(True))
+        self.assertEqual(total, 185)
+        self.assertEqual(kern, 78)
+
     def test_kernel_names(self):
         for name in ("grip_q16_atan", "grip_q16_atan2", "grip_q16_exp", "grip_q16_sqrt", "sin_of_phase",
                      "atan_poly_q30", "atan_mag_q30.isra.0", "grip_q16_sincos"):
