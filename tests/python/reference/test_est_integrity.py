@@ -226,6 +226,30 @@ class RunAwayTests(unittest.TestCase):
         self.assertLess(float(np.max(np.abs(res["fixed"]["beta_sd"] - res["float"]["beta_sd"]))), 3e-3)
 
 
+class Rav4JudgeTests(unittest.TestCase):
+    """The README's main job as an integrity judge: the RAV4 highway drive
+    through the C float build against the drive's GNSS/IMU pose."""
+
+    def test_highway(self):
+        try:
+            import grip.replay
+            from grip_tools.evaluate import integrity
+        except ImportError as e:       # pragma: no cover - binding not built
+            raise unittest.SkipTest(f"binding not importable: {e}")
+        why = grip.replay.available("float")
+        if why:
+            raise unittest.SkipTest(why)
+        r = integrity.judge_rav4()["highway, 60 s (pose sideslip)"]
+        b = r["beta"]
+        print(f"\n# rav4 highway: beta valid {b['valid_steps']} steps ({100 * r['beta_valid_share']:.1f} %), "
+              f"{b['violations']} beyond max(1 deg, 3 sd), worst true error {b['true_err_max_deg']:.2f} deg; "
+              f"vx {r['vx']['valid_steps']} valid, {r['vx']['violations']} beyond max(0.1 m/s, 3 sd)", flush=True)
+        self.assertGreater(b["valid_steps"], 5000)
+        self.assertEqual(b["violations"], 0)
+        self.assertEqual(r["vx"]["violations"], 0)
+        self.assertGreaterEqual(r["beta_valid_share"], integrity.TARGET_VALID)
+
+
 class IndependentJudgeTests(unittest.TestCase):
     """One out-of-family run (CommonRoad's multi-body BMW 320i, its own
     tires, the estimator on the generic PacejkaBook_Defaults): the

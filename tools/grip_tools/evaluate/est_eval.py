@@ -790,7 +790,7 @@ def main(argv=None):
     ap.add_argument("--integrity", action="store_true",
                     help="the validity flags' integrity on every judge (est_ref): <out>/integrity_table.md, .json")
     ap.add_argument("--judges", default=None,
-                    help="--integrity: comma-separated subset of own, mismatch, independent, fitted, av21, faults "
+                    help="--integrity: comma-separated subset of own, mismatch, independent, fitted, rav4, av21, faults "
                          "(default all)")
     ap.add_argument("--const", action="append", default=[], metavar="NAME=VALUE",
                     help="--integrity: an est_ref constant changed for the run (sensitivity: TIRE_TOL, KIN_ACC, ...)")

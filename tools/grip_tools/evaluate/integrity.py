@@ -1,7 +1,7 @@
 """Integrity of the estimator's validity flags: what a valid flag promises,
 measured on every judge with a truth.
 
-    grip est-eval --integrity [--out docs/estimator] [--judges own,mismatch,independent,fitted,av21,faults]
+    grip est-eval --integrity [--out docs/estimator] [--judges own,mismatch,independent,fitted,rav4,av21,faults]
 
 For each output with a standard deviation (beta: beta_sd, mu: mu_sd) and
 each run: over the steps the output is flagged valid (V_BETA, V_MU) with
@@ -34,6 +34,9 @@ Judges, all through the float64 reference (grip_tools.reference.est):
                measured roll gradient and front roll share
                (judge.characterize, cached beside the runs), the same
                declared tire_tol
+  rav4         the RAV4 highway drive of the README's main job (60 s, CAN),
+               the C float build, sideslip from the drive's fused GNSS/IMU
+               pose (the phone mount's yaw removed)
   av21         the Dallara AV-21 road course (476 s), sideslip from the INS
                (est_eval --av21's stand-in tire and preset)
   faults       the fault campaign (grip faults): every fault of every ESC
@@ -66,7 +69,7 @@ SAT_U = 0.95
 # the kinematic vy's drift against its bound: windows of 1 s (a transient's
 # length, over which the kinematic vy carries beta) every 0.1 s
 KIN_WINDOW_S, KIN_EVERY_S = 1.0, 0.1
-JUDGES = ("own", "mismatch", "independent", "fitted", "av21", "faults")
+JUDGES = ("own", "mismatch", "independent", "fitted", "rav4", "av21", "faults")
 # The fault campaign's consumer rules: grip_monitor_gate's degraded bits
 # (docs/faults.md); "estimator alone" is the estimator's valid bits ungated.
 FAULT_RULES = {"monitor gate": monitor_ref.DEGR_SUSPECT | monitor_ref.DEGR_UNVERIFIED,
@@ -352,6 +355,30 @@ def judge_av21(outdir, log=None):
     return {"road course (INS sideslip)": judge_run(t, est, truth, ins["vx"] > 10.0)}
 
 
+def judge_rav4():
+    """The README's main job as a judge: the RAV4 drive (60 s of highway CAN,
+    comma2k19) through the C float build in process (grip.replay: grip-replay
+    -e PacejkaBook_Defaults.tir --vehicle rav4, which est_ref equals within
+    the golden tolerances), beta against the drive's fused GNSS/IMU pose with
+    the phone mount's yaw removed (main_job.rav4_truth_series), vx against its
+    forward speed, above 10 m/s. No friction truth."""
+    import grip.replay
+    from grip_tools.evaluate import main_job
+    log = os.path.join(est_eval.ROOT, "tests", "data", "comma2k19-rav4", "rav4_bus0.log")
+    res = grip.replay.run(["-e", golden_est.tire_path(), "--vehicle", "rav4", log], arith="float")
+    if res.status != 0:
+        raise RuntimeError(f"grip-replay on {log}: exit {res.status}: {res.text.strip()}")
+    c = res.columns
+    est = {"beta": c["beta"], "beta_sd": c["beta_sd"], "vx": c["vx"], "vx_sd": c["vx_sd"],
+           "mu": c["mu"], "mu_sd": c["mu_sd"],
+           "valid": np.nan_to_num(c["est_valid"]).astype(np.int64),
+           "flags": np.nan_to_num(c["est_flags"]).astype(np.int64)}
+    truth, vf, _ = main_job.rav4_truth_series(c)
+    moving = c["vx"] > 10.0
+    return {"highway, 60 s (pose sideslip)": judge_run(c["t_s"], est, {"beta": truth, "vx": vf, "mu": None},
+                                                      moving)}
+
+
 def _faults_scenario(args):
     """One manoeuvre of the fault campaign (si, an index of faults.SCENARIOS):
     its fault-free run and every fault run (only: just these fault cases,
@@ -533,6 +560,8 @@ def _run(out, judges, runs_dir, full, av21_log, consts):
             res[j] = judge_independent(os.path.join(runs_dir, "independent"), full=full)
         elif j == "fitted":
             res[j] = judge_fitted(os.path.join(runs_dir, "independent"), full=full)
+        elif j == "rav4":
+            res[j] = judge_rav4()
         elif j == "av21":
             res[j] = judge_av21(out, av21_log)
         else:                                   # "faults" (run() checked the names)

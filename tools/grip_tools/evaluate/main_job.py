@@ -102,19 +102,28 @@ def pose_truth(pose_dir=POSE_DIR):
     return t, vd, np.arctan2(-vd[:, 1], vd[:, 0])
 
 
-def rav4_truth(r, pose_dir=POSE_DIR, v_min=10.0, straight=0.005):
-    """The estimate against the pose over the steps above v_min with an
-    estimated sideslip: the mount's yaw is the pose's mean sideslip where
-    the car drives straight (|yaw rate| < straight rad/s), removed; then
-    beta's RMS error and the baseline beta = 0, their correlation, vx's RMS
-    error against the pose's forward speed."""
+def rav4_truth_series(r, pose_dir=POSE_DIR, v_min=10.0, straight=0.005):
+    """The pose's sideslip [rad] and forward speed [m/s] at the replay's
+    steps (r: t_s, vx, beta, yaw_rate), the mount's yaw removed: the pose's
+    mean sideslip above v_min where the car drives straight (|yaw rate| <
+    straight rad/s). Returns (truth, forward speed, mount yaw)."""
     t, vd, beta_dev = pose_truth(pose_dir)
     bp = np.interp(r["t_s"], t, beta_dev)
     vf = np.interp(r["t_s"], t, vd[:, 0])
     ok = (r["vx"] > v_min) & np.isfinite(r["beta"])
     st = ok & (np.abs(r["yaw_rate"]) < straight)
     mount = float(np.mean(bp[st]))
-    truth = bp - mount
+    return bp - mount, vf, mount
+
+
+def rav4_truth(r, pose_dir=POSE_DIR, v_min=10.0, straight=0.005):
+    """The estimate against the pose over the steps above v_min with an
+    estimated sideslip: the mount's yaw is the pose's mean sideslip where
+    the car drives straight (|yaw rate| < straight rad/s), removed; then
+    beta's RMS error and the baseline beta = 0, their correlation, vx's RMS
+    error against the pose's forward speed."""
+    truth, vf, mount = rav4_truth_series(r, pose_dir, v_min, straight)
+    ok = (r["vx"] > v_min) & np.isfinite(r["beta"])
     e = r["beta"][ok] - truth[ok]
     return {"steps": int(ok.sum()), "mount_yaw_deg": float(np.degrees(mount)),
             "truth_range_deg": [float(np.degrees(np.min(truth[ok]))), float(np.degrees(np.max(truth[ok])))],
