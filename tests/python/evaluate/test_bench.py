@@ -64,7 +64,7 @@ cfi=(3) lib/arith/q16_math_inline.h
 cfn=(2) grip_q16_atan
 calls=1 5
 * 30
-fi=(2) /work/main/lib/arith/q16_math_inline.h
+fi=(2) /src/grip/lib/arith/q16_math_inline.h
 20 70
 fe=(1)
 11 5
