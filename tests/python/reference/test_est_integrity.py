@@ -250,6 +250,16 @@ class Rav4JudgeTests(unittest.TestCase):
         self.assertGreaterEqual(r["beta_valid_share"], integrity.TARGET_VALID)
 
 
+def _simulator_judges():
+    """grip_tools.evaluate.integrity, or the test skipped where the
+    independent simulator (scipy, CommonRoad's models) does not import."""
+    try:
+        from grip_tools.evaluate import integrity
+    except ImportError as e:       # pragma: no cover - scipy-less machine
+        raise unittest.SkipTest(f"simulator not importable: {e}")
+    return integrity
+
+
 class IndependentJudgeTests(unittest.TestCase):
     """One out-of-family run (CommonRoad's multi-body BMW 320i, its own
     tires, the estimator on the generic PacejkaBook_Defaults): the
@@ -257,10 +267,7 @@ class IndependentJudgeTests(unittest.TestCase):
     outside spins and full saturation (measured: docs/estimator/integrity.md)."""
 
     def test_step_steer_dry(self):
-        try:
-            from grip_tools.evaluate import integrity
-        except ImportError as e:       # pragma: no cover - scipy-less machine
-            raise unittest.SkipTest(f"simulator not importable: {e}")
+        integrity = _simulator_judges()
         with tempfile.TemporaryDirectory() as d:
             r = integrity.independent_run("bmw320i", "step-steer", "dry", d)
         b = r["beta"]
@@ -280,10 +287,7 @@ class IndependentJudgeTests(unittest.TestCase):
         # model in its linear range, so the bound stays ~0.3 deg while beta
         # is 1.7 deg off (docs/estimator/integrity.md, "The fitted
         # configuration"). Not met; this test passes once it is.
-        try:
-            from grip_tools.evaluate import integrity
-        except ImportError as e:       # pragma: no cover - scipy-less machine
-            raise unittest.SkipTest(f"simulator not importable: {e}")
+        integrity = _simulator_judges()
         with tempfile.TemporaryDirectory() as d:
             c = integrity.fitted_characterization("bmw320i", d)
             r = integrity.independent_run("bmw320i", "step-steer", "snow", d, fitted=c)
@@ -304,10 +308,7 @@ class IndependentJudgeTests(unittest.TestCase):
         # exceeds 1 deg, and the kinematic vy cannot stand in for 10 s: it
         # drifts faster than its bound grows (the roll compensation's
         # default gradient against this car's)
-        try:
-            from grip_tools.evaluate import integrity
-        except ImportError as e:       # pragma: no cover - scipy-less machine
-            raise unittest.SkipTest(f"simulator not importable: {e}")
+        integrity = _simulator_judges()
         with tempfile.TemporaryDirectory() as d:
             r = integrity.independent_run("bmw320i", "circle-ramp", "dry", d)
         w, k = r["withheld"], r["kin_drift"]
@@ -330,10 +331,7 @@ class IndependentJudgeTests(unittest.TestCase):
         # deg); withdrawn there, mu went from 0.49 to 0.63 on a 0.36 road
         # and beta was flagged valid 2.4 deg off with a bound of 0.7 deg.
         # "Steady" is |dvy/dt| within 3 kin_acc_sd; 1 m/s^2 let it through
-        try:
-            from grip_tools.evaluate import integrity
-        except ImportError as e:       # pragma: no cover - scipy-less machine
-            raise unittest.SkipTest(f"simulator not importable: {e}")
+        integrity = _simulator_judges()
         res = {}
         with tempfile.TemporaryDirectory() as d:
             for k in (est_ref.STEADY_K, 1.0 / est_ref.KIN_ACC):

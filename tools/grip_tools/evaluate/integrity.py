@@ -294,18 +294,6 @@ def independent_run(vname, mname, sname, cache, fitted=None):
     return judge_run(t, est, truth, moving, ~(spin | sat))
 
 
-def judge_independent(cache, full=False):
-    from grip_tools.sim.independent import judge
-    sel = judge.FULL_SET if full else judge.DEFAULT_SET
-    out = {}
-    for v in sel["vehicles"]:
-        for m in sel["manoeuvres"]:
-            for s in sel["surfaces"]:
-                out[f"{v} {m} {s}"] = independent_run(v, m, s, cache)
-                print(f"integrity: independent {v} {m} {s}: {out[f'{v} {m} {s}']['beta']}", file=sys.stderr)
-    return out
-
-
 def fitted_characterization(vname, cache):
     """judge.characterize's ramp steer and fit for one vehicle (the fitted
     configuration's tire and roll values), cached in cache/."""
@@ -323,19 +311,21 @@ def fitted_characterization(vname, cache):
     return c
 
 
-def judge_fitted(cache, full=False):
-    """The independent simulator's runs in the fitted configuration: the
-    tire file an OEM fits to a ramp steer with wheel-force transducers
-    (docs/independent-judge.md), declared with the same tire_tol."""
+def judge_independent(cache, full=False, fitted=False):
+    """The independent simulator's runs in the generic configuration, or
+    with fitted in the fitted one: the tire file an OEM fits to a ramp steer
+    with wheel-force transducers (docs/independent-judge.md), declared with
+    the same tire_tol."""
     from grip_tools.sim.independent import judge
     sel = judge.FULL_SET if full else judge.DEFAULT_SET
+    label = "fitted" if fitted else "independent"
     out = {}
     for v in sel["vehicles"]:
-        c = fitted_characterization(v, cache)
+        c = fitted_characterization(v, cache) if fitted else None
         for m in sel["manoeuvres"]:
             for s in sel["surfaces"]:
                 out[f"{v} {m} {s}"] = r = independent_run(v, m, s, cache, fitted=c)
-                print(f"integrity: fitted {v} {m} {s}: {r['beta']}", file=sys.stderr)
+                print(f"integrity: {label} {v} {m} {s}: {r['beta']}", file=sys.stderr)
     return out
 
 
@@ -559,7 +549,7 @@ def _run(out, judges, runs_dir, full, av21_log, consts):
         elif j == "independent":
             res[j] = judge_independent(os.path.join(runs_dir, "independent"), full=full)
         elif j == "fitted":
-            res[j] = judge_fitted(os.path.join(runs_dir, "independent"), full=full)
+            res[j] = judge_independent(os.path.join(runs_dir, "independent"), full=full, fitted=True)
         elif j == "rav4":
             res[j] = judge_rav4()
         elif j == "av21":
