@@ -171,10 +171,12 @@ typedef struct {
  * b == 0. Float build: the quotient first, and the tests only where it is
  * not within [-lim, lim] (an infinity or NaN included): one division and
  * one comparison on the common path instead of two divisions and three
- * comparisons. The same results: a quotient within the limit is the same
- * division; beyond it both give the signed limit (fl(|a| / lim) and
- * fl(|a / b|) order |b| and lim alike but at a quotient within one
- * rounding of lim, where either result is lim to that rounding). */
+ * comparisons (the lane form, mfk_div_lim, is the same selection without
+ * branches). A quotient within the limit is the same division, a zero one
+ * with its sign (0 / -2 = -0, where a test of a = 0 first gave +0); beyond
+ * it the signed limit (fl(|a| / lim) and fl(|a / b|) order |b| and lim
+ * alike but at a quotient within one rounding of lim, where either result
+ * is lim to that rounding). */
 static inline grip_real_t mf_div_lim(grip_real_t a, grip_real_t b, grip_real_t lim)
 {
 #if GRIP_ARITH_FIXED
@@ -308,12 +310,11 @@ static MF_ALWAYS_INLINE grip_real_t mfk_div_lim(grip_real_t a, grip_real_t b, gr
 {
 #if GRIP_MF_LANES
     if (mk != NULL) {
-        float aa = fabsf(a);
-        int sat = fabsf(b) <= aa / lim;
-        int opp = (a < 0.0f) != (b < 0.0f);
         float q = a / b;
-        float r = sat ? (opp ? -lim : lim) : q;
-        return (aa == 0.0f) ? 0.0f : r;
+        int within = fabsf(q) <= lim;
+        int opp = (a < 0.0f) != (b < 0.0f);
+        float beyond = (a == 0.0f) ? 0.0f : ((q != q) ? q : (opp ? -lim : lim));
+        return within ? q : beyond;
     }
 #endif
     (void)mk;
