@@ -169,9 +169,12 @@ static inline grip_real_t r_cos_atan(grip_real_t a) { return 1.0f / sqrtf(1.0f +
  * of c0 + c1 x. With a fused multiply-add (Cortex-M4F, M7, M33, Arm64) the
  * residuals are exact products: a - q b1 b2 from two fmaf, d's own rounding
  * (only where q < 0.5: for q >= 0.5, q - 1 is exact) by Fast2Sum with -1 as
- * the larger term. Without one (x86-64's baseline) the same quantities in
- * double, which that core has in hardware. */
-#if defined(__ARM_FEATURE_FMA)
+ * the larger term. Without one (x86-64's baseline, Cortex-R4F/R5F) the
+ * same residuals from Dekker's exact product in single precision
+ * (r_prod_err), and c0 + c1 x with its product's and its sum's roundings
+ * added back; exact while nothing overflows and nothing is contracted,
+ * which without a fused multiply-add it cannot be. */
+#if defined(__ARM_FEATURE_FMA) || defined(__FMA__)
 static inline grip_real_t r_quot_m1_lo(grip_real_t a, grip_real_t b1, grip_real_t b2, grip_real_t q, grip_real_t d)
 {
     float b = b1 * b2;
@@ -184,14 +187,34 @@ static inline grip_real_t r_lin_ext(grip_real_t c0, grip_real_t c1, grip_real_t 
     return fmaf(c1, x_lo, fmaf(c1, x, c0));
 }
 #else
+/* a b - p exactly, p = fl(a b): Veltkamp's split of each factor into 12-bit
+ * halves, whose products are exact (Dekker). */
+static inline float r_prod_err(float a, float b, float p)
+{
+    float ca = 4097.0f * a;
+    float cb = 4097.0f * b;
+    float ah = ca - (ca - a);
+    float bh = cb - (cb - b);
+    float al = a - ah;
+    float bl = b - bh;
+    return ((ah * bh - p) + ah * bl + al * bh) + al * bl;
+}
 static inline grip_real_t r_quot_m1_lo(grip_real_t a, grip_real_t b1, grip_real_t b2, grip_real_t q, grip_real_t d)
 {
-    (void)q;
-    return (float)(((double)a / ((double)b1 * (double)b2) - 1.0) - (double)d);
+    float b = b1 * b2;
+    float b_lo = r_prod_err(b1, b2, b);
+    float p = q * b;
+    /* a - q b1 b2: q b is within a few roundings of a, so a - p is exact */
+    float r = ((a - p) - r_prod_err(q, b, p)) - q * b_lo;
+    return (q - (d + 1.0f)) + r / b;
 }
 static inline grip_real_t r_lin_ext(grip_real_t c0, grip_real_t c1, grip_real_t x, grip_real_t x_lo)
 {
-    return (float)((double)c0 + (double)c1 * ((double)x + (double)x_lo));
+    float t = c1 * x;
+    float s = c0 + t;
+    float v = s - c0;
+    float s_lo = (c0 - (s - v)) + (t - v);   /* c0 + t - s exactly (TwoSum) */
+    return s + (s_lo + (r_prod_err(c1, x, t) + c1 * x_lo));
 }
 #endif
 #endif

@@ -9,6 +9,8 @@
  *   - r_mul_scale(x, s) gives the bits of r_mul(x, s), s = 1 among them;
  *   - r_atan2_q1(y, x) gives the bits of r_atan2(y, x) for y >= 0, x > 0
  *     (fixed; the float build's forms are tested with the kernels);
+ *   - r_quot_m1_lo and r_lin_ext carry dfz's residual (float) or are the
+ *     plain forms (fixed);
  *   - a GRIP_DEBUG_SATURATION build flags r_mul_unit called with |u| > 1
  *     (the event "mul_unit") and returns the saturated product, and
  *     r_atan2_q1 outside the first quadrant (the event "atan2_q1").
@@ -16,6 +18,7 @@
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
+#include <math.h>
 #include <stdint.h>
 #include <cmocka.h>
 
@@ -163,6 +166,60 @@ static void test_atan2_q1_as_atan2(void **s)
 #endif
 }
 
+/* r_quot_m1_lo and r_lin_ext (the load term carried beyond single
+ * precision): the float build against double arithmetic (on this host the
+ * exact products of the non-FMA form, on a core with a fused multiply-add
+ * its fmaf form), the fixed build as the plain forms. */
+#if !GRIP_ARITH_FIXED
+static float unit_float(void)
+{
+    return (float)(next_u32() >> 8) / 16777216.0f;
+}
+#endif
+
+static void test_load_term_beyond_single(void **s)
+{
+    int i;
+    (void)s;
+#if GRIP_ARITH_FIXED
+    for (i = 0; i < N_PAIRS; ++i) {
+        grip_real_t c0 = any_value();
+        grip_real_t c1 = any_value();
+        grip_real_t x = any_value();
+        assert_int_equal(r_lin_ext(c0, c1, x, any_value()), r_add(c0, r_mul(c1, x)));
+        assert_int_equal(r_quot_m1_lo(x, c0, c1, x, c0), R_ZERO);
+    }
+    print_message("# load term: %d cases, the plain forms (fixed)\n", N_PAIRS);
+#else
+    double worst_q = 0.0;
+    double worst_l = 0.0;
+    for (i = 0; i < N_PAIRS; ++i) {
+        /* Fz 0 .. 40 kN, FNOMIN 1 .. 10 kN, LFZO 0.5 .. 2, as mf_load forms q, d */
+        float fz = 40000.0f * unit_float();
+        float fnomin = 1000.0f + 9000.0f * unit_float();
+        float lfzo = 0.5f + 1.5f * unit_float();
+        float q = (fz / fnomin) / lfzo;
+        float d = q - 1.0f;
+        double exact = (double)fz / ((double)fnomin * (double)lfzo) - 1.0;
+        double eq = fabs(((double)d + (double)r_quot_m1_lo(fz, fnomin, lfzo, q, d)) - exact) / (1.0 + fabs(exact));
+        /* c0 + c1 (x + x_lo), every fourth case with c0 cancelling c1 x */
+        float c1 = 200.0f * unit_float() - 100.0f;
+        float x = 4.0f * unit_float() - 2.0f;
+        float x_lo = (unit_float() - 0.5f) * 1.2e-7f * x;
+        float c0 = ((i & 3) == 0) ? -(c1 * x) + (unit_float() - 0.5f) : 200.0f * unit_float() - 100.0f;
+        double want = (double)c0 + (double)c1 * ((double)x + (double)x_lo);
+        double el = fabs((double)r_lin_ext(c0, c1, x, x_lo) - want) /
+                    (fabs(want) * 0x1p-23 + fabs((double)c1 * (double)x) * 0x1p-46 + 1e-30);
+        worst_q = (eq > worst_q) ? eq : worst_q;
+        worst_l = (el > worst_l) ? el : worst_l;
+    }
+    print_message("# load term: %d cases, r_quot_m1_lo max |err| / (1 + |dfz|) %.3e (bound 1e-12), "
+                  "r_lin_ext max |err| / (2^-23 |result| + 2^-46 |c1 x|) %.3f (bound 1)\n", N_PAIRS, worst_q, worst_l);
+    assert_true(worst_q <= 1e-12);
+    assert_true(worst_l <= 1.0);
+#endif
+}
+
 /* The debug-saturation build checks the preconditions. */
 static void test_preconditions_flagged(void **s)
 {
@@ -197,6 +254,7 @@ int main(void)
         cmocka_unit_test(test_preconditions_flagged),
         cmocka_unit_test(test_mul_scale_as_mul),
         cmocka_unit_test(test_atan2_q1_as_atan2),
+        cmocka_unit_test(test_load_term_beyond_single),
     };
     return cmocka_run_group_tests_name("arith_ops", tests, NULL, NULL);
 }
