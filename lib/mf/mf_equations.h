@@ -246,7 +246,6 @@ static MF_ALWAYS_INLINE void mf_trail_body(const grip_mf_params *p, const mf_op 
     grip_real_t ga = r_abs(g);
     grip_real_t ky_mu = op->ky_mu;                                          /* LKY / LMUY* */
     grip_real_t sht = r_mac(r_mac(p->qhz1, p->qhz2, dfz), r_mac(p->qhz3, p->qhz4, dfz), g);
-    /* grip-deviation: clang-analyzer-core.CallAndMessage false positive: mf_lat_body writes every field of *lat before the trail is formed (the analyzer stops following it) */
     grip_real_t shf = r_add(lat->shy, mfk_div_lim(lat->svy, lat->kya, MF_LIM_SHIFT, mk));              /* 4.E38 */
     grip_real_t dt_cam;
     grip_real_t bt_cam;
