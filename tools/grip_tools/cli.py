@@ -35,7 +35,7 @@ COMMANDS = {
     "golden-brush": ("grip_tools.golden.brush", "write golden vectors of the brush-model family"),
     "golden-est": ("grip_tools.golden.est", "write golden vectors of the onboard estimator (reference over input sequences)"),
     "golden-q16": ("grip_tools.golden.q16", "write golden vectors for the Q15.16 math primitives"),
-    "kernels": ("grip_tools.golden.q16_kernels", "regenerate the Q15.16 polynomial kernels header"),
+    "kernels": ("grip_tools.golden.q16_kernels", "regenerate the Q15.16 kernels header (piecewise quadratic atan and sin, exp2 and log2 polynomials)"),
     "kernels-f32": ("grip_tools.golden.f32_kernels", "regenerate the float build's polynomial kernels header"),
     "stack": ("grip_tools.evaluate.stack", "worst-case stack per function from -fcallgraph-info files"),
     "bench": ("grip_tools.evaluate.bench", "benchmarks: host ns/call, callgrind and Cortex-M instruction counts"),
