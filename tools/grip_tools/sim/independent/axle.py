@@ -32,6 +32,8 @@ force estimates, wheel frame:
            drive's sensors alone (drive_roll_gradient)
   true_fx  the balance with the truth's wheel Fx in place of the
            estimator's (what the estimated longitudinal forces cost it)
+  shifted  the estimate SHIFT steps earlier, front / rear (what its lag
+           behind the truth costs)
   ideal    the balance from the truth (the lateral specific force, dr/dt,
            Fx, d): how far the balance's equations hold on the multi-body
            model
@@ -40,7 +42,10 @@ and, in % of the front peak, the RMS error of the estimate's lateral sum
 (fyf cos d + fyr against the truth's) and the accelerometer's error
 m (ay_used - f_y), f_y the true lateral specific force of the road frame
 (kinematic ay + g cos(grade) sin(bank)); the RMS of the front wheels'
-left-minus-right Fx, estimated and true [N]. The per-step noise of the balance's
+left-minus-right Fx, estimated and true [N]. A second table gives the
+estimate in N: the truth's peak, the estimate's RMS and mean error, its
+fy_axle_sd (median, share of steps within 3 of it), its lag (best_lag) and
+the used ay's against the true lateral specific force. The per-step noise of the balance's
 front force from the sensors' data-sheet noise (sensors.SPEC) is printed
 with the table.
 """
@@ -63,7 +68,12 @@ G = 9.81
 DT = sensors.STEP
 # the vehicle values the balance needs
 VEHICLE_KEYS = ("mass", "iz", "lf", "lr", "track_f", "track_r")
-ESTIMATES = ("model", "balance", "blend", "car_roll", "drive_roll", "true_fx", "ideal")
+ESTIMATES = ("model", "balance", "blend", "car_roll", "drive_roll", "true_fx", "shifted", "ideal")
+# shifted: the estimate this many steps earlier, front / rear (its lag)
+SHIFT = (2, 1)
+# the lags searched [steps]: the estimate against the truth, the used ay
+# against the true lateral specific force
+LAGS = range(0, 6)
 # the learning drive's roll-gradient regression: both sides low-passed over
 # ROLL_TAU [s], moving steps after ROLL_SKIP [s]
 ROLL_TAU, ROLL_SKIP = 1.0, 5.0
@@ -191,12 +201,29 @@ def estimates(tr, inp, t, value, valid, cfg, rolls, tau, blob=None):
     fx_t = np.stack([tr[f"fx_{w}"] for w in est_eval.WHEELS], axis=1)
     res["true_fx"] = solve_axles(ay, racc, delta, fx_t, v)
     res["ideal"] = solve_axles(f_y, np.gradient(tr["r"], DT), tr["delta"], fx_t, v)
+    res["shifted"] = tuple(advance(x, k) for x, k in zip(res["model"], SHIFT))
     d = tr["delta"]
     sum_t = (tr["fy_fl"] + tr["fy_fr"]) * np.cos(d) + tr["fy_rl"] + tr["fy_rr"]
     sum_e = res["model"][0] * np.cos(delta) + res["model"][1]
     diag = {"sum_err": sum_e - sum_t, "acc_err": v["mass"] * (ay - f_y),
-            "fx_lr_est": out["fx"][:, 0] - out["fx"][:, 1], "fx_lr_true": tr["fx_fl"] - tr["fx_fr"]}
+            "fx_lr_est": out["fx"][:, 0] - out["fx"][:, 1], "fx_lr_true": tr["fx_fl"] - tr["fx_fr"],
+            "sd": (out["fy_axle_sd"][:, 0], out["fy_axle_sd"][:, 1]), "ay_used": ay, "f_y": f_y}
     return res, steps, tr, diag
+
+
+def advance(x, k):
+    """x k steps earlier: x[i + k], the last value held."""
+    return np.concatenate([x[k:], np.full(k, x[-1])]) if k > 0 else x
+
+
+def best_lag(est, true, steps):
+    """The shift in LAGS [steps] by which est advanced best matches true
+    (least RMS over steps, the last max(LAGS) steps left out)."""
+    sel = steps.copy()
+    sel[len(sel) - max(LAGS):] = False
+    if not sel.any():
+        return None
+    return min(LAGS, key=lambda k: float(np.mean((advance(est, k) - true)[sel] ** 2)))
 
 
 def score_run(res, steps, tr, diag):
@@ -207,12 +234,23 @@ def score_run(res, steps, tr, diag):
         x = judge.fy_scores(f, r, tr, steps)
         sc[name] = [x.get("fy_front_rms_pct"), x.get("fy_rear_rms_pct")]
     peak = float(np.max(np.abs((tr["fy_fl"] + tr["fy_fr"])[steps]))) if steps.any() else 0.0
-    for k, e in diag.items():
-        rms = float(np.sqrt(np.mean(e[steps] ** 2))) if steps.any() else None
+    for k in ("sum_err", "acc_err", "fx_lr_est", "fx_lr_true"):
+        rms = float(np.sqrt(np.mean(diag[k][steps] ** 2))) if steps.any() else None
         if k.startswith("fx_lr"):
             sc[k] = rms
         else:
-            sc[k] = 100.0 * rms / peak if peak >= judge.FY_PEAK_MIN else None
+            sc[k] = 100.0 * rms / peak if peak >= judge.FY_PEAK_MIN and rms is not None else None
+    # the estimate in N: peak, RMS and mean error, its own bound
+    # (fy_axle_sd: median, share of steps within 3 of it), its lag
+    f = judge.fy_scores(*res["model"], tr, steps)
+    for a, (name, t_ax) in enumerate((("front", tr["fy_fl"] + tr["fy_fr"]), ("rear", tr["fy_rl"] + tr["fy_rr"]))):
+        e = res["model"][a] - t_ax
+        sd = diag["sd"][a]
+        sc[f"{name}_N"] = None if not steps.any() else dict(
+            peak=f[f"fy_{name}_peak_N"], rms=f[f"fy_{name}_rms_N"], mean=float(np.mean(e[steps])),
+            sd_median=float(np.median(sd[steps])), in_3sd=float(np.mean(np.abs(e[steps]) <= 3.0 * sd[steps])),
+            lag=best_lag(res["model"][a], t_ax, steps))
+    sc["ay_lag"] = best_lag(diag["ay_used"], diag["f_y"], steps)
     return sc
 
 
@@ -333,7 +371,22 @@ def table(rows, noise, tau, cnames, rolls=None):
         cells += [_f(sc["sum_err"]), _f(sc["acc_err"]),
                   "-" if sc["fx_lr_est"] is None else f"{sc['fx_lr_est']:.0f} / {sc['fx_lr_true']:.0f}"]
         md.append("| " + " | ".join(cells) + " |")
-    md += ["", "Runs meeting Fy <= 5 % (worse axle), per configuration:", "",
+    md += ["", "## The estimate in N", "",
+           "Per axle: the truth's peak, the estimate's RMS and mean error, the median of its fy_axle_sd and "
+           "the share of steps within 3 of it, and the shift [10 ms steps] by which the estimate moved earlier "
+           "matches the truth best; the same shift of the used ay against the true lateral specific force.", "",
+           "| run | configuration | peak F / R [N] | RMS F / R [N] | mean F / R [N] | fy_axle_sd median F / R [N] "
+           "| within 3 sd F / R [%] | lag F / R [steps] | ay lag [steps] |", "|" + "---|" * 9]
+    for run_name, cname, sc in rows:
+        f, r = sc["front_N"], sc["rear_N"]
+
+        def pair(key, fmt):
+            return " / ".join("-" if x is None or x.get(key) is None else format(
+                100.0 * x[key] if key == "in_3sd" else x[key], fmt) for x in (f, r))
+        md.append(f"| {run_name} | {cname} | {pair('peak', '.0f')} | {pair('rms', '.0f')} | {pair('mean', '+.0f')} | "
+                  f"{pair('sd_median', '.0f')} | {pair('in_3sd', '.0f')} | {pair('lag', 'd')} | "
+                  f"{'-' if sc['ay_lag'] is None else sc['ay_lag']} |")
+    md += ["", "## Pass counts", "", "Runs meeting Fy <= 5 % (worse axle), per configuration:", "",
            "| configuration | runs | " + " | ".join(ESTIMATES) + " |", "|---|---|" + "---|" * len(ESTIMATES)]
     for cname in cnames:
         mine = [sc for _, c, sc in rows if c == cname]
