@@ -107,6 +107,10 @@ CASES = [
     ("analyze unitless extra", GOOD_T.replace("fy[N]", "fy[N]").replace("t[s],", "t[s],temp,", 1)
      .replace(",0.01,4000,", ",20,0.01,4000,").encode(), ["analyze", "{f}", "--tir", MF61], 3,
      ["temp", "needs its unit"]),
+    ("est-axle bad judge file", b'{"configs": \n', ["est-axle", "--judge", "{f}", "--runs-dir", "/nonexistent"], 3,
+     ["{f}:2:", "not JSON"]),
+    ("est-axle missing judge file", None, ["est-axle", "--judge", "/nonexistent/independent.json"], 2,
+     ["cannot open", "/nonexistent/independent.json"]),
     ("tir2c missing", None, ["tir2c", "/nonexistent/a.tir", "--name", "t", "-o", "/tmp/x.c"], 3, ["cannot open"]),
     ("unknown command", None, ["no-such-command"], 2, ["unknown command"]),
 ]

@@ -22,6 +22,7 @@ COMMANDS = {
     # vehicle-dynamics engineer: simulate, evaluate the estimator, inject faults
     "simulate": ("grip_tools.sim.cli", "reference vehicle simulator: truth.csv, sensors.csv, can.log"),
     "est-eval": ("grip_tools.evaluate.est_eval", "estimator accuracy on simulator manoeuvres and real logs: beta, mu, axle Fy (table + PNG)"),
+    "est-axle": ("grip_tools.sim.independent.axle", "the independent judge's axle Fy by error source: the estimate, the sensors' force and moment balance, the car's roll gradient"),
     "est-sensitivity": ("grip_tools.evaluate.sensitivity", "each estimator constant's class and its effect on the independent judge (halved, doubled)"),
     "faults": ("grip_tools.evaluate.faults", "fault injection on the ESC inputs: monitor + estimator, fault table, false alarms"),
     "main-job": ("grip_tools.evaluate.main_job", "the README's main job (see tools/scripts/main_job.sh)"),

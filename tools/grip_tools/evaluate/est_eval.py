@@ -254,14 +254,16 @@ def c_builds(specs=()):
 
 
 def run_binding(arith, tir_path, t, value, valid, vehicle="generic", vehicle_values=None, step_ms=10.0,
-                learned=None, keep_learned=False):
+                learned=None, keep_learned=False, keep_out=False):
     """The C estimator of `arith` through the binding (grip.est.Estimator
     over samples built as grip-replay's --csv mode builds them), configured
     as grip-replay -e TIR --vehicle VEHICLE --vehicle-file (vehicle_values:
     {key: SI value}) --step-ms STEP_MS, starting from the learned blob
     `learned` (grip_est_learned_set) when given; returns read_replay's
     dict, at full precision (grip-replay prints %.6g), and with
-    keep_learned under "learned" grip.est.Estimator.learned() at the end."""
+    keep_learned under "learned" grip.est.Estimator.learned() at the end;
+    with keep_out under "out" every output column of the binding (per-wheel
+    fx, fy, mz, the road-wheel angle delta, ...)."""
     import grip
     tyre = grip.mf.load(tir_path)
     cfg = {"tire": tyre, "rate_hz": int(round(1000.0 / step_ms))}
@@ -285,7 +287,7 @@ def run_binding(arith, tir_path, t, value, valid, vehicle="generic", vehicle_val
             "yaw_rate_ref": o["yaw_rate_ref"], "yaw_rate_bias": o["yaw_rate_bias"], "ay_model": ay_model,
             "est_status": np.asarray(o["status"], np.float64),
             "valid": np.asarray(o["valid"], np.int64), "flags": np.asarray(o["flags"], np.int64),
-            **({"learned": est.learned()} if keep_learned else {})}
+            **({"learned": est.learned()} if keep_learned else {}), **({"out": o} if keep_out else {})}
 
 
 def run_est(build, tir_path, t, value, valid, vehicle="generic", vehicle_values=None, step_ms=10.0, learned=None,

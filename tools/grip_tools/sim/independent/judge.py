@@ -75,6 +75,7 @@ from grip_tools.sim.independent import mb, manoeuvres as man_mod, sensors
 DEG = 180.0 / math.pi
 V_MOVING = 3.0
 SPIN_DEG = 10.0
+FY_PEAK_MIN = 200.0     # N: no Fy figure for an axle whose peak is below
 TARGETS = dict(beta_rms_deg=0.5, beta_max_deg=1.5, valid_share=0.90, mu_err=0.1, fy_pct=5.0)
 TARGET_KEYS = ("beta", "valid", "baseline", "mu", "fy")
 GENERIC_TIR = golden_est.tire_path()
@@ -394,19 +395,26 @@ def metrics(tr, meas, est, norm, bp, geom):
             r["mu_true_1s"] = float(mu_t[k1])
             r["mu_conf_1s"] = float(est["mu_conf"][k1])
     # axle forces
-    va = ((valid & est_ref.V_AXLE) != 0) & moving
-    for name, ef, tf in (("front", est["fyf"], tr["fy_fl"] + tr["fy_fr"]),
-                         ("rear", est["fyr"], tr["fy_rl"] + tr["fy_rr"])):
-        if va.sum() == 0:
+    r.update(fy_scores(est["fyf"], est["fyr"], tr, ((valid & est_ref.V_AXLE) != 0) & moving))
+    r["pass"] = passes(r)
+    return r
+
+
+def fy_scores(fyf, fyr, tr, steps):
+    """The Fy metric of an axle-force estimate (fyf, fyr, wheel frame [N])
+    over the boolean mask steps (the judge: moving and flagged V_AXLE):
+    fy_<axle>_peak_N, _rms_N and _rms_pct (None below FY_PEAK_MIN)."""
+    r = {}
+    for name, ef, tf in (("front", fyf, tr["fy_fl"] + tr["fy_fr"]),
+                         ("rear", fyr, tr["fy_rl"] + tr["fy_rr"])):
+        if steps.sum() == 0:
             r[f"fy_{name}_rms_pct"] = None
             continue
-        peak = float(np.max(np.abs(tf[va])))
-        rms = float(np.sqrt(np.mean((ef - tf)[va] ** 2)))
+        peak = float(np.max(np.abs(tf[steps])))
+        rms = float(np.sqrt(np.mean((ef - tf)[steps] ** 2)))
         r[f"fy_{name}_peak_N"] = peak
         r[f"fy_{name}_rms_N"] = rms
-        r[f"fy_{name}_rms_pct"] = 100.0 * rms / peak if peak >= 200.0 else None
-        # the static-share split of m ay (measured) as a reference
-    r["pass"] = passes(r)
+        r[f"fy_{name}_rms_pct"] = 100.0 * rms / peak if peak >= FY_PEAK_MIN else None
     return r
 
 
