@@ -52,7 +52,22 @@ grip_q16_t grip_q16_sub(grip_q16_t a, grip_q16_t b) { return q16_sub(a, b); }
 grip_q16_t grip_q16_mul(grip_q16_t a, grip_q16_t b) { return q16_mul(a, b); }
 grip_q16_t grip_q16_div(grip_q16_t a, grip_q16_t b) { return q16_div(a, b); }
 
-/* Position of the highest set bit of v != 0: six fixed steps. */
+/* Position of the highest set bit of v != 0: the core's count-leading-zeros
+ * instruction where it has one (x86-64 and AArch64 on 64 bits, ARMv7-M on
+ * each 32-bit half), six fixed steps elsewhere (ARMv6-M has none). The same
+ * position either way. */
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__aarch64__))
+static int msb64(uint64_t v)
+{
+    return 63 - __builtin_clzll(v);
+}
+#elif defined(__GNUC__) && defined(__ARM_FEATURE_CLZ)
+static int msb64(uint64_t v)
+{
+    uint32_t hi = (uint32_t)(v >> 32);
+    return (hi != 0u) ? (63 - __builtin_clz(hi)) : (31 - __builtin_clz((uint32_t)v));
+}
+#else
 static int msb64(uint64_t v)
 {
     int p = 0;
@@ -64,6 +79,7 @@ static int msb64(uint64_t v)
     if (v >= ((uint64_t)1 << 1))  { p += 1; }
     return p;
 }
+#endif
 
 grip_q16_t grip_q16_sqrt(grip_q16_t a)
 {

@@ -177,10 +177,7 @@ static GRIP_Q16_KINLINE grip_q16_t sin_of_phase(uint32_t phase)
     if ((quadrant & 1u) != 0u) {
         z = Q30_ONE - z;
     }
-    s = sin_poly_q30(z);
-    if (s > Q30_ONE) {
-        s = Q30_ONE;
-    }
+    s = sin_poly_q30(z);   /* <= 2^30: checked by the kernels' generator */
     return q30_to_q16((quadrant >= 2u) ? -s : s);
 }
 

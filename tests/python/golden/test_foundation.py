@@ -19,6 +19,24 @@ class KernelsTest(unittest.TestCase):
             self.assertEqual(f.read(), kernels.render_header(),
                              "lib/arith/q16_kernels.h is stale: run grip kernels")
 
+    def test_sine_kernel_limit_is_enforced(self):
+        """The C sine returns its kernel unclamped: the generator refuses a
+        table that rises above 1 anywhere, and accepts the committed one."""
+        import numpy as np
+        name, func, bits, _, limit = kernels.SEGMENTED[0]
+        self.assertEqual(name, "SIN")
+        rows = kernels.segment_table(func, bits)
+        self.assertLessEqual(kernels.check_limit(func, rows, bits, limit), limit)
+        bad = rows.copy()
+        bad[(1 << bits) - 1, 0] += 64     # the last segment 64 LSB higher
+        with self.assertRaises(ValueError):
+            kernels.check_limit(func, bad, bits, limit)
+        bad = rows.copy()
+        bad[3, 1] = limit                 # a low segment rising to the limit
+        with self.assertRaises(ValueError):
+            kernels.check_limit(func, bad, bits, limit)
+        self.assertTrue(np.all(rows[:, 0] <= limit))
+
     def test_committed_float_header_matches_generator(self):
         with open(os.path.join(ROOT, "lib", "arith", "f32_kernels_coefs.h")) as f:
             self.assertEqual(f.read(), f32_kernels.render_header(),
