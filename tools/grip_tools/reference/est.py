@@ -1572,7 +1572,7 @@ class Estimator:
         # last two steps)
         dvy = (float(self.x[0]) - self.rg_vy) * c["rate_hz"]
         self.rg_vy = float(self.x[0])
-        u = s.vx * self.hold[1] + getattr(self, "RG_DVY", 1.0) * dvy
+        u = s.vx * self.hold[1] + dvy
         for i, v in enumerate((am, u)):
             self.rg_f[i] += self.rg_a1 * (v - self.rg_f[i])
             self.rg_m[i] += self.rg_a2 * (self.rg_f[i] - self.rg_m[i])
