@@ -261,13 +261,18 @@ grip_status_t grip_est_learned_set(grip_est_t *est, const grip_est_learned_t *bl
     est->kx_p[2] = blob->kx_p[2];
     est->kx_updates = blob->kx_updates;
     est_kx_apply(est);
-    /* a roll gradient only once one was learned: else the configured one
-     * (a blob from a run without roll_est holds that run's configuration's) */
+    /* the roll gradient once one was learned; a blob with nothing learned
+     * of it takes it back to the configured one and its prior (as kx) */
     est->rg_updates = blob->rg_updates;
     if (blob->rg_updates > 0u) {
         est->rg_x = blob->rg_x;
         est->rg_p = blob->rg_p;
         est_roll_apply(est);
+    } else {
+        est->rg_x = r_mul(est->cfg.roll_gradient, RC(1.0 / EST_RG_S_U));
+        est->rg_p = RC(EST_RG_P_MAX);
+        est->rg_k = est->cfg.roll_gradient;
+        est->ay_fac = r_div(R_ONE, r_add(R_ONE, r_mul(RC(EST_G), est->cfg.roll_gradient)));
     }
     return GRIP_OK;
 }
