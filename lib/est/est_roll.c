@@ -22,7 +22,10 @@
  * one changing slower than EST_RG_TH, leaves the band-pass; a curve banked
  * towards its centre moves the bank with the turn at its entry and exit,
  * one way each, so the update waits for a weave: bp(a) beyond +EST_RG_H_MIN
- * and beyond -EST_RG_H_MIN within EST_RG_T_ALT. What a bank can still do
+ * and beyond -EST_RG_H_MIN within EST_RG_T_ALT. A bank that changes within
+ * the band (a road whose bank undulates while the car weaves) makes the
+ * samples' own k, z / (g bp(a)), scatter far from any roll: a sample more
+ * than EST_RG_DK from the k in use is not taken. What a bank can still do
  * (S-bends banked with each turn) is bounded by the measurement's
  * correlation time, the prior and the range [EST_RG_K_MIN, EST_RG_K_MAX].
  * The relation needs the tire's linear part and no braking (the
@@ -105,9 +108,16 @@ void est_roll(grip_est_t *est, const est_ctx_t *s)
         grip_real_t z = r_sub(ba, bu);
         grip_real_t h = r_div(r_mul(RC(EST_G), bu), RC(1.0 / EST_RG_S_U));
         grip_real_t ph = r_mul(est->rg_p, h);
-        grip_real_t k = r_div(ph, r_add(r_mul(h, ph), est->rg_r));
-        est->rg_x = r_clamp(r_add(est->rg_x, r_mul(k, r_sub(z, r_mul(h, est->rg_x)))), RC(EST_RG_X_LO),
-                            RC(EST_RG_X_HI));
+        grip_real_t k;
+        /* a sample whose own k, z / (g bp(a)), is more than EST_RG_DK from
+         * the k in use is another effect's (a bank changing within the
+         * band) */
+        grip_real_t nu = r_sub(z, r_mul(h, est->rg_x));
+        if (r_abs(nu) > r_mul(RC(EST_G * EST_RG_DK), r_abs(bu))) {
+            return;
+        }
+        k = r_div(ph, r_add(r_mul(h, ph), est->rg_r));
+        est->rg_x = r_clamp(r_add(est->rg_x, r_mul(k, nu)), RC(EST_RG_X_LO), RC(EST_RG_X_HI));
         est->rg_p = r_clamp(r_sub(est->rg_p, r_mul(k, ph)), RC(EST_RG_P_MIN), RC(EST_RG_P_MAX));
         est_roll_apply(est);
         est->rg_updates = (est->rg_updates < 0x7fffffffu) ? est->rg_updates + 1u : est->rg_updates;

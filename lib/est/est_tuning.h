@@ -236,6 +236,11 @@
                               *        banked 8 deg towards its centre took k from 0.0147 to
                               *        the floor 0.003 without it, 0.3 % lower at 3 s, 7 % at
                               *        4 s; golden roll_100hz)                                  */
+#define EST_RG_DK    0.01    /* rad/(m/s^2) ... and the sample's own k, z / (g bp(a)), within
+                              *        DK of the k in use: a bank changing within the band
+                              *        scatters it far wider (judge, bank and grade road: the
+                              *        Vanagon's learned 0.0135 went to 0.0084 on snow without
+                              *        it, stayed at 0.0133 with it)                           */
 #define EST_RG_K_MIN 0.003   /* rad/(m/s^2) learned k within [K_MIN, K_MAX], the physical
                               *        range of road vehicles                                  */
 #define EST_RG_K_MAX 0.03    /* rad/(m/s^2)                                                    */

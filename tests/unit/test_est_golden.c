@@ -75,7 +75,7 @@ static double from_ql(grip_real_t v) { return (double)v; }
 #define KX_TOL_FLOAT 1e-5
 #define KX_TOL_FIXED 3e-3
 /* the roll gradient in use (roll_100hz), float / fixed [rad/(m/s^2)]: set
- * from the measured 5.0e-8 and 2.1e-5 */
+ * from the measured 5.1e-8 and 2.5e-5 */
 #define RG_TOL_FLOAT 1e-6
 #define RG_TOL_FIXED 1e-4
 /* roll_100hz (golden/est.py roll_inputs): the generator's roll gradient,

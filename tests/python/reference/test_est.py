@@ -928,9 +928,10 @@ class RollGradientTests(unittest.TestCase):
     """The learned roll gradient (roll_gradient, est_roll.c) on golden_est's
     roll sequence: the generator's body rolls 0.015 rad/(m/s^2), the
     configuration says 0.0088; a 30 s weave, then a left curve on a road
-    banked 8 deg towards its centre. Measured (reference): 0.01466 after the
-    weave, 0.01462 five seconds into the banked curve; without the weave
-    gate (RG_T_ALT unbounded) the curve's entry takes it to the floor 0.003."""
+    banked 8 deg towards its centre. Measured (reference): 0.01465 after the
+    weave, 0.01462 five seconds into the banked curve; each of the two bank
+    gates holds alone (the weave gate RG_T_ALT, the sample gate RG_DK);
+    without both the curve's entry takes it to the floor 0.003."""
 
     @classmethod
     def _run(cls, duration, **cfg):
@@ -946,8 +947,12 @@ class RollGradientTests(unittest.TestCase):
     def setUpClass(cls):
         cls.on = cls._run(golden_est.ROLL_DURATION, roll_est=1)
         cls.off = cls._run(golden_est.ROLL_DURATION, roll_est=0)
-        with mock.patch.object(est_ref, "RG_T_ALT", 1.0e5):
+        with mock.patch.object(est_ref, "RG_T_ALT", 1.0e5), mock.patch.object(est_ref, "RG_DK", 1.0e5):
             cls.ungated = cls._run(golden_est.ROLL_DURATION, roll_est=1)
+        with mock.patch.object(est_ref, "RG_T_ALT", 1.0e5):
+            cls.sample_gate_only = cls._run(golden_est.ROLL_DURATION, roll_est=1)
+        with mock.patch.object(est_ref, "RG_DK", 1.0e5):
+            cls.weave_gate_only = cls._run(golden_est.ROLL_DURATION, roll_est=1)
 
     def _at(self, run, t_s):
         _, t, k = run
@@ -967,14 +972,15 @@ class RollGradientTests(unittest.TestCase):
         self.assertAlmostEqual(e.ay_fac, 1.0 / (1.0 + est_ref.G * e.rg_k), places=12)
 
     def test_banked_curve_is_not_learned_as_less_roll(self):
-        before = self._at(self.on, golden_est.ROLL_WEAVE - 0.01)
-        after = float(self.on[2][-1])
-        self.assertGreaterEqual(after, 0.97 * before, (before, after))
-        self.assertLessEqual(after, before + 1e-9)
+        for run in (self.on, self.sample_gate_only, self.weave_gate_only):
+            before = self._at(run, golden_est.ROLL_WEAVE - 0.01)
+            after = float(run[2][-1])
+            self.assertGreaterEqual(after, 0.97 * before, (before, after))
+            self.assertLessEqual(after, before + 1e-9)
 
-    def test_without_the_weave_gate_the_bank_reads_as_no_roll(self):
-        """The gate is what holds: ungated, the banked curve's entry drives
-        the gradient to the bottom of its range."""
+    def test_without_the_bank_gates_the_bank_reads_as_no_roll(self):
+        """The gates are what holds: without both, the banked curve's entry
+        drives the gradient to the bottom of its range."""
         before = self._at(self.ungated, golden_est.ROLL_WEAVE - 0.01)
         after = float(self.ungated[2][-1])
         self.assertGreater(before, 0.012)

@@ -107,7 +107,7 @@ CLASSES = {
     "EST_KX_K_MAX": "range", "EST_KX_D_MAX": "range",
     "EST_RG_S_U": "format", "EST_RG_P0": "range", "EST_RG_SD_MIN": "tuning", "EST_RG_Q": "tuning",
     "EST_RG_R": "sensor", "EST_RG_TC": "tuning", "EST_RG_T": "tuning", "EST_RG_TH": "tuning",
-    "EST_RG_AY": "tuning", "EST_RG_BANK": "tuning", "EST_RG_H_MIN": "tuning", "EST_RG_T_ALT": "tuning",
+    "EST_RG_AY": "tuning", "EST_RG_BANK": "tuning", "EST_RG_H_MIN": "tuning", "EST_RG_T_ALT": "tuning", "EST_RG_DK": "tuning",
     "EST_RG_K_MIN": "range", "EST_RG_K_MAX": "range",
 }
 CLASS_TEXT = {

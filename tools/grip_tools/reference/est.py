@@ -189,10 +189,11 @@ KX_XD_MAX = KX_D_MAX / KX_S_Y
 # within RG_BANK [m/s^2], once the band-pass has run 3 RG_T on these
 # conditions, while |bp(vx r)| >= RG_H_MIN [m/s^2] and bp(vx r) was beyond
 # +RG_H_MIN and beyond -RG_H_MIN within the last RG_T_ALT [s] (a weave, not
-# a curve's entry); k within [RG_K_MIN, RG_K_MAX]
+# a curve's entry) and the sample's own k, z / (g bp(vx r)), within RG_DK
+# [rad/(m/s^2)] of the k in use; k within [RG_K_MIN, RG_K_MAX]
 RG_S_U, RG_P0, RG_SD_MIN, RG_Q, RG_R, RG_TC = 0.001, 0.01, 3.0e-4, 1.0e-8, 0.03, 10.0
 RG_T, RG_TH, RG_AY, RG_BANK, RG_H_MIN, RG_T_ALT = 1.0, 8.0, 4.0, 0.3, 0.5, 3.0
-RG_K_MIN, RG_K_MAX = 0.003, 0.03
+RG_K_MIN, RG_K_MAX, RG_DK = 0.003, 0.03, 0.01
 # the filter's bounds in scaled units
 RG_P_MIN, RG_P_MAX = (RG_SD_MIN / RG_S_U) ** 2, (RG_P0 / RG_S_U) ** 2
 RG_X_LO, RG_X_HI = RG_K_MIN / RG_S_U, RG_K_MAX / RG_S_U
@@ -1588,9 +1589,14 @@ class Estimator:
             return
         z = (self.rg_f[0] - self.rg_m[0]) - bu
         h = G * RG_S_U * bu
+        # a sample whose own k, z / (g bp(a)), is more than RG_DK from the
+        # k in use is another effect's (a bank that changes within the band)
+        nu = z - h * self.rg_x
+        if abs(nu) > G * RG_DK * abs(bu):
+            return
         ph = self.rg_p * h
         k = ph / (h * ph + self.rg_r)
-        self.rg_x = _clamp(self.rg_x + k * (z - h * self.rg_x), RG_X_LO, RG_X_HI)
+        self.rg_x = _clamp(self.rg_x + k * nu, RG_X_LO, RG_X_HI)
         self.rg_p = _clamp(self.rg_p - k * ph, RG_P_MIN, RG_P_MAX)
         self.rg_k = self.rg_x * RG_S_U
         self.ay_fac = 1.0 / (1.0 + G * self.rg_k)
