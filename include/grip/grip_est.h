@@ -107,7 +107,8 @@ typedef struct {
                                 * docs/estimator/roll.md), starting from roll_gradient,
                                 * while the car weaves on the tires' linear part; kept
                                 * and saved like stiff_est's scales. 0 (default): the
-                                * configured roll_gradient, as without it.            */
+                                * configured roll_gradient, as without it (also after
+                                * grip_est_learned_set of a blob that holds one).     */
     /* vehicle-level effects of the residual tool (docs/estimator.md); all 0 =
      * without them (grip_est_config_default) */
     grip_real_t cla;           /* QS m^2 aerodynamic downforce coefficient C_L A, [0, 20]:

@@ -261,10 +261,11 @@ grip_status_t grip_est_learned_set(grip_est_t *est, const grip_est_learned_t *bl
     est->kx_p[2] = blob->kx_p[2];
     est->kx_updates = blob->kx_updates;
     est_kx_apply(est);
-    /* the roll gradient once one was learned; a blob with nothing learned
-     * of it takes it back to the configured one and its prior (as kx) */
-    est->rg_updates = blob->rg_updates;
-    if (blob->rg_updates > 0u) {
+    /* the roll gradient once one was learned, with roll_est; a blob with
+     * nothing learned of it, or roll_est 0, takes it back to the configured
+     * one and its prior */
+    est->rg_updates = est->cfg.roll_est ? blob->rg_updates : 0u;
+    if (est->rg_updates > 0u) {
         est->rg_x = blob->rg_x;
         est->rg_p = blob->rg_p;
         est_roll_apply(est);

@@ -192,6 +192,7 @@ static void test_learned_blob(void **state)
     assert_int_equal(grip_est_config_default(&cfg, tire()), GRIP_OK);
     cfg.stiff_est = 1u;
     cfg.kx_est = 1u;
+    cfg.roll_est = 1u;
     cfg.drive_front = qs(0.0);
     assert_int_equal(grip_est_init(&a, &cfg), GRIP_OK);
     assert_int_equal(grip_est_init(&b, &cfg), GRIP_OK);
@@ -277,6 +278,12 @@ static void test_learned_blob(void **state)
         assert_true(dq(b.kx) == 1.0 && b.kx_updates == 0u && b.slip_acc == c.slip_acc);
         /* ... and the roll gradient back to the configured one */
         assert_true(b.rg_updates == 0u && b.rg_k == c.rg_k && b.ay_fac == c.ay_fac && b.rg_p == c.rg_p);
+        /* with roll_est 0 a learned roll gradient is not taken */
+        cfg.roll_est = 0u;
+        assert_int_equal(grip_est_init(&c, &cfg), GRIP_OK);
+        assert_int_equal(grip_est_learned_set(&c, &blob), GRIP_OK);
+        assert_true(c.rg_updates == 0u && c.rg_k == cfg.roll_gradient && dq(c.kx) > 1.32);
+        cfg.roll_est = 1u;
     }
     cfg.drive_front = qs(1.0);                            /* another drive layout */
     assert_int_equal(grip_est_init(&b, &cfg), GRIP_OK);
