@@ -241,8 +241,8 @@
                               *        scatters it far wider (judge, bank and grade road: the
                               *        Vanagon's learned 0.0135 went to 0.0084 on snow without
                               *        it, stayed at 0.0133 with it)                           */
-#define EST_RG_K_MIN 0.003   /* rad/(m/s^2) learned k within [K_MIN, K_MAX], the physical
-                              *        range of road vehicles                                  */
+#define EST_RG_K_MIN 0.0005  /* rad/(m/s^2) learned k within [K_MIN, K_MAX]: a race car
+                              *        rolls ~0.001 (the AV-21's configuration), a van 0.02    */
 #define EST_RG_K_MAX 0.03    /* rad/(m/s^2)                                                    */
 
 /* ---- lateral observer on / off (est_lateral.c) ------------------------- */

@@ -193,7 +193,7 @@ KX_XD_MAX = KX_D_MAX / KX_S_Y
 # [rad/(m/s^2)] of the k in use; k within [RG_K_MIN, RG_K_MAX]
 RG_S_U, RG_P0, RG_SD_MIN, RG_Q, RG_R, RG_TC = 0.001, 0.01, 3.0e-4, 1.0e-8, 0.03, 10.0
 RG_T, RG_TH, RG_AY, RG_BANK, RG_H_MIN, RG_T_ALT = 1.0, 8.0, 4.0, 0.3, 0.5, 3.0
-RG_K_MIN, RG_K_MAX, RG_DK = 0.003, 0.03, 0.01
+RG_K_MIN, RG_K_MAX, RG_DK = 0.0005, 0.03, 0.01
 # the filter's bounds in scaled units
 RG_P_MIN, RG_P_MAX = (RG_SD_MIN / RG_S_U) ** 2, (RG_P0 / RG_S_U) ** 2
 RG_X_LO, RG_X_HI = RG_K_MIN / RG_S_U, RG_K_MAX / RG_S_U
