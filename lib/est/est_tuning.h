@@ -212,7 +212,7 @@
  * (EST_STF_V, _AX, _U, _D). */
 #define EST_RG_S_U   0.001   /* rad/(m/s^2) unit of the filter's state: k 0.0088 is 8.8 units */
 #define EST_RG_P0    0.01    /* rad/(m/s^2) prior deviation of k around cfg.roll_gradient:
-                              *        road vehicles roll 0.003 - 0.03 (the judge's cars
+                              *        road vehicles roll 0.001 - 0.03 (the judge's cars
                               *        0.0116 - 0.0159 against the default 0.0088)             */
 #define EST_RG_SD_MIN 3.0e-4 /* rad/(m/s^2) k is never held more certain than this (the
                               *        regression's dvy/dt and roll-lag error)                  */
@@ -233,9 +233,9 @@
 #define EST_RG_H_MIN 0.5     /* m/s^2  ... while |bp(a)| is at least this (excitation) ...     */
 #define EST_RG_T_ALT 3.0     /* s      ... and bp(a) was beyond +H_MIN and beyond -H_MIN within
                               *        the last T_ALT: a weave, not a curve's entry (a curve
-                              *        banked 8 deg towards its centre took k from 0.0147 to
-                              *        the floor 0.003 without it, 0.3 % lower at 3 s, 7 % at
-                              *        4 s; golden roll_100hz)                                  */
+                              *        banked 8 deg towards its centre took k 7 % lower at 4 s,
+                              *        0.3 % at 3 s, without the sample gate EST_RG_DK; to the
+                              *        floor without both; golden roll_100hz)                  */
 #define EST_RG_DK    0.01    /* rad/(m/s^2) ... and the sample's own k, z / (g bp(a)), within
                               *        DK of the k in use: a bank changing within the band
                               *        scatters it far wider (judge, bank and grade road: the

@@ -931,7 +931,7 @@ class RollGradientTests(unittest.TestCase):
     banked 8 deg towards its centre. Measured (reference): 0.01465 after the
     weave, 0.01462 five seconds into the banked curve; each of the two bank
     gates holds alone (the weave gate RG_T_ALT, the sample gate RG_DK);
-    without both the curve's entry takes it to the floor 0.003."""
+    without both the curve's entry takes it to the floor 0.0005."""
 
     @classmethod
     def _run(cls, duration, **cfg):
