@@ -103,6 +103,12 @@ typedef struct {
                                 * Negative (default -1, range [-1, 1]): not known, and
                                 * kx_est learns nothing (the axles' force split is what
                                 * the longitudinal stiffness is measured against)    */
+    uint32_t roll_est;         /* 1: learn the body's roll gradient online (est_roll.c,
+                                * docs/estimator/roll.md), starting from roll_gradient,
+                                * while the car weaves on the tires' linear part; kept
+                                * and saved like stiff_est's scales. 0 (default): the
+                                * configured roll_gradient, as without it (also after
+                                * grip_est_learned_set of a blob that holds one).     */
     /* vehicle-level effects of the residual tool (docs/estimator.md); all 0 =
      * without them (grip_est_config_default) */
     grip_real_t cla;           /* QS m^2 aerodynamic downforce coefficient C_L A, [0, 20]:
@@ -289,7 +295,7 @@ typedef struct {
     int32_t nowheel_n;          /* steps vx stays valid without a speed reference */
     int32_t dr_n;               /* steps vx stays valid dead-reckoning (every wheel locked / spinning) */
     grip_real_t rate;           /* QS step rate [1/s] */
-    grip_real_t ay_fac;         /* QS 1 / (1 + g roll_gradient) */
+    grip_real_t ay_fac;         /* QS 1 / (1 + g rg_k): the roll gradient in use */
     grip_real_t fz_base[2];     /* QL per wheel at rest on the road plane: fz_static x cos */
     grip_real_t k_aero[2];      /* QS N/(m/s)^2 downforce per wheel, front / rear */
     grip_real_t k_drag;         /* QS N/(m/s)^2 drag: 0.5 air_density cda */
@@ -377,16 +383,32 @@ typedef struct {
     int32_t kx_n;               /* consecutive steps the regression's conditions held */
     int32_t kx_n_min;           /* steps they must hold before an update (the low-pass settled) */
     uint32_t kx_updates;        /* updates since init (saturating) */
+    /* learned roll gradient (est_roll.c) */
+    grip_real_t rg_k;           /* QS rad/(m/s^2) the roll gradient in use (cfg.roll_gradient
+                                 * until roll_est learns) */
+    grip_real_t rg_x;           /* QS the filter's state: rg_k in units of EST_RG_S_U */
+    grip_real_t rg_p;           /* QS its variance (units of EST_RG_S_U squared) */
+    grip_real_t rg_q, rg_r;     /* QS process noise per step, measurement noise (scaled) */
+    grip_real_t rg_a1, rg_a2;   /* QS low-pass gains per step: the band-pass's fast and slow part */
+    grip_real_t rg_f[2];        /* QS m/s^2 measured ay, vx r + dvy/dt: low-passed over EST_RG_T */
+    grip_real_t rg_m[2];        /* QS m/s^2 ... and those low-passed again over EST_RG_TH */
+    grip_real_t rg_vy;          /* QS m/s the filter's vy of the last step (dvy/dt) */
+    int32_t rg_n;               /* consecutive steps the band-pass ran */
+    int32_t rg_n_min;           /* steps it must run before an update (settled) */
+    int32_t rg_n_alt;           /* steps within which vx r must have been beyond +- EST_RG_H_MIN */
+    int32_t rg_pos, rg_neg;     /* steps since it was beyond + / - EST_RG_H_MIN (saturating) */
+    uint32_t rg_updates;        /* updates since init (saturating) */
 } grip_est_t;
 
 /* What the estimator learned that outlives an ignition cycle: the axles'
  * cornering-stiffness scales, the longitudinal slip-stiffness scale (with the
- * axles' rolling-radius mismatch) and their covariances. A caller-owned blob,
+ * axles' rolling-radius mismatch), the body's roll gradient and their
+ * covariances. A caller-owned blob,
  * stored as bytes in non-volatile memory; grip_est_learned_set checks its
  * format, build, configuration fingerprint, ranges and checksum before any
  * of it is used. */
 #define GRIP_EST_LEARNED_MAGIC 0x474C524Eu /* "GLRN" */
-#define GRIP_EST_LEARNED_VERSION 2u
+#define GRIP_EST_LEARNED_VERSION 3u
 typedef struct {
     uint32_t magic;             /* GRIP_EST_LEARNED_MAGIC */
     uint32_t version;           /* GRIP_EST_LEARNED_VERSION x 2 + 1 in the fixed build */
@@ -400,6 +422,10 @@ typedef struct {
     grip_real_t kx;             /* QS the longitudinal slip-stiffness scale (for reading) */
     grip_real_t kx_x[2];        /* QS its filter's state (grip_est_t.kx_x) */
     grip_real_t kx_p[3];        /* QS its covariance */
+    uint32_t rg_updates;        /* roll-gradient updates behind rg_k (0: nothing learned) */
+    grip_real_t rg_k;           /* QS the roll gradient, rad/(m/s^2) (for reading) */
+    grip_real_t rg_x;           /* QS its filter's state (grip_est_t.rg_x) */
+    grip_real_t rg_p;           /* QS its variance */
     uint32_t crc;               /* CRC-32 (IEEE 802.3) of every byte before it */
 } grip_est_learned_t;
 

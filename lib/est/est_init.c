@@ -42,6 +42,7 @@ grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_para
     cfg->bank_est = 0u;
     cfg->stiff_est = 0u;
     cfg->kx_est = 0u;
+    cfg->roll_est = 0u;
     cfg->drive_front = RC(-1.0);
     cfg->cla = R_ZERO;
     cfg->aero_front = RC(0.5);
@@ -164,7 +165,7 @@ static grip_status_t check_config(const grip_est_config_t *c, grip_check_detail_
     } flags[] = {
         { "speed_ref_mu", c->speed_ref_mu }, { "rear_steer", c->rear_steer },
         { "bank_est", c->bank_est },         { "stiff_est", c->stiff_est },
-        { "kx_est", c->kx_est },
+        { "kx_est", c->kx_est },             { "roll_est", c->roll_est },
     };
     size_t k;
     int a;
@@ -277,6 +278,15 @@ grip_status_t grip_est_reset(grip_est_t *est)
     est->kx_h = R_ZERO;
     est->kx_dv = R_ZERO;
     est->kx_n = 0;
+    /* the roll gradient stays (est_roll.c); its band-pass restarts */
+    est->rg_f[0] = R_ZERO;
+    est->rg_f[1] = R_ZERO;
+    est->rg_m[0] = R_ZERO;
+    est->rg_m[1] = R_ZERO;
+    est->rg_vy = R_ZERO;
+    est->rg_n = 0;
+    est->rg_pos = 1000000;
+    est->rg_neg = 1000000;
     return GRIP_OK;
 }
 
@@ -393,7 +403,7 @@ grip_status_t grip_est_init_detail(grip_est_t *est, const grip_est_config_t *cfg
         }
     }
     est->rate = r_from_int((int32_t)cfg->rate_hz);
-    est->ay_fac = r_div(R_ONE, r_add(R_ONE, r_mul(RC(EST_G), cfg->roll_gradient)));
+    est->ay_fac = r_div(R_ONE, r_add(R_ONE, r_mul(RC(EST_G), cfg->roll_gradient))); /* the roll gradient in use: est_roll.c */
     {
         /* road plane (residual/vehicle.py): the normal load factor
          * 1 / sqrt(1 + sx^2 + sy^2) does not depend on the heading */
@@ -458,6 +468,18 @@ grip_status_t grip_est_init_detail(grip_est_t *est, const grip_est_config_t *cfg
     est->kx_a = r_min(r_div(R_ONE, r_mul(RC(EST_KX_T), est->rate)), R_ONE);
     est->kx_r = r_mul(RC((EST_KX_R / EST_KX_S_Y) * (EST_KX_R / EST_KX_S_Y) * EST_KX_TC), est->rate);
     est->kx_n_min = r_to_int(r_mul(RC(3.0 * EST_KX_T), est->rate));
+    /* the roll gradient: the configured one, with the prior's variance
+     * (est_roll.c); ay_fac as without it until an update */
+    est->rg_k = cfg->roll_gradient;
+    est->rg_x = r_mul(cfg->roll_gradient, RC(1.0 / EST_RG_S_U));
+    est->rg_p = RC(EST_RG_P_MAX);
+    est->rg_updates = 0u;
+    est->rg_q = r_div(RC(EST_RG_Q / (EST_RG_S_U * EST_RG_S_U)), est->rate);
+    est->rg_r = r_mul(RC(EST_RG_R * EST_RG_R * EST_RG_TC), est->rate);
+    est->rg_a1 = r_min(r_div(R_ONE, r_mul(RC(EST_RG_T), est->rate)), R_ONE);
+    est->rg_a2 = r_min(r_div(R_ONE, r_mul(RC(EST_RG_TH), est->rate)), R_ONE);
+    est->rg_n_min = r_to_int(r_mul(RC(3.0 * EST_RG_T), est->rate));
+    est->rg_n_alt = r_to_int(r_mul(RC(EST_RG_T_ALT), est->rate));
     est->magic = EST_MAGIC;
     return grip_est_reset(est);
 }

@@ -69,7 +69,7 @@ void est_integrity(grip_est_t *est, est_ctx_t *s, grip_est_output_t *out)
      * remaining deviation times vx, the roll compensation's error */
     sb = r_mul(RC(EST_S_B), r_sqrt(est->p[3][3]));
     rate = r_add(r_sqrt(r_add(r_sq(c->kin_acc_sd), r_sq(r_mul(s->vx, sb)))),
-                 r_mul(r_mul(RC(EST_ROLL_TOL * EST_G), c->roll_gradient), r_abs(ay)));
+                 r_mul(r_mul(RC(EST_ROLL_TOL * EST_G), est->rg_k), r_abs(ay)));
     est->sd_k = r_min(r_add(est->sd_k, r_div(rate, est->rate)), RC(EST_SD_CAP));
     /* the filter's share w: 1 while its deviation is at most EST_KIN_Q0 of
      * the kinematic one's, 0 from where it is the larger, linear between

@@ -287,6 +287,15 @@ void est_stability_factor(grip_est_t *est);
 #define EST_KX_X_HI   (1.0 / (EST_KX_K_MIN * EST_KX_S_U))
 #define EST_KX_XD_MAX (EST_KX_D_MAX / EST_KX_S_Y)
 void est_stiffness_long(grip_est_t *est, const est_ctx_t *s, const grip_est_output_t *out, int stf_upd);
+/* est_roll.c: the body's roll gradient learned (roll_est). Bounds of its
+ * filter in scaled units (est_tuning.h's EST_RG_*) */
+#define EST_RG_P_MIN ((EST_RG_SD_MIN / EST_RG_S_U) * (EST_RG_SD_MIN / EST_RG_S_U))
+#define EST_RG_P_MAX ((EST_RG_P0 / EST_RG_S_U) * (EST_RG_P0 / EST_RG_S_U))
+#define EST_RG_X_LO  (EST_RG_K_MIN / EST_RG_S_U)
+#define EST_RG_X_HI  (EST_RG_K_MAX / EST_RG_S_U)
+void est_roll(grip_est_t *est, const est_ctx_t *s);
+/* est_roll.c: rg_k and ay_fac from the filter's state */
+void est_roll_apply(grip_est_t *est);
 /* est_stiffness_long.c: est->kx from its state, the slip stiffnesses at
  * that scale (c_kappa_kx) and the vx bound's slip per m/s^2 (slip_acc) */
 void est_kx_apply(grip_est_t *est);

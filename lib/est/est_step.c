@@ -77,6 +77,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         est_friction_tests(est, &s, out);
         stf_upd = est_stiffness(est, &s, out);
         est_stiffness_long(est, &s, out, stf_upd);
+        est_roll(est, &s);
         est_lateral_update(est, &s, out);
         est_road(est, &s);
         est_balances(est, &s);

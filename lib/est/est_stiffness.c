@@ -201,6 +201,10 @@ grip_status_t grip_est_learned_get(const grip_est_t *est, grip_est_learned_t *bl
     blob->kx_p[0] = est->kx_p[0];
     blob->kx_p[1] = est->kx_p[1];
     blob->kx_p[2] = est->kx_p[2];
+    blob->rg_updates = est->rg_updates;
+    blob->rg_k = est->rg_k;
+    blob->rg_x = est->rg_x;
+    blob->rg_p = est->rg_p;
     blob->crc = blob_crc(blob);
     return GRIP_OK;
 }
@@ -234,6 +238,13 @@ grip_status_t grip_est_learned_set(grip_est_t *est, const grip_est_learned_t *bl
         !cov2_in_range(blob->kx_p, RC(EST_KX_P_MIN), RC(EST_KX_P_MAX), RC(EST_KX_PD_MIN), RC(EST_KX_PD_MAX))) {
         return GRIP_ERR_PARAM;
     }
+    /* the roll gradient: within the learner's range once learned, else the
+     * configuration's range (the prior is the configured roll_gradient) */
+    if (!(blob->rg_x >= ((blob->rg_updates > 0u) ? RC(EST_RG_X_LO) : R_ZERO) &&
+          blob->rg_x <= ((blob->rg_updates > 0u) ? RC(EST_RG_X_HI) : RC(0.05 / EST_RG_S_U))) ||
+        !(blob->rg_p >= RC(EST_RG_P_MIN) && blob->rg_p <= RC(EST_RG_P_MAX))) {
+        return GRIP_ERR_PARAM;
+    }
     est->stf_x[0] = blob->x[0];
     est->stf_x[1] = blob->x[1];
     est->stf_p[0] = blob->p[0];
@@ -250,5 +261,19 @@ grip_status_t grip_est_learned_set(grip_est_t *est, const grip_est_learned_t *bl
     est->kx_p[2] = blob->kx_p[2];
     est->kx_updates = blob->kx_updates;
     est_kx_apply(est);
+    /* the roll gradient once one was learned, with roll_est; a blob with
+     * nothing learned of it, or roll_est 0, takes it back to the configured
+     * one and its prior */
+    est->rg_updates = est->cfg.roll_est ? blob->rg_updates : 0u;
+    if (est->rg_updates > 0u) {
+        est->rg_x = blob->rg_x;
+        est->rg_p = blob->rg_p;
+        est_roll_apply(est);
+    } else {
+        est->rg_x = r_mul(est->cfg.roll_gradient, RC(1.0 / EST_RG_S_U));
+        est->rg_p = RC(EST_RG_P_MAX);
+        est->rg_k = est->cfg.roll_gradient;
+        est->ay_fac = r_div(R_ONE, r_add(R_ONE, r_mul(RC(EST_G), est->cfg.roll_gradient)));
+    }
     return GRIP_OK;
 }

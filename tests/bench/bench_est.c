@@ -8,8 +8,9 @@
  *                    updates (yaw rate, ay, ax: the vehicle-speed input is
  *                    valid, which the ax update needs), four tire
  *                    evaluations, braking in a turn with every input valid;
- *                    stiff_est = 1 and kx_est = 1 (rear-wheel drive; their
- *                    gates run, their updates do not: braking, at the limit)
+ *                    stiff_est = 1, kx_est = 1 and roll_est = 1 (rear-wheel
+ *                    drive; their gates run, their updates do not: braking,
+ *                    at the limit)
  *   est_step_learn   one step where the cornering stiffness learns
  *                    (stiff_est = 1, kx_est = 1, a steady turn at 20 m/s, ay
  *                    3 m/s^2, no braking): the stiffness update instead of
@@ -18,6 +19,10 @@
  *                    (the same configuration, straight ahead at 20 m/s,
  *                    traction at 1.5 m/s^2, the rear wheels 2 % fast): its
  *                    update
+ *   est_step_learn_roll the est_step_learn turn where the roll gradient
+ *                    updates as well: its band-pass started with a 3 m/s^2
+ *                    step of vx r, its weave gate held open by the case
+ *                    (a turn is no weave), so that both learners update
  *   est_step_low     one step at standstill (observer off, no tire calls)
  *
  * Each case is a step of a running estimator (state kept between calls);
@@ -81,6 +86,7 @@ void bench_est_setup(void);
 static grip_est_t est_worst;
 static grip_est_t est_learn;
 static grip_est_t est_learn_kx;
+static grip_est_t est_learn_roll;
 static grip_est_t est_low;
 static grip_input_sample_t in_worst[BENCH_INPUTS];
 static grip_input_sample_t in_learn[BENCH_INPUTS];
@@ -124,9 +130,11 @@ void bench_est_setup(void)
     (void)grip_est_init(&est_low, &cfg);
     cfg.stiff_est = 1u;
     cfg.kx_est = 1u;
+    cfg.roll_est = 1u;
     cfg.drive_front = R_ZERO;
     (void)grip_est_init(&est_worst, &cfg);
     (void)grip_est_init(&est_learn, &cfg);
+    (void)grip_est_init(&est_learn_roll, &cfg);
     (void)grip_est_init(&est_learn_kx, &cfg);
     for (i = 0; i < BENCH_INPUTS; ++i) {
         worst_input(&in_worst[i], i);
@@ -139,7 +147,13 @@ void bench_est_setup(void)
     for (k = 0; k < 100; ++k) {
         (void)grip_est_step(&est_learn, &in_learn[k % BENCH_INPUTS], &out);
         (void)grip_est_step(&est_learn_kx, &in_learn_kx[k % BENCH_INPUTS], &out);
+        (void)grip_est_step(&est_learn_roll, &in_learn[k % BENCH_INPUTS], &out);
     }
+    /* the roll gradient's band-pass as after a 3 m/s^2 step of vx r: |bp|
+     * stays above EST_RG_H_MIN for seconds */
+    est_learn_roll.rg_m[0] = R_ZERO;
+    est_learn_roll.rg_m[1] = R_ZERO;
+    est_learn_roll.rg_n = est_learn_roll.rg_n_min; /* ... and settled */
     memset(&in_low, 0, sizeof in_low);
     for (k = 0; k < 8; ++k) {
         in_low.valid[k] = 1;
@@ -176,6 +190,15 @@ static void b_est_learn_kx(int i)
     est_sink = out.valid ^ out.flags ^ est_learn_kx.kx_updates;
 }
 
+static void b_est_learn_roll(int i)
+{
+    grip_est_output_t out;
+    est_learn_roll.rg_pos = 0; /* the weave gate held open */
+    est_learn_roll.rg_neg = 0;
+    (void)grip_est_step(&est_learn_roll, &in_learn[i], &out);
+    est_sink = out.valid ^ out.flags ^ est_learn_roll.stf_updates ^ est_learn_roll.rg_updates;
+}
+
 static void b_est_low(int i)
 {
     grip_est_output_t out;
@@ -188,6 +211,7 @@ const bench_case bench_est_cases[] = {
     { "est_step_worst", b_est_worst },
     { "est_step_learn", b_est_learn },
     { "est_step_learn_kx", b_est_learn_kx },
+    { "est_step_learn_roll", b_est_learn_roll },
     { "est_step_low", b_est_low },
 };
 const int bench_est_case_count = (int)(sizeof(bench_est_cases) / sizeof(bench_est_cases[0]));

@@ -74,6 +74,15 @@ static double from_ql(grip_real_t v) { return (double)v; }
  * takes each axle's slip stiffness from the Q15.16 Magic Formula at init) */
 #define KX_TOL_FLOAT 1e-5
 #define KX_TOL_FIXED 3e-3
+/* the roll gradient in use (roll_100hz), float / fixed [rad/(m/s^2)]: set
+ * from the measured 5.1e-8 and 2.5e-5 */
+#define RG_TOL_FLOAT 1e-6
+#define RG_TOL_FIXED 1e-4
+/* roll_100hz (golden/est.py roll_inputs): the generator's roll gradient,
+ * the configured one, the end of the weave [s] */
+#define ROLL_TRUE 0.015
+#define ROLL_CFG 0.0088
+#define ROLL_WEAVE_END 30.0
 
 /* column layout of est_*.txt (golden/est.py) */
 #define C_T 0
@@ -98,7 +107,8 @@ typedef struct {
     int optional;
     int aero_bank;   /* 1: the AERO_BANK configuration of tools/grip_tools/golden/est.py; 2: rear_steer = 1; 3: bank_est = 1;
                       * 4: stiff_est = 1; 5: kx_est = 1, drive_front = 0 (the file
-                      * has one column more: the learned kx) */
+                      * has one column more: the learned kx); 6: roll_est = 1 (one
+                      * column more: the roll gradient in use) */
 } seq_t;
 
 static void run_sequence(const seq_t *sq)
@@ -109,9 +119,9 @@ static void run_sequence(const seq_t *sq)
     grip_est_output_t out;
     grip_input_sample_t in;
     err_stats e_vx, e_beta, e_yaw, e_bias, e_ref, e_mu, e_conf, e_fz, e_fy, e_alpha, e_kappa, e_fx, e_bsd, e_musd, e_vxsd, e_fysd,
-        e_kx;
-    int cols = C_OUT + O_COUNT + ((sq->aero_bank == 5) ? 1 : 0);
-    double kx_got = 1.0, kx_want = 1.0;
+        e_kx, e_rg;
+    int cols = C_OUT + O_COUNT + ((sq->aero_bank >= 5) ? 1 : 0);
+    double kx_got = 1.0, kx_want = 1.0, rg_got = 0.0, rg_want = 0.0, rg_weave = 0.0;
     double fy_peak = 0.0;
     long rows = 0, mask_diff = 0;
     int n, i;
@@ -152,6 +162,9 @@ static void run_sequence(const seq_t *sq)
         cfg.kx_est = 1u;
         cfg.drive_front = to_qs(0.0);
     }
+    if (sq->aero_bank == 6) {
+        cfg.roll_est = 1u;
+    }
     assert_int_equal(grip_est_init(&est, &cfg), GRIP_OK);
     grip_debug_saturation_reset();
     err_init(&e_vx, "vx", 1.0);
@@ -171,6 +184,7 @@ static void run_sequence(const seq_t *sq)
     err_init(&e_vxsd, "vx_sd", 0.01);
     err_init(&e_fysd, "fy_axle_sd", 1000.0);
     err_init(&e_kx, "kx", 1.0);
+    err_init(&e_rg, "roll_gradient", 0.01);
     while ((n = golden_next(&g)) > 0) {
         double mask;
         unsigned long m;
@@ -217,6 +231,14 @@ static void run_sequence(const seq_t *sq)
             kx_want = W(O_COUNT);
             err_add(&e_kx, kx_got, kx_want, golden_num(&g, C_T), 0, 0);
         }
+        if (sq->aero_bank == 6) {
+            rg_got = from_qs(est.rg_k);
+            rg_want = W(O_COUNT);
+            err_add(&e_rg, rg_got, rg_want, golden_num(&g, C_T), 0, 0);
+            if (golden_num(&g, C_T) < ROLL_WEAVE_END) {
+                rg_weave = rg_got; /* after the weave, before the banked curve */
+            }
+        }
         if ((unsigned long)W(O_VALID) != (unsigned long)out.valid) {
             mask_diff += 1;
         }
@@ -246,6 +268,16 @@ static void run_sequence(const seq_t *sq)
         err_print(&e_kx, "-");
         printf("# learned kx at the end: %.4f (reference %.4f)\n", kx_got, kx_want);
     }
+    if (sq->aero_bank == 6) {
+        err_print(&e_rg, "rad/(m/s^2)");
+        printf("# roll gradient after the weave %.5f, after the banked curve %.5f (reference %.5f; the "
+               "generator's %.3f, configured %.4f)\n", rg_weave, rg_got, rg_want, ROLL_TRUE, ROLL_CFG);
+        /* learned from 0.0088 to within 10 % of the generator's body; the
+         * curve banked towards its centre (which reads as less roll) takes
+         * it at most 10 % lower */
+        assert_true(fabs(rg_weave - ROLL_TRUE) <= 0.1 * ROLL_TRUE);
+        assert_true(rg_got >= 0.9 * rg_weave && rg_got <= rg_weave + 1e-6);
+    }
     printf("# saturations: %lu\n", (unsigned long)grip_debug_saturation_count());
     assert_true(rows > 100);
     assert_true(e_vx.max_abs <= TOL(2e-4, 3e-3));
@@ -262,6 +294,7 @@ static void run_sequence(const seq_t *sq)
     assert_true(e_fy.max_abs <= TOL(0.001, 0.003) * fy_peak);
     assert_true((double)mask_diff <= TOL(0.0, 0.01) * (double)rows);
     assert_true(e_kx.max_abs <= TOL(KX_TOL_FLOAT, KX_TOL_FIXED));
+    assert_true(e_rg.max_abs <= TOL(RG_TOL_FLOAT, RG_TOL_FIXED));
 }
 
 static const seq_t seqs[] = {
@@ -275,6 +308,7 @@ static const seq_t seqs[] = {
     { "est_road_bank_100hz.txt", 0.01, 0, 3 },
     { "est_stiffness_100hz.txt", 0.01, 0, 4 },
     { "est_stiffness_long_100hz.txt", 0.01, 0, 5 },
+    { "est_roll_100hz.txt", 0.01, 0, 6 },
 };
 
 static void test_bicycle_100hz(void **state) { (void)state; run_sequence(&seqs[0]); }
@@ -287,6 +321,7 @@ static void test_rear_steer_100hz(void **state) { (void)state; run_sequence(&seq
 static void test_road_bank_100hz(void **state) { (void)state; run_sequence(&seqs[7]); }
 static void test_stiffness_100hz(void **state) { (void)state; run_sequence(&seqs[8]); }
 static void test_stiffness_long_100hz(void **state) { (void)state; run_sequence(&seqs[9]); }
+static void test_roll_100hz(void **state) { (void)state; run_sequence(&seqs[10]); }
 
 int main(void)
 {
@@ -301,6 +336,7 @@ int main(void)
         cmocka_unit_test(test_road_bank_100hz),
         cmocka_unit_test(test_stiffness_100hz),
         cmocka_unit_test(test_stiffness_long_100hz),
+        cmocka_unit_test(test_roll_100hz),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -161,11 +161,28 @@ static void test_api_errors(void **state)
     assert_int_equal(o.valid, 0u);
 }
 
+/* CRC-32 (IEEE 802.3, reflected polynomial 0xEDB88320, initial value and
+ * final XOR all ones): the blob's checksum, to make a changed blob's good */
+static uint32_t crc32_ieee(const uint8_t *p, uint32_t n)
+{
+    uint32_t c = 0xFFFFFFFFu, i;
+    int k;
+    for (i = 0u; i < n; ++i) {
+        c ^= p[i];
+        for (k = 0; k < 8; ++k) {
+            c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
+        }
+    }
+    return ~c;
+}
+
 /* The learned blob (grip_est_learned_get / _set): NULL and state errors;
  * a round trip moves the scales (cornering and longitudinal, with the
- * radius mismatch); a reset keeps them; a blob with one bit changed,
- * another version, a state out of range, another car's or another drive
- * split's fingerprint is refused and the estimator keeps what it had. */
+ * radius mismatch) and the roll gradient; a reset keeps them; a blob with
+ * one bit changed, another version (the roll gradient's predecessor,
+ * version 2, among them), a state out of range, another car's or another
+ * drive split's fingerprint is refused and the estimator keeps what it
+ * had. */
 static void test_learned_blob(void **state)
 {
     grip_est_t a, b;
@@ -175,6 +192,7 @@ static void test_learned_blob(void **state)
     assert_int_equal(grip_est_config_default(&cfg, tire()), GRIP_OK);
     cfg.stiff_est = 1u;
     cfg.kx_est = 1u;
+    cfg.roll_est = 1u;
     cfg.drive_front = qs(0.0);
     assert_int_equal(grip_est_init(&a, &cfg), GRIP_OK);
     assert_int_equal(grip_est_init(&b, &cfg), GRIP_OK);
@@ -193,6 +211,10 @@ static void test_learned_blob(void **state)
     a.kx_p[1] = qs(-0.5);
     a.kx_p[2] = qs(3.0);
     a.kx_updates = 321u;
+    /* ... and a roll gradient of 0.015 rad/(m/s^2) (units of 0.001) */
+    a.rg_x = qs(15.0);
+    a.rg_p = qs(2.0);
+    a.rg_updates = 99u;
     assert_int_equal(grip_est_learned_get(&a, &blob), GRIP_OK);
     assert_int_equal(blob.magic, GRIP_EST_LEARNED_MAGIC);
     assert_int_equal(grip_est_learned_set(&b, &blob), GRIP_OK);
@@ -204,6 +226,10 @@ static void test_learned_blob(void **state)
     assert_true(fabs(dq(b.slip_acc) * dq(b.kx) - dq(a.slip_acc)) < 1e-3 * dq(a.slip_acc));
     assert_true(dq(b.stf_k[0]) > 1.24 && dq(b.stf_k[0]) < 1.26);
     assert_true(dq(b.stf_k[1]) > 1.42 && dq(b.stf_k[1]) < 1.44);
+    /* the roll gradient, and the ay the filter uses with it */
+    assert_true(b.rg_updates == 99u && b.rg_x == a.rg_x && b.rg_p == a.rg_p);
+    assert_true(fabs(dq(b.rg_k) - 0.015) < 1e-4);
+    assert_true(fabs(dq(b.ay_fac) - 1.0 / (1.0 + 9.80665 * 0.015)) < 1e-4);
     /* reset keeps what was learned: the same blob before and after */
     assert_int_equal(grip_est_learned_get(&b, &bad), GRIP_OK);
     assert_int_equal(grip_est_reset(&b), GRIP_OK);
@@ -216,7 +242,15 @@ static void test_learned_blob(void **state)
     bad = blob;
     bad.version += 2u;
     assert_int_equal(grip_est_learned_set(&b, &bad), GRIP_ERR_PARAM);
+    /* a blob of the format before the roll gradient (version 2, this
+     * build), its checksum made good: refused */
+    bad = blob;
+    bad.version = blob.version - 2u * (GRIP_EST_LEARNED_VERSION - 2u);
+    assert_int_equal(bad.version / 2u, 2u);
+    bad.crc = crc32_ieee((const uint8_t *)&bad, (uint32_t)offsetof(grip_est_learned_t, crc));
+    assert_int_equal(grip_est_learned_set(&b, &bad), GRIP_ERR_PARAM);
     assert_true(dq(b.stf_k[0]) == 1.0 && dq(b.stf_k[1]) == 1.0);
+    assert_true(b.rg_updates == 0u && b.rg_k == cfg.roll_gradient);
     assert_true(dq(b.kx) == 1.0 && b.kx_updates == 0u);
     {
         /* kx beyond its range (1 / kx = 3: kx 0.33 < 0.4), checksum made good */
@@ -225,6 +259,12 @@ static void test_learned_blob(void **state)
         assert_int_equal(grip_est_learned_get(&c, &bad), GRIP_OK);
         assert_int_equal(grip_est_learned_set(&b, &bad), GRIP_ERR_PARAM);
         assert_true(dq(b.kx) == 1.0);
+        /* a roll gradient beyond its range (0.035 > 0.03) */
+        c = a;
+        c.rg_x = qs(35.0);
+        assert_int_equal(grip_est_learned_get(&c, &bad), GRIP_OK);
+        assert_int_equal(grip_est_learned_set(&b, &bad), GRIP_ERR_PARAM);
+        assert_true(b.rg_updates == 0u && b.rg_k == cfg.roll_gradient);
     }
     {
         /* a blob with nothing learned of kx takes a learned kx back to 1 */
@@ -236,6 +276,14 @@ static void test_learned_blob(void **state)
         assert_true(dq(b.kx) > 1.32);
         assert_int_equal(grip_est_learned_set(&b, &fresh), GRIP_OK);
         assert_true(dq(b.kx) == 1.0 && b.kx_updates == 0u && b.slip_acc == c.slip_acc);
+        /* ... and the roll gradient back to the configured one */
+        assert_true(b.rg_updates == 0u && b.rg_k == c.rg_k && b.ay_fac == c.ay_fac && b.rg_p == c.rg_p);
+        /* with roll_est 0 a learned roll gradient is not taken */
+        cfg.roll_est = 0u;
+        assert_int_equal(grip_est_init(&c, &cfg), GRIP_OK);
+        assert_int_equal(grip_est_learned_set(&c, &blob), GRIP_OK);
+        assert_true(c.rg_updates == 0u && c.rg_k == cfg.roll_gradient && dq(c.kx) > 1.32);
+        cfg.roll_est = 1u;
     }
     cfg.drive_front = qs(1.0);                            /* another drive layout */
     assert_int_equal(grip_est_init(&b, &cfg), GRIP_OK);

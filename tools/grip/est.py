@@ -124,7 +124,8 @@ class Estimator:
         cornering-stiffness scales k_front, k_rear and the updates behind
         them; the longitudinal slip-stiffness scale kx, the axles'
         rolling-radius mismatch (front over rear, less 1) and kx's
-        updates) and the blob itself as bytes, for learned_set on another
+        updates; the roll gradient in use and its updates) and the blob
+        itself as bytes, for learned_set on another
         instance of the same car, tire and arithmetic."""
         be = self._be
         b = be.ffi.new("grip_est_learned_t *")
@@ -134,6 +135,7 @@ class Estimator:
         f = _core.get_fields(be, "grip_est_learned_t", b)
         return {"k_front": f["k"][0], "k_rear": f["k"][1], "updates": f["updates"],
                 "kx": f["kx"], "radius_mismatch": f["kx_x"][1] * 1.0e-3, "kx_updates": f["kx_updates"],
+                "roll_gradient": f["rg_k"], "roll_updates": f["rg_updates"],
                 "blob": bytes(be.ffi.buffer(b))}
 
     def learned_set(self, blob):

@@ -249,7 +249,7 @@ class CsvModeTests(unittest.TestCase):
         write_csv(path, t, v, ok)
         veh = os.path.join(d, "stiff.txt")
         with open(veh, "w") as f:
-            f.write("stiff_est = 1\nkx_est = 1\ndrive_front = 0\n")
+            f.write("stiff_est = 1\nkx_est = 1\nroll_est = 1\ndrive_front = 0\n")
         veh_fwd = os.path.join(d, "stiff_fwd.txt")
         with open(veh_fwd, "w") as f:
             f.write("stiff_est = 1\nkx_est = 1\ndrive_front = 1\n")
@@ -265,7 +265,7 @@ class CsvModeTests(unittest.TestCase):
             with open(learned, "rb") as f:
                 blob = f.read()
             blobs[arith] = learned
-            self.assertEqual(len(blob), 76)
+            self.assertEqual(len(blob), 92)            # version 3: with the roll gradient
             kx_updates, = struct.unpack_from("<I", blob, 44)
             self.assertGreater(kx_updates, 0)      # the straight start while coasting
             rc, out2, err = run(b, base + ["--learned-in", learned, "--learned-out", learned + ".2"])

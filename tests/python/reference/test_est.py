@@ -924,6 +924,76 @@ class RequiredInputTests(unittest.TestCase):
         self.assertTrue(o["flags"] & est_ref.F_RATE)
 
 
+class RollGradientTests(unittest.TestCase):
+    """The learned roll gradient (roll_gradient, est_roll.c) on golden_est's
+    roll sequence: the generator's body rolls 0.015 rad/(m/s^2), the
+    configuration says 0.0088; a 30 s weave, then a left curve on a road
+    banked 8 deg towards its centre. Measured (reference): 0.01465 after the
+    weave, 0.01462 five seconds into the banked curve; each of the two bank
+    gates holds alone (the weave gate RG_T_ALT, the sample gate RG_DK);
+    without both the curve's entry takes it to the floor 0.0005."""
+
+    @classmethod
+    def _run(cls, duration, **cfg):
+        t, v, ok, _ = golden_est.roll_inputs(duration=duration)
+        e = est_ref.Estimator(est_ref.config(_params(), **cfg))
+        k = np.zeros(len(t))
+        for i in range(len(t)):
+            e.step(v[i], ok[i], int(round(t[i] * 1e6)))
+            k[i] = e.rg_k
+        return e, t, k
+
+    @classmethod
+    def setUpClass(cls):
+        cls.on = cls._run(golden_est.ROLL_DURATION, roll_est=1)
+        cls.off = cls._run(golden_est.ROLL_DURATION, roll_est=0)
+        with mock.patch.object(est_ref, "RG_T_ALT", 1.0e5), mock.patch.object(est_ref, "RG_DK", 1.0e5):
+            cls.ungated = cls._run(golden_est.ROLL_DURATION, roll_est=1)
+        with mock.patch.object(est_ref, "RG_T_ALT", 1.0e5):
+            cls.sample_gate_only = cls._run(golden_est.ROLL_DURATION, roll_est=1)
+        with mock.patch.object(est_ref, "RG_DK", 1.0e5):
+            cls.weave_gate_only = cls._run(golden_est.ROLL_DURATION, roll_est=1)
+
+    def _at(self, run, t_s):
+        _, t, k = run
+        return float(k[np.searchsorted(t, t_s)])
+
+    def test_off_keeps_the_configured_gradient(self):
+        e, _, k = self.off
+        self.assertTrue(np.all(k == 0.0088))
+        self.assertEqual(e.rg_updates, 0)
+        self.assertEqual(e.ay_fac, 1.0 / (1.0 + est_ref.G * 0.0088))
+
+    def test_weave_learns_the_car_within_ten_per_cent(self):
+        k = self._at(self.on, golden_est.ROLL_WEAVE - 0.01)
+        self.assertLess(abs(k - golden_est.ROLL_K), 0.1 * golden_est.ROLL_K, k)
+        e = self.on[0]
+        self.assertGreater(e.rg_updates, 500)
+        self.assertAlmostEqual(e.ay_fac, 1.0 / (1.0 + est_ref.G * e.rg_k), places=12)
+
+    def test_banked_curve_is_not_learned_as_less_roll(self):
+        for run in (self.on, self.sample_gate_only, self.weave_gate_only):
+            before = self._at(run, golden_est.ROLL_WEAVE - 0.01)
+            after = float(run[2][-1])
+            self.assertGreaterEqual(after, 0.97 * before, (before, after))
+            self.assertLessEqual(after, before + 1e-9)
+
+    def test_without_the_bank_gates_the_bank_reads_as_no_roll(self):
+        """The gates are what holds: without both, the banked curve's entry
+        drives the gradient to the bottom of its range."""
+        before = self._at(self.ungated, golden_est.ROLL_WEAVE - 0.01)
+        after = float(self.ungated[2][-1])
+        self.assertGreater(before, 0.012)
+        self.assertLess(after, 0.5 * before, (before, after))
+        self.assertGreaterEqual(after, est_ref.RG_K_MIN)
+
+    def test_reset_keeps_the_learned_gradient(self):
+        e = est_ref.Estimator(est_ref.config(_params(), roll_est=1))
+        e.rg_x, e.rg_k, e.rg_updates = 15.0, 0.015, 3
+        e.reset()
+        self.assertEqual((e.rg_x, e.rg_k, e.rg_updates, e.rg_n), (15.0, 0.015, 3, 0))
+
+
 class InputTests(unittest.TestCase):
     def test_nan_is_invalid_and_held(self):
         est = est_ref.Estimator(est_ref.config(_params()))

@@ -687,8 +687,8 @@ def av21_report(log, outdir, bins):
                                                       float(np.max(o["mu"][moving]))],
              "mu_conf_max": float(np.max(o["mu_conf"])),
              }
-        if learned is not None and EXTRA.get("stiff_est"):
-            r["learned"] = {k: learned[k] for k in ("k_front", "k_rear", "updates")}
+        if learned is not None and (EXTRA.get("stiff_est") or EXTRA.get("roll_est")):
+            r["learned"] = {k: learned[k] for k in ("k_front", "k_rear", "updates", "roll_gradient", "roll_updates")}
         res["builds"][a] = r
         print(f"est-eval av21 {a}: {json.dumps(r)}", file=sys.stderr)
     if "float" in outs and "fixed" in outs:
@@ -773,6 +773,9 @@ def main(argv=None):
     ap.add_argument("--stiff-est", action="store_true",
                     help="every run with the estimator's stiff_est = 1 (each axle's cornering stiffness learned "
                          "online, docs/estimator/stiffness.md)")
+    ap.add_argument("--roll-est", action="store_true",
+                    help="every run with the estimator's roll_est = 1 (the body's roll gradient learned online, "
+                         "docs/estimator/roll.md)")
     ap.add_argument("--kx-est", action="store_true",
                     help="--independent: the learned configuration learns the longitudinal slip stiffness too "
                          "(kx_est = 1, the drive split from the vehicle's parameter set; "
@@ -817,6 +820,8 @@ def main(argv=None):
         EXTRA["bank_est"] = 1
     if a.stiff_est:
         EXTRA["stiff_est"] = 1
+    if a.roll_est:
+        EXTRA["roll_est"] = 1
     if a.integrity:
         from grip_tools.evaluate import integrity
         judges = [j for j in a.judges.split(",") if j]

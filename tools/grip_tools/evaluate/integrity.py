@@ -283,7 +283,8 @@ def independent_run(vname, mname, sname, cache, fitted=None):
         tire_path, extra = judge.GENERIC_TIR, {}
     else:
         tire_path, extra = fitted["tir"], fitted["values"]
-    cfg = est_ref.config(tir.load_params(tire_path), rate_hz=100, **dict(judge.oem_vehicle(veh), **extra))
+    cfg = est_ref.config(tir.load_params(tire_path), rate_hz=100,
+                         **dict(judge.oem_vehicle(veh), **extra, **est_eval.EXTRA))
     est = reference_run(cfg, value, valid)
     moving = tr["vx"] >= V_MIN
     spin = judge.spin_mask(tr, veh.l, veh.p.b, tr["vx"] >= judge.V_MOVING)

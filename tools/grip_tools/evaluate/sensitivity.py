@@ -105,6 +105,10 @@ CLASSES = {
     "EST_KX_AY": "tuning", "EST_KX_STEER": "tuning", "EST_KX_U": "tuning", "EST_KX_AX_C": "tuning",
     "EST_KX_AX_T": "tuning", "EST_KX_H_MIN": "tuning", "EST_KX_DV_MAX": "format", "EST_KX_K_MIN": "range",
     "EST_KX_K_MAX": "range", "EST_KX_D_MAX": "range",
+    "EST_RG_S_U": "format", "EST_RG_P0": "range", "EST_RG_SD_MIN": "tuning", "EST_RG_Q": "tuning",
+    "EST_RG_R": "sensor", "EST_RG_TC": "tuning", "EST_RG_T": "tuning", "EST_RG_TH": "tuning",
+    "EST_RG_AY": "tuning", "EST_RG_BANK": "tuning", "EST_RG_H_MIN": "tuning", "EST_RG_T_ALT": "tuning", "EST_RG_DK": "tuning",
+    "EST_RG_K_MIN": "range", "EST_RG_K_MAX": "range",
 }
 CLASS_TEXT = {
     "physics": "a physical or statistical constant (g, a chi-square point, the tire as fitted)",
@@ -124,8 +128,8 @@ PERTURBED = ("tuning", "sensor")
 # (LEARNING_DRIVES, dry: the judge's) run first by the same build, and every
 # run restored from what they learned (grip-replay --learned-in); bank_est
 # is switched on from the start of each run.
-CONFIGS = {"generic": {}, "learned": {"stiff_est": 1, "kx_est": 1}, "bank_est": {"bank_est": 1}}
-_CONFIG_PREFIX = (("EST_STF_", "learned"), ("EST_KX_", "learned"), ("EST_ROAD_", "bank_est"))
+CONFIGS = {"generic": {}, "learned": {"stiff_est": 1, "kx_est": 1, "roll_est": 1}, "bank_est": {"bank_est": 1}}
+_CONFIG_PREFIX = (("EST_STF_", "learned"), ("EST_KX_", "learned"), ("EST_RG_", "learned"), ("EST_ROAD_", "bank_est"))
 LEARNING_DRIVES = {"learned": ("learning-drive", "learning-drive-long")}
 
 

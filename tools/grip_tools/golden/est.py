@@ -24,6 +24,11 @@ Input sequences (the C test replays exactly the same rows):
                   radius 0.4 % larger, run with kx_est = 1, drive_front = 0
                   (the longitudinal slip stiffness and the mismatch learned);
                   one column more than the others: the learned kx
+  roll_100hz      the internal generator whose body rolls 0.015 rad/(m/s^2)
+                  (the accelerometer reads its gravity), 22 m/s: a 30 s
+                  weave, then 5 s into a left curve on a road banked 8 deg
+                  towards its centre; run with roll_est = 1 (the roll gradient
+                  learned); one column more: the roll gradient in use
   aero_bank_100hz the internal generator at 26 m/s, run with the vehicle-level
                   effects on: downforce C_L A = 2.5 m^2 (front share 0.42,
                   rho 1.2), road bank tan = 0.04 (rise to the left) and grade
@@ -106,7 +111,7 @@ def _measure(rng, value, valid, ws, swa, r, ax, ay, rear_steer=None):
         valid[est_ref.REAR_STEER] = 1
 
 def bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED, v0=22.0, steer_gain=1.0,
-                   brake_demand=3.0, rear_gain=0.0, bank=None, lky=1.0):
+                   brake_demand=3.0, rear_gain=0.0, bank=None, lky=1.0, roll=0.0, swa_fn=None):
     """A nonlinear single-track run (steer steps, slalom, braking in a turn).
     mu_road: (mu of the first half, mu of the second half), as a scale of the
     tire's friction (LMUX, LMUY); steer_gain scales the steering-wheel angle,
@@ -116,7 +121,11 @@ def bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED, v0=22.
     gives the road's bank [rad, left edge up positive] (gravity then pulls
     the car by -g sin(bank) along y, and the accelerometer, reading specific
     force, gives the tires' force over the mass), lky the generator tire's
-    cornering stiffness as a scale of the estimator's (LKY). Returns time, value (N, 18), valid (N, 18)
+    cornering stiffness as a scale of the estimator's (LKY), roll the body's
+    roll gradient [rad/(m/s^2)] (the accelerometer rolls by roll x the
+    road-plane specific force f and reads f cos(phi) + g sin(phi)), swa_fn a
+    function of time giving the steering-wheel angle [rad] in place of the
+    step, slalom and hold (then no braking). Returns time, value (N, 18), valid (N, 18)
     and the truth dict (vx, vy, r, mu)."""
     P0 = tire_params()
     cfg = est_ref.config(P0)
@@ -159,6 +168,8 @@ def bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED, v0=22.
             swa = 0.9
         swa *= steer_gain
         brake = brake_demand if (ph > 4.5 and ph < 5.5) else 0.0      # m/s^2 deceleration demand
+        if swa_fn is not None:
+            swa, brake = swa_fn(tk), 0.0
         delta = swa / cfg["steer_ratio"]
         dr_ = rear_gain * delta
         af = math.atan2(vy + lf * r, vx) - delta
@@ -186,6 +197,8 @@ def bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED, v0=22.
         wsr = [(vx - r * tr / 2) * math.cos(dr_) + (vy - lr * r) * math.sin(dr_),
                (vx + r * tr / 2) * math.cos(dr_) + (vy - lr * r) * math.sin(dr_)]
         ws = [wsf[0] * (1 + slip), wsf[1] * (1 + slip), wsr[0] * (1 + slip), wsr[1] * (1 + slip)]
+        if roll != 0.0:
+            ay = ay * math.cos(roll * ay) + 9.80665 * math.sin(roll * ay)
         _measure(rng, value[k], valid[k], ws, swa, r, ax, ay, dr_ if rear_gain != 0.0 else None)
         vx = max(vx + (ax + r * vy) * dt, 0.0)
         vy += vyd * dt
@@ -389,30 +402,31 @@ REAR_STEER_V0, REAR_STEER_GAIN = 9.0, -0.3   # [m/s], rear angle / front angle
 AERO_BANK_LOCK = (4.6, 4.9)   # [s] rear-left wheel locked while braking (the locked-wheel ax update)
 
 
-def write_sequence(outdir, name, dt, t, value, valid, note, with_kx=False, **cfg_kw):
+def write_sequence(outdir, name, dt, t, value, valid, note, with_kx=False, with_roll=False, **cfg_kw):
     """Runs the reference over the inputs and writes est_<name>.txt;
     with_kx: one more column, the learned longitudinal scale kx after each
-    step."""
+    step; with_roll: one more column, the roll gradient in use (rg_k)."""
     cfg = est_ref.config(tire_params(), rate_hz=int(round(1.0 / dt)), **cfg_kw)
-    if with_kx:
+    extra = "kx" if with_kx else ("roll_gradient" if with_roll else None)
+    if extra:
         e = est_ref.Estimator(cfg)
         outs = []
         for k in range(len(t)):
             o = e.step(value[k], valid[k], int(round(float(t[k]) * 1e6)))
-            outs.append(dict(o, kx=e.kx))
+            outs.append(dict(o, **{extra: e.kx if with_kx else e.rg_k}))
     else:
         outs = est_ref.run(cfg, value, valid, t)
     in_cols = ["t"] + [f"in{i}" for i in range(est_ref.N_IN)] + ["valid_mask"]
     text = header("grip_tools.golden.est", est_ref.Estimator, SEED,
-                  in_cols + out_columns() + (["kx"] if with_kx else []),
+                  in_cols + out_columns() + ([extra] if extra else []),
                   {"sequence": name, "dt": dt, "tire": TIRE, "vehicle": "est_ref.config (passenger)",
                    "note": note, **{k: repr(v) for k, v in cfg_kw.items()}})
     lines = [text.rstrip("\n")]
     for k in range(len(t)):
         mask = int(sum(int(valid[k, i]) << i for i in range(est_ref.N_IN)))
         vals = [float(t[k])] + [float(x) for x in value[k]] + [mask] + out_row(outs[k])
-        if with_kx:
-            vals.append(outs[k]["kx"])
+        if extra:
+            vals.append(outs[k][extra])
         lines.append(" ".join(_fmt(x) for x in vals))
     with open(os.path.join(outdir, f"est_{name}.txt"), "w") as f:
         f.write("\n".join(lines) + "\n")
@@ -436,6 +450,36 @@ STIFF_LKY = 1.5
 # the longitudinal stiffness sequence's generator tire: this much stiffer in
 # slip (LKX), and its front wheels' rolling radius this much larger
 STIFF_LKX, STIFF_RADIUS = 1.4, 0.004
+
+
+# the roll sequence: the generator's body rolls by ROLL_K per m/s^2; a
+# weave of ROLL_WEAVE s, then a left curve on a road banked ROLL_BANK_DEG
+# towards its centre (curvature and bank faded in over 2 s together), its
+# first 5 s: later the unconfigured bank's drift (docs/estimator.md, "Known
+# limits") brings the filter to where the last bit picks its branch
+ROLL_K, ROLL_WEAVE, ROLL_BANK_DEG, ROLL_DURATION = 0.015, 30.0, 8.0, 35.0
+
+
+def _ramp(tk, t0, span):
+    return min(1.0, max(0.0, (tk - t0) / span))
+
+
+def roll_inputs(duration=ROLL_DURATION, weave=ROLL_WEAVE, bank_deg=ROLL_BANK_DEG, roll=ROLL_K, seed=SEED + 6):
+    """The roll-gradient sequence's inputs (bicycle_inputs at 22 m/s on mu
+    1.0): a weave of three sines of the steering-wheel angle (0.11, 0.37
+    and 0.83 Hz, |ay| up to 3.3 m/s^2) for weave seconds, then a steady left
+    curve (0.35 rad at the steering wheel, 2.6 m/s^2) whose road banks by
+    bank_deg towards the curve's centre as the curve begins. Returns as
+    bicycle_inputs."""
+    def swa(tk):
+        w = 0.17 * (math.sin(2 * math.pi * 0.11 * tk) + 0.8 * math.sin(2 * math.pi * 0.37 * tk + 1.0)
+                    + 0.5 * math.sin(2 * math.pi * 0.83 * tk + 2.0))
+        return w * (1.0 - _ramp(tk, weave - 1.0, 1.0)) + 0.35 * _ramp(tk, weave, 2.0)
+
+    def bank(tk):
+        return -math.radians(bank_deg) * _ramp(tk, weave, 2.0)
+    return bicycle_inputs(dt=0.01, duration=duration, mu_road=(1.0, 1.0), seed=seed, roll=roll, swa_fn=swa,
+                          bank=bank)
 
 
 def write_golden(outdir):
@@ -478,6 +522,11 @@ def write_golden(outdir):
                    f"straight drive, coasting, traction and braking, rear-wheel drive, the generator's tire "
                    f"{STIFF_LKX} x as stiff in slip, front radius {STIFF_RADIUS} larger, kx_est = 1, "
                    f"drive_front = 0", with_kx=True, kx_est=1, drive_front=0.0)
+    t, v, ok, _ = roll_inputs()
+    write_sequence(outdir, "roll_100hz", 0.01, t, v, ok,
+                   f"internal generator, mu 1.0, the body rolling {ROLL_K} rad/(m/s^2), a weave of {ROLL_WEAVE} s, "
+                   f"then a curve banked {ROLL_BANK_DEG} deg towards its centre, roll_est = 1",
+                   with_roll=True, roll_est=1)
     sim = sim_inputs()
     path = os.path.join(outdir, "est_sim_sine_dwell.txt")
     if sim is not None:

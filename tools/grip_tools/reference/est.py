@@ -22,6 +22,8 @@ one method each, in a section named after the C file that holds the stage:
     stiffness_long         est_stiffness_long.c the tires' longitudinal
                                            slip-stiffness scale learned
                                            (kx_est)
+    roll_gradient          est_roll.c      the body's roll gradient learned
+                                           (roll_est)
     lateral_filter         est_lateral.c   EKF predict of x = [vy, r, mu, b],
                                            scalar Joseph updates of yaw rate
                                            and ay
@@ -174,6 +176,27 @@ KX_P_MIN, KX_P_MAX = (KX_SD_MIN / KX_S_U) ** 2, (KX_P0 / KX_S_U) ** 2
 KX_PD_MIN, KX_PD_MAX = (KX_D_SD_MIN / KX_S_Y) ** 2, (KX_D0 / KX_S_Y) ** 2
 KX_X_LO, KX_X_HI = 1.0 / (KX_K_MAX * KX_S_U), 1.0 / (KX_K_MIN * KX_S_U)
 KX_XD_MAX = KX_D_MAX / KX_S_Y
+
+# -- learned roll gradient (est_roll.c, docs/estimator/roll.md): a scalar
+# Kalman filter on the roll gradient k in units of RG_S_U [rad/(m/s^2)] from
+# the band-passed measured ay against the band-passed vx r (low-pass RG_T,
+# less a slower low-pass RG_TH of it [s]): bp(ay_meas) - bp(vx r) = g k
+# bp(vx r). Prior the configured roll_gradient with deviation RG_P0, floor
+# RG_SD_MIN, random walk RG_Q [variance per second], measurement deviation
+# RG_R [m/s^2] correlated over RG_TC [s]; learns above STF_V [m/s], |ax| <
+# STF_AX, model utilization < STF_U, the yaw rate within STF_D of the linear
+# reference, |ay_meas| <= RG_AY [m/s^2], with bank_est the bank estimate
+# within RG_BANK [m/s^2], once the band-pass has run 3 RG_T on these
+# conditions, while |bp(vx r)| >= RG_H_MIN [m/s^2] and bp(vx r) was beyond
+# +RG_H_MIN and beyond -RG_H_MIN within the last RG_T_ALT [s] (a weave, not
+# a curve's entry) and the sample's own k, z / (g bp(vx r)), within RG_DK
+# [rad/(m/s^2)] of the k in use; k within [RG_K_MIN, RG_K_MAX]
+RG_S_U, RG_P0, RG_SD_MIN, RG_Q, RG_R, RG_TC = 0.001, 0.01, 3.0e-4, 1.0e-8, 0.03, 10.0
+RG_T, RG_TH, RG_AY, RG_BANK, RG_H_MIN, RG_T_ALT = 1.0, 8.0, 4.0, 0.3, 0.5, 3.0
+RG_K_MIN, RG_K_MAX, RG_DK = 0.0005, 0.03, 0.01
+# the filter's bounds in scaled units
+RG_P_MIN, RG_P_MAX = (RG_SD_MIN / RG_S_U) ** 2, (RG_P0 / RG_S_U) ** 2
+RG_X_LO, RG_X_HI = RG_K_MIN / RG_S_U, RG_K_MAX / RG_S_U
 
 # -- the lateral filter on / off (est_lateral.c)
 V_ON, V_OFF = 3.0, 2.5  # on above V_ON, off below V_OFF [m/s]
@@ -364,7 +387,7 @@ def config(tire_front, tire_rear=None, rate_hz=100, **kw):
              steer_ratio=15.5, wheel_radius=0.30, roll_split_front=0.60, roll_gradient=0.0088,
              rate_hz=int(rate_hz),
              dt=1.0 / int(rate_hz),
-             speed_ref_mu=0, rear_steer=0, bank_est=0, stiff_est=0, kx_est=0, drive_front=-1.0,
+             speed_ref_mu=0, rear_steer=0, bank_est=0, stiff_est=0, kx_est=0, drive_front=-1.0, roll_est=0,
              tire_tol=TIRE_TOL, kin_acc_sd=KIN_ACC, beta_sd_max=BETA_SD_MAX, vx_sd_max=0.0, fy_sd_max=0.0,
              cla=0.0, aero_front=0.5, air_density=1.2, cda=0.0, crr=0.0, tan_bank=0.0, tan_grade=0.0,
              tire=(tire_front, tire_rear if tire_rear is not None else tire_front))
@@ -541,7 +564,19 @@ class Estimator:
             self.fy_shape[a] = list(np.abs(fy) / fz)
             self.inv_apk[a] = 1.0 / self.alpha_pk[a]
         self.q = Q_C / c["rate_hz"]
-        self.ay_fac = 1.0 / (1.0 + G * c["roll_gradient"])
+        # the roll gradient in use: the configured one until roll_est learns
+        # (est_roll.c), its filter's state k / RG_S_U with the prior's variance
+        self.rg_k = c["roll_gradient"]
+        self.ay_fac = 1.0 / (1.0 + G * self.rg_k)
+        self.rg_x = c["roll_gradient"] / RG_S_U
+        self.rg_p = RG_P_MAX
+        self.rg_updates = 0
+        self.rg_q = RG_Q / RG_S_U ** 2 / c["rate_hz"]
+        self.rg_r = RG_R ** 2 * RG_TC * c["rate_hz"]
+        self.rg_a1 = min(1.0 / (RG_T * c["rate_hz"]), 1.0)
+        self.rg_a2 = min(1.0 / (RG_TH * c["rate_hz"]), 1.0)
+        self.rg_n_min = int(math.floor(3.0 * RG_T * c["rate_hz"] + 0.5))
+        self.rg_n_alt = int(math.floor(RG_T_ALT * c["rate_hz"] + 0.5))
         # road plane and downforce (grip_est_init, same order)
         sx, sy = c.get("tan_grade", 0.0), c.get("tan_bank", 0.0)
         fzn = 1.0 / math.sqrt(1.0 + sx * sx + sy * sy)
@@ -638,6 +673,8 @@ class Estimator:
         # the learned stiffness stays; its regression restarts
         self.stf_z, self.stf_h, self.stf_yaw, self.stf_n = 0.0, np.zeros(2), 0.0, 0
         self.kx_z, self.kx_h, self.kx_dv, self.kx_n = 0.0, 0.0, 0.0, 0
+        self.rg_f, self.rg_m, self.rg_n, self.rg_pos, self.rg_neg = [0.0, 0.0], [0.0, 0.0], 0, BIG, BIG
+        self.rg_vy = 0.0
 
     # ---- est_step.c: the stages in their order ------------------------------
     def step(self, value, valid, t_us=None):
@@ -653,6 +690,7 @@ class Estimator:
             self.friction_tests(s)
             stf_upd = self.stiffness(s)
             self.stiffness_long(s, stf_upd)
+            self.roll_gradient(s)
             self.lateral_filter(s)
             self.road(s)
             self.update_balances(s)
@@ -1489,6 +1527,81 @@ class Estimator:
         self.kx_updates += 1
         self.kx_apply()
 
+    # ---- est_roll.c: the learned roll gradient ------------------------------
+    def roll_gradient(self, s):
+        """The body's roll gradient k (roll_est = 1): the accelerometer rolls
+        with the body, ay_meas = (1 + g k) f with f the road-plane specific
+        force, and vx r is f less dvy/dt and a road bank's gravity. Both
+        band-passed (low-pass RG_T less a low-pass RG_TH of it: a constant or
+        slowly changing bank and the sensor offsets out), z = bp(ay_meas) -
+        bp(vx r) = g k bp(vx r): a scalar Kalman update of k / RG_S_U while
+        the car weaves (bp(vx r) beyond +-RG_H_MIN both within RG_T_ALT) on
+        the tire's linear part (STF_* gates) below RG_AY. A random walk
+        every step; the new k sets ay_fac from the next step.
+        docs/estimator/roll.md.
+
+        State: rg_x, rg_p, rg_k, ay_fac, rg_f, rg_m, rg_n, rg_pos, rg_neg,
+        rg_updates. Step: reads the raw ay (hold[3]), yaw, vx, ax, the gates'
+        flags, util, road_gy."""
+        c = self.cfg
+        if not c.get("roll_est", 0):
+            return
+        self.rg_p = min(self.rg_p + self.rg_q, RG_P_MAX)
+        am = self.hold[3]
+        # the band-pass runs (and restarts when they fail) while the relation
+        # holds at all: the body's roll linear in ay, no sliding, braking or
+        # declared misfit, no bank the bank observer knows of
+        ok = (self.active and s.yaw_ok and s.ay_ok and s.steer_ok and not (s.flags & F_STEER_LIMIT)
+              and s.vx >= STF_V and abs(s.ax) < STF_AX and abs(am) <= RG_AY
+              and not s.lock and not s.spin and not s.dead_reck and not s.at_limit and not self.misfit
+              and (not c.get("bank_est", 0) or abs(self.road_gy) <= RG_BANK))
+        if not ok:
+            self.rg_n = 0
+            return
+        # the first step starts the band-pass where the roll gradient in use
+        # puts the lateral acceleration (a start that is no equilibrium
+        # stays in the slow low-pass for RG_TH), and the dvy/dt of the next
+        if self.rg_n == 0:
+            self.rg_f = [am, self.ay_fac * am]
+            self.rg_m = list(self.rg_f)
+            self.rg_pos, self.rg_neg = BIG, BIG
+            self.rg_vy = float(self.x[0])
+            self.rg_n = 1
+            return
+        # the lateral acceleration: vx r (the gyro as measured: its offset
+        # leaves with the band-pass) and the filter's dvy/dt (its vy of the
+        # last two steps)
+        dvy = (float(self.x[0]) - self.rg_vy) * c["rate_hz"]
+        self.rg_vy = float(self.x[0])
+        u = s.vx * self.hold[1] + dvy
+        for i, v in enumerate((am, u)):
+            self.rg_f[i] += self.rg_a1 * (v - self.rg_f[i])
+            self.rg_m[i] += self.rg_a2 * (self.rg_f[i] - self.rg_m[i])
+        bu = self.rg_f[1] - self.rg_m[1]
+        self.rg_pos = 0 if bu >= RG_H_MIN else min(self.rg_pos + 1, BIG)
+        self.rg_neg = 0 if bu <= -RG_H_MIN else min(self.rg_neg + 1, BIG)
+        self.rg_n += 1
+        # the update, on the tire's linear part (vy changes little: dvy/dt
+        # is the regression's error) with a weave's excitation
+        if (self.rg_n < self.rg_n_min or abs(bu) < RG_H_MIN or self.rg_pos > self.rg_n_alt
+                or self.rg_neg > self.rg_n_alt or float(np.max(s.out["util"])) >= STF_U
+                or not self._yaw_linear(s.yaw, s.vx, STF_D)):
+            return
+        z = (self.rg_f[0] - self.rg_m[0]) - bu
+        h = G * RG_S_U * bu
+        # a sample whose own k, z / (g bp(a)), is more than RG_DK from the
+        # k in use is another effect's (a bank that changes within the band)
+        nu = z - h * self.rg_x
+        if abs(nu) > G * RG_DK * abs(bu):
+            return
+        ph = self.rg_p * h
+        k = ph / (h * ph + self.rg_r)
+        self.rg_x = _clamp(self.rg_x + k * nu, RG_X_LO, RG_X_HI)
+        self.rg_p = _clamp(self.rg_p - k * ph, RG_P_MIN, RG_P_MAX)
+        self.rg_k = self.rg_x * RG_S_U
+        self.ay_fac = 1.0 / (1.0 + G * self.rg_k)
+        self.rg_updates += 1
+
     def _stability_factor(self):
         """k_us = 100 A, the stability factor of the linear single-track
         model (seed eq. 2.17, K per tire = C / 2) with the axles' cornering
@@ -1936,7 +2049,7 @@ class Estimator:
         # offset's remaining deviation times vx, the roll compensation
         sb = S[3] * math.sqrt(self.P[3, 3])
         ka = c.get("kin_acc_sd", KIN_ACC)
-        rate = math.sqrt(ka * ka + (vx * sb) ** 2) + ROLL_TOL * G * c["roll_gradient"] * abs(ay)
+        rate = math.sqrt(ka * ka + (vx * sb) ** 2) + ROLL_TOL * G * self.rg_k * abs(ay)
         self.sd_k = min(self.sd_k + rate * c["dt"], SD_CAP)
         # a trace for the measurement of the bounds against the truth
         # (integrity.judge_run), not a C output: this step's kinematic

@@ -155,11 +155,14 @@ def load_run(run_dir):
 
 def learned_blob(runs_dir, vname, cfg):
     """The learned configuration's starting blob: the learning drive's
-    inputs (as est-eval --independent wrote them) through the float build."""
+    inputs (as est-eval --independent wrote them) through the float build;
+    and the roll gradient its runs start with (the learned one with
+    roll_est 1, else None: the configured one)."""
     t, value, valid = load_run_inputs(os.path.join(runs_dir, f"learning_{vname}_inputs.csv"))
     out = est_eval.run_binding("float", cfg["tir"], t, value, valid, vehicle_values=cfg["values"],
                                keep_learned=True)
-    return out["learned"]["blob"]
+    roll = out["learned"]["roll_gradient"] if cfg["values"].get("roll_est") else None
+    return out["learned"]["blob"], roll
 
 
 def load_run_inputs(path):
@@ -171,18 +174,21 @@ def load_run_inputs(path):
     return inp["t_s"], np.nan_to_num(raw), np.isfinite(raw).astype(np.int64)
 
 
-def estimates(tr, inp, t, value, valid, cfg, rolls, tau, blob=None):
+def estimates(tr, inp, t, value, valid, cfg, rolls, tau, blob=None, roll_used=None):
     """{name: (fyf, fyr)} of ESTIMATES, the V_AXLE step mask and the
     diagnostic series (lateral sum error, accelerometer error) of one run.
     rolls: {estimate name: roll gradient} of the roll-gradient variants
-    (car_roll, drive_roll) to run."""
+    (car_roll, drive_roll) to run, each with that gradient fixed (roll_est
+    0); roll_used: the roll gradient the estimate starts with when it was
+    learned (the balance's ay and the accelerometer error use it; None: the
+    configured one)."""
     v = cfg["values"]
     o = est_eval.run_binding("float", cfg["tir"], t, value, valid, vehicle_values=v, learned=blob, keep_out=True)
     n = min(len(t), len(tr["time"]))
     tr = {k: x[:n] for k, x in tr.items()}
     out = {k: np.asarray(x)[:n] for k, x in o["out"].items() if np.ndim(x) >= 1 and len(x) >= n}
     steps = ((np.asarray(o["valid"])[:n] & est_ref.V_AXLE) != 0) & (tr["vx"] >= judge.V_MOVING)
-    rg = v.get("roll_gradient", est_eval_default_roll())
+    rg = roll_used if roll_used is not None else v.get("roll_gradient", est_eval_default_roll())
     ay = np.nan_to_num(inp["ay"][:n]) / (1.0 + G * rg)
     r = np.nan_to_num(inp["yaw_rate"][:n]) - out["yaw_rate_bias"]
     dr = np.zeros(n)
@@ -194,7 +200,7 @@ def estimates(tr, inp, t, value, valid, cfg, rolls, tau, blob=None):
     res["blend"] = tuple(0.5 * (a + b) for a, b in zip(res["model"], res["balance"]))
     for name, k in rolls.items():
         o2 = est_eval.run_binding("float", cfg["tir"], t, value, valid,
-                                  vehicle_values=dict(v, roll_gradient=k), learned=blob)
+                                  vehicle_values=dict(v, roll_gradient=k, roll_est=0), learned=blob)
         res[name] = (o2["fyf"][:n], o2["fyr"][:n])
     # the true lateral specific force (road frame): what the tires push
     f_y = tr["ay_kin"] + G * np.cos(tr["grade"]) * np.sin(tr["bank"])
@@ -321,7 +327,8 @@ def run(runs_dir, judge_json, cnames, tau, vehicles=None):
             for cname in cnames:
                 cfg = configs[vname][cname]
                 rolls = {} if cname == "fitted" else {"car_roll": roll[vname], "drive_roll": drive[vname]}
-                res, steps, trn, diag = estimates(tr, inp, t, value, valid, cfg, rolls, tau, blobs.get(cname))
+                blob, roll_used = blobs.get(cname, (None, None))
+                res, steps, trn, diag = estimates(tr, inp, t, value, valid, cfg, rolls, tau, blob, roll_used)
                 rows.append((f"{vname} {mname} {sname}", cname, score_run(res, steps, trn, diag)))
     return rows, noise, {v: (drive[v], roll[v]) for v in drive}
 

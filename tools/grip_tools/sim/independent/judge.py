@@ -17,8 +17,8 @@ two configurations an OEM could have:
            Magic Formula group fitted with `grip fit-mf --model fy` (start
            PacejkaBook_Defaults, its other groups kept), the roll gradient
            and the front share of the lateral load transfer
-  learned  generic, with the estimator's online stiffness learning on
-           (stiff_est = 1) and starting from what it learned in 90 s of
+  learned  generic, with the estimator's online stiffness and roll-gradient
+           learning on (stiff_est = 1, roll_est = 1) and starting from what it learned in 90 s of
            ordinary driving on a dry road (learn: the learning drive, its
            grip_est_learned_t blob restored at every run's start, as after
            an ignition cycle); needs the binding. With learn_kx (est-eval
@@ -285,13 +285,14 @@ def learning_drive_inputs(vname, name):
 
 def learn(vname, values, bins, work_dir, kx=False):
     """The learning drive of one vehicle (manoeuvres.learning_drive, dry)
-    through each binding build with stiff_est = 1: {arith: learned()} (the
-    scales, the updates, the blob). kx: kx_est = 1 too, and after it (an
+    through each binding build with stiff_est = 1 and roll_est = 1:
+    {arith: learned()} (the scales, the roll gradient, the updates, the
+    blob). kx: kx_est = 1 too, and after it (an
     ignition cycle later, from its blob) the straight drive with speed
     changes (manoeuvres.learning_drive_long). Builds that are grip-replay
     programs are left out (the blob goes through grip.est)."""
     drives = ("learning-drive", "learning-drive-long") if kx else ("learning-drive",)
-    vv = dict(values, stiff_est=1, **({"kx_est": 1} if kx else {}))
+    vv = dict(values, stiff_est=1, roll_est=1, **({"kx_est": 1} if kx else {}))
     inputs = []
     for name in drives:
         t, value, valid = learning_drive_inputs(vname, name)
@@ -667,6 +668,10 @@ def summary_md(results, configs, builds, in_family, step_err, chars):
                      "every run of the `learned` rows, against the ratios of the model car's tire and of the fitted "
                      "tire to the generic one at the static wheel loads.\n")
         lines += _learned_table(chars, LEARNED_K_TABLE)
+        if any("roll_gradient" in x for c in chars for x in c.get("learned", {}).values()):
+            lines.append("The roll gradient learned on the same drive (`roll_est` = 1, from the configured 0.0088 "
+                         "rad/(m/s^2)), against the ramp characterization's.\n")
+            lines += _learned_table(chars, LEARNED_RG_TABLE)
         if any("kx" in x for c in chars for x in c.get("learned", {}).values()):
             lines.append("The longitudinal slip-stiffness scale (`kx_est` = 1, the drive split from the parameter "
                          "set's T_se) and the axles' rolling-radius mismatch learned, against the model car's "
@@ -690,6 +695,11 @@ LEARNED_K_TABLE = (
     ("model tire / generic f / r", _ratio_pair("model_f", "model_r")),
     ("fitted / generic f / r", _ratio_pair("fitted_f", "fitted_r")),
 )
+LEARNED_RG_TABLE = (
+    ("roll gradient learned [rad/(m/s^2)]", lambda x, ref: f"{x['roll_gradient']:.4f}"),
+    ("updates", lambda x, ref: f"{x['roll_updates']}"),
+    ("characterized", lambda x, ref: _f(ref.get("roll_char"), ".4f")),
+)
 LEARNED_KX_TABLE = (
     ("kx learned", lambda x, ref: f"{x['kx']:.3f}"),
     ("radius mismatch [per mille]", lambda x, ref: f"{1000 * x['radius_mismatch']:.2f}"),
@@ -705,7 +715,7 @@ def _learned_table(chars, columns):
     cols = ("vehicle", "build") + tuple(title for title, _ in columns)
     lines = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
     for c in chars:
-        ref = c.get("stiffness_ratio", {})
+        ref = dict(c.get("stiffness_ratio", {}), roll_char=c.get("values", {}).get("roll_gradient"))
         for a, x in c.get("learned", {}).items():
             lines.append("| " + " | ".join([c["vehicle"], a] + [cell(x, ref) for _, cell in columns]) + " |")
     lines.append("")
@@ -827,12 +837,12 @@ def run(out, full=False, vehicles=None, manoeuvres=None, surfaces=None, jobs=Non
                 # program among the builds the configuration is left out
                 if set(tv) == set(bins):
                     g = per_vehicle[v]["generic"]
-                    vl = dict(g["values"], stiff_est=1, **({"kx_est": 1} if learn_kx else {}))
+                    vl = dict(g["values"], stiff_est=1, roll_est=1, **({"kx_est": 1} if learn_kx else {}))
                     per_vehicle[v]["learned"] = dict(tir=GENERIC_TIR, lines=vehicle_lines(vl), values=vl,
                                                      mu_norm=g["mu_norm"], bicycle=g["bicycle"], learned=tv)
                     for c in chars:
                         if c["vehicle"] == v:
-                            keys = ("k_front", "k_rear", "updates") + (
+                            keys = ("k_front", "k_rear", "updates", "roll_gradient", "roll_updates") + (
                                 ("kx", "radius_mismatch", "kx_updates") if learn_kx else ())
                             c["learned"] = {a: {k: x[k] for k in keys} for a, x in tv.items()}
                             c["stiffness_ratio"] = stiffness_ratios(mb.Vehicle(v), c["tir"])
