@@ -299,6 +299,52 @@ class IndependentJudgeTests(unittest.TestCase):
         self.assertLessEqual(b["rate"], integrity.TARGET_RATE)
         self.assertLessEqual(b["longest_s"], integrity.TARGET_RUN_S)
 
+    def test_learned_configuration_starts_from_the_learning_drive(self):
+        # the learned judge restores the learning drive's blob: the roll
+        # gradient it runs with is the learned one (the configured 0.0088
+        # moved towards the car's 0.0159), and the step steer on dry meets
+        # the integrity target from it
+        integrity = _simulator_judges()
+        try:
+            import grip  # noqa: F401  (the learned configuration needs the binding)
+        except ImportError:
+            self.skipTest("the Python binding (grip) is not built")
+        with tempfile.TemporaryDirectory() as d:
+            values, learned = integrity.learned_values("bmw320i", d)
+            r = integrity.learned_run("bmw320i", "step-steer", "dry", d, values, learned)
+        b = r["beta"]
+        print(f"\n# learned bmw320i: roll gradient {learned['roll_gradient']:.4f} ({learned['roll_updates']} updates), "
+              f"k {learned['k_front']:.3f} / {learned['k_rear']:.3f}; step-steer dry: beta valid {b['valid_steps']} "
+              f"steps, {b['violations']} beyond max(1 deg, 3 sd)", flush=True)
+        self.assertEqual(values["stiff_est"], 1)
+        self.assertEqual(values["roll_est"], 1)
+        self.assertGreater(learned["roll_updates"], 0)
+        self.assertGreater(learned["roll_gradient"], 0.0088 * 1.2)
+        self.assertGreater(b["valid_steps"], 100)
+        self.assertLessEqual(b["rate"], integrity.TARGET_RATE)
+        self.assertLessEqual(b["longest_s"], integrity.TARGET_RUN_S)
+
+    @unittest.expectedFailure
+    def test_learned_step_steer_snow(self):
+        # the learned configuration fails where the fitted one does: the
+        # learned stiffness (1.5 / 1.4 of the generic tire's) keeps the
+        # model in its linear range on snow while the truth's axles
+        # saturate (docs/estimator/integrity.md). Not met; this test passes
+        # once it is.
+        integrity = _simulator_judges()
+        try:
+            import grip  # noqa: F401
+        except ImportError:
+            self.skipTest("the Python binding (grip) is not built")
+        with tempfile.TemporaryDirectory() as d:
+            values, learned = integrity.learned_values("bmw320i", d)
+            r = integrity.learned_run("bmw320i", "step-steer", "snow", d, values, learned)
+        b = r["beta"]
+        print(f"\n# learned bmw320i step-steer snow: beta valid {b['valid_steps']} steps, {b['violations']} beyond "
+              f"max(1 deg, 3 sd), longest {b['longest_s']:.2f} s", flush=True)
+        self.assertLessEqual(b["rate"], integrity.TARGET_RATE)
+        self.assertLessEqual(b["longest_s"], integrity.TARGET_RUN_S)
+
     def test_circle_ramp_dry_is_limited_by_the_tire_term(self):
         # why beta is withheld at the limit (docs/estimator/integrity.md,
         # "Availability at the limit"): on the slow circle ramp beta's true

@@ -1,7 +1,7 @@
 """Integrity of the estimator's validity flags: what a valid flag promises,
 measured on every judge with a truth.
 
-    grip est-eval --integrity [--out docs/estimator] [--judges own,mismatch,independent,fitted,rav4,av21,faults]
+    grip est-eval --integrity [--out docs/estimator] [--judges own,mismatch,independent,fitted,learned,rav4,av21,faults]
 
 For each output with a standard deviation (beta: beta_sd, mu: mu_sd) and
 each run: over the steps the output is flagged valid (V_BETA, V_MU) with
@@ -34,6 +34,12 @@ Judges, all through the float64 reference (grip_tools.reference.est):
                measured roll gradient and front roll share
                (judge.characterize, cached beside the runs), the same
                declared tire_tol
+  learned      the same runs in the learned configuration: the generic
+               tire with the cornering stiffness and the roll gradient
+               learned online (stiff_est = 1, roll_est = 1), every run
+               started from the blob the vehicle's 90 s learning drive left
+               (judge.learn), through the C float build (the binding: the
+               reference has no blob)
   rav4         the RAV4 highway drive of the README's main job (60 s, CAN),
                the C float build, sideslip from the drive's fused GNSS/IMU
                pose (the phone mount's yaw removed)
@@ -69,7 +75,7 @@ SAT_U = 0.95
 # the kinematic vy's drift against its bound: windows of 1 s (a transient's
 # length, over which the kinematic vy carries beta) every 0.1 s
 KIN_WINDOW_S, KIN_EVERY_S = 1.0, 0.1
-JUDGES = ("own", "mismatch", "independent", "fitted", "rav4", "av21", "faults")
+JUDGES = ("own", "mismatch", "independent", "fitted", "learned", "rav4", "av21", "faults")
 # The fault campaign's consumer rules: grip_monitor_gate's degraded bits
 # (docs/faults.md); "estimator alone" is the estimator's valid bits ungated.
 FAULT_RULES = {"monitor gate": monitor_ref.DEGR_SUSPECT | monitor_ref.DEGR_UNVERIFIED,
@@ -263,6 +269,20 @@ def independent_run(vname, mname, sname, cache, fitted=None):
     share) in the fitted one."""
     from grip_tools.sim.independent import judge, mb
     veh = mb.Vehicle(vname)
+    t, value, valid, tr = _run_inputs(vname, mname, sname, cache)
+    if fitted is None:
+        tire_path, extra = judge.GENERIC_TIR, {}
+    else:
+        tire_path, extra = fitted["tir"], fitted["values"]
+    cfg = est_ref.config(tir.load_params(tire_path), rate_hz=100,
+                         **dict(judge.oem_vehicle(veh), **extra, **est_eval.EXTRA))
+    return _judge_truth_run(veh, tr, tire_path, t, reference_run(cfg, value, valid))
+
+
+def _run_inputs(vname, mname, sname, cache):
+    """One independent-judge run's inputs (t, value, valid) and truth
+    columns, simulated into cache/<run>/ unless there."""
+    from grip_tools.sim.independent import judge
     d = os.path.join(cache, f"{vname}_{mname}_{sname}")
     inputs, truth_csv = os.path.join(d, "inputs.csv"), os.path.join(d, "truth.csv")
     if not (os.path.exists(inputs) and os.path.exists(truth_csv)):
@@ -277,15 +297,13 @@ def independent_run(vname, mname, sname, cache, fitted=None):
         value[:, i] = np.where(np.isfinite(v), v, 0.0)
     tr = est_eval.read_csv(truth_csv)
     n = min(len(t), len(tr["time"]))
-    tr = {k: v[:n] for k, v in tr.items()}
-    t, value, valid = t[:n], value[:n], valid[:n]
-    if fitted is None:
-        tire_path, extra = judge.GENERIC_TIR, {}
-    else:
-        tire_path, extra = fitted["tir"], fitted["values"]
-    cfg = est_ref.config(tir.load_params(tire_path), rate_hz=100,
-                         **dict(judge.oem_vehicle(veh), **extra, **est_eval.EXTRA))
-    est = reference_run(cfg, value, valid)
+    return t[:n], value[:n], valid[:n], {k: v[:n] for k, v in tr.items()}
+
+
+def _judge_truth_run(veh, tr, tire_path, t, est):
+    """judge_run over the moving steps outside spins and full saturation,
+    against the independent judge's truth."""
+    from grip_tools.sim.independent import judge
     moving = tr["vx"] >= V_MIN
     spin = judge.spin_mask(tr, veh.l, veh.p.b, tr["vx"] >= judge.V_MOVING)
     sat = _axle_saturation(tr, lambda k: tr[k])
@@ -293,6 +311,48 @@ def independent_run(vname, mname, sname, cache, fitted=None):
              "vy": tr["vy"],
              "fy_axle": np.column_stack([tr["fy_fl"] + tr["fy_fr"], tr["fy_rl"] + tr["fy_rr"]])}
     return judge_run(t, est, truth, moving, ~(spin | sat))
+
+
+def learned_values(vname, cache):
+    """The learned configuration of one vehicle: its vehicle values (the
+    generic ones with stiff_est = 1, roll_est = 1) and the C float build's
+    blob after the vehicle's learning drive (judge.learn)."""
+    from grip_tools.sim.independent import judge, mb
+    values = judge.oem_vehicle(mb.Vehicle(vname))
+    taught = judge.learn(vname, values, {"float": ("binding", "float")}, cache)
+    return dict(values, stiff_est=1, roll_est=1), taught["float"]
+
+
+def learned_run(vname, mname, sname, cache, values, learned):
+    """One independent-judge run through the C float build in the learned
+    configuration, started from the learning drive's blob."""
+    from grip_tools.sim.independent import judge, mb
+    veh = mb.Vehicle(vname)
+    t, value, valid, tr = _run_inputs(vname, mname, sname, cache)
+    o = est_eval.run_binding("float", judge.GENERIC_TIR, t, value, valid, vehicle="generic",
+                             vehicle_values=values, learned=learned["blob"], keep_out=True)["out"]
+    est = {k: np.asarray(o[k], float) for k in ("beta", "beta_sd", "vy", "vy_sd", "vx", "vx_sd", "yaw_rate",
+                                                "yaw_rate_sd", "mu", "mu_sd", "fy_axle", "fy_axle_sd")}
+    est["valid"] = np.asarray(o["valid"], np.int64)
+    est["flags"] = np.asarray(o["flags"], np.int64)
+    return _judge_truth_run(veh, tr, judge.GENERIC_TIR, t, est)
+
+
+def judge_learned(cache, full=False):
+    """The independent simulator's runs in the learned configuration
+    (learned_values, learned_run)."""
+    from grip_tools.sim.independent import judge
+    sel = judge.FULL_SET if full else judge.DEFAULT_SET
+    out = {}
+    for v in sel["vehicles"]:
+        values, learned = learned_values(v, cache)
+        print(f"integrity: learned {v}: k {learned['k_front']:.3f} / {learned['k_rear']:.3f}, "
+              f"roll gradient {learned['roll_gradient']:.4f}", file=sys.stderr)
+        for m in sel["manoeuvres"]:
+            for s in sel["surfaces"]:
+                out[f"{v} {m} {s}"] = r = learned_run(v, m, s, cache, values, learned)
+                print(f"integrity: learned {v} {m} {s}: {r['beta']}", file=sys.stderr)
+    return out
 
 
 def fitted_characterization(vname, cache):
@@ -551,6 +611,8 @@ def _run(out, judges, runs_dir, full, av21_log, consts):
             res[j] = judge_independent(os.path.join(runs_dir, "independent"), full=full)
         elif j == "fitted":
             res[j] = judge_independent(os.path.join(runs_dir, "independent"), full=full, fitted=True)
+        elif j == "learned":
+            res[j] = judge_learned(os.path.join(runs_dir, "independent"), full=full)
         elif j == "rav4":
             res[j] = judge_rav4()
         elif j == "av21":
