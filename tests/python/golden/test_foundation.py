@@ -26,15 +26,15 @@ class KernelsTest(unittest.TestCase):
         name, func, bits, _, limit = kernels.SEGMENTED[0]
         self.assertEqual(name, "SIN")
         rows = kernels.segment_table(func, bits)
-        self.assertLessEqual(kernels.check_limit(func, rows, bits, limit), limit)
+        self.assertLessEqual(kernels.check_limit(rows, bits, limit), limit)
         bad = rows.copy()
         bad[(1 << bits) - 1, 0] += 64     # the last segment 64 LSB higher
         with self.assertRaises(ValueError):
-            kernels.check_limit(func, bad, bits, limit)
+            kernels.check_limit(bad, bits, limit)
         bad = rows.copy()
         bad[3, 1] = limit                 # a low segment rising to the limit
         with self.assertRaises(ValueError):
-            kernels.check_limit(func, bad, bits, limit)
+            kernels.check_limit(bad, bits, limit)
         self.assertTrue(np.all(rows[:, 0] <= limit))
 
     def test_committed_float_header_matches_generator(self):

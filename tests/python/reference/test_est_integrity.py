@@ -299,19 +299,26 @@ class IndependentJudgeTests(unittest.TestCase):
         self.assertLessEqual(b["rate"], integrity.TARGET_RATE)
         self.assertLessEqual(b["longest_s"], integrity.TARGET_RUN_S)
 
+    def _learned_run(self, manoeuvre, surface):
+        """integrity, the learned configuration's values and blob (the BMW's
+        learning drive), and its run of manoeuvre on surface; skipped
+        without the binding, which the learned configuration needs."""
+        integrity = _simulator_judges()
+        try:
+            import grip  # noqa: F401
+        except ImportError:
+            self.skipTest("the Python binding (grip) is not built")
+        with tempfile.TemporaryDirectory() as d:
+            values, learned = integrity.learned_values("bmw320i", d)
+            r = integrity.learned_run("bmw320i", manoeuvre, surface, d, values, learned)
+        return integrity, values, learned, r
+
     def test_learned_configuration_starts_from_the_learning_drive(self):
         # the learned judge restores the learning drive's blob: the roll
         # gradient it runs with is the learned one (the configured 0.0088
         # moved towards the car's 0.0159), and the step steer on dry meets
         # the integrity target from it
-        integrity = _simulator_judges()
-        try:
-            import grip  # noqa: F401  (the learned configuration needs the binding)
-        except ImportError:
-            self.skipTest("the Python binding (grip) is not built")
-        with tempfile.TemporaryDirectory() as d:
-            values, learned = integrity.learned_values("bmw320i", d)
-            r = integrity.learned_run("bmw320i", "step-steer", "dry", d, values, learned)
+        integrity, values, learned, r = self._learned_run("step-steer", "dry")
         b = r["beta"]
         print(f"\n# learned bmw320i: roll gradient {learned['roll_gradient']:.4f} ({learned['roll_updates']} updates), "
               f"k {learned['k_front']:.3f} / {learned['k_rear']:.3f}; step-steer dry: beta valid {b['valid_steps']} "
@@ -331,14 +338,7 @@ class IndependentJudgeTests(unittest.TestCase):
         # model in its linear range on snow while the truth's axles
         # saturate (docs/estimator/integrity.md). Not met; this test passes
         # once it is.
-        integrity = _simulator_judges()
-        try:
-            import grip  # noqa: F401
-        except ImportError:
-            self.skipTest("the Python binding (grip) is not built")
-        with tempfile.TemporaryDirectory() as d:
-            values, learned = integrity.learned_values("bmw320i", d)
-            r = integrity.learned_run("bmw320i", "step-steer", "snow", d, values, learned)
+        integrity, _, _, r = self._learned_run("step-steer", "snow")
         b = r["beta"]
         print(f"\n# learned bmw320i step-steer snow: beta valid {b['valid_steps']} steps, {b['violations']} beyond "
               f"max(1 deg, 3 sd), longest {b['longest_s']:.2f} s", flush=True)

@@ -90,7 +90,7 @@ def segment_max(rows, bits, first):
     return max(top, int(segment_eval(rows, bits, np.array([1 << Q]))[0]))
 
 
-def check_limit(func, rows, bits, limit):
+def check_limit(rows, bits, limit):
     """Raise unless the kernel stays at or below limit (Q30) on every
     argument. The segments whose value at their start lies within 2^-8 of
     the limit are evaluated on every argument; every other segment is
@@ -119,7 +119,7 @@ def render_header():
         lower = name.lower()
         bound = ""
         if limit is not None:
-            check_limit(func, rows, bits, limit)
+            check_limit(rows, bits, limit)
             bound = f"\n * Never above {limit} on any argument (checked by the generator)."
         out.append(f"/* {what}: {1 << bits} quadratic segments, rows (a, b, c) of\n"
                    f" * a + b t + c t^2 for t in [0, 1) within the segment; the last row is\n"
