@@ -273,7 +273,7 @@ def independent_run(vname, mname, sname, cache, fitted=None):
     if fitted is None:
         tire_path, extra = judge.GENERIC_TIR, {}
     else:
-        tire_path, extra = fitted["tir"], fitted["values"]
+        tire_path, extra = fitted["tir"], judge.fitted_values(fitted)
     cfg = est_ref.config(tir.load_params(tire_path), rate_hz=100,
                          **dict(judge.oem_vehicle(veh), **extra, **est_eval.EXTRA))
     return _judge_truth_run(veh, tr, tire_path, t, reference_run(cfg, value, valid))
