@@ -23,7 +23,12 @@ def remez(g, w, lo, hi, n, iters=40, grid=200001):
     xs = np.linspace(lo, hi, grid)
     gx, wx = g(xs), w(xs)
     k = np.arange(n + 1)
-    ref = (lo + hi) / 2 - (hi - lo) / 2 * np.cos(np.pi * k / n)
+    # start at the Chebyshev zeros, inside the interval: the sine's weight
+    # vanishes at z = 0, so a reference point there levels nothing, the first
+    # error curve has one sign run too few and the exchange stopped at once
+    # (kept going only where the last bits of the error near 0 happened to
+    # change sign, which differs between numpy builds)
+    ref = (lo + hi) / 2 - (hi - lo) / 2 * np.cos(np.pi * (k + 0.5) / (n + 1))
     best = None
     for _ in range(iters):
         a = np.zeros((n + 1, n + 1))
@@ -66,15 +71,30 @@ def _w_atan(z):
 
 
 # sin(r) = r + r^3 P(r^2), |r| <= pi/2 (and a little: the rounding of m);
-# cos(x) is sin(r) of x - m pi/2 with m odd, so no cosine polynomial
+# cos(x) is sin(r) of x - m pi/2 with m odd, so no cosine polynomial.
+# The target (sin(r) - r) / r^3 is its Taylor series in z = r^2, summed by
+# Horner in float64 (+ and * only): np.sin's last bits differ between numpy
+# builds, and the cancellation in sin(r) - r made the fit, and so the
+# committed coefficients, depend on them.
+_SIN_TERMS = 14
+
+
+def _sin_tail(z):
+    """(sin(r) - r) / r^3 at z = r^2: sum of (-1)^(k+1) z^k / (2k + 3)!."""
+    acc = np.zeros_like(np.asarray(z, dtype=float))
+    for k in range(_SIN_TERMS - 1, -1, -1):
+        fact = float(np.prod(np.arange(1, 2 * k + 4, dtype=float)))
+        acc = acc * z + ((-1.0) ** (k + 1)) / fact
+    return acc
+
+
 def _g_sin(z):
-    r = np.sqrt(_safe(z))
-    return np.where(z > 1e-2, (np.sin(r) - r) / _safe(z) ** 1.5,
-                    _series(z, [-1 / 6, 1 / 120, -1 / 5040, 1 / 362880, -1 / 39916800]))
+    return _sin_tail(z)
 
 
 def _w_sin(z):
-    return _safe(z) ** 1.5 / np.sin(np.sqrt(_safe(z)))
+    # r^3 / sin(r) = z / (1 + z (sin(r) - r) / r^3)
+    return z / (1.0 + z * _sin_tail(z))
 
 
 R_TRIG = np.pi / 2 + 1e-3          # |r| after the reduction by m pi/2
@@ -115,7 +135,8 @@ def _sin_fit():
     parts = [f(float(v)) for v, in [(v,) for _n, v, _w in constants()[:4]]]
     r0 = -((((f(0) - parts[0]) - parts[1]) - parts[2]) - parts[3])
     rs = np.linspace(1e-4, R_TRIG, 200001).astype(np.float32)
-    exact = np.sin(rs.astype(np.float64))
+    r64 = rs.astype(np.float64)
+    exact = r64 + r64 * (r64 * r64) * _sin_tail(r64 * r64)
 
     def grid_error(k):
         return float(np.max(np.abs(_f32_sin(rs, k).astype(np.float64) - exact) / exact))
