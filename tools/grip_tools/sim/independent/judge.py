@@ -204,7 +204,10 @@ def bicycle_beta(bp, delta, v):
 # the integrity calibration's value for a tire fitted to the car. The ramp's
 # fit reproduces the four wheels' forces within 2.2 % of the peak (BMW 320i,
 # fit-mf's report); the margin is for loads, cambers and combined slip the
-# dry ramp does not reach. The generic tire keeps the default 0.3.
+# dry ramp does not reach. It does not cover the force shape near the peak,
+# which the ramp does not reach either (PacejkaBook's: on snow the truth's
+# curve is flatter there, docs/estimator/integrity.md, "The fitted
+# configuration"). The generic tire keeps the default 0.3.
 FITTED_TIRE_TOL = 0.1
 
 
