@@ -2,7 +2,6 @@
 (grip_tools.reference.est, bound_lateral; grip_tools.evaluate.integrity;
 docs/estimator/integrity.md)."""
 import os
-import re
 import tempfile
 import unittest
 from unittest import mock
@@ -308,8 +307,7 @@ class IndependentJudgeTests(unittest.TestCase):
         # configuration's declaration before) is below the target
         from grip_tools.sim.independent import judge
         integrity, c, r = self._fitted_run("sine-dwell", "wet")
-        m = re.search(r"/ ([0-9.]+) % of max", " ".join(c["fit_report"]))
-        fit_max = float(m.group(1)) / 100.0
+        fit_max = c["fit_max_share"]
         b = r["beta"]
         print(f"\n# fitted bmw320i: fit max error {100 * fit_max:.2f} % of the peak, declared tire_tol "
               f"{judge.FITTED_TIRE_TOL}; sine-dwell wet: beta valid {b['valid_steps']} steps "

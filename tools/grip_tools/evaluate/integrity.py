@@ -99,12 +99,15 @@ def stats(t, err, sd, ok, floor, k=K):
                 longest_s=longest * dt)
 
 
+# the estimator's output channels the table judges (with valid and flags)
+OUT_KEYS = ("beta", "beta_sd", "vy", "vy_sd", "vx", "vx_sd", "yaw_rate", "yaw_rate_sd", "mu", "mu_sd",
+            "fy_axle", "fy_axle_sd")
+
+
 def reference_run(cfg, value, valid):
     """est_ref over the inputs: arrays of the outputs the table needs."""
     outs = est_ref.run(cfg, value, valid)
-    keys = ("beta", "beta_sd", "vy", "vy_sd", "vx", "vx_sd", "yaw_rate", "yaw_rate_sd", "mu", "mu_sd",
-            "fy_axle", "fy_axle_sd")
-    res = {k: np.array([o[k] for o in outs]) for k in keys}
+    res = {k: np.array([o[k] for o in outs]) for k in OUT_KEYS}
     res["valid"] = np.array([o["valid"] for o in outs], dtype=np.int64)
     res["flags"] = np.array([o["flags"] for o in outs], dtype=np.int64)
     # the kinematic vy's increments and its deviation's, the filter's vy
@@ -331,8 +334,7 @@ def learned_run(vname, mname, sname, cache, values, learned):
     t, value, valid, tr = _run_inputs(vname, mname, sname, cache)
     o = est_eval.run_binding("float", judge.GENERIC_TIR, t, value, valid, vehicle="generic",
                              vehicle_values=values, learned=learned["blob"], keep_out=True)["out"]
-    est = {k: np.asarray(o[k], float) for k in ("beta", "beta_sd", "vy", "vy_sd", "vx", "vx_sd", "yaw_rate",
-                                                "yaw_rate_sd", "mu", "mu_sd", "fy_axle", "fy_axle_sd")}
+    est = {k: np.asarray(o[k], float) for k in OUT_KEYS}
     est["valid"] = np.asarray(o["valid"], np.int64)
     est["flags"] = np.asarray(o["flags"], np.int64)
     return _judge_truth_run(veh, tr, judge.GENERIC_TIR, t, est)

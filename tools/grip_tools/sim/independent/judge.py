@@ -287,8 +287,11 @@ def characterize(vname, out_dir, work_dir):
               f"PacejkaBook_Defaults' (tools/grip_tools/sim/independent/judge.py)\n")
     _merge_tir(start, fragment, out_tir, header)
     rms = re.search(r"RMS\s+([0-9.eE+-]+)", report)
+    # the largest error as a share of the largest measured |Fy|
+    share = re.search(r"/ ([0-9.eE+-]+) % of max", report)
     return dict(vehicle=vname, tir=out_tir, values=values, fit_points=int(len(alpha[::step])),
                 fit_report=report.strip().splitlines()[:6], fit_rms_N=float(rms.group(1)) if rms else None,
+                fit_max_share=float(share.group(1)) / 100.0 if share else None,
                 ay_max=float(np.max(np.abs(ay[mov]))))
 
 
