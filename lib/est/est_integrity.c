@@ -7,8 +7,10 @@
  *              axle's model moves the slip angle the filter infers from
  *              that axle's force by at most tire_tol |alpha| / g, g the
  *              axle's slope factor max(G_MIN, sqrt(1 - u)) (the Jacobians'
- *              form). Either axle fixes vy, so the better-observed one
- *              counts; with both near saturation neither does, and the
+ *              form). The ay update fits the axles' force sum, so
+ *              the two combine weighted by the axles' slopes: a
+ *              saturated axle's error goes to the other's slip angle;
+ *              with both near saturation neither fixes vy, and the
  *              covariance does not know it.
  *   kinematic  vy integrated from ay + g_y - r vx; an offset
  *              drifts it linearly, so its deviation grows by a rate per
@@ -26,17 +28,28 @@
  */
 #include "est_internal.h"
 
-/* The filter's vy deviation [m/s]: the covariance's and the tire model's
- * at the better-observed axle; EST_SD_CAP with vy held at its bound. */
+/* The filter's vy deviation [m/s]: the covariance's and the tire model's,
+ * the axles' slip-angle errors weighted by their slopes; EST_SD_CAP with vy
+ * held at its bound. */
 static grip_real_t filter_sd(const grip_est_t *est, const est_ctx_t *s, const grip_est_output_t *out)
 {
-    grip_real_t da = RC(EST_SD_CAP), sd_m, sd_f;
+    grip_real_t e[2], da, sd_m, sd_f, sum;
     int a;
     for (a = 0; a < 2; ++a) {
         grip_real_t u = r_min(out->util_axle[a], R_ONE);
         grip_real_t g = r_max(RC(EST_G_MIN), r_sqrt(r_sub(R_ONE, u)));
         grip_real_t al = r_mul(RC(0.5), r_abs(r_add(out->alpha[a + a], out->alpha[a + a + 1])));
-        da = r_min(da, r_div(r_mul(est->cfg.tire_tol, al), g));
+        e[a] = r_min(r_div(r_mul(est->cfg.tire_tol, al), g), RC(EST_SD_CAP));
+    }
+    /* The ay update fits the axles' force sum with one vy: an axle's force
+     * error moves vy by that error over the sum of the slopes, so the
+     * slip-angle errors combine as their slope-weighted mean (a saturated
+     * axle's weight ~ 0: the other axle fixes vy), not as the smaller. */
+    sum = r_add(s->slope[0], s->slope[1]);
+    if (sum > R_ZERO) {
+        da = r_add(e[1], r_mul_unit(r_div(s->slope[0], sum), r_sub(e[0], e[1])));
+    } else {
+        da = r_min(e[0], e[1]);
     }
     sd_m = r_min(r_mul(da, r_abs(s->vx)), RC(EST_SD_CAP));
     if (r_abs(est->x[0]) >= r_sub(r_add(r_mul(RC(EST_VY_K), r_abs(s->vx)), R_ONE), RC(EST_SD_VY_EDGE))) {

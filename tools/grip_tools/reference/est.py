@@ -338,10 +338,12 @@ SAT_MU, SAT_MU_LO = 0.1, 0.05
 #           model moves the slip angle the filter infers from that axle's
 #           force by tire_tol |F| / |dF/dalpha| <= tire_tol |alpha| / g, g
 #           = max(G_MIN, sqrt(1 - u)) the axle's slope factor at
-#           utilization u (the Jacobians' form); vy = vx times that. Either
-#           axle determines vy, so the better-observed one counts; with both
-#           near saturation neither does and the deviation grows without
-#           the filter's covariance knowing. vy at its bound |vx| + 1 is not
+#           utilization u (the Jacobians' form); vy = vx times that. The
+#           ay update fits the force sum, so the axles' errors combine
+#           weighted by their slopes |dF/dalpha|: a saturated axle's
+#           error moves the other's slip angle; with both near saturation
+#           neither fixes vy and the deviation grows without the filter's
+#           covariance knowing. vy at its bound |vx| + 1 is not
 #           estimated at all: SD_CAP.
 # kinematic vy integrated from ay + g_y - r vx and moved to the dynamic
 #           vy by the share c = (1 - q) / (1 - Q0) in [0, 1], q = sd_dyn /
@@ -2011,7 +2013,7 @@ class Estimator:
 
     def bound_lateral(self, s):
         """est_checks.c: the standard deviations of vy (the dynamic one:
-        the filter's and the tire model's at the better-observed axle; the
+        the filter's and the tire model's, the axles' slope-weighted; the
         kinematic one: growing by its drift rate since the dynamic one was
         better), the kinematic vy integrated, which of the two the outputs
         take (F_BETA_KIN) and whether they disagree (F_BETA_DISAGREE); the
@@ -2029,14 +2031,24 @@ class Estimator:
             return
         vx = s.vx
         tol = c.get("tire_tol", TIRE_TOL)
-        # the tire model's share: the better-observed axle's slip-angle
+        # the tire model's share: each axle's slip-angle
         # error [rad] times |vx|
-        da = SD_CAP
+        e = [0.0, 0.0]
         for ax in (0, 1):
             u = min(float(o["util_axle"][ax]), 1.0)
             g = max(G_MIN, math.sqrt(1.0 - u))
             a = 0.5 * abs(float(o["alpha"][2 * ax]) + float(o["alpha"][2 * ax + 1]))
-            da = min(da, tol * a / g)
+            e[ax] = min(tol * a / g, SD_CAP)
+        # the ay update fits the axles' force sum with one vy: an axle's
+        # force error moves vy by that error over the sum of the slopes, so
+        # the slip-angle errors combine as their slope-weighted mean (a
+        # saturated axle weighs ~ 0: the other fixes vy), not as the smaller
+        sl0 = abs(float(s.dfda[0])) + abs(float(s.dfda[1]))
+        ssum = sl0 + abs(float(s.dfda[2])) + abs(float(s.dfda[3]))
+        if ssum > 0.0:
+            da = e[1] + sl0 / ssum * (e[0] - e[1])
+        else:
+            da = min(e)
         sd_m = min(da * abs(vx), SD_CAP)
         if abs(float(self.x[0])) >= VY_K * abs(vx) + 1.0 - 0.01:
             sd_m = SD_CAP            # vy held at its bound: not estimated there
