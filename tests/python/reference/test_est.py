@@ -676,14 +676,17 @@ class MuSecantTests(unittest.TestCase):
 
     def test_snow_sine_with_dwell_onset(self):
         # the tangent (F - alpha F') / mu is 0 while the model tire is linear
-        # at the prior mu = 1: at the snow onset vy took the ay deficit
-        # (measured: beta RMS / max 0.30 / 1.14 deg against 0.47 / 1.63)
+        # at the prior mu = 1: at the snow onset vy took the ay deficit.
+        # Judged on the filter's own vy (the bounds off): with them the
+        # kinematic vy carries beta through the onset either way and hides
+        # the filter term (measured: beta RMS / max 0.27 / 0.38 deg against
+        # 0.41 / 1.30, Fy front 4.7 against 8.0 % of peak)
         with tempfile.TemporaryDirectory() as d:
             run = os.path.join(d, "snow")
             est_eval = _sim_run("sine-dwell", "snow", run)
             res = {}
             for name, on in (("secant", True), ("tangent", False)):
-                with mock.patch.object(est_ref, "MU_SECANT", on):
+                with mock.patch.object(est_ref, "MU_SECANT", on), mock.patch.object(est_ref, "INTEGRITY", False):
                     res[name] = est_eval.evaluate(run, est_eval.estimate(run))
         on, off = res["secant"], res["tangent"]
         print(f"\n# sine with dwell snow: beta RMS / max {on['beta_rms_deg']:.2f} / {on['beta_max_deg']:.2f} deg "
@@ -764,10 +767,13 @@ class SteeringLatencyTests(unittest.TestCase):
         # the simulator's steering angle is 10 ms old, its inertial data 20
         # ms: without the alignment the model's front slip angles led the
         # truth's in the state and lagged it at the outputs through every
-        # steering reversal (measured: beta max 0.35 against
-        # 0.54 deg, Fy RMS front 1.9 against 3.0 % of peak)
+        # steering reversal. Judged on the filter's own vy, whose error the
+        # bounds would otherwise hand to the kinematic vy (measured: beta
+        # max 0.41 against 0.56 deg, Fy RMS front 1.65 against 2.83 % of
+        # peak)
         res = _flag_effect("sine-dwell", "dry", "STEER_ALIGN", ("beta_max_deg", "fy_front_rms_pct"),
-                           check=lambda e: self.assertGreater(e.est_config()["steer_latency"], 0.0))
+                           check=lambda e: self.assertGreater(e.est_config()["steer_latency"], 0.0),
+                           filter_only=True)
         print(f"\n# sine with dwell dry: beta max {res['on'][0]:.3f} / {res['off'][0]:.3f} deg, Fy RMS front "
               f"{res['on'][1]:.2f} / {res['off'][1]:.2f} % of peak with / without the steering alignment", flush=True)
         self.assertLess(res["on"][0], 0.8 * res["off"][0])
