@@ -1389,6 +1389,8 @@ class Estimator:
         s.ax_m = (sfx - (self.k_drag * vx * vx + self.f_roll)) / m
         s.xa, s.ya, s.sig, s.alpha, s.kappa, s.fy = xa, ya, sig, alpha, kappa, fy
         s.dfda, s.dfdmu, s.jay, s.jr, s.jax_mu = dfda, dfdmu, jay, jr, jax_mu
+        # the axles' |d Fy / d alpha| summed over their wheels (est_ctx_t slope)
+        s.slope = [float(np.sum(np.abs(dfda[0:2]))), float(np.sum(np.abs(dfda[2:4])))]
 
     # ---- est_stiffness.c: the learned cornering stiffness --------------------
     @staticmethod
@@ -1421,11 +1423,10 @@ class Estimator:
         self.stf_p[1, 1] = min(self.stf_p[1, 1] + self.stf_q, STF_P_MAX)
         rdot = (s.yaw - self.stf_yaw) * rate if self.stf_n > 0 else 0.0
         self.stf_yaw = s.yaw
-        slope = [float(np.sum(np.abs(s.dfda[0:2]))), float(np.sum(np.abs(s.dfda[2:4])))]
         ok = (self.active and s.yaw_ok and s.ay_ok and s.steer_ok and not (s.flags & F_STEER_LIMIT)
               and s.vx >= STF_V and abs(s.ax) < STF_AX and float(np.max(s.out["util"])) < STF_U
               and not s.lock and not s.spin and not s.dead_reck and not s.at_limit
-              and self._yaw_linear(s.yaw, s.vx, STF_D) and slope[0] >= STF_SLOPE and slope[1] >= STF_SLOPE
+              and self._yaw_linear(s.yaw, s.vx, STF_D) and s.slope[0] >= STF_SLOPE and s.slope[1] >= STF_SLOPE
               and abs(rdot) < STF_RACC)
         if not ok:
             self.stf_n = 0
@@ -1435,8 +1436,8 @@ class Estimator:
         fr = (c["mass"] * c["lf"] * s.ay - c["iz"] * rdot) / l
         af = 0.5 * (self.alpha_t[0] + self.alpha_t[1])
         ar = 0.5 * (self.alpha_t[2] + self.alpha_t[3])
-        hf = self.stf_k[0] * (af + (s.fy[0] + s.fy[1] - ff) / slope[0])
-        hr = self.stf_k[1] * (ar + (s.fy[2] + s.fy[3] - fr) / slope[1])
+        hf = self.stf_k[0] * (af + (s.fy[0] + s.fy[1] - ff) / s.slope[0])
+        hr = self.stf_k[1] * (ar + (s.fy[2] + s.fy[3] - fr) / s.slope[1])
         a = 1.0 if self.stf_n == 0 else self.stf_a
         self.stf_z += a * ((af - ar) / STF_S_Y - self.stf_z)
         self.stf_h = self.stf_h + a * (np.array([hf, hr]) / STF_S_Y - self.stf_h)
@@ -2003,8 +2004,7 @@ class Estimator:
             w = (2 * a, 2 * a + 1)
             arm = c["lf"] if a == 0 else c["lr"]
             asd = min(o["beta_sd"] + arm * q, 1.0)
-            slope = abs(float(s.dfda[w[0]])) + abs(float(s.dfda[w[1]]))   # this step's Jacobians
-            sd = tol * abs(float(o["fy_axle"][a])) + slope * asd
+            sd = tol * abs(float(o["fy_axle"][a])) + s.slope[a] * asd   # this step's Jacobians
             sd += (abs(float(s.dfdmu[w[0]])) + abs(float(s.dfdmu[w[1]]))) * o["mu_sd"]
             o["fy_axle_sd"][a] = sd
             # beyond the consumer's limit, when one is set
@@ -2043,10 +2043,9 @@ class Estimator:
         # force error moves vy by that error over the sum of the slopes, so
         # the slip-angle errors combine as their slope-weighted mean (a
         # saturated axle weighs ~ 0: the other fixes vy), not as the smaller
-        sl0 = abs(float(s.dfda[0])) + abs(float(s.dfda[1]))
-        ssum = sl0 + abs(float(s.dfda[2])) + abs(float(s.dfda[3]))
+        ssum = s.slope[0] + s.slope[1]
         if ssum > 0.0:
-            da = e[1] + sl0 / ssum * (e[0] - e[1])
+            da = e[1] + s.slope[0] / ssum * (e[0] - e[1])
         else:
             da = min(e)
         sd_m = min(da * abs(vx), SD_CAP)
