@@ -350,7 +350,9 @@ typedef struct {
     int32_t active;             /* lateral observer running */
     int32_t vx_init;
     grip_real_t vy_k;           /* QS m/s kinematic vy (est_integrity.c) */
-    grip_real_t sd_k;           /* QS m/s its standard deviation, [0, EST_SD_CAP] */
+    grip_real_t sd_k;           /* QS m/s its standard deviation without mu's share (the share's),
+                                 * [0, EST_SD_CAP] */
+    grip_real_t sd_kmu;         /* QS m/s the same with mu's share: the outputs' */
     grip_real_t sd_vx;          /* QS m/s vx's standard deviation, [0, EST_SD_CAP] */
     grip_real_t slip_acc;       /* QS s^2/m the wheels' mean slip per m/s^2 of ax: m / (4 c_kappa),
                                  * the softer axle's static stiffness (vx's deviation) */

@@ -266,6 +266,7 @@ grip_status_t grip_est_reset(grip_est_t *est)
     est->road_dr = R_ZERO;
     est->vy_k = R_ZERO;
     est->sd_k = RC(EST_SD_CAP);
+    est->sd_kmu = RC(EST_SD_CAP);
     est->sd_vx = RC(EST_SD_CAP);
     /* the learned stiffnesses stay (est_stiffness.c, est_stiffness_long.c);
      * their regressions restart */

@@ -11,15 +11,19 @@
  *              the two combine weighted by the axles' slopes: a
  *              saturated axle's error goes to the other's slip angle;
  *              with both near saturation neither fixes vy, and the
- *              covariance does not know it.
+ *              covariance does not know it. Nor does it know mu's own
+ *              uncertainty where the model tire is linear: the slip
+ *              angles at the lowest friction not excluded add their
+ *              share (mu_hypothesis).
  *   kinematic  vy integrated from ay + g_y - r vx; an offset
  *              drifts it linearly, so its deviation grows by a rate per
  *              second (accelerometer offset and bank, the gyro offset's
  *              deviation times vx, the roll compensation's error).
  * The kinematic vy moves to the filter's by a share that is 1 while the
- * filter's deviation is at most half the kinematic one's and 0 once it is
- * the larger (linear between); the outputs take it and its deviation
- * (F_BETA_KIN while the kinematic side weighs more). A filter vy beyond
+ * filter's deviation (without mu's share) is at most half the kinematic
+ * one's and 0 once it is the larger (linear between); the outputs take it
+ * and its deviation with mu's share (F_BETA_KIN while the kinematic side
+ * weighs more). A filter vy beyond
  * EST_DIS_K joint deviations of the kinematic one (share below 1) is not
  * taken: the tire model is fitted where it is wrong (F_BETA_DISAGREE):
  * est_checks withholds V_BETA, the force bits and V_MU. V_BETA further
@@ -28,12 +32,51 @@
  */
 #include "est_internal.h"
 
+/* beta's slip-angle deviation [rad] from mu's own uncertainty, which the
+ * covariance does not carry where the model tire is linear: the slip
+ * angles the axles' present forces need at the lowest friction the filter
+ * cannot exclude, mu_h = max(mu - EST_SEC_K sigma_mu, the friction in
+ * use), on each axle's force shape scaled by mu (the filter's own model of
+ * a lower mu), less the present ones. The shape's inverse is taken on its
+ * chord from the present point to the peak: above a concave shape's
+ * inverse and linear in the force (the inverse itself is ill-conditioned
+ * on the flat top). vy's error under the hypothesis lies between the two
+ * axles' shifts, so the larger counts, over EST_SEC_K: a deviation whose
+ * EST_SEC_K multiple covers the hypothesis EST_SEC_K deviations away. */
+static grip_real_t mu_hypothesis(const grip_est_t *est, const grip_est_output_t *out)
+{
+    grip_real_t mu = est->x[2];
+    grip_real_t mu_h = r_max(r_sub(mu, r_mul(RC(EST_SEC_K * EST_S_MU), r_sqrt(est->p[2][2]))), est->mu_floor);
+    grip_real_t inv_mu, gain, d = R_ZERO;
+    int a;
+    if (mu_h >= mu) {
+        return R_ZERO;
+    }
+    inv_mu = r_div(R_ONE, mu);
+    gain = r_sub(r_div(mu, mu_h), R_ONE);   /* the force's relative rise at mu_h */
+    for (a = 0; a < 2; ++a) {
+        const grip_real_t *row = est->fy_shape[a];
+        grip_real_t al = r_mul(RC(0.5), r_abs(r_add(out->alpha[a + a], out->alpha[a + a + 1])));
+        grip_real_t xa = r_min(r_mul(r_mul(al, inv_mu), est->inv_apk[a]), R_ONE);
+        grip_real_t ya = r_table_lerp(row, GRIP_EST_SHAPE_N, xa);
+        grip_real_t num = r_mul(ya, gain);
+        grip_real_t den = r_sub(row[GRIP_EST_SHAPE_N], ya);
+        grip_real_t xh = R_ONE;
+        if (num < den) {   /* 0 <= num < den: below the peak, a share of the chord */
+            xh = r_add(xa, r_mul_unit(r_div(num, den), r_sub(R_ONE, xa)));
+        }
+        d = r_max(d, r_sub(r_mul(r_mul(est->alpha_pk[a], mu_h), xh), al));
+    }
+    return r_mul(d, RC(1.0 / EST_SEC_K));
+}
+
 /* The filter's vy deviation [m/s]: the covariance's and the tire model's,
  * the axles' slip-angle errors weighted by their slopes; EST_SD_CAP with vy
- * held at its bound. */
-static grip_real_t filter_sd(const grip_est_t *est, const est_ctx_t *s, const grip_est_output_t *out)
+ * held at its bound. *sd_mu: the same with mu's share (mu_hypothesis). */
+static grip_real_t filter_sd(const grip_est_t *est, const est_ctx_t *s, const grip_est_output_t *out,
+                             grip_real_t *sd_mu)
 {
-    grip_real_t e[2], da, sd_m, sd_f, sum;
+    grip_real_t e[2], da, sd_m, sd_f, sd_h, sum;
     int a;
     for (a = 0; a < 2; ++a) {
         grip_real_t u = r_min(out->util_axle[a], R_ONE);
@@ -52,29 +95,33 @@ static grip_real_t filter_sd(const grip_est_t *est, const est_ctx_t *s, const gr
         da = r_min(e[0], e[1]);
     }
     sd_m = r_min(r_mul(da, r_abs(s->vx)), RC(EST_SD_CAP));
+    sd_h = r_min(r_mul(mu_hypothesis(est, out), r_abs(s->vx)), RC(EST_SD_CAP));
     if (r_abs(est->x[0]) >= r_sub(r_add(r_mul(RC(EST_VY_K), r_abs(s->vx)), R_ONE), RC(EST_SD_VY_EDGE))) {
         sd_m = RC(EST_SD_CAP);
     }
     sd_f = r_mul(RC(EST_S_VY), r_sqrt(est->p[0][0]));
+    *sd_mu = r_min(r_sqrt(r_add(r_add(r_sq(sd_f), r_sq(sd_m)), r_sq(sd_h))), RC(EST_SD_CAP));
     return r_min(r_sqrt(r_add(r_sq(sd_f), r_sq(sd_m))), RC(EST_SD_CAP));
 }
 
 void est_integrity(grip_est_t *est, est_ctx_t *s, grip_est_output_t *out)
 {
     const grip_est_config_t *c = &est->cfg;
-    grip_real_t sd_dyn, ay, sb, rate, vxd, tb, q, w, j;
+    grip_real_t sd_dyn, sd_dmu, ay, sb, rate, grow, vxd, tb, q, w, j;
     s->disagree = 0u;
     s->vy_sd = R_ZERO;
     s->beta_sd = R_ZERO;
+    s->beta_sd_f = R_ZERO;
     out->mu_sd = r_mul(RC(EST_S_MU), r_sqrt(est->p[2][2]));
     if (!est->active) {
         out->yaw_rate_sd = R_ZERO;
         est->vy_k = R_ZERO;
         est->sd_k = RC(EST_SD_CAP);
+        est->sd_kmu = RC(EST_SD_CAP);
         return;
     }
     out->yaw_rate_sd = r_mul(RC(EST_S_R), r_sqrt(est->p[1][1]));
-    sd_dyn = filter_sd(est, s, out);
+    sd_dyn = filter_sd(est, s, out, &sd_dmu);
     ay = s->ay_ok ? s->ay : s->ay_m;
     est->vy_k = sym_clamp(r_add(est->vy_k, r_div(r_sub(r_add(ay, s->g_y), r_mul(est->x[1], s->vx)), est->rate)),
                           RC(EST_WS_MAX));
@@ -83,12 +130,19 @@ void est_integrity(grip_est_t *est, est_ctx_t *s, grip_est_output_t *out)
     sb = r_mul(RC(EST_S_B), r_sqrt(est->p[3][3]));
     rate = r_add(r_sqrt(r_add(r_sq(c->kin_acc_sd), r_sq(r_mul(s->vx, sb)))),
                  r_mul(r_mul(RC(EST_ROLL_TOL * EST_G), est->rg_k), r_abs(ay)));
-    est->sd_k = r_min(r_add(est->sd_k, r_div(rate, est->rate)), RC(EST_SD_CAP));
+    grow = r_div(rate, est->rate);
+    est->sd_k = r_min(r_add(est->sd_k, grow), RC(EST_SD_CAP));
+    est->sd_kmu = r_min(r_add(est->sd_kmu, grow), RC(EST_SD_CAP));
     /* the filter's share w: 1 while its deviation is at most EST_KIN_Q0 of
      * the kinematic one's, 0 from where it is the larger, linear between
      * (continuous: neither build's last bit picks a branch); the deviation
      * moves by the same share, a convex combination of two bounds being a
-     * bound whatever their correlation */
+     * bound whatever their correlation. The share and the disagreement
+     * test weigh the deviations without mu's term (sd_k): the kinematic vy
+     * integrates a bank beyond the configured plane as a drift its bound
+     * does not hold, and mu's term is largest in the long turns where that
+     * drift builds up. The outputs' deviation sd_kmu moves by the same
+     * share with mu's term. */
     q = r_min(r_div(sd_dyn, r_max(est->sd_k, RC(EST_SD_MIN))), RC(EST_Q_MAX));
     w = r_clamp(r_mul(r_sub(R_ONE, q), RC(1.0 / (1.0 - EST_KIN_Q0))), R_ZERO, R_ONE);
     j = r_min(r_sqrt(r_add(r_sq(sd_dyn), r_sq(est->sd_k))), RC(EST_SD_CAP));
@@ -100,16 +154,20 @@ void est_integrity(grip_est_t *est, est_ctx_t *s, grip_est_output_t *out)
     } else {
         est->vy_k = r_add(est->vy_k, r_mul(w, r_sub(est->x[0], est->vy_k)));
         est->sd_k = r_add(est->sd_k, r_mul(w, r_sub(sd_dyn, est->sd_k)));
+        est->sd_kmu = r_add(est->sd_kmu, r_mul(w, r_sub(sd_dmu, est->sd_kmu)));
     }
     if (w < RC(0.5)) {
         s->flags |= GRIP_EST_F_BETA_KIN;
     }
-    s->vy_sd = est->sd_k;
+    s->vy_sd = est->sd_kmu;
     /* beta's deviation at the state's vy: d atan(vy / vx) / d vy =
      * cos^2(beta) / vx */
     vxd = r_max(s->vx, RC(EST_V_OFF));
     tb = sym_clamp(r_div(est->vy_k, vxd), RC(100.0));
     s->beta_sd = r_div(r_div(s->vy_sd, vxd), r_add(R_ONE, r_sq(tb)));
+    /* without mu's share, for the axle forces: a lower mu moves the slip
+     * angles at the measured forces, not the forces */
+    s->beta_sd_f = r_div(r_div(est->sd_k, vxd), r_add(R_ONE, r_sq(tb)));
 }
 
 /* vx's deviation [m/s] through est_speed's complementary filter: the
@@ -131,7 +189,7 @@ void est_bound_speed(grip_est_t *est, const est_ctx_t *s, grip_real_t kk, grip_r
         est->sd_vx = RC(EST_SD_CAP);
         return;
     }
-    vyb = r_min(est->sd_k, r_add(r_mul(RC(EST_VY_K), r_abs(est->vx)), R_ONE));
+    vyb = r_min(est->sd_kmu, r_add(r_mul(RC(EST_VY_K), r_abs(est->vx)), R_ONE));
     acc = r_add(est->cfg.kin_acc_sd, r_mul(r_abs(s->yaw), vyb));
     sd = r_min(r_add(est->sd_vx, r_div(acc, est->rate)), RC(EST_SD_CAP));
     if (kk > R_ZERO) {
@@ -183,7 +241,7 @@ void est_bound_outputs(const grip_est_t *est, est_ctx_t *s, grip_est_output_t *o
     for (a = 0; a < 2; ++a) {
         int w0 = a + a, w1 = a + a + 1;
         grip_real_t arm = (a == 0) ? est->cfg.lf : est->cfg.lr;
-        grip_real_t asd = r_min(r_add(out->beta_sd, r_mul(arm, q)), R_ONE);
+        grip_real_t asd = r_min(r_add(s->beta_sd_f, r_mul(arm, q)), R_ONE);
         grip_real_t sd = r_add(r_mul(est->cfg.tire_tol, r_abs(out->fy_axle[a])), r_mul(s->slope[a], asd));
         sd = r_add(sd, r_mul(r_add(r_abs(est->fy_dmu[w0]), r_abs(est->fy_dmu[w1])), out->mu_sd));
         out->fy_axle_sd[a] = sd;

@@ -68,6 +68,7 @@ typedef struct {
     grip_real_t nis_ay;         /* QS normalized innovation squared of the ay update */
     /* bounds (est_integrity.c) */
     grip_real_t vy_sd, beta_sd; /* QS m/s, rad the outputs' standard deviations */
+    grip_real_t beta_sd_f;      /* QS rad beta's without mu's share (the axle forces') */
     grip_real_t slope[2];       /* QL N/rad the axles' |d Fy / d alpha| summed (est_tires) */
     /* flags (1: true), by the same stages */
     uint8_t steer_ok, yaw_ok, ax_ok, ay_ok; /* fresh, or held within the hold time */

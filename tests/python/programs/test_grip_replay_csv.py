@@ -118,8 +118,20 @@ class CsvModeTests(unittest.TestCase):
             self.assertTrue(np.all(np.isfinite(col(rows, k))), k)
         valid = np.array([int(r["est_valid"]) for r in rows])
         valid_ref = np.array([o["valid"] for o in ref])
-        # validity follows the reference (ay lost for 80 ms -> beta invalid)
-        self.assertEqual(int(np.sum(valid != valid_ref)), 0)
+        # validity follows the reference (ay lost for 80 ms -> beta invalid),
+        # but for beta's limit: where beta_sd lies within the build's
+        # tolerance of beta_sd_max the two may fall on either side of it, and
+        # then V_BETA and the bits that follow it (the wheels', the margin)
+        # differ, nothing else
+        follows = est_ref.V_BETA | est_ref.V_MARGIN | sum(1 << (5 + i) for i in range(4))
+        limit = est_ref.BETA_SD_MAX
+        sd_ref = np.array([o["beta_sd"] for o in ref])
+        differ = np.nonzero(valid != valid_ref)[0]
+        for k in differ:
+            self.assertEqual(int(valid[k] ^ valid_ref[k]) & ~follows, 0, f"row {k}")
+            self.assertLessEqual(abs(sd_ref[k] - limit), TOL[arith]["beta"], f"row {k}")
+        print(f"\n  grip-replay --csv {arith}: validity as the reference's on {len(valid) - len(differ)} of "
+              f"{len(valid)} rows (beta_sd at its limit on the others)")
         self.assertTrue(np.any((valid & est_ref.V_BETA) == 0))
         tol = TOL[arith]
         report = []

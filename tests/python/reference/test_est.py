@@ -546,7 +546,10 @@ class TireRelaxationTests(unittest.TestCase):
     def test_sine_with_dwell(self):
         # The reference simulator's tires lag (relaxation on); without the lag
         # the estimator's model force leads the truth's through every steering
-        # reversal: beta RMS 0.35 (dry) and 0.76 deg (wet, a spin-out)
+        # reversal. Judged on the filter's own vy (the bounds off,
+        # INTEGRITY: with them the friction term withholds the spin-out's
+        # steps and the two configurations' valid steps differ): beta RMS
+        # 0.21 / 0.40 deg dry, 0.34 / 0.57 deg wet (a spin-out) with /
         # without the tire relaxation
         rms = {}
         with tempfile.TemporaryDirectory() as d:
@@ -554,7 +557,8 @@ class TireRelaxationTests(unittest.TestCase):
                 run = os.path.join(d, surface)
                 est_eval = _sim_run("sine-dwell", surface, run)
                 for name, length in (("lag", est_ref._relax_length), ("none", lambda *a: 0.0)):
-                    with mock.patch.object(est_ref, "_relax_length", length):
+                    with mock.patch.object(est_ref, "_relax_length", length), \
+                            mock.patch.object(est_ref, "INTEGRITY", False):
                         rms[surface, name] = est_eval.evaluate(run, est_eval.estimate(run))["beta_rms_deg"]
         print("\n# sine with dwell beta RMS with / without the tire lag: dry "
               f"{rms['dry', 'lag']:.2f} / {rms['dry', 'none']:.2f} deg, wet {rms['wet', 'lag']:.2f} / "

@@ -261,23 +261,33 @@ def _simulator_judges():
 
 
 class IndependentJudgeTests(unittest.TestCase):
-    """One out-of-family run (CommonRoad's multi-body BMW 320i, its own
-    tires, the estimator on the generic PacejkaBook_Defaults): the
-    integrity target met and beta valid on >= 90 % of the moving steps
-    outside spins and full saturation (measured: docs/estimator/integrity.md)."""
+    """Out-of-family runs (CommonRoad's multi-body BMW 320i, its own tires;
+    the estimator on the generic PacejkaBook_Defaults unless the test says
+    otherwise): the integrity target met (measured:
+    docs/estimator/integrity.md)."""
 
     def test_step_steer_dry(self):
+        # the integrity target met; beta's availability is what the friction
+        # term costs: in the sustained turn (4.7 m/s^2, mu at its prior
+        # 1.0 +- 0.3) the lowest friction not excluded is the one in use,
+        # where the generic tire's axles are at their peak, and the bound
+        # exceeds the default 1 deg (docs/estimator/integrity.md, "Friction
+        # not yet known"); without the term beta is valid on every moving step
         integrity = _simulator_judges()
         with tempfile.TemporaryDirectory() as d:
             r = integrity.independent_run("bmw320i", "step-steer", "dry", d)
+            with mock.patch.object(integrity.est_ref, "MU_HYP", False):
+                r0 = integrity.independent_run("bmw320i", "step-steer", "dry", d)
         b = r["beta"]
         print(f"\n# independent bmw320i step-steer dry: beta valid {b['valid_steps']} steps "
-              f"({100 * r['beta_valid_share']:.1f} %), {b['violations']} beyond max(1 deg, 3 sd), "
-              f"worst true error {b['true_err_max_deg']:.2f} deg, median sd {b['sd_med_deg']:.2f} deg", flush=True)
+              f"({100 * r['beta_valid_share']:.1f} %; {100 * r0['beta_valid_share']:.1f} % without the friction "
+              f"term), {b['violations']} beyond max(1 deg, 3 sd), worst true error {b['true_err_max_deg']:.2f} deg, "
+              f"median sd {b['sd_med_deg']:.2f} deg", flush=True)
         self.assertGreater(b["valid_steps"], 100)
         self.assertLessEqual(b["rate"], integrity.TARGET_RATE)
         self.assertLessEqual(b["longest_s"], integrity.TARGET_RUN_S)
-        self.assertGreaterEqual(r["beta_valid_share"], integrity.TARGET_VALID)
+        self.assertGreaterEqual(r0["beta_valid_share"], integrity.TARGET_VALID)
+        self.assertLess(r["beta_valid_share"], integrity.TARGET_VALID)
 
     _fitted_dir = None
 
@@ -302,9 +312,13 @@ class IndependentJudgeTests(unittest.TestCase):
         # the fitted configuration declares its tire's tolerance as fitted
         # (judge.FITTED_TIRE_TOL): the ramp's fit must reproduce the wheel
         # forces within it, and with it the sine with dwell on wet keeps
-        # the promise and beta valid on >= 90 % of its steps; the run's
-        # valid share under the generic tire's default tolerance (the
-        # configuration's declaration before) is below the target
+        # the promise. Without the friction term (MU_HYP), which withholds
+        # a further 14 % of the run (mu not yet identified), beta is valid
+        # on >= 90 % of its steps, and below that under the generic tire's
+        # default tolerance (the configuration's declaration before). With
+        # the term the larger tolerance gives more availability (81 against
+        # 76 %): it moves the blend towards the kinematic vy, whose bound
+        # has no friction term
         from grip_tools.sim.independent import judge
         integrity, c, r = self._fitted_run("sine-dwell", "wet")
         fit_max = c["fit_max_share"]
@@ -317,24 +331,34 @@ class IndependentJudgeTests(unittest.TestCase):
         self.assertGreater(b["valid_steps"], 100)
         self.assertLessEqual(b["rate"], integrity.TARGET_RATE)
         self.assertLessEqual(b["longest_s"], integrity.TARGET_RUN_S)
-        self.assertGreaterEqual(r["beta_valid_share"], integrity.TARGET_VALID)
-        with mock.patch.object(judge, "FITTED_TIRE_TOL", integrity.est_ref.TIRE_TOL):
-            _, _, r3 = self._fitted_run("sine-dwell", "wet")
-        print(f"# ... declared {integrity.est_ref.TIRE_TOL}: beta valid {100 * r3['beta_valid_share']:.1f} %",
-              flush=True)
+        with mock.patch.object(integrity.est_ref, "MU_HYP", False):
+            _, _, r0 = self._fitted_run("sine-dwell", "wet")
+            with mock.patch.object(judge, "FITTED_TIRE_TOL", integrity.est_ref.TIRE_TOL):
+                _, _, r3 = self._fitted_run("sine-dwell", "wet")
+        print(f"# ... without the friction term: beta valid {100 * r0['beta_valid_share']:.1f} %, declared "
+              f"{integrity.est_ref.TIRE_TOL} {100 * r3['beta_valid_share']:.1f} %", flush=True)
+        self.assertGreaterEqual(r0["beta_valid_share"], integrity.TARGET_VALID)
         self.assertLess(r3["beta_valid_share"], integrity.TARGET_VALID)
 
-    @unittest.expectedFailure
     def test_fitted_tire_step_steer_snow(self):
         # the fitted configuration (a tire fitted to the car on a dry ramp
         # steer): on snow mu stays near 1 for 2 s after the step while the
         # truth's axles saturate, and the fitted tire's stiffness puts the
-        # model in its linear range, so the bound stays ~0.3 deg while beta
-        # is 1.7 deg off (docs/estimator/integrity.md, "The fitted
-        # configuration"). Not met; this test passes once it is.
+        # model in its linear range, where the covariance does not carry
+        # mu's uncertainty: without mu's share of the bound (MU_HYP off)
+        # beta is flagged valid 1.7 deg off with a bound of ~0.2 deg. With
+        # it, the slip angles of the lowest friction not excluded bound it
+        # (docs/estimator/integrity.md, "Friction not yet known")
+        from grip_tools.reference import est as est_ref
+        with mock.patch.object(est_ref, "MU_HYP", False):
+            _, _, old = self._fitted_run("step-steer", "snow")
+        ob = old["beta"]
+        print(f"\n# fitted bmw320i step-steer snow without mu's share: beta valid {ob['valid_steps']} steps, "
+              f"{ob['violations']} beyond max(1 deg, 3 sd), longest {ob['longest_s']:.2f} s", flush=True)
+        self.assertGreater(ob["violations"], 100)
         integrity, _, r = self._fitted_run("step-steer", "snow")
         b = r["beta"]
-        print(f"\n# fitted bmw320i step-steer snow: beta valid {b['valid_steps']} steps, {b['violations']} beyond "
+        print(f"# fitted bmw320i step-steer snow: beta valid {b['valid_steps']} steps, {b['violations']} beyond "
               f"max(1 deg, 3 sd), longest {b['longest_s']:.2f} s, worst true error {b['true_err_max_deg']:.2f} deg",
               flush=True)
         self.assertGreater(b["valid_steps"], 100)
@@ -418,13 +442,16 @@ class IndependentJudgeTests(unittest.TestCase):
         # (sideslip growing at 0.76 m/s^2 of dvy/dt, true beta 1 -> 3.5
         # deg); withdrawn there, mu went from 0.49 to 0.63 on a 0.36 road
         # and beta was flagged valid 2.4 deg off with a bound of 0.7 deg.
-        # "Steady" is |dvy/dt| within 3 kin_acc_sd; 1 m/s^2 let it through
+        # "Steady" is |dvy/dt| within 3 kin_acc_sd; 1 m/s^2 let it through.
+        # The two thresholds compared without the friction term (MU_HYP),
+        # which withholds the steps where they differ; the promise with it
         integrity = _simulator_judges()
         res = {}
         with tempfile.TemporaryDirectory() as d:
             for k in (est_ref.STEADY_K, 1.0 / est_ref.KIN_ACC):
-                with mock.patch.object(est_ref, "STEADY_K", k):
+                with mock.patch.object(est_ref, "STEADY_K", k), mock.patch.object(est_ref, "MU_HYP", False):
                     res[k] = integrity.independent_run("bmw320i", "double-lane-change", "snow", d)
+            full = integrity.independent_run("bmw320i", "double-lane-change", "snow", d)
         new, old = res[est_ref.STEADY_K]["beta"], res[1.0 / est_ref.KIN_ACC]["beta"]
         print(f"\n# independent bmw320i double lane change snow: beta valid beyond max(1 deg, 3 sd) "
               f"{new['violations']} of {new['valid_steps']} (longest {1000 * new['longest_s']:.0f} ms); "
@@ -440,9 +467,15 @@ class IndependentJudgeTests(unittest.TestCase):
         self.assertLess(new["true_err_max_deg"], 1.0)
         self.assertLessEqual(new["rate"], integrity.TARGET_RATE)
         self.assertLessEqual(new["longest_s"], integrity.TARGET_RUN_S)
-        # beta stays available on most of the run (291 of its 481 steps,
-        # 60.5 %: the slope-weighted tire term withholds the rest)
+        # beta stays available on most of the run without the friction
+        # term (291 of its 481 steps, 60.5 %: the slope-weighted tire term
+        # withholds the rest); with it the promise holds too
         self.assertGreater(res[est_ref.STEADY_K]["beta_valid_share"], 0.5)
+        f = full["beta"]
+        print(f"# ... with the friction term: beta valid {f['valid_steps']} steps "
+              f"({100 * full['beta_valid_share']:.1f} %), {f['violations']} beyond max(1 deg, 3 sd)", flush=True)
+        self.assertLessEqual(f["rate"], integrity.TARGET_RATE)
+        self.assertLessEqual(f["longest_s"], integrity.TARGET_RUN_S)
 
 
 if __name__ == "__main__":

@@ -197,8 +197,9 @@ class JudgeTests(unittest.TestCase):
                 self.assertGreater(learned[arith]["k_front"], 1.2, arith)
                 self.assertGreater(learned[arith]["k_rear"], 1.2, arith)
                 step = [r for r in js["results"] if r["manoeuvre"] == "step-steer"][0]["configs"]
-                self.assertLess(step["learned"][arith]["beta_rms_deg"], 0.6 * step["generic"][arith]["beta_rms_deg"],
-                                arith)
+                # on every moving step: the two withhold different steps
+                self.assertLess(step["learned"][arith]["beta_rms_moving_deg"],
+                                0.6 * step["generic"][arith]["beta_rms_moving_deg"], arith)
             for r in doc["results"]:
                 for cname, builds in r["configs"].items():
                     for arith, m in builds.items():
@@ -263,10 +264,12 @@ class LearnedSlipStiffnessTests(unittest.TestCase):
 class BankedCurveTests(unittest.TestCase):
     """The estimator on the judge's 8 deg banked curve on wet (BMW 320i,
     generic configuration: tan_bank = 0), bank_est 1 against 0. The
-    accelerometer reads g sin(8 deg) less than r vx; without the bank
-    estimated the kinematic vy rejects the filter's and beta is withheld on
-    43 % of the run (1.04 / 1.34 deg RMS / max where valid, C float); with
-    it 0.85 / 1.15 deg on 71 % (docs/estimator/road.md, section 5)."""
+    accelerometer reads g sin(8 deg) less than r vx; with the bank
+    estimated beta is closer to the truth on every moving step (4.6 -> 0.9
+    deg RMS; docs/estimator/road.md, section 5). Valid on
+    about a sixth of the run either way: in the sustained turn the friction
+    term of beta's bound withholds it (docs/estimator/integrity.md,
+    "Friction not yet known")."""
 
     def test_banked_curve_wet(self):
         veh = mb.Vehicle("bmw320i")
@@ -281,9 +284,12 @@ class BankedCurveTests(unittest.TestCase):
                 res[be] = judge.run_one(("bmw320i", "banked-curve", "wet", cfg, bins, d))
         for arith in ("float", "fixed"):
             off, on = res[0]["configs"]["generic"][arith], res[1]["configs"]["generic"][arith]
-            self.assertLess(on["beta_rms_deg"], off["beta_rms_deg"], arith)
-            self.assertLess(on["beta_max_deg"], off["beta_max_deg"], arith)
-            self.assertGreater(on["valid_share"], off["valid_share"] + 0.1, arith)
+            print(f"\n# banked curve wet, {arith}: beta RMS on every moving step {off['beta_rms_moving_deg']:.2f} -> "
+                  f"{on['beta_rms_moving_deg']:.2f} deg with the bank estimated; valid {100 * off['valid_share']:.0f} "
+                  f"-> {100 * on['valid_share']:.0f} %", flush=True)
+            # (the valid steps are the curve's entry and exit, 0.3 deg off at
+            # most either way: the same within 1e-3 deg)
+            self.assertLess(on["beta_rms_moving_deg"], 0.5 * off["beta_rms_moving_deg"], arith)
 
 
 if __name__ == "__main__":

@@ -282,6 +282,9 @@ CUT_CLEAR = 0.05
 # secant saw only the top of that span (mu stalled at 0.55 - 0.6)
 SHAPE_N, SEC_K, SEC_MIN, SHAPE_F_MIN = 16, 3.0, 0.02, 0.01
 MU_SECANT = True
+# beta's bound carries mu's uncertainty over the same span (MU_HYP,
+# bound_lateral's _mu_hypothesis): off only to measure what it does
+MU_HYP = True
 # A wheel at |kappa| >= LOCK_K while braking (locked, or cycled by an ABS
 # past the tire's peak) makes the ax update a friction measurement (noise
 # R_LOCK) that moves the state but leaves the covariance: no confidence added
@@ -512,7 +515,7 @@ class StepData:
                         kappa=np.zeros(4), alpha=np.zeros(4), fz=np.zeros(4), fx=np.zeros(4), fy=np.zeros(4),
                         mz=np.zeros(4), util=np.zeros(4), fy_axle=np.zeros(2), util_axle=np.zeros(2), mu=0.0,
                         mu_conf=0.0, yaw_rate_bias=0.0, fy_margin_front=0.0, steer_char=0,
-                        vy_sd=0.0, beta_sd=0.0, yaw_rate_sd=0.0, mu_sd=0.0, vx_sd=0.0,
+                        vy_sd=0.0, beta_sd=0.0, beta_sd_f=0.0, yaw_rate_sd=0.0, mu_sd=0.0, vx_sd=0.0,
                         fy_axle_sd=np.zeros(2))
         self.flags = 0
         self.vbits = 0               # validity bits
@@ -643,6 +646,7 @@ class Estimator:
         self.t_prev = None           # previous step's input time [us] (rate check)
         self.vy_k = 0.0              # kinematic vy [m/s] and its deviation (bounds)
         self.sd_k = SD_CAP
+        self.sd_kmu = SD_CAP         # the same with mu's uncertainty: the outputs'
         self.sd_vx = SD_CAP            # vx's standard deviation [m/s]
         self.no_wheel_steps = BIG
         self.dr_steps = 0
@@ -1959,13 +1963,13 @@ class Estimator:
         up to SLIP_MAX at twice the peak angle); the update's share kk moves it to the reference's (convex:
         a bound whatever the correlation). At standstill V_STAND.
 
-        State: reads vx, vx_init, sd_k (the previous step's), c_kappa;
+        State: reads vx, vx_init, sd_kmu (the previous step's), c_kappa;
         writes sd_vx. Step: reads yaw, ax."""
         c = self.cfg
         if not self.vx_init:
             self.sd_vx = SD_CAP
             return
-        vyb = min(self.sd_k, VY_K * abs(self.vx) + 1.0)
+        vyb = min(self.sd_kmu, VY_K * abs(self.vx) + 1.0)
         acc = c.get("kin_acc_sd", KIN_ACC) + abs(s.yaw) * vyb
         sd = min(self.sd_vx + acc * c["dt"], SD_CAP)
         if kk > 0.0:
@@ -2003,7 +2007,7 @@ class Estimator:
         for a in (0, 1):
             w = (2 * a, 2 * a + 1)
             arm = c["lf"] if a == 0 else c["lr"]
-            asd = min(o["beta_sd"] + arm * q, 1.0)
+            asd = min(s.beta_sd_f + arm * q, 1.0)
             sd = tol * abs(float(o["fy_axle"][a])) + s.slope[a] * asd   # this step's Jacobians
             sd += (abs(float(s.dfdmu[w[0]])) + abs(float(s.dfdmu[w[1]]))) * o["mu_sd"]
             o["fy_axle_sd"][a] = sd
@@ -2019,15 +2023,15 @@ class Estimator:
         take (F_BETA_KIN) and whether they disagree (F_BETA_DISAGREE); the
         yaw rate's and mu's deviations (the filter's).
 
-        State: reads x, P; writes vy_k, sd_k. Step: reads vx, ay, g_y,
+        State: reads x, P; writes vy_k, sd_k, sd_kmu. Step: reads vx, ay, g_y,
         the model's slip angles and axle utilization; writes use_kin,
         disagree, vy_sd, beta_sd, the flags."""
         c, o = self.cfg, s.out
-        s.use_kin, s.disagree, s.vy_sd, s.beta_sd = False, False, 0.0, 0.0
+        s.use_kin, s.disagree, s.vy_sd, s.beta_sd, s.beta_sd_f = False, False, 0.0, 0.0, 0.0
         o["yaw_rate_sd"] = S[1] * math.sqrt(self.P[1, 1]) if self.active else 0.0
         o["mu_sd"] = S[2] * math.sqrt(self.P[2, 2])
         if not self.active:
-            self.vy_k, self.sd_k = 0.0, SD_CAP
+            self.vy_k, self.sd_k, self.sd_kmu = 0.0, SD_CAP, SD_CAP
             return
         vx = s.vx
         tol = c.get("tire_tol", TIRE_TOL)
@@ -2049,10 +2053,13 @@ class Estimator:
         else:
             da = min(e)
         sd_m = min(da * abs(vx), SD_CAP)
+        # mu's own uncertainty, where the covariance does not carry it
+        sd_h = min(self._mu_hypothesis(s, o) * abs(vx), SD_CAP) if MU_HYP else 0.0
         if abs(float(self.x[0])) >= VY_K * abs(vx) + 1.0 - 0.01:
             sd_m = SD_CAP            # vy held at its bound: not estimated there
         sd_f = S[0] * math.sqrt(self.P[0, 0])
         sd_dyn = min(math.sqrt(sd_f * sd_f + sd_m * sd_m), SD_CAP)
+        sd_dmu = min(math.sqrt(sd_f * sd_f + sd_m * sd_m + sd_h * sd_h), SD_CAP)
         ay = s.ay if s.ay_ok else s.ay_m
         dvy = (ay + s.g_y - float(self.x[1]) * vx) * c["dt"]
         self.vy_k = _clamp(self.vy_k + dvy, -WS_MAX, WS_MAX)
@@ -2062,21 +2069,29 @@ class Estimator:
         ka = c.get("kin_acc_sd", KIN_ACC)
         rate = math.sqrt(ka * ka + (vx * sb) ** 2) + ROLL_TOL * G * self.rg_k * abs(ay)
         self.sd_k = min(self.sd_k + rate * c["dt"], SD_CAP)
+        self.sd_kmu = min(self.sd_kmu + rate * c["dt"], SD_CAP)
         # a trace for the measurement of the bounds against the truth
         # (integrity.judge_run), not a C output: this step's kinematic
         # increment of vy and of its deviation, the filter's deviation [m/s]
-        o["kin_dvy"], o["kin_dsd"], o["filter_vy_sd"] = dvy, rate * c["dt"], sd_dyn
+        o["kin_dvy"], o["kin_dsd"], o["filter_vy_sd"] = dvy, rate * c["dt"], sd_dmu
         x0 = float(self.x[0])
         # the filter's share c: 1 while its deviation is at most Q0 of the
         # kinematic one's, 0 from where it is the larger, linear between
         # (continuous, so that neither estimate's last bit picks a branch);
         # the deviation moves by the same share, a convex combination of
-        # two bounds being a bound whatever their correlation
+        # two bounds being a bound whatever their correlation. The share
+        # and the disagreement test weigh the deviations without mu's
+        # term (sd_k): the kinematic vy integrates a bank beyond the
+        # configured plane as a drift its bound does not hold, and mu's
+        # term is largest in the long turns where that drift builds up
+        # (the BMW's road of changing bank and grade). The outputs'
+        # deviation sd_kmu moves by the same share with mu's term: any
+        # share of two bounds is a bound.
         q = min(sd_dyn / max(self.sd_k, SD_MIN), Q_MAX)
         c = _clamp((1.0 - q) / (1.0 - Q0), 0.0, 1.0)
         j = min(math.sqrt(sd_dyn * sd_dyn + self.sd_k * self.sd_k), SD_CAP)
         if not INTEGRITY:
-            self.vy_k, self.sd_k = x0, sd_dyn
+            self.vy_k, self.sd_k, self.sd_kmu = x0, sd_dyn, sd_dmu
         elif c < 1.0 and abs(x0 - self.vy_k) > DIS_K * j:
             # the filter's vy outside the joint bound of the two: the tire
             # model is fitted where it is wrong; the kinematic vy carries
@@ -2085,15 +2100,47 @@ class Estimator:
         else:
             self.vy_k = self.vy_k + c * (x0 - self.vy_k)
             self.sd_k = self.sd_k + c * (sd_dyn - self.sd_k)
+            self.sd_kmu = self.sd_kmu + c * (sd_dmu - self.sd_kmu)
         if INTEGRITY and c < 0.5:
             s.flags |= F_BETA_KIN
         s.use_kin = INTEGRITY
-        s.vy_sd = self.sd_k
+        s.vy_sd = self.sd_kmu
         # beta's deviation at the state's vy (the outputs' differs by the
         # latency's few mm/s): d atan(vy / vx) / d vy = cos^2(beta) / vx
         vxd = max(vx, V_OFF)
         tb = _clamp(self.vy_k / vxd, -100.0, 100.0)
         s.beta_sd = s.vy_sd / vxd / (1.0 + tb * tb)
+        # without mu's share, for the axle forces: a lower mu moves the slip
+        # angles at the measured forces, not the forces
+        s.beta_sd_f = self.sd_k / vxd / (1.0 + tb * tb)
+
+    def _mu_hypothesis(self, s, o):
+        """beta's slip-angle deviation [rad] from mu's own uncertainty
+        (MU_HYP): the slip angles the axles' present forces need at the
+        lowest friction the filter cannot exclude, mu_h = max(mu - SEC_K
+        sigma_mu, mu_lb), on each axle's force shape scaled by mu (the
+        filter's own model of a lower mu), less the present ones. The
+        shape's inverse is taken on its chord from the present point to
+        the peak: above a concave shape's inverse, and linear in the force
+        (the inverse itself is ill-conditioned on the flat top: a relative
+        1e-3 of force moved the slip angle by a tenth of the peak's). vy's
+        error under the hypothesis lies between the two axles' shifts, so
+        the larger counts, over SEC_K: a deviation whose SEC_K multiple
+        covers the hypothesis SEC_K sigma away."""
+        mu = float(self.x[2])
+        mu_h = max(mu - SEC_K * S[2] * math.sqrt(self.P[2, 2]), s.mu_lb)
+        if mu_h >= mu:
+            return 0.0
+        d = 0.0
+        for ax in (0, 1):
+            a = 0.5 * abs(float(o["alpha"][2 * ax]) + float(o["alpha"][2 * ax + 1]))
+            row = self.fy_shape[ax]
+            xa = min(a / mu * self.inv_apk[ax], 1.0)
+            ya = shape_lookup(row, xa)
+            num, den = ya * (mu / mu_h) - ya, row[-1] - ya
+            xh = 1.0 if num >= den else xa + (1.0 - xa) * (num / den)
+            d = max(d, self.alpha_pk[ax] * mu_h * xh - a)
+        return d / SEC_K
 
     def check_consistency(self, s):
         """est_checks.c, before the outputs: with the lateral filter on, the

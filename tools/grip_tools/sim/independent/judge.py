@@ -384,6 +384,9 @@ def metrics(tr, meas, est, norm, bp, geom):
     r["valid_share"] = float(np.sum(vb & ~spin) / den.sum()) if den.sum() else None
     e = (est["beta"] - tr["beta"])[vb] * DEG
     r["beta_rms_deg"], r["beta_max_deg"] = _rms(e), _max(e)
+    # the estimate on every moving step outside spins, valid or not: what
+    # the flags do not decide (two configurations compared on the same steps)
+    r["beta_rms_moving_deg"] = _rms((est["beta"] - tr["beta"])[den] * DEG)
     # baselines over the same steps
     e0 = -tr["beta"][vb] * DEG
     delta_m = meas["steer_angle"][:n] / mb.STEER_RATIO
