@@ -48,6 +48,14 @@ static void mf_lat_pure(const grip_mf_params *p, const mf_op *op, const mf_lat_c
     mf_lat_body(p, op, c, g, NULL, R_ONE, NULL, out);
 }
 
+/* Fy0 at gamma = 0 (MF 6.x's Mz): mf_lat_pure with the inclination a
+ * constant, so that its products by gamma and gamma^2 fold away (the same
+ * function at the same arguments: the same bits) */
+static void mf_lat_pure_g0(const grip_mf_params *p, const mf_op *op, const mf_lat_common *c, mf_lat *out)
+{
+    mf_lat_body(p, op, c, R_ZERO, NULL, R_ONE, NULL, out);
+}
+
 static MF_NOINLINE void mf_lat_pure_x(const grip_mf_params *p, const mf_op *op, const mf_lat_common *c,
                                       grip_real_t g, const mf_ts *ts, grip_real_t emax, mf_lat *out)
 {
@@ -630,7 +638,7 @@ static MF_ALWAYS_INLINE const mf_lat *mf_lat_gamma0(const grip_mf_params *p, mf_
     if (ext) {
         mf_lat_pure_x(p, &s->op, &s->latc, R_ZERO, ts, emax, &s->lat0);
     } else {
-        mf_lat_pure(p, &s->op, &s->latc, R_ZERO, &s->lat0);
+        mf_lat_pure_g0(p, &s->op, &s->latc, &s->lat0);
     }
     return &s->lat0;
 }
