@@ -52,6 +52,13 @@ static inline grip_real_t r_mul_unit(grip_real_t u, grip_real_t b) { return q16_
  * formed from them) that is exactly 1 in most sets: no product when s = 1
  * (q16_mul_scale; the float build multiplies, one instruction). */
 static inline grip_real_t r_mul_scale(grip_real_t x, grip_real_t s) { return q16_mul_scale(x, s); }
+/* c + a b, c - a b, a b, a + b without a range test, for operands whose
+ * ranges the caller has certified (the Magic Formula's prepared sets,
+ * MF_PF_CERT); the debug-saturation build checks the result (q16_mac_nt) */
+static inline grip_real_t r_mac_nt(grip_real_t c, grip_real_t a, grip_real_t b) { return q16_mac_nt(c, a, b); }
+static inline grip_real_t r_msub_nt(grip_real_t c, grip_real_t a, grip_real_t b) { return q16_msub_nt(c, a, b); }
+static inline grip_real_t r_mul_nt(grip_real_t a, grip_real_t b) { return q16_mul_nt(a, b); }
+static inline grip_real_t r_add_nt(grip_real_t a, grip_real_t b) { return q16_add_nt(a, b); }
 static inline grip_real_t r_div(grip_real_t a, grip_real_t b) { return q16_div(a, b); }
 static inline grip_real_t r_div_keep(grip_real_t a, grip_real_t b) { return q16_div(a, b); }
 static inline grip_real_t r_neg(grip_real_t a) { return q16_neg(a); }
@@ -117,6 +124,10 @@ static inline grip_real_t r_mac(grip_real_t c, grip_real_t a, grip_real_t b) { r
 static inline grip_real_t r_msub(grip_real_t c, grip_real_t a, grip_real_t b) { return c - a * b; }
 static inline grip_real_t r_mul_unit(grip_real_t u, grip_real_t b) { return u * b; }
 static inline grip_real_t r_mul_scale(grip_real_t x, grip_real_t s) { return x * s; }
+static inline grip_real_t r_mac_nt(grip_real_t c, grip_real_t a, grip_real_t b) { return c + a * b; }
+static inline grip_real_t r_msub_nt(grip_real_t c, grip_real_t a, grip_real_t b) { return c - a * b; }
+static inline grip_real_t r_mul_nt(grip_real_t a, grip_real_t b) { return a * b; }
+static inline grip_real_t r_add_nt(grip_real_t a, grip_real_t b) { return a + b; }
 static inline grip_real_t r_div(grip_real_t a, grip_real_t b) { return a / b; }
 static inline grip_real_t r_div_keep(grip_real_t a, grip_real_t b) { return a / b; }
 static inline grip_real_t r_neg(grip_real_t a) { return -a; }

@@ -145,6 +145,39 @@ static inline grip_q16_t q16_mul_unit(grip_q16_t u, grip_q16_t b)
     return (grip_q16_t)q16_mul_round(u, b);
 }
 
+/* The same operations without a range test, for operands whose ranges the
+ * caller has certified (a prepared Magic Formula set, MF_PF_CERT:
+ * docs/numerics.md, "Certified operations"): where the exact result is
+ * within the range they are q16_mac, q16_msub, q16_mul, q16_add bit for
+ * bit. A GRIP_DEBUG_SATURATION build keeps the range test and counts a
+ * value outside the range as the event "cert" (answered as the checked
+ * operation), so that "0 saturations" also asserts the certificate. */
+#if GRIP_DEBUG_SATURATION
+#define Q16_CERTIFIED(v) q16_saturate((v), "cert")
+#else
+#define Q16_CERTIFIED(v) ((grip_q16_t)(v))
+#endif
+
+static inline grip_q16_t q16_mac_nt(grip_q16_t c, grip_q16_t a, grip_q16_t b)
+{
+    return Q16_CERTIFIED((int64_t)c + q16_mul_round(a, b));
+}
+
+static inline grip_q16_t q16_msub_nt(grip_q16_t c, grip_q16_t a, grip_q16_t b)
+{
+    return Q16_CERTIFIED((int64_t)c - q16_mul_round(a, b));
+}
+
+static inline grip_q16_t q16_mul_nt(grip_q16_t a, grip_q16_t b)
+{
+    return Q16_CERTIFIED(q16_mul_round(a, b));
+}
+
+static inline grip_q16_t q16_add_nt(grip_q16_t a, grip_q16_t b)
+{
+    return Q16_CERTIFIED((int64_t)a + (int64_t)b);
+}
+
 /* x s for a scale factor s that is exactly 1 in most parameter sets (the
  * lambdas of a Magic Formula set): x 1 = x exactly, so no product then; a
  * comparison and a branch where s is not 1. The bits of q16_mul(x, s). */

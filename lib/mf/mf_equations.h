@@ -95,27 +95,29 @@ typedef struct {
 
 /* ---------------------------------------------------------------- Fx0 */
 static MF_ALWAYS_INLINE void mf_long_pure(const grip_mf_params *p, const mf_op *op, const mf_ts *ts,
-                                          grip_real_t emax, grip_real_t *mk, mf_long *out)
+                                          grip_real_t emax, grip_real_t *mk, int cert, mf_long *out)
 {
     grip_real_t dfz = op->dfz;
-    grip_real_t shx = r_mul_unit(op->smooth, r_mul_scale(r_mac(p->phx1, p->phx2, dfz), p->lhx)); /* 4.E17 */
+    grip_real_t shx = r_mul_unit(op->smooth, r_mul_scale(mf_cmac(cert, p->phx1, p->phx2, dfz), p->lhx)); /* 4.E17 */
     grip_real_t kx = r_add(op->kappa, shx);                                          /* 4.E10 */
     grip_real_t cx = r_mul_scale(p->pcx1, p->lcx);                                        /* 4.E11 */
-    grip_real_t mux = mf_mux_dp(p, dfz, mf_dp(p, op->dp, op->dpi, MF_DP_PX_MU), op->gmux, op->lmux_s);  /* 4.E13 */
+    grip_real_t mux = mf_mux_dp(p, dfz, mf_dp(p, op->dp, op->dpi, MF_DP_PX_MU), op->gmux, op->lmux_s,
+                                 cert);                                                          /* 4.E13 */
     grip_real_t dx = (ts != NULL) ? r_mul(mux, ts->z1) : mux;                        /* 4.E12 */
-    grip_real_t ex = r_mul_scale(r_mul(r_add(p->pex1, r_mac(r_mul(p->pex2, dfz), p->pex3, r_sq(dfz))),
-                                       r_msub(R_ONE, p->pex4, r_sign(kx))),
+    grip_real_t ex = r_mul_scale(r_mul(mf_cadd(cert, p->pex1,
+                                               mf_cmac(cert, mf_cmul(cert, p->pex2, dfz), p->pex3, mf_csq(cert, dfz))),
+                                       mf_cmsub(cert, R_ONE, p->pex4, r_sign(kx))),
                                  p->lex);                                                  /* 4.E14 */
     /* Kxk / Fz: the slip stiffness per unit load, so that Bx is formed
      * without dividing two loads (4.E15, 4.E16);
      * PKX1 + PKX2 dfz with dfz beyond single precision: it falls through
      * zero with load in some files (FSAE_Defaults: 50 - 80 dfz), where one
      * rounding of dfz alone moved Fx by 3e-6 Fz (r_lin_ext). */
-    grip_real_t kx_per = r_mul(r_mul(r_mul(r_lin_ext(p->pkx1, p->pkx2, dfz, op->dfz_lo), mfk_exp(r_mul(p->pkx3, dfz), mk)),
+    grip_real_t kx_per = r_mul(r_mul(r_mul(r_lin_ext(p->pkx1, p->pkx2, dfz, op->dfz_lo), mfk_exp(mf_cmul(cert, p->pkx3, dfz), mk)),
                                      mf_dp(p, op->dp, op->dpi, MF_DP_PX_K)),
                                p->lkx);
     grip_real_t bx = mfk_div_lim(kx_per, r_mul(cx, dx), MF_LIM_B, mk);                    /* 4.E16 */
-    grip_real_t svx = r_mul_unit(op->smooth, r_mul_scale(r_mul_scale(r_mac(p->pvx1, p->pvx2, dfz), p->lvx), op->lmux_p)); /* 4.E18 */
+    grip_real_t svx = r_mul_unit(op->smooth, r_mul_scale(r_mul_scale(mf_cmac(cert, p->pvx1, p->pvx2, dfz), p->lvx), op->lmux_p)); /* 4.E18 */
     if (ts != NULL) {
         svx = r_mul(svx, ts->z1);
     }
@@ -139,15 +141,15 @@ typedef struct {
     grip_real_t cy;      /* PCY1 LCY                                           */
 } mf_lat_common;
 
-static MF_ALWAYS_INLINE void mf_lat_common_init(const grip_mf_params *p, const mf_op *op, mf_lat_common *c)
+static MF_ALWAYS_INLINE void mf_lat_common_init(const grip_mf_params *p, const mf_op *op, int cert, mf_lat_common *c)
 {
     grip_real_t dfz = op->dfz;
     c->kyb = mf_dp(p, op->dp, op->dpi, MF_DP_KYB);
     c->kyd = mf_dp(p, op->dp, op->dpi, MF_DP_KYD);
-    c->mub = r_mul(r_mac(p->pdy1, p->pdy2, dfz), mf_dp(p, op->dp, op->dpi, MF_DP_PY_MU));
-    c->svb = r_mul_scale(r_mul_scale(r_mac(p->pvy1, p->pvy2, dfz), p->lvy), op->lmuy_p);
-    c->shb = r_mul_scale(r_mac(p->phy1, p->phy2, dfz), p->lhy);
-    c->eyb = r_mac(p->pey1, p->pey2, dfz);
+    c->mub = r_mul(mf_cmac(cert, p->pdy1, p->pdy2, dfz), mf_dp(p, op->dp, op->dpi, MF_DP_PY_MU));
+    c->svb = r_mul_scale(r_mul_scale(mf_cmac(cert, p->pvy1, p->pvy2, dfz), p->lvy), op->lmuy_p);
+    c->shb = r_mul_scale(mf_cmac(cert, p->phy1, p->phy2, dfz), p->lhy);
+    c->eyb = mf_cmac(cert, p->pey1, p->pey2, dfz);
     c->cy = r_mul_scale(p->pcy1, p->lcy);                                                              /* 4.E21 */
 }
 
@@ -158,18 +160,18 @@ static MF_ALWAYS_INLINE void mf_lat_common_init(const grip_mf_params *p, const m
  * 2) sin(2 atan(n / d)) / n = 2 d / (d^2 + n^2), exactly: a division for an
  * atan2 and a sin (the lanes form both and select). */
 static MF_ALWAYS_INLINE grip_real_t mf_kya_sin(const grip_mf_params *p, const mf_op *op, grip_real_t den,
-                                               grip_real_t *mk)
+                                               grip_real_t *mk, int cert)
 {
     grip_real_t k2;
     grip_real_t ks;
     if ((mk == NULL) && (p->pky4 != RC(2.0))) {
-        return mfk_div_lim(mfk_sin(r_mul(p->pky4, mf_atan_ratio_k(op->fzp, den, mk)), mk), op->fzp, MF_LIM_B, mk);
+        return mfk_div_lim(mfk_sin(mf_cmul(cert, p->pky4, mf_atan_ratio_k(op->fzp, den, mk)), mk), op->fzp, MF_LIM_B, mk);
     }
     k2 = mfk_div_lim(r_mul(RC(2.0), den), r_mac(r_sq(den), op->fzp, op->fzp), MF_LIM_B, mk);
     if (mk == NULL) {
         return k2;
     }
-    ks = mfk_div_lim(mfk_sin(r_mul(p->pky4, mf_atan_ratio_k(op->fzp, den, mk)), mk), op->fzp, MF_LIM_B, mk);
+    ks = mfk_div_lim(mfk_sin(mf_cmul(cert, p->pky4, mf_atan_ratio_k(op->fzp, den, mk)), mk), op->fzp, MF_LIM_B, mk);
     return (p->pky4 == RC(2.0)) ? k2 : ks;
 }
 
@@ -177,19 +179,20 @@ static MF_ALWAYS_INLINE grip_real_t mf_kya_sin(const grip_mf_params *p, const mf
  * turn slip of ts when not NULL; emax limits Ey. */
 static MF_ALWAYS_INLINE void mf_lat_body(const grip_mf_params *p, const mf_op *op, const mf_lat_common *c,
                                          grip_real_t g, const mf_ts *ts, grip_real_t emax, grip_real_t *mk,
-                                         mf_lat *out)
+                                         int cert, mf_lat *out)
 {
     grip_real_t dfz = op->dfz;
-    grip_real_t g2 = r_sq(g);
+    grip_real_t g2 = mf_csq(cert, g);
     /* Cornering stiffness (4.E25); the arctangent of a quotient whose
      * denominator PKY2 + PKY5 gamma^2 may pass through zero. */
-    grip_real_t den = r_mul(r_mac(p->pky2, MF6_ONLY(op, p->pky5), g2), c->kyd);
+    grip_real_t den = r_mul(mf_cmac(cert, p->pky2, MF6_ONLY(op, p->pky5), g2), c->kyd);
     /* Kya / Fz = PKY1 (Fz0' / Fz) sin(PKY4 atan(...)) (...) (mf_kya_sin) */
-    grip_real_t kya = r_mul_scale(r_mul(r_mul(c->kyb, r_msub(R_ONE, p->pky3, r_abs(g))), mf_kya_sin(p, op, den, mk)),
+    grip_real_t kya = r_mul_scale(r_mul(r_mul(c->kyb, mf_cmsub(cert, R_ONE, p->pky3, r_abs(g))), mf_kya_sin(p, op, den, mk, cert)),
                                   p->lky);
-    grip_real_t muy = r_mul_scale(r_mul(c->mub, r_msub(R_ONE, p->pdy3, g2)), op->lmuy_s);         /* 4.E23 */
+    grip_real_t muy = r_mul_scale(r_mul(c->mub, mf_cmsub(cert, R_ONE, p->pdy3, g2)), op->lmuy_s);         /* 4.E23 */
     grip_real_t dy = muy;                                                                         /* 4.E22 */
-    grip_real_t svyg = r_mul_scale(r_mul_scale(r_mul(r_mac(p->pvy3, p->pvy4, dfz), g), MF_KYC(p, op)), op->lmuy_p); /* 4.E28 */
+    grip_real_t svyg = r_mul_scale(r_mul_scale(mf_cmul(cert, mf_cmac(cert, p->pvy3, p->pvy4, dfz), g), MF_KYC(p, op)),
+                                   op->lmuy_p); /* 4.E28 */
     grip_real_t svb = c->svb;
     grip_real_t svy;
     grip_real_t shy = c->shb;
@@ -216,7 +219,7 @@ static MF_ALWAYS_INLINE void mf_lat_body(const grip_mf_params *p, const mf_op *o
     } else {
         /* MF 6.x: the camber shift follows from the camber stiffness Kyg0
          * (4.E30) and SVyg (4.E27). */
-        grip_real_t kyg0 = r_mul_scale(r_mul(r_mac(p->pky6, p->pky7, dfz), mf_dp(p, op->dp, op->dpi, MF_DP_PY_G)), MF_KYC(p, op));
+        grip_real_t kyg0 = r_mul_scale(r_mul(mf_cmac(cert, p->pky6, p->pky7, dfz), mf_dp(p, op->dp, op->dpi, MF_DP_PY_G)), MF_KYC(p, op));
         shy = r_add(shy, mfk_div_lim(r_sub(r_mul(kyg0, g), svyg), kya, MF_LIM_SHIFT, mk));
     }
     /* Low speed: the shifts fade out with the speed. */
@@ -224,7 +227,8 @@ static MF_ALWAYS_INLINE void mf_lat_body(const grip_mf_params *p, const mf_op *o
     svy = r_mul_unit(op->smooth, svy);
     ay = r_add(op->alpha, shy);                                                                   /* 4.E20 */
     ey = r_mul_scale(r_mul(c->eyb,
-                           r_msub(r_mac(R_ONE, MF6_ONLY(op, p->pey5), g2), r_mac(p->pey3, p->pey4, g), mf_sign1(ay))),
+                           mf_cmsub(cert, mf_cmac(cert, R_ONE, MF6_ONLY(op, p->pey5), g2),
+                                    mf_cmac(cert, p->pey3, p->pey4, g), mf_sign1(ay))),
                      p->ley);                                                                           /* 4.E24 */
     ey = r_min(ey, emax);
     by = mfk_div_lim(kya, r_mul(cy, dy), MF_LIM_B, mk);                                                /* 4.E26 */
@@ -239,13 +243,13 @@ static MF_ALWAYS_INLINE void mf_lat_body(const grip_mf_params *p, const mf_op *o
 
 /* ------------------------------------------------- Mz0 coefficients */
 static MF_ALWAYS_INLINE void mf_trail_body(const grip_mf_params *p, const mf_op *op, const mf_lat *lat,
-                                           grip_real_t emax, grip_real_t *mk, mf_trail *out)
+                                           grip_real_t emax, grip_real_t *mk, int cert, mf_trail *out)
 {
     grip_real_t dfz = op->dfz;
     grip_real_t g = op->gz;
     grip_real_t ga = r_abs(g);
     grip_real_t ky_mu = op->ky_mu;                                          /* LKY / LMUY* */
-    grip_real_t sht = r_mac(r_mac(p->qhz1, p->qhz2, dfz), r_mac(p->qhz3, p->qhz4, dfz), g);
+    grip_real_t sht = mf_cmac(cert, mf_cmac(cert, p->qhz1, p->qhz2, dfz), mf_cmac(cert, p->qhz3, p->qhz4, dfz), g);
     grip_real_t shf = r_add(lat->shy, mfk_div_lim(lat->svy, lat->kya, MF_LIM_SHIFT, mk));              /* 4.E38 */
     grip_real_t dt_cam;
     grip_real_t bt_cam;
@@ -256,34 +260,36 @@ static MF_ALWAYS_INLINE void mf_trail_body(const grip_mf_params *p, const mf_op 
     grip_real_t dr;
     if (op->book && !op->mf52) {
         /* Book 6.1: |gamma*| in Dt (4.E43) and QBZ5 |gamma*| + QBZ6 gamma*^2 in Bt (4.E40). */
-        dt_cam = r_add(R_ONE, r_mac(r_mul(p->qdz3, ga), p->qdz4, r_sq(g)));
-        bt_cam = r_add(R_ONE, r_mac(r_mul(p->qbz5, ga), p->qbz6, r_sq(g)));
+        dt_cam = mf_cadd(cert, R_ONE, mf_cmac(cert, mf_cmul(cert, p->qdz3, ga), p->qdz4, mf_csq(cert, g)));
+        bt_cam = mf_cadd(cert, R_ONE, mf_cmac(cert, mf_cmul(cert, p->qbz5, ga), p->qbz6, mf_csq(cert, g)));
     } else {
         /* MF-Tyre (and MF 5.2): QDZ3 gamma, QBZ4 gamma + QBZ5 |gamma|. */
-        dt_cam = r_add(R_ONE, r_mac(r_mul(p->qdz3, g), p->qdz4, r_sq(g)));
-        bt_cam = r_add(R_ONE, r_mac(r_mul(p->qbz4, g), p->qbz5, ga));
+        dt_cam = mf_cadd(cert, R_ONE, mf_cmac(cert, mf_cmul(cert, p->qdz3, g), p->qdz4, mf_csq(cert, g)));
+        bt_cam = mf_cadd(cert, R_ONE, mf_cmac(cert, mf_cmul(cert, p->qbz4, g), p->qbz5, ga));
     }
     /* Dt / R0 = (Fz / Fz0') (QDZ1 + QDZ2 dfz)(1 - PPZ1 dpi) (...) LTR  (4.E42-43) */
-    dt = r_mul_scale(r_mul(r_mul(r_mul(op->fzp, r_mac(p->qdz1, p->qdz2, dfz)), mf_dp(p, op->dp, op->dpi, MF_DP_PZ_T)),
+    dt = r_mul_scale(r_mul(r_mul(r_mul(op->fzp, mf_cmac(cert, p->qdz1, p->qdz2, dfz)), mf_dp(p, op->dp, op->dpi, MF_DP_PZ_T)),
                            dt_cam),
                      p->ltr);
-    bt = r_mul_scale(r_mul(r_add(p->qbz1, r_mac(r_mul(p->qbz2, dfz), p->qbz3, r_sq(dfz))), bt_cam), ky_mu);
+    bt = r_mul_scale(r_mul(mf_cadd(cert, p->qbz1, mf_cmac(cert, mf_cmul(cert, p->qbz2, dfz), p->qbz3, mf_csq(cert, dfz))),
+                           bt_cam),
+                     ky_mu);
     out->alpha_t = r_add(op->alpha, sht);                                                        /* 4.E34 */
     out->alpha_r = r_add(op->alpha, shf);                                                        /* 4.E37 */
     out->ct = p->qcz1;                                                                           /* 4.E41 */
-    et = r_mul(r_add(p->qez1, r_mac(r_mul(p->qez2, dfz), p->qez3, r_sq(dfz))),
-               r_mac(R_ONE, r_mul(r_mac(p->qez4, p->qez5, g), MF_2_OVER_PI),
+    et = r_mul(mf_cadd(cert, p->qez1, mf_cmac(cert, mf_cmul(cert, p->qez2, dfz), p->qez3, mf_csq(cert, dfz))),
+               r_mac(R_ONE, r_mul(mf_cmac(cert, p->qez4, p->qez5, g), MF_2_OVER_PI),
                      mfk_atan(r_mul(r_mul(bt, out->ct), out->alpha_t), mk)));            /* 4.E44 */
     out->et = r_min(et, emax);
     out->dt = dt;
     out->bt = bt;
     out->br = r_mac(r_mul_scale(p->qbz9, ky_mu), r_mul(p->qbz10, lat->by), lat->cy);            /* 4.E45 */
     /* Dr / (Fz R0)                                                         (4.E47) */
-    dr_cam = r_mul_scale(r_mul(r_mac(r_mul(r_mac(p->qdz8, p->qdz9, dfz), mf_dp(p, op->dp, op->dpi, MF_DP_PZ_R)),
-                                     r_mac(MF6_ONLY(op, p->qdz10), MF6_ONLY(op, p->qdz11), dfz), ga),
+    dr_cam = r_mul_scale(r_mul(r_mac(r_mul(mf_cmac(cert, p->qdz8, p->qdz9, dfz), mf_dp(p, op->dp, op->dpi, MF_DP_PZ_R)),
+                                     mf_cmac(cert, MF6_ONLY(op, p->qdz10), MF6_ONLY(op, p->qdz11), dfz), ga),
                                g),
                          MF_KZC(p, op));
-    dr = r_mul_scale(r_mac(dr_cam, r_mac(p->qdz6, p->qdz7, dfz), p->lres), op->lmuy_s);
+    dr = r_mul_scale(r_mac(dr_cam, mf_cmac(cert, p->qdz6, p->qdz7, dfz), p->lres), op->lmuy_s);
     /* sgn(Vcx) cos'(alpha), with |Vx| for Vx (see mf_prepare). */
     out->dr = r_mul_unit(op->cosa, dr);
 }
@@ -354,12 +360,12 @@ static MF_ALWAYS_INLINE grip_real_t mf_g_ratio_k(grip_real_t b, grip_real_t c, g
 
 /* Combined-slip weighting function of Fy (4.E59-E65) at inclination g. */
 static MF_ALWAYS_INLINE grip_real_t mf_gyk_body(const grip_mf_params *p, const mf_op *op, grip_real_t g,
-                                                grip_real_t emax, grip_real_t *mk)
+                                                grip_real_t emax, grip_real_t *mk, int cert)
 {
-    grip_real_t shyk = r_mac(p->rhy1, p->rhy2, op->dfz);                                   /* 4.E65 */
-    grip_real_t eyk = r_min(r_mac(p->rey1, p->rey2, op->dfz), emax);     /* 4.E64 */
+    grip_real_t shyk = mf_cmac(cert, p->rhy1, p->rhy2, op->dfz);                                   /* 4.E65 */
+    grip_real_t eyk = r_min(mf_cmac(cert, p->rey1, p->rey2, op->dfz), emax);     /* 4.E64 */
     grip_real_t byk = r_mul_scale(r_mul_unit(r_cos_atan(r_mul(p->rby2, r_sub(op->alpha, p->rby3))),
-                                             r_mac(p->rby1, MF6_ONLY(op, p->rby4), r_sq(g))),
+                                             mf_cmac(cert, p->rby1, MF6_ONLY(op, p->rby4), mf_csq(cert, g))),
                                   p->lyka);                                                             /* 4.E62 */
     grip_real_t ks = r_add(op->kappa, shyk);                                                      /* 4.E61 */
     return mf_g_ratio_k(byk, p->rcy1, eyk, ks, shyk, mk);                                         /* 4.E59-60 */
@@ -415,12 +421,12 @@ static MF_ALWAYS_INLINE grip_real_t mf_mz0(const grip_mf_params *p, const mf_op 
 
 /* Fx's weighting function Gxa (4.E51-E57): Fx = Gxa Fx0. */
 static MF_ALWAYS_INLINE grip_real_t mf_gxa(const grip_mf_params *p, const mf_op *op, grip_real_t emax,
-                                           grip_real_t *mk)
+                                           grip_real_t *mk, int cert)
 {
-    grip_real_t bxa = r_mul_scale(r_mul_unit(r_cos_atan(r_mul(p->rbx2, op->kappa)),
-                                             r_mac(p->rbx1, MF6_ONLY(op, p->rbx3), r_sq(op->gx))),
+    grip_real_t bxa = r_mul_scale(r_mul_unit(r_cos_atan(mf_cmul(cert, p->rbx2, op->kappa)),
+                                             mf_cmac(cert, p->rbx1, MF6_ONLY(op, p->rbx3), mf_csq(cert, op->gx))),
                                   p->lxal);                                                             /* 4.E54 */
-    grip_real_t exa = r_min(r_mac(p->rex1, p->rex2, op->dfz), emax);                       /* 4.E56 */
+    grip_real_t exa = r_min(mf_cmac(cert, p->rex1, p->rex2, op->dfz), emax);                       /* 4.E56 */
     grip_real_t as = r_add(op->alpha, p->rhx1);                                                    /* 4.E53 */
     return mf_g_ratio_k(bxa, p->rcx1, exa, as, p->rhx1, mk);                                      /* 4.E51-52 */
 }
@@ -432,12 +438,12 @@ typedef struct {
     grip_real_t svk;     /* sin(RVY5 atan(RVY6 kappa))                         */
 } mf_svyk_f;
 
-static MF_ALWAYS_INLINE void mf_svyk_factors(const grip_mf_params *p, const mf_op *op, grip_real_t *mk,
+static MF_ALWAYS_INLINE void mf_svyk_factors(const grip_mf_params *p, const mf_op *op, grip_real_t *mk, int cert,
                                              mf_svyk_f *f)
 {
-    f->dvy = r_mac(r_mac(p->rvy1, p->rvy2, op->dfz), p->rvy3, op->gy);
+    f->dvy = mf_cmac(cert, mf_cmac(cert, p->rvy1, p->rvy2, op->dfz), p->rvy3, op->gy);
     f->dva = r_cos_atan(r_mul(p->rvy4, op->alpha));
-    f->svk = mfk_sin(r_mul(p->rvy5, mfk_atan(r_mul(p->rvy6, op->kappa), mk)), mk);
+    f->svk = mfk_sin(mf_cmul(cert, p->rvy5, mfk_atan(mf_cmul(cert, p->rvy6, op->kappa), mk)), mk);
 }
 
 /* DVyk = mu_y (RVY1 + RVY2 dfz + RVY3 gamma*) cos(atan(RVY4 alpha*)) (4.E67) */
@@ -455,10 +461,10 @@ static MF_ALWAYS_INLINE grip_real_t mf_svyk(const grip_mf_params *p, const mf_op
 
 /* The moment arm s / R0 of Fx in Mz (4.E76): SSZ1 + SSZ2 Fy / Fz0 + (SSZ3 +
  * SSZ4 dfz) gamma*, LS; MF-Tyre uses FNOMIN for Fz0, the book Fz0'. fy: Fy / Fz. */
-static MF_ALWAYS_INLINE grip_real_t mf_sarm(const grip_mf_params *p, const mf_op *op, grip_real_t fy)
+static MF_ALWAYS_INLINE grip_real_t mf_sarm(const grip_mf_params *p, const mf_op *op, grip_real_t fy, int cert)
 {
     grip_real_t fy_rel = r_mul(fy, op->book ? op->fzp : op->fz);
-    return r_mul_scale(r_mac(r_mac(p->ssz1, p->ssz2, fy_rel), r_mac(p->ssz3, p->ssz4, op->dfz), op->gz),
+    return r_mul_scale(r_mac(r_mac(p->ssz1, p->ssz2, fy_rel), mf_cmac(cert, p->ssz3, p->ssz4, op->dfz), op->gz),
                        p->ls);
 }
 

@@ -45,7 +45,7 @@
 static void mf_lat_pure(const grip_mf_params *p, const mf_op *op, const mf_lat_common *c, grip_real_t g,
                         mf_lat *out)
 {
-    mf_lat_body(p, op, c, g, NULL, R_ONE, NULL, out);
+    mf_lat_body(p, op, c, g, NULL, R_ONE, NULL, 0, out);
 }
 
 /* Fy0 at gamma = 0 (MF 6.x's Mz): mf_lat_pure with the inclination a
@@ -53,18 +53,51 @@ static void mf_lat_pure(const grip_mf_params *p, const mf_op *op, const mf_lat_c
  * function at the same arguments: the same bits) */
 static void mf_lat_pure_g0(const grip_mf_params *p, const mf_op *op, const mf_lat_common *c, mf_lat *out)
 {
-    mf_lat_body(p, op, c, R_ZERO, NULL, R_ONE, NULL, out);
+    mf_lat_body(p, op, c, R_ZERO, NULL, R_ONE, NULL, 0, out);
 }
+
+/* A prepared set whose coefficient terms are certified (MF_PF_CERT,
+ * mf_cert_ok): the evaluation's own copies of the blocks, with those terms
+ * unchecked (cert = 1: mf_cmac ...). Where the build optimizes for speed
+ * only (the Cortex-M0+ firmware at -Os keeps one copy). */
+#if GRIP_ARITH_FIXED && GRIP_Q16_INLINE_KERNELS
+#define MF_CERT_PATH 1
+#else
+#define MF_CERT_PATH 0
+#endif
+
+#if MF_CERT_PATH
+static void mf_lat_pure_c(const grip_mf_params *p, const mf_op *op, const mf_lat_common *c, grip_real_t g,
+                          mf_lat *out)
+{
+    mf_lat_body(p, op, c, g, NULL, R_ONE, NULL, 1, out);
+}
+
+static void mf_lat_pure_g0_c(const grip_mf_params *p, const mf_op *op, const mf_lat_common *c, mf_lat *out)
+{
+    mf_lat_body(p, op, c, R_ZERO, NULL, R_ONE, NULL, 1, out);
+}
+
+static void mf_trail_coefs_c(const grip_mf_params *p, const mf_op *op, const mf_lat *lat, mf_trail *out)
+{
+    mf_trail_body(p, op, lat, R_ONE, NULL, 1, out);
+}
+
+static grip_real_t mf_gyk_c(const grip_mf_params *p, const mf_op *op, grip_real_t g)
+{
+    return mf_gyk_body(p, op, g, R_ONE, NULL, 1);
+}
+#endif
 
 static MF_NOINLINE void mf_lat_pure_x(const grip_mf_params *p, const mf_op *op, const mf_lat_common *c,
                                       grip_real_t g, const mf_ts *ts, grip_real_t emax, mf_lat *out)
 {
-    mf_lat_body(p, op, c, g, ts, emax, NULL, out);
+    mf_lat_body(p, op, c, g, ts, emax, NULL, 0, out);
 }
 
 static void mf_trail_coefs(const grip_mf_params *p, const mf_op *op, const mf_lat *lat, mf_trail *out)
 {
-    mf_trail_body(p, op, lat, R_ONE, NULL, out);
+    mf_trail_body(p, op, lat, R_ONE, NULL, 0, out);
 }
 
 /* with turn slip (ts not NULL): Dt times zeta5 (4.91, 4.E43), Br times
@@ -72,7 +105,7 @@ static void mf_trail_coefs(const grip_mf_params *p, const mf_op *op, const mf_la
 static MF_NOINLINE void mf_trail_coefs_x(const grip_mf_params *p, const mf_op *op, const mf_lat *lat,
                                          const mf_ts *ts, grip_real_t emax, mf_trail *out)
 {
-    mf_trail_body(p, op, lat, emax, NULL, out);
+    mf_trail_body(p, op, lat, emax, NULL, 0, out);
     if (ts != NULL) {
         out->dt = r_mul(out->dt, r_cos_atan(r_mul(p->qdtp1, ts->u)));
         out->br = r_mul(out->br, r_cos_atan(r_mul(p->qbrp1, ts->u)));
@@ -81,12 +114,12 @@ static MF_NOINLINE void mf_trail_coefs_x(const grip_mf_params *p, const mf_op *o
 
 static grip_real_t mf_gyk(const grip_mf_params *p, const mf_op *op, grip_real_t g)
 {
-    return mf_gyk_body(p, op, g, R_ONE, NULL);
+    return mf_gyk_body(p, op, g, R_ONE, NULL, 0);
 }
 
 static MF_NOINLINE grip_real_t mf_gyk_x(const grip_mf_params *p, const mf_op *op, grip_real_t g, grip_real_t emax)
 {
-    return mf_gyk_body(p, op, g, emax, NULL);
+    return mf_gyk_body(p, op, g, emax, NULL, 0);
 }
 
 /* Trail t / R0 at a (possibly equivalent) trail slip angle a (4.E33, 4.E73). */
@@ -567,28 +600,110 @@ static MF_NOINLINE grip_real_t mf_ts_moment(const grip_mf_params *p, const mf_op
 /* Status of the evaluation; the caller returns it at once when it is an
  * error or when io.zero (Fz <= 0: zero outputs). */
 static MF_ALWAYS_INLINE grip_status_t mf_pure_begin_body(const grip_mf_params *p, const grip_mf_prepared *k,
-                                                         const grip_mf_input *in, grip_mf_output *out, mf_pure *s)
+                                                         const grip_mf_input *in, grip_mf_output *out, mf_pure *s,
+                                                         int cert)
 {
     grip_status_t st = mf_begin(p, k, in, 0u, NULL, 0, out, &s->op, &s->io);
     if ((st < 0) || s->io.zero) {
         return st;
     }
-    mf_long_pure(p, &s->op, NULL, R_ONE, NULL, &s->lon);
-    mf_lat_common_init(p, &s->op, &s->latc);
+    mf_long_pure(p, &s->op, NULL, R_ONE, NULL, cert, &s->lon);
+    mf_lat_common_init(p, &s->op, cert, &s->latc);
     return st;
 }
 
 static grip_status_t mf_pure_begin(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out,
                                    mf_pure *s)
 {
-    return mf_pure_begin_body(p, NULL, in, out, s);
+    return mf_pure_begin_body(p, NULL, in, out, s, 0);
 }
 
 /* The same with a prepared set (p = k->p, not NULL). */
 static grip_status_t mf_pure_begin_prep(const grip_mf_prepared *k, const grip_mf_input *in, grip_mf_output *out,
                                         mf_pure *s)
 {
-    return mf_pure_begin_body(k->p, k, in, out, s);
+    return mf_pure_begin_body(k->p, k, in, out, s, 0);
+}
+
+#if MF_CERT_PATH
+/* ... whose coefficient terms are certified (MF_PF_CERT) */
+static grip_status_t mf_pure_begin_prep_c(const grip_mf_prepared *k, const grip_mf_input *in, grip_mf_output *out,
+                                          mf_pure *s)
+{
+    return mf_pure_begin_body(k->p, k, in, out, s, 1);
+}
+#endif
+
+/* The pure-slip start of an evaluation: unprepared (k NULL), prepared, or
+ * prepared and certified (cert, a constant in each caller). */
+static MF_ALWAYS_INLINE grip_status_t mf_pure_begin_any(const grip_mf_params *p, const grip_mf_prepared *k,
+                                                        const grip_mf_input *in, grip_mf_output *out, mf_pure *s,
+                                                        int cert)
+{
+#if MF_CERT_PATH
+    if (cert) {
+        return mf_pure_begin_prep_c(k, in, out, s);
+    }
+#else
+    (void)cert;
+#endif
+    return (k != NULL) ? mf_pure_begin_prep(k, in, out, s) : mf_pure_begin(p, in, out, s);
+}
+
+/* mf_lat_pure, mf_lat_pure_g0, mf_trail_coefs, mf_gyk, or their certified
+ * copies (cert: a constant in each caller) */
+static MF_ALWAYS_INLINE void mf_lat_pure_any(const grip_mf_params *p, const mf_op *op, const mf_lat_common *c,
+                                             grip_real_t g, int cert, mf_lat *out)
+{
+#if MF_CERT_PATH
+    if (cert) {
+        mf_lat_pure_c(p, op, c, g, out);
+        return;
+    }
+#else
+    (void)cert;
+#endif
+    mf_lat_pure(p, op, c, g, out);
+}
+
+static MF_ALWAYS_INLINE void mf_lat_pure_g0_any(const grip_mf_params *p, const mf_op *op, const mf_lat_common *c,
+                                                int cert, mf_lat *out)
+{
+#if MF_CERT_PATH
+    if (cert) {
+        mf_lat_pure_g0_c(p, op, c, out);
+        return;
+    }
+#else
+    (void)cert;
+#endif
+    mf_lat_pure_g0(p, op, c, out);
+}
+
+static MF_ALWAYS_INLINE void mf_trail_coefs_any(const grip_mf_params *p, const mf_op *op, const mf_lat *lat,
+                                                int cert, mf_trail *out)
+{
+#if MF_CERT_PATH
+    if (cert) {
+        mf_trail_coefs_c(p, op, lat, out);
+        return;
+    }
+#else
+    (void)cert;
+#endif
+    mf_trail_coefs(p, op, lat, out);
+}
+
+static MF_ALWAYS_INLINE grip_real_t mf_gyk_any(const grip_mf_params *p, const mf_op *op, grip_real_t g, int cert)
+{
+#if MF_CERT_PATH
+    if (cert) {
+        return mf_gyk_c(p, op, g);
+    }
+#else
+    (void)cert;
+#endif
+    return mf_gyk(p, op, g);
 }
 
 
@@ -605,8 +720,8 @@ static MF_NOINLINE grip_status_t mf_begin_x(const grip_mf_params *p, const grip_
 
 static MF_NOINLINE void mf_pure_rest_x(const grip_mf_params *p, mf_pure *s, const mf_ts *ts, grip_real_t emax)
 {
-    mf_long_pure(p, &s->op, ts, emax, NULL, &s->lon);
-    mf_lat_common_init(p, &s->op, &s->latc);
+    mf_long_pure(p, &s->op, ts, emax, NULL, 0, &s->lon);
+    mf_lat_common_init(p, &s->op, 0, &s->latc);
 }
 
 static MF_ALWAYS_INLINE grip_status_t mf_pure_begin_x(const grip_mf_params *p, const grip_mf_input *in,
@@ -630,7 +745,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_pure_begin_x(const grip_mf_params *p, c
  * called from three evaluations, it would otherwise get a frame of its own
  * on the deepest stack path (+16 B on the Cortex-M0+). */
 static MF_ALWAYS_INLINE const mf_lat *mf_lat_gamma0(const grip_mf_params *p, mf_pure *s, const mf_ts *ts, int ext,
-                                                    grip_real_t emax)
+                                                    grip_real_t emax, int cert)
 {
     if (s->op.gy == R_ZERO) {
         return &s->lat;
@@ -638,7 +753,7 @@ static MF_ALWAYS_INLINE const mf_lat *mf_lat_gamma0(const grip_mf_params *p, mf_
     if (ext) {
         mf_lat_pure_x(p, &s->op, &s->latc, R_ZERO, ts, emax, &s->lat0);
     } else {
-        mf_lat_pure_g0(p, &s->op, &s->latc, &s->lat0);
+        mf_lat_pure_g0_any(p, &s->op, &s->latc, cert, &s->lat0);
     }
     return &s->lat0;
 }
@@ -646,22 +761,22 @@ static MF_ALWAYS_INLINE const mf_lat *mf_lat_gamma0(const grip_mf_params *p, mf_
 /* The pure-slip evaluation, unprepared (k NULL) or with the prepared set k
  * of p (a constant in each caller). */
 static MF_ALWAYS_INLINE grip_status_t mf_pure_eval(const grip_mf_params *p, const grip_mf_prepared *k,
-                                                   const grip_mf_input *in, grip_mf_output *out)
+                                                   const grip_mf_input *in, grip_mf_output *out, int cert)
 {
     mf_pure s;
     grip_real_t fy_ref;
     grip_real_t t0;
     grip_real_t mz0;
-    grip_status_t st = (k != NULL) ? mf_pure_begin_prep(k, in, out, &s) : mf_pure_begin(p, in, out, &s);
+    grip_status_t st = mf_pure_begin_any(p, k, in, out, &s, cert);
     if ((st < 0) || s.io.zero) {
         return st;
     }
-    mf_lat_pure(p, &s.op, &s.latc, s.op.gy, &s.lat);
-    mf_trail_coefs(p, &s.op, &s.lat, &s.tc);
+    mf_lat_pure_any(p, &s.op, &s.latc, s.op.gy, cert, &s.lat);
+    mf_trail_coefs_any(p, &s.op, &s.lat, cert, &s.tc);
     /* Mz0' = -t0 Fy0 (4.E32). MF 6.x uses Fy0 at gamma = 0 (camber acts on
      * Mz through Mzr); MF 5.2 the pure lateral force itself. */
     /* grip-deviation: clang-analyzer-core.uninitialized.Assign false positive: mf_lat_pure writes every field of s.lat and s.lat0 (the analyzer stops following mf_lat_body) */
-    fy_ref = s.op.mf52 ? s.lat.fy0 : mf_lat_gamma0(p, &s, NULL, 0, R_ONE)->fy0;
+    fy_ref = s.op.mf52 ? s.lat.fy0 : mf_lat_gamma0(p, &s, NULL, 0, R_ONE, cert)->fy0;
     t0 = mf_trail_at(&s.op, &s.tc, s.tc.alpha_t);                          /* 4.E33 */
     mz0 = mf_mz0(p, &s.op, t0, mf_residual_at(&s.tc, s.tc.alpha_r), fy_ref);
     return mf_finish(p, &s.op, &s.io, st, s.lon.fx0, s.lat.fy0, mz0, out);
@@ -669,7 +784,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_pure_eval(const grip_mf_params *p, cons
 
 grip_status_t grip_mf_eval_pure(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out)
 {
-    return mf_pure_eval(p, NULL, in, out);
+    return mf_pure_eval(p, NULL, in, out, 0);
 }
 
 /* The combined evaluation; x != NULL also captures the intermediates of the
@@ -678,7 +793,8 @@ grip_status_t grip_mf_eval_pure(const grip_mf_params *p, const grip_mf_input *in
  * of Omega (mf_ts_radius). Inlined into its callers. */
 static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const grip_mf_prepared *k,
                                                   const grip_mf_input *in, const grip_mf_spin *spin, uint32_t mode,
-                                                  grip_real_t re, grip_mf_output *out, mf_core *x, int ext)
+                                                  grip_real_t re, grip_mf_output *out, mf_core *x, int ext,
+                                                  int cert)
 {
     mf_pure s;
     mf_ts ts = { R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, 0 };
@@ -702,7 +818,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
     if (ext) {
         st = mf_pure_begin_x(p, in, spin, mode, emax, out, &s, tsp);
     } else {
-        st = (k != NULL) ? mf_pure_begin_prep(k, in, out, &s) : mf_pure_begin(p, in, out, &s);
+        st = mf_pure_begin_any(p, k, in, out, &s, cert);
     }
     if ((x != NULL) && (st >= 0)) {
         x->op.mode = mode;
@@ -723,27 +839,27 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
         mf_lat_pure_x(p, op, &s.latc, op->gy, tsp, emax, &s.lat);
         mf_trail_coefs_x(p, op, &s.lat, tsp, emax, &s.tc);
     } else {
-        mf_lat_pure(p, op, &s.latc, op->gy, &s.lat);
-        mf_trail_coefs(p, op, &s.lat, &s.tc);
+        mf_lat_pure_any(p, op, &s.latc, op->gy, cert, &s.lat);
+        mf_trail_coefs_any(p, op, &s.lat, cert, &s.tc);
     }
     if (tsp != NULL) {
     }
 
     /* Fx = Gxa Fx0 (4.E50-E57). */
-    fx = r_mul(mf_gxa(p, op, emax, NULL), s.lon.fx0);
+    fx = r_mul(mf_gxa(p, op, emax, NULL, cert), s.lon.fx0);
 
     /* Fy = Gyk Fy0 + SVyk (4.E58-E67). */
     {
         mf_svyk_f sf;
         grip_real_t dvyk;
-        mf_svyk_factors(p, op, NULL, &sf);
+        mf_svyk_factors(p, op, NULL, cert, &sf);
         /* grip-deviation: clang-analyzer-core.CallAndMessage false positive: mf_lat_pure writes every field of s.lat (the analyzer stops following mf_lat_body) */
         dvyk = mf_dvyk(s.lat.muy, &sf);                                                            /* 4.E67 */
         if (tsp != NULL) {
             dvyk = r_mul(dvyk, tsp->z2);
         }
         svyk = mf_svyk(p, op, &sf, dvyk);                                                          /* 4.E66 */
-        gyk = ext ? mf_gyk_x(p, op, op->gy, emax) : mf_gyk(p, op, op->gy);
+        gyk = ext ? mf_gyk_x(p, op, op->gy, emax) : mf_gyk_any(p, op, op->gy, cert);
         if (tsp != NULL) {
             /* 4.E47 with zeta0 = 0 (the camber term goes: the spin carries
              * it), zeta2 on the LRES term, zeta8 - 1 = Drp; Cr = zeta7 */
@@ -767,7 +883,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
     {
         grip_real_t ar_eq = mf_alpha_eq(op, s.tc.alpha_r, s.lon.kxk, s.lat.kya);
         grip_real_t at_eq = mf_alpha_eq(op, s.tc.alpha_t, s.lon.kxk, s.lat.kya);
-        sarm = mf_sarm(p, op, fy);                                                                 /* 4.E76 */
+        sarm = mf_sarm(p, op, fy, cert);                                                                 /* 4.E76 */
         if (tsp != NULL) {
             mzr = r_mul(s.tc.dr, r_cos(r_mul(tsp->cr, r_atan(r_mul(s.tc.br, ar_eq)))));             /* 4.E75 */
         } else {
@@ -781,8 +897,8 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
             /* MF 6.x: Fy' = Gyk Fy0(gamma = 0) (4.E74); MF-Tyre keeps the
              * inclination in Gyk, the book evaluates Gyk at gamma = 0 too. */
             /* grip-deviation: clang-analyzer-core.CallAndMessage false positive: mf_lat_pure writes every field of s.lat0 (the analyzer stops following mf_lat_body) */
-            fy_prime = r_mul(op->book ? (ext ? mf_gyk_x(p, op, R_ZERO, emax) : mf_gyk(p, op, R_ZERO)) : gyk,
-                             mf_lat_gamma0(p, &s, tsp, ext, emax)->fy0);
+            fy_prime = r_mul(op->book ? (ext ? mf_gyk_x(p, op, R_ZERO, emax) : mf_gyk_any(p, op, R_ZERO, cert)) : gyk,
+                             mf_lat_gamma0(p, &s, tsp, ext, emax, cert)->fy0);
         }
         mz = mf_mz_sum(mzr, t, fy_prime, sarm, fx);                                                  /* 4.E71 */
     }
@@ -800,7 +916,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
 
 grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out)
 {
-    return mf_combined(p, NULL, in, NULL, 0u, R_ZERO, out, NULL, 0);
+    return mf_combined(p, NULL, in, NULL, 0u, R_ZERO, out, NULL, 0, 0);
 }
 
 /* The two variants of the extended evaluation, functions of their own
@@ -809,19 +925,22 @@ grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, gri
 grip_status_t mf_eval_core(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode, grip_mf_output *out,
                            mf_core *x)
 {
-    return mf_combined(p, NULL, in, NULL, mode, R_ZERO, out, x, 0);
+    return mf_combined(p, NULL, in, NULL, mode, R_ZERO, out, x, 0, 0);
 }
 
 grip_status_t mf_eval_core_use(const grip_mf_params *p, const grip_mf_input *in, const grip_mf_spin *spin,
                                uint32_t mode, grip_real_t re, grip_mf_output *out, mf_core *x)
 {
-    return mf_combined(p, NULL, in, spin, mode, re, out, x, 1);
+    return mf_combined(p, NULL, in, spin, mode, re, out, x, 1, 0);
 }
 
 grip_status_t mf_eval_core_prepared(const grip_mf_prepared *k, const grip_mf_input *in, grip_mf_output *out,
                                     mf_core *x)
 {
-    return mf_combined(k->p, k, in, NULL, k->options, R_ZERO, out, x, 0);
+    if (MF_CERT_PATH && ((k->flags & MF_PF_CERT) != 0u)) {
+        return mf_combined(k->p, k, in, NULL, k->options, R_ZERO, out, x, 0, 1);
+    }
+    return mf_combined(k->p, k, in, NULL, k->options, R_ZERO, out, x, 0, 0);
 }
 
 grip_real_t mf_ts_radius(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode)
@@ -869,7 +988,10 @@ grip_status_t grip_mf_eval_prepared(const grip_mf_prepared *prep, const grip_mf_
     if (st != GRIP_OK) {
         return st;
     }
-    return mf_combined(prep->p, prep, in, NULL, 0u, R_ZERO, out, NULL, 0);
+    if (MF_CERT_PATH && ((prep->flags & MF_PF_CERT) != 0u)) {
+        return mf_combined(prep->p, prep, in, NULL, 0u, R_ZERO, out, NULL, 0, 1);
+    }
+    return mf_combined(prep->p, prep, in, NULL, 0u, R_ZERO, out, NULL, 0, 0);
 }
 
 grip_status_t grip_mf_eval_pure_prepared(const grip_mf_prepared *prep, const grip_mf_input *in,
@@ -879,8 +1001,91 @@ grip_status_t grip_mf_eval_pure_prepared(const grip_mf_prepared *prep, const gri
     if (st != GRIP_OK) {
         return st;
     }
-    return mf_pure_eval(prep->p, prep, in, out);
+    if (MF_CERT_PATH && ((prep->flags & MF_PF_CERT) != 0u)) {
+        return mf_pure_eval(prep->p, prep, in, out, 1);
+    }
+    return mf_pure_eval(prep->p, prep, in, out, 0);
 }
+
+#if MF_CERT_PATH
+/* The coefficients of the certified terms (mf_cmac, mf_cmsub, mf_cmul,
+ * mf_cadd with cert in mf_equations.h and mf_internal.h) */
+static const size_t mf_cert_coefs[] = {
+    offsetof(grip_mf_params, phx1), offsetof(grip_mf_params, phx2), offsetof(grip_mf_params, pex1),
+    offsetof(grip_mf_params, pex2), offsetof(grip_mf_params, pex3), offsetof(grip_mf_params, pex4),
+    offsetof(grip_mf_params, pkx3), offsetof(grip_mf_params, pvx1), offsetof(grip_mf_params, pvx2),
+    offsetof(grip_mf_params, pdx1), offsetof(grip_mf_params, pdx2), offsetof(grip_mf_params, pdx3),
+    offsetof(grip_mf_params, pdy1), offsetof(grip_mf_params, pdy2), offsetof(grip_mf_params, pvy1),
+    offsetof(grip_mf_params, pvy2), offsetof(grip_mf_params, phy1), offsetof(grip_mf_params, phy2),
+    offsetof(grip_mf_params, pey1), offsetof(grip_mf_params, pey2), offsetof(grip_mf_params, pky2),
+    offsetof(grip_mf_params, pky3), offsetof(grip_mf_params, pky4), offsetof(grip_mf_params, pky5),
+    offsetof(grip_mf_params, pdy3), offsetof(grip_mf_params, pvy3), offsetof(grip_mf_params, pvy4),
+    offsetof(grip_mf_params, pky6), offsetof(grip_mf_params, pky7), offsetof(grip_mf_params, pey3),
+    offsetof(grip_mf_params, pey4), offsetof(grip_mf_params, pey5), offsetof(grip_mf_params, qhz1),
+    offsetof(grip_mf_params, qhz2), offsetof(grip_mf_params, qhz3), offsetof(grip_mf_params, qhz4),
+    offsetof(grip_mf_params, qdz1), offsetof(grip_mf_params, qdz2), offsetof(grip_mf_params, qdz3),
+    offsetof(grip_mf_params, qdz4), offsetof(grip_mf_params, qbz1), offsetof(grip_mf_params, qbz2),
+    offsetof(grip_mf_params, qbz3), offsetof(grip_mf_params, qbz4), offsetof(grip_mf_params, qbz5),
+    offsetof(grip_mf_params, qbz6), offsetof(grip_mf_params, qez1), offsetof(grip_mf_params, qez2),
+    offsetof(grip_mf_params, qez3), offsetof(grip_mf_params, qez4), offsetof(grip_mf_params, qez5),
+    offsetof(grip_mf_params, qdz6), offsetof(grip_mf_params, qdz7), offsetof(grip_mf_params, qdz8),
+    offsetof(grip_mf_params, qdz9), offsetof(grip_mf_params, qdz10), offsetof(grip_mf_params, qdz11),
+    offsetof(grip_mf_params, rhy1), offsetof(grip_mf_params, rhy2), offsetof(grip_mf_params, rey1),
+    offsetof(grip_mf_params, rey2), offsetof(grip_mf_params, rby1), offsetof(grip_mf_params, rby4),
+    offsetof(grip_mf_params, rbx1), offsetof(grip_mf_params, rbx2), offsetof(grip_mf_params, rbx3),
+    offsetof(grip_mf_params, rex1), offsetof(grip_mf_params, rex2), offsetof(grip_mf_params, rvy1),
+    offsetof(grip_mf_params, rvy2), offsetof(grip_mf_params, rvy3), offsetof(grip_mf_params, rvy5),
+    offsetof(grip_mf_params, rvy6), offsetof(grip_mf_params, ssz3), offsetof(grip_mf_params, ssz4),
+};
+
+/* The certificate of a prepared set (MF_PF_CERT; docs/numerics.md,
+ * "Certified operations"): every certified term is a sum of at most three
+ * products of a coefficient (|.| <= C) with a load, inclination, slip or
+ * angle factor x, 1 or x^2 (|x| <= M), so its magnitude is at most
+ * 1 + C (1 + M)^2 plus a few LSB of rounding. The set is certified when
+ * that is below 30000 (Q15.16 ends at 32768). M bounds, for every input the
+ * evaluation admits (mf_prepare's clamps): |dfz| (dfz in [-1, dfz at
+ * fz_max], the divisions being monotone in Fz), |gamma*| and the
+ * inclinations of each force (<= 1, times max |LGAx|, |LGAy|, |LGAz| in
+ * MF 5.2), |kappa| (<= 1.5), and the arctangents (pi <= (1 + M)^2 for
+ * M >= 1). Fixed build only: the float build has no range tests. */
+static int mf_cert_ok(const grip_mf_params *p, grip_real_t fz_max, int mf52)
+{
+    int64_t c = 0;
+    int64_t m = 65536;                      /* 1 */
+    int64_t g = 65536;
+    int64_t b;
+    grip_real_t dfz_max;
+    size_t i;
+    if ((p->fnomin <= 0) || (p->lfzo <= 0) || (fz_max <= 0)) {
+        return 0;
+    }
+    for (i = 0u; i < (sizeof(mf_cert_coefs) / sizeof(mf_cert_coefs[0])); i++) {
+        const grip_real_t *v = (const grip_real_t *)(const void *)((const char *)(const void *)p + mf_cert_coefs[i]);
+        int64_t a = (*v < 0) ? -(int64_t)*v : (int64_t)*v;
+        c = (a > c) ? a : c;
+    }
+    /* dfz at the largest load, by mf_load's operations */
+    dfz_max = r_sub(r_div(r_div(fz_max, p->fnomin), p->lfzo), R_ONE);
+    m = ((int64_t)dfz_max > m) ? (int64_t)dfz_max : m;
+    if (mf52) {
+        const grip_real_t lg[3] = { p->lgax, p->lgay, p->lgaz };
+        for (i = 0u; i < 3u; i++) {
+            int64_t a = (lg[i] < 0) ? -(int64_t)lg[i] : (int64_t)lg[i];
+            g = (a + 1 > g) ? (a + 1) : g;   /* + 1 LSB: the rounding of gamma* lambda */
+        }
+    }
+    m = (g > m) ? g : m;
+    m = (RC(GRIP_MF_KAPPA_MAX) > m) ? RC(GRIP_MF_KAPPA_MAX) : m;
+    if (m > ((int64_t)16 << 16)) {
+        return 0;
+    }
+    /* 1 + C (1 + M)^2, rounded up: C < 2^31, 1 + M <= 17 */
+    b = ((c * (65536 + m)) + 65535) >> 16;
+    b = ((b * (65536 + m)) + 65535) >> 16;
+    return (b + 65536) <= ((int64_t)30000 << 16);
+}
+#endif
 
 /* The constants of the set under `options`, each formed by the expression
  * the unprepared evaluation uses (mf_prepare, mf_lmu, mf_dp_form), so that
@@ -918,6 +1123,9 @@ static void mf_prepare_fill(const grip_mf_params *p, uint32_t options, grip_mf_p
         k->re_k = z.re_k;
         f |= z.flags;   /* MF_PF_CZ, MF_PF_RE, MF_PF_RE_U */
     }
+#if MF_CERT_PATH
+    f |= mf_cert_ok(p, k->fz_max, mf52) ? MF_PF_CERT : 0u;
+#endif
     k->options = options;
     k->flags = f;
     k->p = p;

@@ -441,6 +441,8 @@ int mf_params_usable_plain(const grip_mf_params *p);
 #define MF_PF_CZ          0x80u  /* the vertical stiffness is formed (mf_ext_cz) */
 #define MF_PF_RE          0x100u /* and Re's FNOMIN / (R0 Cz) is (mf_ext_cz)     */
 #define MF_PF_RE_U        0x200u /* LONGVL > 4.2 m/s: |u| < 181 for every input  */
+#define MF_PF_CERT        0x400u /* the coefficient terms cannot leave Q15.16  */
+                                 /* (mf_cert_ok, the fixed build at -O2)       */
 
 /* The set has what the turn-slip equations divide by: PHYP1 > 0 (C_Hyp)
  * and 0 < QDRP1 < 2 (C_Drp, sin(pi/2 C_Drp) > 0). */
@@ -476,6 +478,38 @@ typedef struct {
 #define mf_ext_cz_form GRIP_TYPED(grip_mf_i_ext_cz_form)
 void mf_ext_cz_form(const grip_mf_params *p, grip_real_t dpi, mf_ext_cz *z);
 
+/* The operations of the coefficient terms: a coefficient of the set times
+ * the load (dfz), the inclination (gamma* or gamma) or a sign, up to their
+ * squares, and sums of such terms (docs/numerics.md, "Certified
+ * operations"). cert, a constant in every caller: 1 in the evaluation of a
+ * prepared set whose certificate holds (MF_PF_CERT), where the terms cannot
+ * leave Q15.16 and so need no range test (r_mac_nt ...: the same bits), 0
+ * elsewhere (the checked operations). The float build has one form. */
+static MF_ALWAYS_INLINE grip_real_t mf_cmac(int cert, grip_real_t c, grip_real_t a, grip_real_t b)
+{
+    return cert ? r_mac_nt(c, a, b) : r_mac(c, a, b);
+}
+
+static MF_ALWAYS_INLINE grip_real_t mf_cmsub(int cert, grip_real_t c, grip_real_t a, grip_real_t b)
+{
+    return cert ? r_msub_nt(c, a, b) : r_msub(c, a, b);
+}
+
+static MF_ALWAYS_INLINE grip_real_t mf_cmul(int cert, grip_real_t a, grip_real_t b)
+{
+    return cert ? r_mul_nt(a, b) : r_mul(a, b);
+}
+
+static MF_ALWAYS_INLINE grip_real_t mf_cadd(int cert, grip_real_t a, grip_real_t b)
+{
+    return cert ? r_add_nt(a, b) : r_add(a, b);
+}
+
+static MF_ALWAYS_INLINE grip_real_t mf_csq(int cert, grip_real_t a)
+{
+    return cert ? r_mul_nt(a, a) : r_sq(a);
+}
+
 /* mu_x (4.E13) at dfz, dpi, the camber of mu_x and LMUX*. */
 static MF_ALWAYS_INLINE grip_real_t mf_mux(const grip_mf_params *p, grip_real_t dfz, grip_real_t dpi, grip_real_t gmux,
                                  grip_real_t lmux_s)
@@ -488,9 +522,10 @@ static MF_ALWAYS_INLINE grip_real_t mf_mux(const grip_mf_params *p, grip_real_t 
 
 /* The same with its pressure factor already formed (MF_DP_PX_MU). */
 static MF_ALWAYS_INLINE grip_real_t mf_mux_dp(const grip_mf_params *p, grip_real_t dfz, grip_real_t px_mu,
-                                              grip_real_t gmux, grip_real_t lmux_s)
+                                              grip_real_t gmux, grip_real_t lmux_s, int cert)
 {
-    return r_mul_scale(r_mul(r_mul(r_mac(p->pdx1, p->pdx2, dfz), px_mu), r_msub(R_ONE, p->pdx3, r_sq(gmux))),
+    return r_mul_scale(r_mul(r_mul(mf_cmac(cert, p->pdx1, p->pdx2, dfz), px_mu),
+                             mf_cmsub(cert, R_ONE, p->pdx3, mf_csq(cert, gmux))),
                        lmux_s);
 }
 

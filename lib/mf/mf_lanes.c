@@ -217,17 +217,17 @@ static MF_ALWAYS_INLINE void mfl_point(const grip_mf_prepared *k, const mfl_cons
     op.ky_mu = k->ky_mu;
     mf_cambers(p, gamma, &op);
 
-    mf_long_pure(p, &op, NULL, R_ONE, &bad, &lon);
-    mf_lat_common_init(p, &op, &latc);
-    mf_lat_body(p, &op, &latc, op.gy, NULL, R_ONE, &bad, &lat);
+    mf_long_pure(p, &op, NULL, R_ONE, &bad, 0, &lon);
+    mf_lat_common_init(p, &op, 0, &latc);
+    mf_lat_body(p, &op, &latc, op.gy, NULL, R_ONE, &bad, 0, &lat);
     if (!mf52) {
         /* Fy0 at gamma = 0 (MF 6.x's Mz; mf_lat_gamma0): equal to lat
          * where gy is 0 */
-        mf_lat_body(p, &op, &latc, R_ZERO, NULL, R_ONE, &bad, &lat0);
+        mf_lat_body(p, &op, &latc, R_ZERO, NULL, R_ONE, &bad, 0, &lat0);
     } else {
         lat0 = lat;
     }
-    mf_trail_body(p, &op, &lat, R_ONE, &bad, &tc);
+    mf_trail_body(p, &op, &lat, R_ONE, &bad, 0, &tc);
     if (pure) {
         /* mf_pure_eval */
         mz = mf_mz0(p, &op, mf_trail_at_k(&op, &tc, tc.alpha_t, &bad), mf_residual_at_k(&tc, tc.alpha_r),
@@ -242,16 +242,16 @@ static MF_ALWAYS_INLINE void mfl_point(const grip_mf_prepared *k, const mfl_cons
         float gyk;
         float t;
         float mzr;
-        fx = r_mul(mf_gxa(p, &op, R_ONE, &bad), lon.fx0);
-        mf_svyk_factors(p, &op, &bad, &sf);
+        fx = r_mul(mf_gxa(p, &op, R_ONE, &bad, 0), lon.fx0);
+        mf_svyk_factors(p, &op, &bad, 0, &sf);
         svyk = mf_svyk(p, &op, &sf, mf_dvyk(lat.muy, &sf));
-        gyk = mf_gyk_body(p, &op, op.gy, R_ONE, &bad);
+        gyk = mf_gyk_body(p, &op, op.gy, R_ONE, &bad, 0);
         fy = r_add(r_mul(gyk, lat.fy0), svyk);
         svyk_mz = mf_svyk(p, &op, &sf, mf_dvyk(r_mul(latc.mub, op.lmuy_s), &sf));
         mzr = mf_residual_at_k(&tc, mf_alpha_eq_k(op.book, op.kappa, tc.alpha_r, lon.kxk, lat.kya, &bad));
         t = mf_trail_at_k(&op, &tc, mf_alpha_eq_k(op.book, op.kappa, tc.alpha_t, lon.kxk, lat.kya, &bad), &bad);
         mf_mz_scale(p, &op, &t, &mzr);
-        mz = mf_mz_sum(mzr, t, mf52 ? r_sub(fy, svyk_mz) : r_mul(gyk, lat0.fy0), mf_sarm(p, &op, fy), fx);
+        mz = mf_mz_sum(mzr, t, mf52 ? r_sub(fy, svyk_mz) : r_mul(gyk, lat0.fy0), mf_sarm(p, &op, fy, 0), fx);
     }
     /* mf_finish */
     mf_scale_out(p, &op, fx, fy, mz, &o);

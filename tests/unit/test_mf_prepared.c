@@ -229,6 +229,44 @@ static void expect_refused(const grip_mf_params *p, uint32_t options, const char
     }
 }
 
+/* Sets outside the box of the fixed build's certificate (a coefficient of a
+ * certified term too large, a load factor LFZO so small that dfz reaches
+ * 79), each with a term that does leave Q15.16: not certified (MF_PF_CERT, 0x400 of lib/mf/mf_internal.h), and the
+ * prepared evaluation, on the checked operations, still the unprepared one
+ * bit for bit; the shipped sets are certified. Both builds (the float
+ * build has no certificate). */
+static void test_certificate(void **s)
+{
+    const grip_mf_params *good = grip_test_tire_params("MagicFormula61_Paramerters");
+    grip_mf_params p;
+    grip_mf_prepared prep;
+    int k;
+    (void)s;
+    for (k = 0; k < 3; k++) {
+        p = *good;
+        if (k == 0) {
+            p.pex1 = qs(30000.0);   /* PEX1 + PEX3 dfz^2 reaches 57000 */
+            p.pex3 = qs(3000.0);
+        } else if (k == 1) {
+            p.rvy6 = qs(-30000.0);  /* RVY6 kappa reaches 45000 */
+        } else {
+            p.lfzo = qs(0.05);      /* QBZ3 dfz^2 reaches -62000 */
+            p.qbz3 = qs(-10.0);
+        }
+        assert_int_equal(grip_mf_prepare(&p, p.options, &prep), GRIP_OK);
+#if GRIP_ARITH_FIXED && !defined(__OPTIMIZE_SIZE__)
+        assert_true((prep.flags & 0x400u) == 0u);
+#endif
+        (void)check_set(&p, p.options, "uncertified");
+    }
+#if GRIP_ARITH_FIXED && !defined(__OPTIMIZE_SIZE__)
+    for (k = 0; k < grip_test_tire_count; k++) {
+        assert_int_equal(grip_mf_prepare(grip_test_tires[k].params, 0u, &prep), GRIP_OK);
+        assert_true((prep.flags & 0x400u) != 0u);
+    }
+#endif
+}
+
 static void test_bad_sets(void **s)
 {
     const grip_mf_params *good = grip_test_tire_params("MagicFormula61_Paramerters");
@@ -313,6 +351,7 @@ int main(void)
         cmocka_unit_test(test_options),
         cmocka_unit_test(test_per_call_friction_and_clamped_pressure),
         cmocka_unit_test(test_options_replace_the_sets),
+        cmocka_unit_test(test_certificate),
         cmocka_unit_test(test_bad_sets),
     };
     return cmocka_run_group_tests_name("mf_prepared", tests, NULL, NULL);
