@@ -313,6 +313,61 @@ static inline grip_q16_t q16_abs(grip_q16_t a)
     return (a < 0) ? q16_neg(a) : a;
 }
 
+/* a / b limited to +-lim, lim >= 1 (lib/mf's mf_div_lim): 0 when a = 0;
+ * the signed lim where |b| <= q16_div(|a|, lim) (|.| as q16_abs); else
+ * q16_div(a, b). The same values as that composition, with the limit's test
+ * as a product - |b| lim <= |a| 2^16 + floor(lim / 2), the integer form of
+ * |b| <= floor((|a| 2^16 + floor(lim / 2)) / lim), no division - and the
+ * quotient without q16_div's zero and range tests: where it is formed,
+ * |b| > 0 and |a / b| < lim + 1/2 (below 2^15 for every lim in use). */
+static inline grip_q16_t q16_div_lim(grip_q16_t a, grip_q16_t b, grip_q16_t lim)
+{
+    grip_q16_t aa = q16_abs(a);
+    grip_q16_t ab;
+    if (aa == 0) {
+        return 0;
+    }
+    ab = q16_abs(b);
+    if (((int64_t)ab * (int64_t)lim) <= (((int64_t)aa * 65536) + (int64_t)(lim / 2))) {
+        return ((a < 0) != (b < 0)) ? q16_neg(lim) : lim;
+    }
+#if defined(__ARM_ARCH_6M__)
+    return q16_div(a, b);
+#else
+    {
+        int64_t num = (int64_t)a * 65536;
+        int64_t den = (int64_t)b;
+        if (den < 0) {
+            num = -num;
+            den = -den;
+        }
+        /* round half away from zero, as q16_div */
+        num += (num >= 0) ? (den / 2) : -(den / 2);
+        return (grip_q16_t)(num / den);
+    }
+#endif
+}
+
+/* a / b where the caller knows 0 <= a <= b, b > 0 (a ratio of magnitudes,
+ * the smaller over the larger): the quotient is within [0, 1], so
+ * q16_div's zero and range tests go; its values. A GRIP_DEBUG_SATURATION
+ * build checks the precondition: a violation is counted as the event
+ * "div_le1" and answered by q16_div. */
+static inline grip_q16_t q16_div_le1(grip_q16_t a, grip_q16_t b)
+{
+#if GRIP_DEBUG_SATURATION
+    if ((a < 0) || (b <= 0) || (a > b)) {
+        GRIP_SAT_EVENT("div_le1");
+        return q16_div(a, b);
+    }
+#endif
+#if defined(__ARM_ARCH_6M__)
+    return q16_div(a, b);
+#else
+    return (grip_q16_t)((((int64_t)a * 65536) + (int64_t)(b / 2)) / (int64_t)b);
+#endif
+}
+
 /* Q23.8 <-> Q15.16 format changes. */
 static inline grip_q16_t q16_from_ql(grip_q16_t a)
 {

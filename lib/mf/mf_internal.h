@@ -180,14 +180,9 @@ typedef struct {
 static inline grip_real_t mf_div_lim(grip_real_t a, grip_real_t b, grip_real_t lim)
 {
 #if GRIP_ARITH_FIXED
-    grip_real_t aa = r_abs(a);
-    if (aa == R_ZERO) {
-        return R_ZERO;
-    }
-    if (r_abs(b) <= r_div(aa, lim)) {
-        return ((a < R_ZERO) != (b < R_ZERO)) ? r_neg(lim) : lim;
-    }
-    return r_div(a, b);
+    /* |b| <= |a| / lim as a product, and the quotient without q16_div's
+     * zero and range tests (q16_div_lim: the values of r_abs, r_div) */
+    return q16_div_lim(a, b, lim);
 #else
     grip_real_t q = a / b;
     if (fabsf(q) <= lim) {
@@ -214,8 +209,11 @@ static inline grip_real_t mf_hypot(grip_real_t a, grip_real_t b)
     if (x == R_ZERO) {
         return R_ZERO;
     }
-    t = r_div(y, x);
-    return r_mul(r_sqrt(r_mac(R_ONE, t, t)), x);
+    /* 0 <= y <= x, x > 0: t in [0, 1] and 1 + t^2 in [1, 2], neither
+     * needs a range test (r_div_le1; r_mac_nt, whose result the
+     * debug-saturation build checks) */
+    t = r_div_le1(y, x);
+    return r_mul(r_sqrt(r_mac_nt(R_ONE, t, t)), x);
 }
 
 /* ------------------------------------------------------------------------

@@ -9,6 +9,11 @@
  *   - r_mul_scale(x, s) gives the bits of r_mul(x, s), s = 1 among them;
  *   - r_atan2_q1(y, x) gives the bits of r_atan2(y, x) for y >= 0, x > 0
  *     (fixed; the float build's forms are tested with the kernels);
+ *   - r_div_le1(a, b) gives the bits of r_div(a, b) for 0 <= a <= b, and
+ *     r_mac_nt, r_msub_nt, r_mul_nt, r_add_nt those of the checked
+ *     operations wherever the result is in range;
+ *   - q16_div_lim (mf_div_lim, fixed) gives the values of the composition
+ *     of r_abs and r_div it replaces;
  *   - r_quot_m1_lo and r_lin_ext carry dfz's residual (float) or are the
  *     plain forms (fixed);
  *   - a GRIP_DEBUG_SATURATION build flags r_mul_unit called with |u| > 1
@@ -144,6 +149,58 @@ static void test_mul_scale_as_mul(void **s)
     print_message("# mul_scale: %d pairs (a quarter with s = 1) as r_mul\n", N_PAIRS);
 }
 
+/* r_div_le1 (0 <= a <= b, b > 0) against r_div, and the certified
+ * operations (r_mac_nt ...) against the checked ones where the result is in
+ * range */
+static void test_div_le1_and_certified(void **s)
+{
+    int i;
+    long n_nt = 0;
+    (void)s;
+    grip_debug_saturation_reset();
+    for (i = 0; i < N_PAIRS; ++i) {
+        grip_real_t a = r_abs(any_value());
+        grip_real_t b = r_abs(any_value());
+        grip_real_t c = any_value();
+        grip_real_t t;
+        if (a > b) {
+            t = a;
+            a = b;
+            b = t;
+        }
+        if (b == R_ZERO) {
+            b = (grip_real_t)1;
+        }
+#if GRIP_ARITH_FIXED
+        assert_int_equal(r_div_le1(a, b), r_div(a, b));
+        {
+            int64_t m = (int64_t)c + (((int64_t)a * b + 32768) >> 16);
+            int64_t p = ((int64_t)a * b + 32768) >> 16;
+            if (m >= -INT32_MAX && m <= INT32_MAX) {
+                assert_int_equal(r_mac_nt(c, a, b), r_mac(c, a, b));
+                ++n_nt;
+            }
+            if (p <= INT32_MAX) {
+                assert_int_equal(r_mul_nt(a, b), r_mul(a, b));
+            }
+            if ((int64_t)c - p >= -INT32_MAX && (int64_t)c - p <= INT32_MAX) {
+                assert_int_equal(r_msub_nt(c, a, b), r_msub(c, a, b));
+            }
+            if ((int64_t)c + a >= -INT32_MAX && (int64_t)c + a <= INT32_MAX) {
+                assert_int_equal(r_add_nt(c, a), r_add(c, a));
+            }
+        }
+#else
+        assert_true(r_div_le1(a, b) == r_div(a, b));
+        assert_true(r_mac_nt(c, a, b) == r_mac(c, a, b));
+        ++n_nt;
+#endif
+    }
+    assert_int_equal(grip_debug_saturation_count(), 0);
+    print_message("# div_le1: %d pairs as r_div; certified operations: %ld in range as the checked ones\n", N_PAIRS,
+                  n_nt);
+}
+
 static void test_atan2_q1_as_atan2(void **s)
 {
     (void)s;
@@ -163,6 +220,62 @@ static void test_atan2_q1_as_atan2(void **s)
     print_message("# atan2_q1: %d pairs with y >= 0, x > 0 as r_atan2\n", N_PAIRS);
 #else
     print_message("# atan2_q1: fixed build only here (float: test_f32_kernels)\n");
+#endif
+}
+
+/* q16_div_lim (lib/mf's mf_div_lim in the fixed build) against the
+ * composition it replaces, for the limits in use: random pairs, pairs at
+ * the limit's boundary (|b| = round(|a| / lim) + -1, 0, 1) and INT32_MIN. */
+#if GRIP_ARITH_FIXED
+static grip_real_t div_lim_ref(grip_real_t a, grip_real_t b, grip_real_t lim)
+{
+    grip_real_t aa = r_abs(a);
+    if (aa == 0) {
+        return 0;
+    }
+    if (r_abs(b) <= r_div(aa, lim)) {
+        return ((a < 0) != (b < 0)) ? r_neg(lim) : lim;
+    }
+    return r_div(a, b);
+}
+#endif
+
+static void test_div_lim_as_composition(void **s)
+{
+    (void)s;
+#if GRIP_ARITH_FIXED
+    static const grip_real_t lims[4] = { R_ONE, RC(10.0), RC(100.0), RC(1000.0) };
+    int i;
+    int k;
+    long n = 0;
+    for (k = 0; k < 4; ++k) {
+        grip_real_t lim = lims[k];
+        for (i = 0; i < N_PAIRS; ++i) {
+            grip_real_t a = any_value();
+            grip_real_t b = any_value();
+            if ((i % 2) == 1) {
+                /* at the boundary of the limit */
+                grip_real_t q = r_div(r_abs(a), lim);
+                int32_t d = (int32_t)(next_u32() % 3u) - 1;
+                b = ((q + d) > 0) ? (q + d) : 0;
+                if ((next_u32() & 1u) != 0u) {
+                    b = -b;
+                }
+            }
+            assert_int_equal(q16_div_lim(a, b, lim), div_lim_ref(a, b, lim));
+            ++n;
+        }
+        assert_int_equal(q16_div_lim(INT32_MIN, 1, lim), div_lim_ref(INT32_MIN, 1, lim));
+        assert_int_equal(q16_div_lim(1, INT32_MIN, lim), div_lim_ref(1, INT32_MIN, lim));
+        assert_int_equal(q16_div_lim(INT32_MAX, INT32_MIN, lim), div_lim_ref(INT32_MAX, INT32_MIN, lim));
+        assert_int_equal(q16_div_lim(INT32_MIN, INT32_MIN, lim), div_lim_ref(INT32_MIN, INT32_MIN, lim));
+        assert_int_equal(q16_div_lim(0, 0, lim), 0);
+        assert_int_equal(q16_div_lim(5, 0, lim), lim);
+        assert_int_equal(q16_div_lim(-5, 0, lim), -lim);
+    }
+    print_message("# div_lim: %ld pairs (half at the limit's boundary) as the composition\n", n);
+#else
+    print_message("# div_lim: fixed build only (the float mf_div_lim divides first)\n");
 #endif
 }
 
@@ -240,6 +353,16 @@ static void test_preconditions_flagged(void **s)
     assert_int_equal(r_atan2_q1(RC(1.0), 0), r_atan2(RC(1.0), 0));
     assert_int_equal(grip_debug_saturation_count(), 2);
     assert_string_equal(grip_debug_saturation_first(), "atan2_q1");
+    /* div_le1 with a > b, or b = 0: flagged, answered as r_div */
+    grip_debug_saturation_reset();
+    assert_int_equal(r_div_le1(RC(2.0), RC(1.0)), r_div(RC(2.0), RC(1.0)));
+    assert_string_equal(grip_debug_saturation_first(), "div_le1");
+    /* a certified operation whose result leaves the range: counted as
+     * "cert", answered as the checked operation */
+    grip_debug_saturation_reset();
+    assert_int_equal(r_mac_nt(RC(30000.0), RC(2.0), RC(2000.0)), INT32_MAX);
+    assert_int_equal(grip_debug_saturation_count(), 1);
+    assert_string_equal(grip_debug_saturation_first(), "cert");
     grip_debug_saturation_reset();
 #else
     print_message("# preconditions: checked in the fixed DEBUG_SAT=1 build only\n");
@@ -254,6 +377,8 @@ int main(void)
         cmocka_unit_test(test_preconditions_flagged),
         cmocka_unit_test(test_mul_scale_as_mul),
         cmocka_unit_test(test_atan2_q1_as_atan2),
+        cmocka_unit_test(test_div_lim_as_composition),
+        cmocka_unit_test(test_div_le1_and_certified),
         cmocka_unit_test(test_load_term_beyond_single),
     };
     return cmocka_run_group_tests_name("arith_ops", tests, NULL, NULL);
