@@ -325,18 +325,20 @@ static MF_ALWAYS_INLINE grip_status_t mf_prepare(const grip_mf_params *p, const 
     r_sincos(alpha, &sa, &ca);
     if ((p->vxlow > R_ZERO) && limits) {
         grip_real_t avx = r_abs(vx);
-        grip_real_t num;
-        grip_real_t den;
-        mf_low_alpha(avx, sa, ca, p->vxlow, &num, &den);
         if (avx <= p->vxlow) {
+            grip_real_t num;
+            grip_real_t den;
             grip_real_t rl = r_div(avx, p->vxlow);
             kappa = r_mul(rl, kappa);
             op->smooth = mf_low_smooth(rl, NULL);
-        }
-        if (num < den) {
-            /* only below VXLOW: the reduced angle needs its own sin, cos */
-            alpha = r_mul(r_div(num, den), alpha);
-            r_sincos(alpha, &sa, &ca);
+            /* num < den only here: above VXLOW, num = |Vx| (c + |s|) rounds
+             * to at least VXLOW c = den (each product rounds monotonically) */
+            mf_low_alpha(avx, sa, ca, p->vxlow, &num, &den);
+            if (num < den) {
+                /* the reduced angle needs its own sin, cos */
+                alpha = r_mul(r_div(num, den), alpha);
+                r_sincos(alpha, &sa, &ca);
+            }
         }
     }
 
