@@ -157,6 +157,25 @@ static void check_dense(const char *name, int64_t lim, double bound_lsb)
 static void test_atan_dense(void **s) { (void)s; check_dense("atan", (int64_t)1 << 23, 0.505); }
 static void test_sin_dense(void **s) { (void)s; check_dense("sin", (int64_t)1 << 20, 0.505); }
 
+/* sqrt correctly rounded on every 61st positive raw argument (35 million,
+ * both ends included): r^2 - r < a 2^16 <= r^2 + r. */
+static void test_sqrt_every_61st(void **s)
+{
+    int64_t v;
+    uint32_t n = 0u;
+    (void)s;
+    for (v = 1; v <= (int64_t)GRIP_Q16_MAX + 60; v += 61) {
+        int64_t a = (v > (int64_t)GRIP_Q16_MAX) ? (int64_t)GRIP_Q16_MAX : v;   /* the end, last */
+        uint64_t x = (uint64_t)a << 16;
+        uint64_t r = (uint64_t)grip_q16_sqrt((grip_q16_t)a);
+        if (!((r * r - r < x) && (x <= r * r + r))) {
+            fail_msg("sqrt(%ld) = %lu is not correctly rounded", (long)a, (unsigned long)r);
+        }
+        ++n;
+    }
+    print_message("# sqrt: %lu positive arguments, every one correctly rounded\n", (unsigned long)n);
+}
+
 /* Saturation never wraps, and a debug-saturation build counts it. */
 static void test_saturation_is_reported(void **s)
 {
@@ -181,6 +200,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_mul),   cmocka_unit_test(test_div), cmocka_unit_test(test_sqrt),
+        cmocka_unit_test(test_sqrt_every_61st),
         cmocka_unit_test(test_atan),  cmocka_unit_test(test_atan2), cmocka_unit_test(test_sin),
         cmocka_unit_test(test_cos),   cmocka_unit_test(test_exp), cmocka_unit_test(test_log),
         cmocka_unit_test(test_atan_dense), cmocka_unit_test(test_sin_dense),
