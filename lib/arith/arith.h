@@ -95,9 +95,14 @@ static inline grip_real_t r_exp(grip_real_t a) { return grip_q16_exp(a); }
 static inline grip_real_t r_log(grip_real_t a) { return grip_q16_log(a); }
 /* Every fixed-point value is finite by construction. */
 static inline int r_is_finite(grip_real_t a) { (void)a; return 1; }
-/* cos(atan(a)): kept literal in fixed point, where 1 + a^2 would leave QS
- * for |a| > 181. */
-static GRIP_Q16_KINLINE grip_real_t r_cos_atan(grip_real_t a) { return r_cos(r_atan(a)); }
+/* cos(atan(a)) = 1 / sqrt(1 + a^2) from a kernel of its own
+ * (q16_cos_atan_k: no 1 + a^2, which would leave QS for |a| > 181), in
+ * [0, 1]; out of line at -Os (grip_q16_i_cos_atan, the same code). */
+#if GRIP_Q16_INLINE_KERNELS
+static GRIP_Q16_KINLINE grip_real_t r_cos_atan(grip_real_t a) { return q16_cos_atan_k(a); }
+#else
+static inline grip_real_t r_cos_atan(grip_real_t a) { return grip_q16_i_cos_atan(a); }
+#endif
 /* c0 + c1 x and a / (b1 b2) - 1: see the float build. Q15.16 carries no
  * residual (its resolution is its own tolerance): the plain forms, 0. */
 static inline grip_real_t r_lin_ext(grip_real_t c0, grip_real_t c1, grip_real_t x, grip_real_t x_lo)

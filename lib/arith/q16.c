@@ -17,6 +17,7 @@ typedef char grip_check_arithmetic_shift[((-8 >> 1) == -4) ? 1 : -1];
 
 const int32_t grip_q16_i_sin_seg[GRIP_K_SIN_SEG_ROWS][3] = GRIP_K_SIN_SEG_INIT;
 const int32_t grip_q16_i_atan_seg[GRIP_K_ATAN_SEG_ROWS][3] = GRIP_K_ATAN_SEG_INIT;
+const int32_t grip_q16_i_cosatan_seg[GRIP_K_COSATAN_SEG_ROWS][3] = GRIP_K_COSATAN_SEG_INIT;
 static const int32_t k_exp2[GRIP_K_EXP2_N] = GRIP_K_EXP2_COEFS;
 static const int32_t k_log2[GRIP_K_LOG2_N] = GRIP_K_LOG2_COEFS;
 
@@ -134,6 +135,7 @@ grip_q16_t grip_q16_sqrt(grip_q16_t a)
 
 /* atan, atan2, sin, cos, sincos: the inline kernels of q16_math_inline.h */
 grip_q16_t grip_q16_atan(grip_q16_t a) { return q16_atan_k(a); }
+grip_q16_t grip_q16_i_cos_atan(grip_q16_t a) { return q16_cos_atan_k(a); }
 grip_q16_t grip_q16_atan2(grip_q16_t y, grip_q16_t x) { return q16_atan2_k(y, x); }
 grip_q16_t grip_q16_sin(grip_q16_t a) { return q16_sin_k(a); }
 grip_q16_t grip_q16_cos(grip_q16_t a) { return q16_cos_k(a); }

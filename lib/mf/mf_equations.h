@@ -41,8 +41,9 @@
  *   op->smooth  1, or 0.5 (1 - cos(pi rl)) with cos in [-1, 1] (mf_low_smooth);
  *   op->cosa    |cos alpha|, or 0;
  *   sines and cosines of a kernel, and the curves made of them: cos(C atan(.))
- *               (the trail), r_cos_atan (a cosine too in the fixed build,
- *               1 / sqrt(1 + x^2) in the float build). */
+ *               (the trail), r_cos_atan (1 / sqrt(1 + x^2): in [0, 1] in both
+ *               builds, a kernel of its own in the fixed build whose table
+ *               never exceeds 1, checked by its generator). */
 
 /* Pure longitudinal slip. */
 typedef struct {

@@ -128,8 +128,11 @@ static void test_sincos_is_sin_and_cos(void **s)
     print_message("# sincos: %lu arguments, all equal to sin and cos\n", (unsigned long)n);
 }
 
-/* atan and sin on every raw argument of a dense range (atan: |x| < 128,
- * both of its branches; sin: |x| < 16 rad, where the phase's rounding is
+/* cos(atan(x)), internal to lib/arith (q16.c) */
+grip_q16_t grip_q16_i_cos_atan(grip_q16_t a);
+
+/* atan, sin and cos(atan) on every raw argument of a dense range (atan,
+ * cos(atan): |x| < 128, both of their branches; sin: |x| < 16 rad, where the phase's rounding is
  * below 2e-8), against libm in double: the kernel's own error (2.9e-9 and
  * 6.2e-9, docs/numerics.md) on top of the result's rounding. The bound
  * 0.505 LSB leaves 0.005 LSB (7.6e-8) for it. */
@@ -141,8 +144,9 @@ static void check_dense(const char *name, int64_t lim, double bound_lsb)
     for (v = -lim; v <= lim; ++v) {
         grip_q16_t a = (grip_q16_t)v;
         double x = (double)v * LSB;
-        double got = (name[0] == 'a') ? (double)grip_q16_atan(a) * LSB : (double)grip_q16_sin(a) * LSB;
-        double want = (name[0] == 'a') ? atan(x) : sin(x);
+        double got = (name[0] == 'a') ? (double)grip_q16_atan(a) * LSB
+                     : (name[0] == 'c') ? (double)grip_q16_i_cos_atan(a) * LSB : (double)grip_q16_sin(a) * LSB;
+        double want = (name[0] == 'a') ? atan(x) : (name[0] == 'c') ? 1.0 / sqrt(1.0 + x * x) : sin(x);
         double e = fabs(got - want) / LSB;
         if (e > worst) {
             worst = e;
@@ -156,6 +160,9 @@ static void check_dense(const char *name, int64_t lim, double bound_lsb)
 
 static void test_atan_dense(void **s) { (void)s; check_dense("atan", (int64_t)1 << 23, 0.505); }
 static void test_sin_dense(void **s) { (void)s; check_dense("sin", (int64_t)1 << 20, 0.505); }
+/* cos(atan(x)) (lib/arith's r_cos_atan: one kernel, q16_cos_atan_k) on
+ * every raw argument with |x| < 128, both of its branches */
+static void test_cos_atan_dense(void **s) { (void)s; check_dense("cos_atan", (int64_t)1 << 23, 0.505); }
 
 /* sqrt correctly rounded on every 61st positive raw argument (35 million,
  * both ends included): r^2 - r < a 2^16 <= r^2 + r. */
@@ -201,6 +208,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_mul),   cmocka_unit_test(test_div), cmocka_unit_test(test_sqrt),
         cmocka_unit_test(test_sqrt_every_61st),
+        cmocka_unit_test(test_cos_atan_dense),
         cmocka_unit_test(test_atan),  cmocka_unit_test(test_atan2), cmocka_unit_test(test_sin),
         cmocka_unit_test(test_cos),   cmocka_unit_test(test_exp), cmocka_unit_test(test_log),
         cmocka_unit_test(test_atan_dense), cmocka_unit_test(test_sin_dense),

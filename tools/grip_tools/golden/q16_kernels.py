@@ -1,6 +1,7 @@
 """Kernels of the Q15.16 math functions (lib/arith/q16_kernels.h).
 
-sin and atan, which a Magic Formula evaluation calls about forty times, are
+sin and atan, which a Magic Formula evaluation calls about forty times, and
+cos(atan(.)) (the combined-slip weights, the residual moment) are
 piecewise quadratics: the reduced argument z in [0, 1] (Q30) selects one of
 2^bits equal segments by its top bits, and the segment's quadratic in the
 position t in [0, 1) within it is evaluated in two Horner steps. Each
@@ -18,10 +19,11 @@ import numpy as np
 Q = 30
 
 # name, function, segment bits, what it serves, upper limit of the kernel
-# (sin: the C code returns the kernel without clamping it to 1)
+# (sin, cos(atan): the C code returns the kernel without clamping it to 1)
 SEGMENTED = [
     ("SIN", lambda z: np.sin(np.pi / 2 * z), 8, "sin(pi/2 * z), z in [0, 1]", 1 << Q),
     ("ATAN", np.arctan, 7, "atan(z), z in [0, 1]", None),
+    ("COSATAN", lambda z: 1.0 / np.sqrt(1.0 + z * z), 7, "cos(atan(z)) = 1 / sqrt(1 + z^2), z in [0, 1]", 1 << Q),
 ]
 
 # name, function, powers of the basis, reduced range, what it serves
@@ -79,12 +81,12 @@ def segment_error(func, rows, bits):
     return float(np.max(np.abs(segment_eval(rows, bits, z) / 2.0 ** Q - func(z / 2.0 ** Q))))
 
 
-def segment_max(rows, bits, first):
-    """The kernel's largest value over every argument of segments first ..
-    the last (z = 2^30 included)."""
+def segment_max(rows, bits, segments):
+    """The kernel's largest value over every argument of the given segments
+    and at z = 2^30."""
     s = Q - bits
     top = 0
-    for k in range(first, 1 << bits):
+    for k in segments:
         z = (np.int64(k) << s) + np.arange(1 << s, dtype=np.int64)
         top = max(top, int(segment_eval(rows, bits, z).max()))
     return max(top, int(segment_eval(rows, bits, np.array([1 << Q]))[0]))
@@ -93,12 +95,18 @@ def segment_max(rows, bits, first):
 def check_limit(rows, bits, limit):
     """Raise unless the kernel stays at or below limit (Q30) on every
     argument. The segments whose value at their start lies within 2^-8 of
-    the limit are evaluated on every argument; every other segment is
-    bounded by a + |b| + |c| (0 <= t < 1)."""
-    near = [k for k in range(1 << bits) if rows[k, 0] >= limit - (1 << (Q - 8))]
-    first = min(near) if near else (1 << bits)
-    top = segment_max(rows, bits, first) if near else int(rows[1 << bits, 0])
-    if top > limit or int(np.max(rows[:first, 0] + np.abs(rows[:first, 1]) + np.abs(rows[:first, 2]))) > limit:
+    the limit (the sine's last ones, cos(atan)'s first ones) are evaluated
+    on every argument; every other segment is bounded by a + |b| + |c|
+    (0 <= t < 1)."""
+    n = 1 << bits
+    near = [k for k in range(n) if rows[k, 0] >= limit - (1 << (Q - 8))]
+    far = [k for k in range(n) if k not in near]
+    top = segment_max(rows, bits, near)
+    if far:
+        bound = int(np.max(rows[far, 0] + np.abs(rows[far, 1]) + np.abs(rows[far, 2])))
+    else:
+        bound = 0
+    if top > limit or bound > limit:
         raise ValueError(f"kernel exceeds {limit} (max {top})")
     return top
 
