@@ -123,7 +123,7 @@ static MF_ALWAYS_INLINE void mf_long_pure(const grip_mf_params *p, const mf_op *
         svx = r_mul(svx, ts->z1);
     }
     ex = r_min(ex, emax);
-    out->fx0 = r_add(mf_sin_curve_k(bx, cx, dx, ex, kx, mk), svx);                        /* 4.E9 */
+    out->fx0 = r_add(mf_sin_curve_k(bx, cx, dx, ex, kx, mk, cert), svx);                        /* 4.E9 */
     out->kxk = kx_per;
 }
 
@@ -233,7 +233,7 @@ static MF_ALWAYS_INLINE void mf_lat_body(const grip_mf_params *p, const mf_op *o
                      p->ley);                                                                           /* 4.E24 */
     ey = r_min(ey, emax);
     by = mfk_div_lim(kya, r_mul(cy, dy), MF_LIM_B, mk);                                                /* 4.E26 */
-    out->fy0 = r_add(mf_sin_curve_k(by, cy, dy, ey, ay, mk), svy);                                      /* 4.E19 */
+    out->fy0 = r_add(mf_sin_curve_k(by, cy, dy, ey, ay, mk, cert), svy);                                      /* 4.E19 */
     out->muy = muy;
     out->kya = kya;
     out->shy = shy;
@@ -296,12 +296,13 @@ static MF_ALWAYS_INLINE void mf_trail_body(const grip_mf_params *p, const mf_op 
 }
 
 /* Trail t / R0 at a (possibly equivalent) trail slip angle a (4.E33, 4.E73). */
-static MF_ALWAYS_INLINE grip_real_t mf_trail_at_k(const mf_op *op, const mf_trail *tc, grip_real_t a, grip_real_t *mk)
+static MF_ALWAYS_INLINE grip_real_t mf_trail_at_k(const mf_op *op, const mf_trail *tc, grip_real_t a, grip_real_t *mk,
+                                                  int cert)
 {
     /* the curve first, then |cos alpha| (the old order: reading op->cosa
      * before the curve's call made gcc pass it apart, and the Cortex-M4F
      * frame of the combined evaluation 8 B larger) */
-    grip_real_t t = r_mul_unit(mf_cos_curve_k(tc->bt, tc->ct, tc->et, a, mk), tc->dt);
+    grip_real_t t = r_mul_unit(mf_cos_curve_k(tc->bt, tc->ct, tc->et, a, mk, cert), tc->dt);
     return r_mul_unit(op->cosa, t);
 }
 
@@ -316,7 +317,7 @@ static MF_ALWAYS_INLINE grip_real_t mf_residual_at_k(const mf_trail *tc, grip_re
  * (r_cos_atan: one square root and a division for an atan and a cos);
  * otherwise mf_cos_curve. The lanes select between the two. */
 static MF_ALWAYS_INLINE grip_real_t mf_g_curve_k(grip_real_t b, grip_real_t c, grip_real_t e, grip_real_t x,
-                                                 grip_real_t *mk)
+                                                 grip_real_t *mk, int cert)
 {
     if (mk != NULL) {
         grip_real_t u = mf_shape_in_k(b, e, x, mk);
@@ -327,7 +328,7 @@ static MF_ALWAYS_INLINE grip_real_t mf_g_curve_k(grip_real_t b, grip_real_t c, g
     if (c == R_ONE) {
         return r_cos_atan(mf_shape_in_k(b, e, x, NULL));
     }
-    return mf_cos_curve(b, c, e, x);
+    return cert ? mf_cos_curve_c(b, c, e, x) : mf_cos_curve(b, c, e, x);
 }
 
 /* A combined-slip weighting function G = cos(C atan(B x - E (B x - atan(B
@@ -342,19 +343,19 @@ static MF_ALWAYS_INLINE grip_real_t mf_g_curve_k(grip_real_t b, grip_real_t c, g
  * and a cos fewer each. The lanes form both curves (no branch; the same
  * bits). */
 static MF_ALWAYS_INLINE grip_real_t mf_g_ratio_k(grip_real_t b, grip_real_t c, grip_real_t e, grip_real_t x,
-                                                 grip_real_t sh, grip_real_t *mk)
+                                                 grip_real_t sh, grip_real_t *mk, int cert)
 {
     grip_real_t g;
     grip_real_t g0;
     if (mk != NULL) {
-        g = mf_g_curve_k(b, c, e, x, mk);
-        g0 = mf_g_curve_k(b, c, e, sh, mk);
+        g = mf_g_curve_k(b, c, e, x, mk, 0);
+        g0 = mf_g_curve_k(b, c, e, sh, mk, 0);
     } else if (c == R_ZERO) {
         g = R_ONE;
         g0 = R_ONE;
     } else {
-        g0 = (sh == R_ZERO) ? R_ONE : mf_g_curve_k(b, c, e, sh, NULL);
-        g = (x == sh) ? g0 : mf_g_curve_k(b, c, e, x, NULL);
+        g0 = (sh == R_ZERO) ? R_ONE : mf_g_curve_k(b, c, e, sh, NULL, cert);
+        g = (x == sh) ? g0 : mf_g_curve_k(b, c, e, x, NULL, cert);
     }
     return mfk_div_lim(g, g0, MF_LIM_G, mk);
 }
@@ -369,7 +370,7 @@ static MF_ALWAYS_INLINE grip_real_t mf_gyk_body(const grip_mf_params *p, const m
                                              mf_cmac(cert, p->rby1, MF6_ONLY(op, p->rby4), mf_csq(cert, g))),
                                   p->lyka);                                                             /* 4.E62 */
     grip_real_t ks = r_add(op->kappa, shyk);                                                      /* 4.E61 */
-    return mf_g_ratio_k(byk, p->rcy1, eyk, ks, shyk, mk);                                         /* 4.E59-60 */
+    return mf_g_ratio_k(byk, p->rcy1, eyk, ks, shyk, mk, cert);                                         /* 4.E59-60 */
 }
 
 /* ------------------------------------------------- Mz0 and combined slip */
@@ -429,7 +430,7 @@ static MF_ALWAYS_INLINE grip_real_t mf_gxa(const grip_mf_params *p, const mf_op 
                                   p->lxal);                                                             /* 4.E54 */
     grip_real_t exa = r_min(mf_cmac(cert, p->rex1, p->rex2, op->dfz), emax);                       /* 4.E56 */
     grip_real_t as = r_add(op->alpha, p->rhx1);                                                    /* 4.E53 */
-    return mf_g_ratio_k(bxa, p->rcx1, exa, as, p->rhx1, mk);                                      /* 4.E51-52 */
+    return mf_g_ratio_k(bxa, p->rcx1, exa, as, p->rhx1, mk, cert);                                      /* 4.E51-52 */
 }
 
 /* The factors of SVyk (4.E66-E67) other than mu_y. */

@@ -125,7 +125,27 @@ static MF_NOINLINE grip_real_t mf_gyk_x(const grip_mf_params *p, const mf_op *op
 /* Trail t / R0 at a (possibly equivalent) trail slip angle a (4.E33, 4.E73). */
 static grip_real_t mf_trail_at(const mf_op *op, const mf_trail *tc, grip_real_t a)
 {
-    return mf_trail_at_k(op, tc, a, NULL);
+    return mf_trail_at_k(op, tc, a, NULL, 0);
+}
+
+#if MF_CERT_PATH
+static grip_real_t mf_trail_at_c(const mf_op *op, const mf_trail *tc, grip_real_t a)
+{
+    return mf_trail_at_k(op, tc, a, NULL, 1);
+}
+#endif
+
+/* mf_trail_at or its certified copy (cert: a constant in each caller) */
+static MF_ALWAYS_INLINE grip_real_t mf_trail_at_any(const mf_op *op, const mf_trail *tc, grip_real_t a, int cert)
+{
+#if MF_CERT_PATH
+    if (cert) {
+        return mf_trail_at_c(op, tc, a);
+    }
+#else
+    (void)cert;
+#endif
+    return mf_trail_at(op, tc, a);
 }
 
 /* Residual moment Mzr / (Fz R0) at a residual slip angle a, Cr = 1 (4.E36). */
@@ -779,7 +799,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_pure_eval(const grip_mf_params *p, cons
      * Mz through Mzr); MF 5.2 the pure lateral force itself. */
     /* grip-deviation: clang-analyzer-core.uninitialized.Assign false positive: mf_lat_pure writes every field of s.lat and s.lat0 (the analyzer stops following mf_lat_body) */
     fy_ref = s.op.mf52 ? s.lat.fy0 : mf_lat_gamma0(p, &s, NULL, 0, R_ONE, cert)->fy0;
-    t0 = mf_trail_at(&s.op, &s.tc, s.tc.alpha_t);                          /* 4.E33 */
+    t0 = mf_trail_at_any(&s.op, &s.tc, s.tc.alpha_t, cert);                          /* 4.E33 */
     mz0 = mf_mz0(p, &s.op, t0, mf_residual_at(&s.tc, s.tc.alpha_r), fy_ref);
     return mf_finish(p, &s.op, &s.io, st, s.lon.fx0, s.lat.fy0, mz0, out);
 }
@@ -891,7 +911,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
         } else {
             mzr = mf_residual_at(&s.tc, ar_eq);                                                     /* 4.E75 */
         }
-        t = mf_trail_at(op, &s.tc, at_eq);                                                         /* 4.E73 */
+        t = mf_trail_at_any(op, &s.tc, at_eq, cert);                                                         /* 4.E73 */
         mf_mz_scale(p, op, &t, &mzr);
         if (op->mf52) {
             fy_prime = r_sub(fy, svyk_mz);  /* MF 5.2: Fy' = Fy - SVyk (above) */
@@ -1081,6 +1101,19 @@ static int mf_cert_ok(const grip_mf_params *p, grip_real_t fz_max, int mf52)
     m = (RC(GRIP_MF_KAPPA_MAX) > m) ? RC(GRIP_MF_KAPPA_MAX) : m;
     if (m > ((int64_t)16 << 16)) {
         return 0;
+    }
+    /* the shape factors C of the curves (C atan(.), mf_shape_eq): |C| <=
+     * 20000 (+ 1 LSB: PCX1 LCX, PCY1 LCY round), so |C atan(.)| < 31417 */
+    {
+        const grip_real_t cs[5][2] = { { p->pcx1, p->lcx }, { p->pcy1, p->lcy }, { p->qcz1, R_ONE },
+                                       { p->rcx1, R_ONE }, { p->rcy1, R_ONE } };
+        for (i = 0u; i < 5u; i++) {
+            int64_t a0 = (cs[i][0] < 0) ? -(int64_t)cs[i][0] : (int64_t)cs[i][0];
+            int64_t a1 = (cs[i][1] < 0) ? -(int64_t)cs[i][1] : (int64_t)cs[i][1];
+            if ((((a0 * a1) >> 16) + 1) > ((int64_t)20000 << 16)) {
+                return 0;
+            }
+        }
     }
     /* 1 + C (1 + M)^2, rounded up: C < 2^31, 1 + M <= 17 */
     b = ((c * (65536 + m)) + 65535) >> 16;

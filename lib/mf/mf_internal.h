@@ -165,6 +165,38 @@ typedef struct {
 #define MF_PI        RC(3.14159265358979)
 #define MF_2_OVER_PI RC(0.636619772367581)
 
+/* The operations of the coefficient terms: a coefficient of the set times
+ * the load (dfz), the inclination (gamma* or gamma) or a sign, up to their
+ * squares, and sums of such terms (docs/numerics.md, "Certified
+ * operations"). cert, a constant in every caller: 1 in the evaluation of a
+ * prepared set whose certificate holds (MF_PF_CERT), where the terms cannot
+ * leave Q15.16 and so need no range test (r_mac_nt ...: the same bits), 0
+ * elsewhere (the checked operations). The float build has one form. */
+static MF_ALWAYS_INLINE grip_real_t mf_cmac(int cert, grip_real_t c, grip_real_t a, grip_real_t b)
+{
+    return cert ? r_mac_nt(c, a, b) : r_mac(c, a, b);
+}
+
+static MF_ALWAYS_INLINE grip_real_t mf_cmsub(int cert, grip_real_t c, grip_real_t a, grip_real_t b)
+{
+    return cert ? r_msub_nt(c, a, b) : r_msub(c, a, b);
+}
+
+static MF_ALWAYS_INLINE grip_real_t mf_cmul(int cert, grip_real_t a, grip_real_t b)
+{
+    return cert ? r_mul_nt(a, b) : r_mul(a, b);
+}
+
+static MF_ALWAYS_INLINE grip_real_t mf_cadd(int cert, grip_real_t a, grip_real_t b)
+{
+    return cert ? r_add_nt(a, b) : r_add(a, b);
+}
+
+static MF_ALWAYS_INLINE grip_real_t mf_csq(int cert, grip_real_t a)
+{
+    return cert ? r_mul_nt(a, a) : r_sq(a);
+}
+
 /* a / b, limited to +-lim (the sign of a / b, b = -0 counting as positive);
  * 0 / 0 = 0; a NaN stays NaN. Fixed build: no division (and so no
  * saturation) where the quotient would leave [-lim, lim], including
@@ -345,57 +377,77 @@ static MF_ALWAYS_INLINE grip_real_t mf_shape_in_k(grip_real_t b, grip_real_t e, 
     return r_msub(bx, e, r_sub(bx, mfk_atan(bx, mk)));
 }
 
-/* The argument of the Magic Formula: C * atan(B x - E (B x - atan(B x))). */
+/* The argument of the Magic Formula: C * atan(B x - E (B x - atan(B x))).
+ * C atan(.) is a certified term (cert: a constant, mf_cmul): |C| of each
+ * curve (PCX1 LCX, PCY1 LCY, QCZ1, RCX1, RCY1) is within the certificate's
+ * box, and |atan| <= pi/2. */
 static MF_ALWAYS_INLINE grip_real_t mf_shape_eq(grip_real_t b, grip_real_t c, grip_real_t e, grip_real_t x,
-                                                grip_real_t *mk)
+                                                grip_real_t *mk, int cert)
 {
-    return r_mul(c, mfk_atan(mf_shape_in_k(b, e, x, mk), mk));
+    return mf_cmul(cert, c, mfk_atan(mf_shape_in_k(b, e, x, mk), mk));
 }
 
 /* The scalar form: a function the compiler may keep out of line (-Os on
- * the Cortex-M0+ does: the curves are called a dozen times per evaluation). */
+ * the Cortex-M0+ does: the curves are called a dozen times per evaluation);
+ * _c: the certified one. */
 static inline grip_real_t mf_shape(grip_real_t b, grip_real_t c, grip_real_t e, grip_real_t x)
 {
-    return mf_shape_eq(b, c, e, x, NULL);
+    return mf_shape_eq(b, c, e, x, NULL, 0);
+}
+
+static inline grip_real_t mf_shape_c(grip_real_t b, grip_real_t c, grip_real_t e, grip_real_t x)
+{
+    return mf_shape_eq(b, c, e, x, NULL, 1);
 }
 
 static MF_ALWAYS_INLINE grip_real_t mf_shape_k(grip_real_t b, grip_real_t c, grip_real_t e, grip_real_t x,
-                                               grip_real_t *mk)
+                                               grip_real_t *mk, int cert)
 {
-    return (mk == NULL) ? mf_shape(b, c, e, x) : mf_shape_eq(b, c, e, x, mk);
+    if (mk != NULL) {
+        return mf_shape_eq(b, c, e, x, mk, 0);
+    }
+    return cert ? mf_shape_c(b, c, e, x) : mf_shape(b, c, e, x);
 }
 
 /* D sin(C atan(B x - E (B x - atan(B x)))): the sine version (forces). */
 static MF_ALWAYS_INLINE grip_real_t mf_sin_curve_k(grip_real_t b, grip_real_t c, grip_real_t d, grip_real_t e,
-                                                   grip_real_t x, grip_real_t *mk)
+                                                   grip_real_t x, grip_real_t *mk, int cert)
 {
-    return r_mul_unit(mfk_sin(mf_shape_k(b, c, e, x, mk), mk), d);   /* a sine: r_mul_unit */
+    return r_mul_unit(mfk_sin(mf_shape_k(b, c, e, x, mk, cert), mk), d);   /* a sine: r_mul_unit */
 }
 
 static MF_ALWAYS_INLINE grip_real_t mf_sin_curve(grip_real_t b, grip_real_t c, grip_real_t d, grip_real_t e,
                                        grip_real_t x)
 {
-    return mf_sin_curve_k(b, c, d, e, x, NULL);
+    return mf_sin_curve_k(b, c, d, e, x, NULL, 0);
 }
 
 /* cos(C atan(B x - E (B x - atan(B x)))): the cosine version (trail and
  * combined-slip weighting functions); a function of its own in the scalar
  * form, as mf_shape. */
 static MF_ALWAYS_INLINE grip_real_t mf_cos_curve_eq(grip_real_t b, grip_real_t c, grip_real_t e, grip_real_t x,
-                                                    grip_real_t *mk)
+                                                    grip_real_t *mk, int cert)
 {
-    return mfk_cos(mf_shape_k(b, c, e, x, mk), mk);
+    return mfk_cos(mf_shape_k(b, c, e, x, mk, cert), mk);
 }
 
 static inline grip_real_t mf_cos_curve(grip_real_t b, grip_real_t c, grip_real_t e, grip_real_t x)
 {
-    return mf_cos_curve_eq(b, c, e, x, NULL);
+    return mf_cos_curve_eq(b, c, e, x, NULL, 0);
+}
+
+static inline grip_real_t mf_cos_curve_c(grip_real_t b, grip_real_t c, grip_real_t e, grip_real_t x)
+{
+    return mf_cos_curve_eq(b, c, e, x, NULL, 1);
 }
 
 static MF_ALWAYS_INLINE grip_real_t mf_cos_curve_k(grip_real_t b, grip_real_t c, grip_real_t e, grip_real_t x,
-                                                   grip_real_t *mk)
+                                                   grip_real_t *mk, int cert)
 {
-    return (mk == NULL) ? mf_cos_curve(b, c, e, x) : mf_cos_curve_eq(b, c, e, x, mk);
+    if (mk != NULL) {
+        return mf_cos_curve_eq(b, c, e, x, mk, 0);
+    }
+    return cert ? mf_cos_curve_c(b, c, e, x) : mf_cos_curve(b, c, e, x);
 }
 
 /* atan(num / den) for num >= 0 and any den (den == 0 gives pi/2 for
@@ -475,38 +527,6 @@ typedef struct {
 
 #define mf_ext_cz_form GRIP_TYPED(grip_mf_i_ext_cz_form)
 void mf_ext_cz_form(const grip_mf_params *p, grip_real_t dpi, mf_ext_cz *z);
-
-/* The operations of the coefficient terms: a coefficient of the set times
- * the load (dfz), the inclination (gamma* or gamma) or a sign, up to their
- * squares, and sums of such terms (docs/numerics.md, "Certified
- * operations"). cert, a constant in every caller: 1 in the evaluation of a
- * prepared set whose certificate holds (MF_PF_CERT), where the terms cannot
- * leave Q15.16 and so need no range test (r_mac_nt ...: the same bits), 0
- * elsewhere (the checked operations). The float build has one form. */
-static MF_ALWAYS_INLINE grip_real_t mf_cmac(int cert, grip_real_t c, grip_real_t a, grip_real_t b)
-{
-    return cert ? r_mac_nt(c, a, b) : r_mac(c, a, b);
-}
-
-static MF_ALWAYS_INLINE grip_real_t mf_cmsub(int cert, grip_real_t c, grip_real_t a, grip_real_t b)
-{
-    return cert ? r_msub_nt(c, a, b) : r_msub(c, a, b);
-}
-
-static MF_ALWAYS_INLINE grip_real_t mf_cmul(int cert, grip_real_t a, grip_real_t b)
-{
-    return cert ? r_mul_nt(a, b) : r_mul(a, b);
-}
-
-static MF_ALWAYS_INLINE grip_real_t mf_cadd(int cert, grip_real_t a, grip_real_t b)
-{
-    return cert ? r_add_nt(a, b) : r_add(a, b);
-}
-
-static MF_ALWAYS_INLINE grip_real_t mf_csq(int cert, grip_real_t a)
-{
-    return cert ? r_mul_nt(a, a) : r_sq(a);
-}
 
 /* mu_x (4.E13) at dfz, dpi, the camber of mu_x and LMUX*. */
 static MF_ALWAYS_INLINE grip_real_t mf_mux(const grip_mf_params *p, grip_real_t dfz, grip_real_t dpi, grip_real_t gmux,

@@ -230,7 +230,7 @@ static MF_ALWAYS_INLINE void mfl_point(const grip_mf_prepared *k, const mfl_cons
     mf_trail_body(p, &op, &lat, R_ONE, &bad, 0, &tc);
     if (pure) {
         /* mf_pure_eval */
-        mz = mf_mz0(p, &op, mf_trail_at_k(&op, &tc, tc.alpha_t, &bad), mf_residual_at_k(&tc, tc.alpha_r),
+        mz = mf_mz0(p, &op, mf_trail_at_k(&op, &tc, tc.alpha_t, &bad, 0), mf_residual_at_k(&tc, tc.alpha_r),
                     mf52 ? lat.fy0 : lat0.fy0);
         fx = lon.fx0;
         fy = lat.fy0;
@@ -249,7 +249,7 @@ static MF_ALWAYS_INLINE void mfl_point(const grip_mf_prepared *k, const mfl_cons
         fy = r_add(r_mul(gyk, lat.fy0), svyk);
         svyk_mz = mf_svyk(p, &op, &sf, mf_dvyk(r_mul(latc.mub, op.lmuy_s), &sf));
         mzr = mf_residual_at_k(&tc, mf_alpha_eq_k(op.book, op.kappa, tc.alpha_r, lon.kxk, lat.kya, &bad));
-        t = mf_trail_at_k(&op, &tc, mf_alpha_eq_k(op.book, op.kappa, tc.alpha_t, lon.kxk, lat.kya, &bad), &bad);
+        t = mf_trail_at_k(&op, &tc, mf_alpha_eq_k(op.book, op.kappa, tc.alpha_t, lon.kxk, lat.kya, &bad), &bad, 0);
         mf_mz_scale(p, &op, &t, &mzr);
         mz = mf_mz_sum(mzr, t, mf52 ? r_sub(fy, svyk_mz) : r_mul(gyk, lat0.fy0), mf_sarm(p, &op, fy, 0), fx);
     }

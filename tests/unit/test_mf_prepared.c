@@ -231,7 +231,8 @@ static void expect_refused(const grip_mf_params *p, uint32_t options, const char
 
 /* Sets outside the box of the fixed build's certificate (a coefficient of a
  * certified term too large, a load factor LFZO so small that dfz reaches
- * 79), each with a term that does leave Q15.16: not certified (MF_PF_CERT, 0x400 of lib/mf/mf_internal.h), and the
+ * 79, a curve's shape factor C beyond 20000), each with a term that does
+ * leave Q15.16: not certified (MF_PF_CERT, 0x400 of lib/mf/mf_internal.h), and the
  * prepared evaluation, on the checked operations, still the unprepared one
  * bit for bit; the shipped sets are certified. Both builds (the float
  * build has no certificate). */
@@ -242,16 +243,18 @@ static void test_certificate(void **s)
     grip_mf_prepared prep;
     int k;
     (void)s;
-    for (k = 0; k < 3; k++) {
+    for (k = 0; k < 4; k++) {
         p = *good;
         if (k == 0) {
             p.pex1 = qs(30000.0);   /* PEX1 + PEX3 dfz^2 reaches 57000 */
             p.pex3 = qs(3000.0);
         } else if (k == 1) {
             p.rvy6 = qs(-30000.0);  /* RVY6 kappa reaches 45000 */
-        } else {
+        } else if (k == 2) {
             p.lfzo = qs(0.05);      /* QBZ3 dfz^2 reaches -62000 */
             p.qbz3 = qs(-10.0);
+        } else {
+            p.qcz1 = qs(25000.0);   /* the trail's C atan(.) reaches 39000 */
         }
         assert_int_equal(grip_mf_prepare(&p, p.options, &prep), GRIP_OK);
 #if GRIP_ARITH_FIXED && !defined(__OPTIMIZE_SIZE__)
