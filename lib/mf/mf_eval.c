@@ -60,8 +60,12 @@ static void mf_lat_pure_g0(const grip_mf_params *p, const mf_op *op, const mf_la
  * mf_cert_ok): the evaluation's own copies of the blocks, with those terms
  * unchecked (cert = 1: mf_cmac ...). Where the build optimizes for speed
  * only (the Cortex-M0+ firmware at -Os keeps one copy). */
-#if GRIP_ARITH_FIXED && GRIP_Q16_INLINE_KERNELS
+#if GRIP_ARITH_FIXED
+#if GRIP_Q16_INLINE_KERNELS
 #define MF_CERT_PATH 1
+#else
+#define MF_CERT_PATH 0
+#endif
 #else
 #define MF_CERT_PATH 0
 #endif
@@ -652,6 +656,7 @@ static grip_status_t mf_pure_begin_prep(const grip_mf_prepared *k, const grip_mf
 static grip_status_t mf_pure_begin_prep_c(const grip_mf_prepared *k, const grip_mf_input *in, grip_mf_output *out,
                                           mf_pure *s)
 {
+    /* grip-deviation: ctunullpointer false positive: called only from the prepared evaluation, whose k the API checks */
     return mf_pure_begin_body(k->p, k, in, out, s, 1);
 }
 #endif
@@ -797,7 +802,6 @@ static MF_ALWAYS_INLINE grip_status_t mf_pure_eval(const grip_mf_params *p, cons
     mf_trail_coefs_any(p, &s.op, &s.lat, cert, &s.tc);
     /* Mz0' = -t0 Fy0 (4.E32). MF 6.x uses Fy0 at gamma = 0 (camber acts on
      * Mz through Mzr); MF 5.2 the pure lateral force itself. */
-    /* grip-deviation: clang-analyzer-core.uninitialized.Assign false positive: mf_lat_pure writes every field of s.lat and s.lat0 (the analyzer stops following mf_lat_body) */
     fy_ref = s.op.mf52 ? s.lat.fy0 : mf_lat_gamma0(p, &s, NULL, 0, R_ONE, cert)->fy0;
     t0 = mf_trail_at_any(&s.op, &s.tc, s.tc.alpha_t, cert);                          /* 4.E33 */
     mz0 = mf_mz0(p, &s.op, t0, mf_residual_at(&s.tc, s.tc.alpha_r), fy_ref);
@@ -1083,6 +1087,7 @@ static int mf_cert_ok(const grip_mf_params *p, grip_real_t fz_max, int mf52)
         return 0;
     }
     for (i = 0u; i < (sizeof(mf_cert_coefs) / sizeof(mf_cert_coefs[0])); i++) {
+        /* grip-deviation: MISRA-11.5 mf_cert_coefs holds offsetof() of grip_real_t fields of grip_mf_params: the cast returns to the field's own type */
         const grip_real_t *v = (const grip_real_t *)(const void *)((const char *)(const void *)p + mf_cert_coefs[i]);
         int64_t a = (*v < 0) ? -(int64_t)*v : (int64_t)*v;
         c = (a > c) ? a : c;

@@ -173,27 +173,27 @@ typedef struct {
  * leave Q15.16 and so need no range test (r_mac_nt ...: the same bits), 0
  * elsewhere (the checked operations). The float build has one form. */
 #if GRIP_ARITH_FIXED
-static MF_ALWAYS_INLINE grip_real_t mf_cmac(int cert, grip_real_t c, grip_real_t a, grip_real_t b)
+static MF_ALWAYS_INLINE grip_real_t mf_cmac(int cert, grip_real_t c, grip_real_t a, grip_real_t b) /* grip-deviation: MISRA-5.5 the float build's macro of this name: the #if's other branch */
 {
     return cert ? r_mac_nt(c, a, b) : r_mac(c, a, b);
 }
 
-static MF_ALWAYS_INLINE grip_real_t mf_cmsub(int cert, grip_real_t c, grip_real_t a, grip_real_t b)
+static MF_ALWAYS_INLINE grip_real_t mf_cmsub(int cert, grip_real_t c, grip_real_t a, grip_real_t b) /* grip-deviation: MISRA-5.5 the float build's macro of this name: the #if's other branch */
 {
     return cert ? r_msub_nt(c, a, b) : r_msub(c, a, b);
 }
 
-static MF_ALWAYS_INLINE grip_real_t mf_cmul(int cert, grip_real_t a, grip_real_t b)
+static MF_ALWAYS_INLINE grip_real_t mf_cmul(int cert, grip_real_t a, grip_real_t b) /* grip-deviation: MISRA-5.5 the float build's macro of this name: the #if's other branch */
 {
     return cert ? r_mul_nt(a, b) : r_mul(a, b);
 }
 
-static MF_ALWAYS_INLINE grip_real_t mf_cadd(int cert, grip_real_t a, grip_real_t b)
+static MF_ALWAYS_INLINE grip_real_t mf_cadd(int cert, grip_real_t a, grip_real_t b) /* grip-deviation: MISRA-5.5 the float build's macro of this name: the #if's other branch */
 {
     return cert ? r_add_nt(a, b) : r_add(a, b);
 }
 
-static MF_ALWAYS_INLINE grip_real_t mf_csq(int cert, grip_real_t a)
+static MF_ALWAYS_INLINE grip_real_t mf_csq(int cert, grip_real_t a) /* grip-deviation: MISRA-5.5 the float build's macro of this name: the #if's other branch */
 {
     return cert ? r_mul_nt(a, a) : r_sq(a);
 }
