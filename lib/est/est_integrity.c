@@ -43,7 +43,7 @@
  * on the flat top). vy's error under the hypothesis lies between the two
  * axles' shifts, so the larger counts, over EST_SEC_K: a deviation whose
  * EST_SEC_K multiple covers the hypothesis EST_SEC_K deviations away. */
-static grip_real_t mu_hypothesis(const grip_est_t *est, const grip_est_output_t *out)
+static grip_real_t mu_hypothesis(const grip_est_t *est, const grip_real_t al_axle[2])
 {
     grip_real_t mu = est->x[2];
     grip_real_t mu_h = r_max(r_sub(mu, r_mul(RC(EST_SEC_K * EST_S_MU), r_sqrt(est->p[2][2]))), est->mu_floor);
@@ -56,7 +56,7 @@ static grip_real_t mu_hypothesis(const grip_est_t *est, const grip_est_output_t 
     gain = r_sub(r_div(mu, mu_h), R_ONE);   /* the force's relative rise at mu_h */
     for (a = 0; a < 2; ++a) {
         const grip_real_t *row = est->fy_shape[a];
-        grip_real_t al = r_mul(RC(0.5), r_abs(r_add(out->alpha[a + a], out->alpha[a + a + 1])));
+        grip_real_t al = al_axle[a];
         grip_real_t xa = r_min(r_mul(r_mul(al, inv_mu), est->inv_apk[a]), R_ONE);
         grip_real_t ya = r_table_lerp(row, GRIP_EST_SHAPE_N, xa);
         grip_real_t num = r_mul(ya, gain);
@@ -76,13 +76,14 @@ static grip_real_t mu_hypothesis(const grip_est_t *est, const grip_est_output_t 
 static grip_real_t filter_sd(const grip_est_t *est, const est_ctx_t *s, const grip_est_output_t *out,
                              grip_real_t *sd_mu)
 {
-    grip_real_t e[2], da, sd_m, sd_f, sd_h, sum;
+    grip_real_t e[2], al[2], da, sd_m, sd_f, sd_h, sum;
     int a;
     for (a = 0; a < 2; ++a) {
         grip_real_t u = r_min(out->util_axle[a], R_ONE);
         grip_real_t g = r_max(RC(EST_G_MIN), r_sqrt(r_sub(R_ONE, u)));
-        grip_real_t al = r_mul(RC(0.5), r_abs(r_add(out->alpha[a + a], out->alpha[a + a + 1])));
-        e[a] = r_min(r_div(r_mul(est->cfg.tire_tol, al), g), RC(EST_SD_CAP));
+        /* the axle's mean slip angle */
+        al[a] = r_mul(RC(0.5), r_abs(r_add(out->alpha[a + a], out->alpha[a + a + 1])));
+        e[a] = r_min(r_div(r_mul(est->cfg.tire_tol, al[a]), g), RC(EST_SD_CAP));
     }
     /* The ay update fits the axles' force sum with one vy: an axle's force
      * error moves vy by that error over the sum of the slopes, so the
@@ -95,7 +96,7 @@ static grip_real_t filter_sd(const grip_est_t *est, const est_ctx_t *s, const gr
         da = r_min(e[0], e[1]);
     }
     sd_m = r_min(r_mul(da, r_abs(s->vx)), RC(EST_SD_CAP));
-    sd_h = r_min(r_mul(mu_hypothesis(est, out), r_abs(s->vx)), RC(EST_SD_CAP));
+    sd_h = r_min(r_mul(mu_hypothesis(est, al), r_abs(s->vx)), RC(EST_SD_CAP));
     if (r_abs(est->x[0]) >= r_sub(r_add(r_mul(RC(EST_VY_K), r_abs(s->vx)), R_ONE), RC(EST_SD_VY_EDGE))) {
         sd_m = RC(EST_SD_CAP);
     }
