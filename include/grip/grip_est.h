@@ -337,6 +337,10 @@ typedef struct {
     grip_real_t fy_dmu[4];      /* QL N d Fy / d mu of the step's tire evaluation (mu's secant) */
     grip_real_t mu_lin;         /* QS mu the step's tire evaluation used (before the updates) */
     grip_real_t mu_floor;       /* QS the step's friction in use, mu's lower bound and its secant's floor */
+    grip_real_t p_mu_own;       /* QS mu's scaled variance from the tires alone (mu_conf, V_MU) once */
+    int32_t mu_src;             /*    mu_src: a friction measurement from outside was applied */
+    grip_real_t p_mu_start;     /* QS the step's P_mu before its stages and after the predict */
+    grip_real_t p_mu_pred;      /*    (est_mu_own) */
     grip_real_t sec_inv_mu;     /* QS the step's mu's secant: 1 / mu, 1 / (mu - dmu), 1 / dmu, */
     grip_real_t sec_inv_mu2;    /*    (mu - dmu) / mu (est_friction_floor: the same for the four */
     grip_real_t sec_inv_dmu;    /*    wheels)                                                     */
@@ -439,6 +443,7 @@ typedef struct {
 #define grip_est_stability_factor GRIP_TYPED(grip_est_stability_factor)
 #define grip_est_learned_get GRIP_TYPED(grip_est_learned_get)
 #define grip_est_learned_set GRIP_TYPED(grip_est_learned_set)
+#define grip_est_measure_friction GRIP_TYPED(grip_est_measure_friction)
 
 /* A mid-size passenger car (the simulator's 'passenger' set) with the given
  * tire on both axles, rate_hz = 100. GRIP_ERR_NULL for NULL cfg. */
@@ -486,5 +491,20 @@ grip_status_t grip_est_learned_get(const grip_est_t *est, grip_est_learned_t *bl
  * another car or tire (config_crc), holds values out of range or fails its
  * checksum. GRIP_ERR_NULL, GRIP_ERR_STATE. */
 grip_status_t grip_est_learned_set(grip_est_t *est, const grip_est_learned_t *blob);
+
+/* A road-friction measurement from outside the estimator (the brake
+ * controller's friction at an ABS or traction-control event, a
+ * road-condition service, a camera's surface class): mu_road the absolute
+ * peak friction coefficient |F| / Fz (QS, [0.05, 2]), mu_road_sd its
+ * standard deviation (QS, [0.01, 1]). Applied at once as a measurement of
+ * mu (docs/estimator/integrity.md, "Road friction from outside"); call it
+ * whenever the source has a new value, between steps. Until mu is known
+ * the bound of beta carries the lowest friction the filter cannot exclude,
+ * so a source lets beta be valid where the tires' own excitation cannot
+ * show mu. mu_conf and V_MU keep resting on the tires' own evidence. The
+ * promise of the bounds holds only while the source's deviation is
+ * honest. GRIP_ERR_NULL, GRIP_ERR_STATE, GRIP_ERR_INPUT (a value out of
+ * range or not finite; est unchanged). */
+grip_status_t grip_est_measure_friction(grip_est_t *est, grip_real_t mu_road, grip_real_t mu_road_sd);
 
 #endif /* GRIP_EST_H */

@@ -64,7 +64,9 @@ static void lateral_validity(const grip_est_t *est, est_ctx_t *s)
  * misfit check or the saturation share's cap holds. */
 static void confidence(const grip_est_t *est, est_ctx_t *s, grip_est_output_t *out)
 {
-    grip_real_t sig = r_mul(r_sqrt(est->p[2][2]), RC(EST_S_MU));
+    /* from the tires alone: a friction measurement from outside is the
+     * caller's, not a friction the estimator identified */
+    grip_real_t sig = r_mul(r_sqrt(est->mu_src ? est->p_mu_own : est->p[2][2]), RC(EST_S_MU));
     out->mu_conf = r_clamp(r_div(r_sub(RC(EST_CONF_S0), sig), RC(0.1)), R_ZERO, R_ONE);
     if (est->misfit) {
         /* the tire model does not explain the measurements: whatever mu

@@ -8,6 +8,8 @@
  * Jacobians (its secant), are static inline in est_internal.h, so that the
  * tire loop inlines them.
  */
+#include <stddef.h>
+
 #include "est_internal.h"
 
 /* Low-friction detection at the understeer limit (docs/estimator.md,
@@ -197,4 +199,58 @@ void est_friction_update(grip_est_t *est, const est_ctx_t *s)
 {
     update_ax(est, s);
     bound_mu(est, s);
+}
+
+/* A friction measurement from outside the estimator: a scalar update of mu
+ * (Joseph form, the gyro bias held), so mu, its deviation and, through the
+ * correlations, vy and r move as the filter's own updates move them. The
+ * source states the absolute peak friction |F| / Fz; mu is relative to the
+ * tires' own peak, so both are divided by the axles' static peak friction
+ * weighted by their static loads. The innovation is clamped as every
+ * update's: a source far off moves mu over several calls, not at once. */
+grip_status_t grip_est_measure_friction(grip_est_t *est, grip_real_t mu_road, grip_real_t mu_road_sd)
+{
+    static const grip_real_t h_mu[GRIP_EST_NX] = { R_ZERO, R_ZERO, R_ONE, R_ZERO };
+    grip_real_t mu0, q;
+    if (est == NULL) {
+        return GRIP_ERR_NULL;
+    }
+    if (est->magic != EST_MAGIC) {
+        return GRIP_ERR_STATE;
+    }
+    /* the negated comparisons also refuse NaN in the float build */
+    if (!(mu_road >= RC(0.05) && mu_road <= RC(2.0)) || !(mu_road_sd >= RC(0.01) && mu_road_sd <= RC(1.0))) {
+        return GRIP_ERR_INPUT;
+    }
+    if (!est->mu_src) {
+        est->mu_src = 1;
+        est->p_mu_own = est->p[2][2];
+    }
+    mu0 = r_div(r_add(r_mul(est->mu0[0], est->cfg.lr), r_mul(est->mu0[1], est->cfg.lf)),
+                r_add(est->cfg.lf, est->cfg.lr));
+    q = r_div(r_div(mu_road_sd, mu0), RC(EST_S_MU));
+    (void)est_kf_update(est, h_mu, r_div(r_sub(r_div(mu_road, mu0), est->x[2]), RC(EST_S_MU)), r_sq(q), 1, 0, 0);
+    est->x[2] = r_clamp(est->x[2], RC(EST_MU_MIN), RC(EST_MU_MAX));
+    return GRIP_OK;
+}
+
+/* Once a friction measurement from outside was applied, mu_conf and V_MU
+ * rest on mu's variance from the tires alone: it grows as P_mu grows in the
+ * step (the predict's random walk, the withdrawal of the understeer bound)
+ * and takes the information the step's updates added to P_mu, 1 / P_mu
+ * after them less 1 / P_mu after the predict (a scalar view: the
+ * correlations with vy and r are not carried); never below P_mu. */
+void est_mu_own(grip_est_t *est)
+{
+    grip_real_t p_end = est->p[2][2], own, info;
+    if (!est->mu_src) {
+        est->p_mu_own = p_end;
+        return;
+    }
+    own = r_min(r_add(est->p_mu_own, r_max(r_sub(est->p_mu_pred, est->p_mu_start), R_ZERO)), RC(EST_P_MAX));
+    info = r_sub(r_div(R_ONE, p_end), r_div(R_ONE, est->p_mu_pred));
+    if (info > R_ZERO) {
+        own = r_div(R_ONE, r_add(r_div(R_ONE, own), info));
+    }
+    est->p_mu_own = r_clamp(own, p_end, RC(EST_P_MAX));
 }

@@ -224,6 +224,10 @@ grip_status_t grip_est_reset(grip_est_t *est)
     est->p[0][0] = RC(EST_P0_VY);
     est->p[1][1] = RC(EST_P0_R);
     est->p[2][2] = RC(EST_P0_MU);
+    est->p_mu_own = RC(EST_P0_MU);
+    est->mu_src = 0;
+    est->p_mu_start = RC(EST_P0_MU);
+    est->p_mu_pred = RC(EST_P0_MU);
     est->p[3][3] = RC(EST_P0_B);
     est->t_prev = 0;
     for (i = 0; i < 6; ++i) {

@@ -313,6 +313,8 @@ void est_balances(grip_est_t *est, const est_ctx_t *s);
 void est_road(grip_est_t *est, const est_ctx_t *s);
 /* est_friction.c: the ax update, then mu's bounds */
 void est_friction_update(grip_est_t *est, const est_ctx_t *s);
+/* est_friction.c: mu's variance from the tires alone, after the step's updates */
+void est_mu_own(grip_est_t *est);
 /* est_lateral.c: the bounds of vy, r and the gyro bias */
 void est_bound_state(grip_est_t *est, const est_ctx_t *s);
 

@@ -269,6 +269,7 @@ static void predict(grip_est_t *est, est_ctx_t *s)
     est->x[1] = r_add(s->r, s->dr);
     kf_predict(est, f);
     kf_clamp_diag(est);
+    est->p_mu_pred = est->p[2][2];
 }
 
 /* The yaw rate: the gyro reads r + bias. mu does not adapt on it: the yaw

@@ -74,6 +74,8 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
     est_observer_switch(est, &s);
     est_tires(est, in, &s, out);
     if (est->active) {
+        est->p_mu_start = est->p[2][2];
+        est->p_mu_pred = est->p_mu_start;
         est_friction_tests(est, &s, out);
         stf_upd = est_stiffness(est, &s, out);
         est_stiffness_long(est, &s, out, stf_upd);
@@ -83,6 +85,7 @@ grip_status_t grip_est_step(grip_est_t *est, const grip_input_sample_t *in, grip
         est_balances(est, &s);
         est_friction_update(est, &s);
         est_bound_state(est, &s);
+        est_mu_own(est);
     } else {
         est_road(est, &s);
     }

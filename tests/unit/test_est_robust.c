@@ -354,6 +354,76 @@ static void test_steady_circle(void **state)
            dq(o.beta) * 57.2958, dq(o.yaw_rate_ref), dq(o.yaw_rate), dq(o.mu), dq(o.mu_conf), (int)o.steer_char);
 }
 
+/* A friction source saying mu_road +- 0.02 twice a second, for 5 s of s. */
+static void friction_source(grip_est_t *e, grip_input_sample_t *s, double mu_road, grip_est_output_t *o)
+{
+    int k;
+    for (k = 0; k < 10; ++k) {
+        assert_int_equal(grip_est_measure_friction(e, qs(mu_road), qs(0.02)), GRIP_OK);
+        run(e, s, 50, o);
+    }
+}
+
+/* grip_est_measure_friction: refusals leave the state as it was; on the
+ * 3.5 m/s^2 circle, where beta is withheld while mu is at its prior (the
+ * friction in use, 0.36, cannot be excluded: test_steady_circle), a source
+ * saying dry (0.95 +- 0.02, twice a second) excludes it: beta valid at the
+ * default 1 deg limit, mu near the source's over the tire's own peak
+ * (mu's random walk, EST_Q_MU, widens its deviation by 0.05 in a second, so
+ * a source must repeat); mu itself is not flagged valid on the source's
+ * word. A source saying ice (0.45 +- 0.02) moves mu down
+ * and keeps beta withheld. */
+static void test_friction_from_outside(void **state)
+{
+    grip_est_t e, before;
+    grip_est_config_t cfg;
+    grip_est_output_t o;
+    grip_input_sample_t s;
+    double mu_dry, sd_dry, sd_none, mu_ice, sd_ice, mu0;
+    (void)state;
+    assert_int_equal(grip_est_measure_friction(NULL, qs(0.9), qs(0.05)), GRIP_ERR_NULL);
+    memset(&e, 0, sizeof e);
+    assert_int_equal(grip_est_measure_friction(&e, qs(0.9), qs(0.05)), GRIP_ERR_STATE);
+    assert_int_equal(grip_est_config_default(&cfg, tire()), GRIP_OK);
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_OK);
+    circle(&s, 20.0, 3.5);
+    run(&e, &s, 300, &o);
+    sd_none = dq(o.beta_sd);
+    assert_false(o.valid & GRIP_EST_V_BETA);
+    before = e;
+    assert_int_equal(grip_est_measure_friction(&e, qs(0.04), qs(0.05)), GRIP_ERR_INPUT);
+    assert_int_equal(grip_est_measure_friction(&e, qs(2.01), qs(0.05)), GRIP_ERR_INPUT);
+    assert_int_equal(grip_est_measure_friction(&e, qs(0.9), qs(0.009)), GRIP_ERR_INPUT);
+    assert_int_equal(grip_est_measure_friction(&e, qs(0.9), qs(1.01)), GRIP_ERR_INPUT);
+#if !GRIP_ARITH_FIXED
+    assert_int_equal(grip_est_measure_friction(&e, (grip_real_t)NAN, qs(0.05)), GRIP_ERR_INPUT);
+    assert_int_equal(grip_est_measure_friction(&e, qs(0.9), (grip_real_t)NAN), GRIP_ERR_INPUT);
+#endif
+    assert_memory_equal(&e, &before, sizeof e);
+    mu0 = 0.5 * (dq(e.mu0[0]) + dq(e.mu0[1]));
+    friction_source(&e, &s, 0.95, &o);
+    mu_dry = dq(o.mu);
+    sd_dry = dq(o.beta_sd);
+    assert_true(o.valid & GRIP_EST_V_BETA);
+    assert_true(sd_none > dq(cfg.beta_sd_max) && sd_dry <= dq(cfg.beta_sd_max));
+    /* the source's friction is not flagged as one the tires showed: mu_sd
+     * is the filter's (with the source), mu_conf and V_MU the tires' own */
+    assert_true(dq(o.mu_sd) < 0.05);
+    assert_true(dq(o.mu_conf) < 0.5);
+    assert_false(o.valid & GRIP_EST_V_MU);
+    assert_true(fabs(mu_dry - 0.95 / mu0) < 0.1);
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_OK);
+    run(&e, &s, 300, &o);
+    friction_source(&e, &s, 0.45, &o);
+    mu_ice = dq(o.mu);
+    sd_ice = dq(o.beta_sd);
+    assert_false(o.valid & GRIP_EST_V_BETA);
+    assert_true(mu_ice < mu_dry - 0.3);
+    printf("# circle 20 m/s, 3.5 m/s^2, beta_sd: %.2f deg without a source, %.2f deg with 0.95 +- 0.02 (mu %.3f, "
+           "tire peak %.3f), %.2f deg with 0.45 +- 0.02 (mu %.3f)\n",
+           sd_none * 57.2958, sd_dry * 57.2958, mu_dry, mu0, sd_ice * 57.2958, mu_ice);
+}
+
 /* A fresh estimator with the consumer's limits vx_max [m/s], fy_max [N], 300
  * steps of s. */
 static void run_with_limits(grip_est_t *e, grip_est_config_t *cfg, grip_input_sample_t *s, double vx_max,
@@ -1069,6 +1139,7 @@ int main(void)
         cmocka_unit_test(test_api_errors),
         cmocka_unit_test(test_learned_blob),
         cmocka_unit_test(test_steady_circle),
+        cmocka_unit_test(test_friction_from_outside),
         cmocka_unit_test(test_consumer_limits),
         cmocka_unit_test(test_banked_road),
         cmocka_unit_test(test_bad_inputs_and_recovery),

@@ -262,6 +262,7 @@ grip_status_t grip_est_reset(grip_est_t *est);
 grip_status_t grip_est_stability_factor(const grip_est_t *est, grip_real_t *a_x100);
 grip_status_t grip_est_learned_get(const grip_est_t *est, grip_est_learned_t *blob);
 grip_status_t grip_est_learned_set(grip_est_t *est, const grip_est_learned_t *blob);
+grip_status_t grip_est_measure_friction(grip_est_t *est, grip_real_t mu_road, grip_real_t mu_road_sd);
 grip_status_t grip_monitor_config_default(grip_monitor_config_t *cfg);
 grip_status_t grip_monitor_config_from_est(grip_monitor_config_t *cfg, const grip_est_t *est, uint32_t driven);
 grip_status_t grip_monitor_init(grip_monitor_t *mon, const grip_monitor_config_t *cfg);

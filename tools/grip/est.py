@@ -155,18 +155,40 @@ class Estimator:
             raise GripError(st, "grip_est_learned_set", "not a blob of this car, tire and build, or corrupt",
                             arith=self.arith)
 
-    def step(self, samples):
+    def measure_friction(self, mu_road, mu_road_sd):
+        """grip_est_measure_friction: a road-friction measurement from
+        outside (absolute peak |F| / Fz and its standard deviation), applied
+        at once; GripError (state unchanged) when out of range."""
+        be = self._be
+        r = be.ffi.new("grip_real_t[2]")
+        for i, v in enumerate((mu_road, mu_road_sd)):
+            if be.lib.grip_py_param(float(v), 0, r + i) != 0:
+                raise GripError(_core.ERR_INPUT, "grip_est_measure_friction", f"{v} is not representable",
+                                arith=self.arith)
+        st = be.lib.grip_est_measure_friction(self._est, r[0], r[1])
+        if st != _core.OK:
+            raise GripError(st, "grip_est_measure_friction", "mu_road in [0.05, 2], mu_road_sd in [0.01, 1]",
+                            arith=self.arith)
+
+    def step(self, samples, friction=()):
         """grip_est_step on every sample, in order: an Output with one row
-        per sample."""
+        per sample. friction: (k, mu_road, mu_road_sd) rows, each
+        measure_friction'd before sample k, in order of k."""
         be = self._be
         s = signals.as_samples(samples)
         n = len(s)
         arr = s.to_struct(self.arith)
         out = np.zeros(n, be.dtype(_OUT))
         status = np.zeros(n, np.int32)
+        cuts = [0] + [min(max(int(k), 0), n) for k, _, _ in friction] + [n]
+        for j in range(len(cuts) - 1):
+            if j > 0:
+                self.measure_friction(friction[j - 1][1], friction[j - 1][2])
+            a, b = cuts[j], cuts[j + 1]
+            if b > a:
+                be.lib.grip_py_est_run(self._est, b - a, be.ptr("grip_input_sample_t", arr[a:b]),
+                                       be.ptr(_OUT, out[a:b]), be.ptr("int32_t", status[a:b]))
         if n:
-            be.lib.grip_py_est_run(self._est, n, be.ptr("grip_input_sample_t", arr),
-                                   be.ptr(_OUT, out), be.ptr("int32_t", status))
             be.ffi.memmove(self._last, be.ffi.from_buffer(out[-1:]), be.ffi.sizeof(_OUT))
             self._have_last[0] = 1
         return Output(self.arith, out, status)

@@ -29,6 +29,7 @@ import numpy as np
 import grip
 from grip_tools.golden import est as golden_est
 from grip_tools.reference import est as est_ref
+from grip_tools.reference import tir
 from . import common
 from .common import ARITHS, ROOT
 
@@ -225,6 +226,40 @@ class TestStandAlone(common.BindingTest):
                 np.testing.assert_array_equal(corrected.raw, chained.raw)
                 a.reset()
                 np.testing.assert_array_equal(a.step(s[:50]).raw, one.raw[:50])
+
+
+class TestFrictionFromOutside(common.BindingTest):
+    """grip_est_measure_friction (Estimator.step's friction rows) against
+    est_ref's measure_friction on the golden bicycle run, whose road is mu
+    1.0 then 0.5: a source saying so once a second, one at a wrong value.
+    Tolerances: the estimator's golden ones (tests/unit/test_est_golden.c);
+    mu_conf's, mu_sd's over mu_conf's 0.1 of deviation per unit."""
+
+    TOL = {"float": {"beta": 5e-5, "mu": 2e-4, "vx": 2e-4, "mu_conf": 2e-3},
+           "fixed": {"beta": 3e-3, "mu": 6e-3, "vx": 3e-3, "mu_conf": 6e-2}}
+
+    def test_against_reference(self):
+        t, value, valid = golden_inputs()
+        half = len(t) // 2
+        rows = [(k, 1.0 if k < half else 0.5, 0.05) for k in range(0, len(t), 100)] + [(len(t) - 30, 1.6, 0.02)]
+        cfg = est_ref.config(tir.load_params(TIR), rate_hz=100)
+        ref = est_ref.run(cfg, value, valid, friction=rows)
+        base = est_ref.run(cfg, value, valid)
+        r = {k: np.array([o[k] for o in ref]) for k in ("beta", "mu", "vx", "mu_sd", "mu_conf")}
+        b = {k: np.array([o[k] for o in base]) for k in ("mu", "mu_sd")}
+        # the source moves mu and its deviation: not a no-op
+        self.assertGreater(float(np.max(np.abs(r["mu"] - b["mu"]))), 0.05)
+        self.assertLess(float(np.median(r["mu_sd"])), float(np.median(b["mu_sd"])))
+        tyre = grip.mf.load(TIR)
+        for arith in ARITHS:
+            with self.subTest(arith=arith):
+                o = grip.est.Estimator(tyre, arith=arith).step(samples(t, value, valid), friction=rows)
+                for k, tol in self.TOL[arith].items():
+                    err = float(np.max(np.abs(o[k] - r[k])))
+                    print(f"# measure_friction {arith}: {k} max |C - reference| {err:.2e} (tolerance {tol:g})")
+                    self.assertLessEqual(err, tol)
+                with self.assertRaises(grip.GripError):
+                    grip.est.Estimator(tyre, arith=arith).measure_friction(2.5, 0.05)
 
 
 class TestLearned(common.BindingTest):

@@ -91,6 +91,8 @@ class CommandLineTests(unittest.TestCase):
                            (["--const", "NO_SUCH=1"], "--const NO_SUCH=1"),
                            (["--const", "TIRE_TOL=x"], "'x' is not a number"),
                            (["--const", "TIRE_TOL"], "--const TIRE_TOL"),
+                           (["--road-friction", "0"], "--road-friction 0.0"),
+                           (["--road-friction", "nan"], "--road-friction nan"),
                            (["--manoeuvres", "step-steer"], "--manoeuvres: only with --independent"),
                            (["--independent"], "one at a time")):
             err = io.StringIO()

@@ -254,7 +254,7 @@ def c_builds(specs=()):
 
 
 def run_binding(arith, tir_path, t, value, valid, vehicle="generic", vehicle_values=None, step_ms=10.0,
-                learned=None, keep_learned=False, keep_out=False):
+                learned=None, keep_learned=False, keep_out=False, friction=()):
     """The C estimator of `arith` through the binding (grip.est.Estimator
     over samples built as grip-replay's --csv mode builds them), configured
     as grip-replay -e TIR --vehicle VEHICLE --vehicle-file (vehicle_values:
@@ -263,7 +263,8 @@ def run_binding(arith, tir_path, t, value, valid, vehicle="generic", vehicle_val
     dict, at full precision (grip-replay prints %.6g), and with
     keep_learned under "learned" grip.est.Estimator.learned() at the end;
     with keep_out under "out" every output column of the binding (per-wheel
-    fx, fy, mz, the road-wheel angle delta, ...)."""
+    fx, fy, mz, the road-wheel angle delta, ...). friction: grip.est.Estimator.step's
+    road-friction measurements, (step, mu_road, mu_road_sd) rows."""
     import grip
     tyre = grip.mf.load(tir_path)
     cfg = {"tire": tyre, "rate_hz": int(round(1000.0 / step_ms))}
@@ -273,7 +274,7 @@ def run_binding(arith, tir_path, t, value, valid, vehicle="generic", vehicle_val
     if learned is not None:
         est.learned_set(learned)
     cols = {c: np.where(valid[:, i] != 0, value[:, i], np.nan) for i, c in enumerate(IN_COLS)}
-    o = est.step(grip.signals.Samples.from_columns(cols, t_s=np.asarray(t, np.float64)))
+    o = est.step(grip.signals.Samples.from_columns(cols, t_s=np.asarray(t, np.float64)), friction=friction)
     # grip-replay's ay_model column: the tire model's sum Fy / m in the body
     # frame (the front wheels' forces turned by the road-wheel angle), where
     # the axle forces are valid
@@ -799,6 +800,10 @@ def main(argv=None):
                          "(default all)")
     ap.add_argument("--const", action="append", default=[], metavar="NAME=VALUE",
                     help="--integrity: an est_ref constant changed for the run (sensitivity: TIRE_TOL, KIN_ACC, ...)")
+    ap.add_argument("--road-friction", type=float, default=None, metavar="SD",
+                    help="--integrity: the independent simulator's runs get an outside road-friction source "
+                         "(grip_est_measure_friction) of this standard deviation, once a second, one deviation "
+                         "too high")
     a = ap.parse_args(argv)
     # an option outside its mode would be ignored without a word: refused
     for opt, given, ok, mode in (("--vehicles", a.vehicles, a.independent, "--independent"),
@@ -807,7 +812,8 @@ def main(argv=None):
                                  ("--kx-est", a.kx_est, a.independent, "--independent"),
                                  ("--full", a.full, a.independent or a.integrity, "--independent or --integrity"),
                                  ("--judges", a.judges is not None, a.integrity, "--integrity"),
-                                 ("--const", a.const, a.integrity, "--integrity")):
+                                 ("--const", a.const, a.integrity, "--integrity"),
+                                 ("--road-friction", a.road_friction is not None, a.integrity, "--integrity")):
         if given and not ok:
             ap.error(f"{opt}: only with {mode}")
     if a.independent and a.integrity:
@@ -828,7 +834,10 @@ def main(argv=None):
         err = integrity.option_error(judges, a.const)
         if err:
             ap.error(err)
-        integrity.run(a.out, judges=judges, runs_dir=a.runs_dir, full=a.full, av21_log=a.av21, consts=a.const)
+        if a.road_friction is not None and not 0.01 <= a.road_friction <= 1.0:
+            ap.error(f"--road-friction {a.road_friction}: a standard deviation in [0.01, 1]")
+        integrity.run(a.out, judges=judges, runs_dir=a.runs_dir, full=a.full, av21_log=a.av21, consts=a.const,
+                      road_friction_sd=a.road_friction)
         return 0
     if a.independent:
         from grip_tools.sim.independent import judge

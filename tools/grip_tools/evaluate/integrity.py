@@ -104,9 +104,10 @@ OUT_KEYS = ("beta", "beta_sd", "vy", "vy_sd", "vx", "vx_sd", "yaw_rate", "yaw_ra
             "fy_axle", "fy_axle_sd")
 
 
-def reference_run(cfg, value, valid):
-    """est_ref over the inputs: arrays of the outputs the table needs."""
-    outs = est_ref.run(cfg, value, valid)
+def reference_run(cfg, value, valid, friction=()):
+    """est_ref over the inputs (friction: est_ref.run's road-friction
+    measurements): arrays of the outputs the table needs."""
+    outs = est_ref.run(cfg, value, valid, friction=friction)
     res = {k: np.array([o[k] for o in outs]) for k in OUT_KEYS}
     res["valid"] = np.array([o["valid"] for o in outs], dtype=np.int64)
     res["flags"] = np.array([o["flags"] for o in outs], dtype=np.int64)
@@ -279,7 +280,29 @@ def independent_run(vname, mname, sname, cache, fitted=None):
         tire_path, extra = fitted["tir"], judge.fitted_values(fitted)
     cfg = est_ref.config(tir.load_params(tire_path), rate_hz=100,
                          **dict(judge.oem_vehicle(veh), **extra, **est_eval.EXTRA))
-    return _judge_truth_run(veh, tr, tire_path, t, reference_run(cfg, value, valid))
+    return _judge_truth_run(veh, tr, tire_path, t, reference_run(cfg, value, valid, road_friction(veh, t, tr)))
+
+
+# --road-friction: an outside friction source's standard deviation (None:
+# no source); the source reads the simulator's road factor times its tire's
+# peak coefficient, once per ROAD_FRICTION_PERIOD_S, ROAD_FRICTION_SD too
+# high (the side that shrinks beta's bound): a source off by one deviation.
+ROAD_FRICTION_SD = None
+ROAD_FRICTION_PERIOD_S = 1.0
+
+
+def road_friction(veh, t, tr):
+    """The measurements grip_est_measure_friction gets in an independent
+    run with --road-friction: (step, mu_road, mu_road_sd) rows; () without."""
+    if ROAD_FRICTION_SD is None:
+        return ()
+    rows, nxt = [], float(t[0])
+    for k in range(len(t)):
+        if t[k] >= nxt:
+            mu = float(tr["mu_surface"][k]) * float(veh.p.tire.p_dy1) + ROAD_FRICTION_SD
+            rows.append((k, min(max(mu, 0.05), 2.0), ROAD_FRICTION_SD))
+            nxt += ROAD_FRICTION_PERIOD_S
+    return rows
 
 
 def _run_inputs(vname, mname, sname, cache):
@@ -333,7 +356,8 @@ def learned_run(vname, mname, sname, cache, values, learned):
     veh = mb.Vehicle(vname)
     t, value, valid, tr = _run_inputs(vname, mname, sname, cache)
     o = est_eval.run_binding("float", judge.GENERIC_TIR, t, value, valid, vehicle="generic",
-                             vehicle_values=values, learned=learned["blob"], keep_out=True)["out"]
+                             vehicle_values=values, learned=learned["blob"], keep_out=True,
+                             friction=road_friction(veh, t, tr))["out"]
     est = {k: np.asarray(o[k], float) for k in OUT_KEYS}
     est["valid"] = np.asarray(o["valid"], np.int64)
     est["flags"] = np.asarray(o["flags"], np.int64)
@@ -578,9 +602,12 @@ def option_error(judges, consts):
     return None
 
 
-def run(out, judges=JUDGES, runs_dir=None, full=False, av21_log=None, consts=()):
+def run(out, judges=JUDGES, runs_dir=None, full=False, av21_log=None, consts=(), road_friction_sd=None):
     """consts: "NAME=VALUE" pairs, est_ref module constants changed for the
     run (the sensitivity of TIRE_TOL, KIN_ACC, ROLL_TOL, DIS_K, ...);
+    road_friction_sd: the independent simulator's runs (independent,
+    fitted, learned) get an outside friction source of that deviation
+    (road_friction);
     ValueError (option_error's text) before anything runs where they or
     the judges cannot be run."""
     from unittest import mock
@@ -593,6 +620,9 @@ def run(out, judges=JUDGES, runs_dir=None, full=False, av21_log=None, consts=())
     for spec in consts:
         name, _, value = spec.partition("=")
         patches.append(mock.patch.object(est_ref, name, float(value)))
+    patches.append(mock.patch(__name__ + ".ROAD_FRICTION_SD", road_friction_sd))
+    if road_friction_sd is not None:
+        consts = tuple(consts) + (f"road friction +- {road_friction_sd}",)
     for p in patches:
         p.start()
     try:

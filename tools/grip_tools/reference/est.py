@@ -641,6 +641,8 @@ class Estimator:
         self.psi = 0.0
         self.x = np.array([0.0, 0.0, MU_INIT, 0.0])
         self.P = np.diag(P0).astype(float)
+        self.p_mu_own = float(self.P[2, 2])   # mu's variance from the tires alone, once
+        self.mu_src = False                   # a friction measurement from outside was applied
         self.hold = [0.0] * 6
         self.age = [BIG] * 6
         self.t_prev = None           # previous step's input time [us] (rate check)
@@ -693,6 +695,8 @@ class Estimator:
         self.switch_lateral_filter(s)
         self.tire_model(s)
         if self.active:
+            p_start = float(self.P[2, 2])
+            s.p_mu_pred = p_start
             self.friction_tests(s)
             stf_upd = self.stiffness(s)
             self.stiffness_long(s, stf_upd)
@@ -702,6 +706,7 @@ class Estimator:
             self.update_balances(s)
             self.estimate_friction(s)
             self.bound_state(s)
+            self.mu_own(s, p_start)
         else:
             self.road(s)
         self.check_consistency(s)
@@ -714,6 +719,38 @@ class Estimator:
         o["nis_f"] = self.nis_f
         o["sat_f"] = self.sat_f
         return o
+
+    def measure_friction(self, mu_road, mu_road_sd):
+        """grip_est_measure_friction: an outside measurement of the absolute
+        peak friction |F| / Fz and its deviation, a scalar update of mu (the
+        gyro bias held) after dividing both by the axles' static peak
+        friction weighted by their static loads. ValueError (state
+        unchanged) out of range or not finite, as GRIP_ERR_INPUT."""
+        if not (0.05 <= mu_road <= 2.0) or not (0.01 <= mu_road_sd <= 1.0):
+            raise ValueError(f"road friction {mu_road} +- {mu_road_sd}: outside [0.05, 2] +- [0.01, 1]")
+        if not self.mu_src:
+            self.mu_src = True
+            self.p_mu_own = float(self.P[2, 2])
+        c = self.cfg
+        mu0 = (self.mu0[0] * c["lr"] + self.mu0[1] * c["lf"]) / (c["lf"] + c["lr"])
+        q = mu_road_sd / mu0 / S_X[2]
+        self._update(np.array([0.0, 0.0, 1.0, 0.0]), (mu_road / mu0 - self.x[2]) / S_X[2], q * q, True, False)
+        self.x[2] = _clamp(self.x[2], MU_MIN, MU_MAX)
+
+    def mu_own(self, s, p_start):
+        """est_mu_own: once a friction from outside was applied, mu's
+        variance from the tires alone: P_mu's growth in the step, and the
+        information the step's updates added (1 / P_mu after them less
+        1 / P_mu after the predict); never below P_mu."""
+        p_end = float(self.P[2, 2])
+        if not self.mu_src:
+            self.p_mu_own = p_end
+            return
+        own = min(self.p_mu_own + max(s.p_mu_pred - p_start, 0.0), P_MAX)
+        info = 1.0 / p_end - 1.0 / s.p_mu_pred
+        if info > 0.0:
+            own = 1.0 / (1.0 / own + info)
+        self.p_mu_own = _clamp(own, p_end, P_MAX)
 
     # ---- shared by the stages (est_internal.h) ------------------------------
     def _yaw_linear(self, yaw, vx, d):
@@ -1105,6 +1142,7 @@ class Estimator:
         Pn = F @ self.P @ F.T
         self.P = 0.5 * (Pn + Pn.T) + np.diag(self.q)
         self._clamp_diag()
+        s.p_mu_pred = float(self.P[2, 2])
         s.dvy, s.dr, s.a_vv, s.a_vr, s.a_vm = dvy, dr, a_vv, a_vr, a_vm
 
     def _update_yaw_rate(self, s):
@@ -2201,7 +2239,8 @@ class Estimator:
                 s.vbits &= ~(V_WHEEL(0) | V_WHEEL(1) | V_WHEEL(2) | V_WHEEL(3))
             if s.excited:
                 s.flags |= F_EXCITED
-        sig = math.sqrt(self.P[2, 2]) * S[2]
+        # from the tires alone: a friction from outside is the caller's
+        sig = math.sqrt(self.p_mu_own if self.mu_src else self.P[2, 2]) * S[2]
         o["mu_conf"] = _clamp((CONF_S0 - sig) / 0.1, 0.0, 1.0)
         if self.misfit:
             # the tire model does not explain the measurements: whatever mu
@@ -2258,11 +2297,17 @@ def inputs_from_sensors(cols, bar_to_pa=1e5):
     return t, value, valid
 
 
-def run(cfg, value, valid, t=None):
+def run(cfg, value, valid, t=None, friction=()):
     """Runs a whole sequence (t [s]: the samples' times for the rate check,
     as grip_input_sample_t.t_us; None: unchecked); returns the list of
-    output dicts."""
+    output dicts. friction: (k, mu_road, mu_road_sd) rows in order of k,
+    each measure_friction'd before sample k."""
     est = Estimator(cfg)
-    if t is None:
-        return [est.step(value[k], valid[k]) for k in range(len(value))]
-    return [est.step(value[k], valid[k], int(round(float(t[k]) * 1e6))) for k in range(len(value))]
+    outs, j = [], 0
+    for k in range(len(value)):
+        while j < len(friction) and int(friction[j][0]) <= k:
+            est.measure_friction(friction[j][1], friction[j][2])
+            j += 1
+        outs.append(est.step(value[k], valid[k]) if t is None else
+                    est.step(value[k], valid[k], int(round(float(t[k]) * 1e6))))
+    return outs
