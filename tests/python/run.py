@@ -65,11 +65,15 @@ def run_module(item):
     (everything it printed, in order)."""
     import contextlib
     import io
+    import time
     name, tests = item
     buf = io.StringIO()
+    t0 = time.monotonic()
     with contextlib.redirect_stdout(buf):
         runner = unittest.TextTestRunner(resultclass=TapResult, stream=open(os.devnull, "w"), verbosity=0)
         result = runner.run(unittest.TestSuite(tests))
+        # each module's wall time, for the schedule of the check's budget
+        print(f"# module {name}: {time.monotonic() - t0:.1f} s wall")
     return name, buf.getvalue(), result.testsRun, result.wasSuccessful()
 
 
