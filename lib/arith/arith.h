@@ -62,6 +62,10 @@ static inline grip_real_t r_add_nt(grip_real_t a, grip_real_t b) { return q16_ad
 /* a / b where the caller knows 0 <= a <= b, b > 0: no zero or range test
  * (q16_div_le1; the debug-saturation build checks the precondition) */
 static inline grip_real_t r_div_le1(grip_real_t a, grip_real_t b) { return q16_div_le1(a, b); }
+/* a / b where the caller knows b != 0 and |a / b| < 32767: no zero or
+ * range test (q16_div_nt; the debug-saturation build checks the
+ * precondition) */
+static inline grip_real_t r_div_nt(grip_real_t a, grip_real_t b) { return q16_div_nt(a, b); }
 static inline grip_real_t r_div(grip_real_t a, grip_real_t b) { return q16_div(a, b); }
 static inline grip_real_t r_div_keep(grip_real_t a, grip_real_t b) { return q16_div(a, b); }
 static inline grip_real_t r_neg(grip_real_t a) { return q16_neg(a); }
@@ -137,6 +141,7 @@ static inline grip_real_t r_msub_nt(grip_real_t c, grip_real_t a, grip_real_t b)
 static inline grip_real_t r_mul_nt(grip_real_t a, grip_real_t b) { return a * b; }
 static inline grip_real_t r_add_nt(grip_real_t a, grip_real_t b) { return a + b; }
 static inline grip_real_t r_div_le1(grip_real_t a, grip_real_t b) { return a / b; }
+static inline grip_real_t r_div_nt(grip_real_t a, grip_real_t b) { return a / b; }
 static inline grip_real_t r_div(grip_real_t a, grip_real_t b) { return a / b; }
 static inline grip_real_t r_div_keep(grip_real_t a, grip_real_t b) { return a / b; }
 static inline grip_real_t r_neg(grip_real_t a) { return -a; }

@@ -272,8 +272,8 @@ static inline uint64_t q16_div_mag(uint32_t ua, uint32_t ub)
 }
 
 /* round(a 2^16 / b), half away from zero, for b != 0: the quotient that
- * q16_div and q16_div_lim form before their range tests (or instead of
- * them). ARMv6-M: q16_div_mag of the magnitudes with the sign
+ * q16_div, q16_div_lim and q16_div_nt form before their range tests (or
+ * instead of them). ARMv6-M: q16_div_mag of the magnitudes with the sign
  * of a / b (no 64-bit signed division); elsewhere the signed 64-bit
  * division (the same value; on x86-64 the bench's r_div case is 38
  * instructions with it, 44 with the magnitudes). */
@@ -343,6 +343,25 @@ static inline grip_q16_t q16_div_lim(grip_q16_t a, grip_q16_t b, grip_q16_t lim)
     if (((int64_t)ab * (int64_t)lim) <= (((int64_t)aa * 65536) + (int64_t)(lim / 2))) {
         return ((a < 0) != (b < 0)) ? q16_neg(lim) : lim;
     }
+    return (grip_q16_t)q16_div_signed(a, b);
+}
+
+/* a / b where the caller knows b != 0 and |a / b| < 32767 (its argument
+ * stated where it is used; the rounded quotient is then within the range):
+ * q16_div's value without its zero and range tests. A GRIP_DEBUG_SATURATION build checks the precondition: a
+ * violation is counted as the event "div_nt" and answered by q16_div. */
+static inline grip_q16_t q16_div_nt(grip_q16_t a, grip_q16_t b)
+{
+#if GRIP_DEBUG_SATURATION
+    {
+        int64_t ua = (a < 0) ? -(int64_t)a : (int64_t)a;
+        int64_t ub = (b < 0) ? -(int64_t)b : (int64_t)b;
+        if (ua >= (ub * 32767)) {       /* b = 0, or |a / b| >= 32767 */
+            GRIP_SAT_EVENT("div_nt");
+            return q16_div(a, b);
+        }
+    }
+#endif
     return (grip_q16_t)q16_div_signed(a, b);
 }
 

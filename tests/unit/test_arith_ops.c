@@ -9,7 +9,8 @@
  *   - r_mul_scale(x, s) gives the bits of r_mul(x, s), s = 1 among them;
  *   - r_atan2_q1(y, x) gives the bits of r_atan2(y, x) for y >= 0, x > 0
  *     (fixed; the float build's forms are tested with the kernels);
- *   - r_div_le1(a, b) gives the bits of r_div(a, b) for 0 <= a <= b, and
+ *   - r_div_le1(a, b) gives the bits of r_div(a, b) for 0 <= a <= b,
+ *     r_div_nt(a, b) those of r_div(a, b) for b != 0 and |a / b| < 32767, and
  *     r_mac_nt, r_msub_nt, r_mul_nt, r_add_nt those of the checked
  *     operations wherever the result is in range;
  *   - q16_div_lim (mf_div_lim, fixed) gives the values of the composition
@@ -149,13 +150,14 @@ static void test_mul_scale_as_mul(void **s)
     print_message("# mul_scale: %d pairs (a quarter with s = 1) as r_mul\n", N_PAIRS);
 }
 
-/* r_div_le1 (0 <= a <= b, b > 0) against r_div, and the certified
- * operations (r_mac_nt ...) against the checked ones where the result is in
- * range */
+/* r_div_le1 (0 <= a <= b, b > 0) and r_div_nt (b != 0, |a / b| < 32767)
+ * against r_div, and the certified operations (r_mac_nt ...) against the
+ * checked ones where the result is in range */
 static void test_div_le1_and_certified(void **s)
 {
     int i;
     long n_nt = 0;
+    long n_div = 0;
     (void)s;
     grip_debug_saturation_reset();
     for (i = 0; i < N_PAIRS; ++i) {
@@ -173,6 +175,12 @@ static void test_div_le1_and_certified(void **s)
         }
 #if GRIP_ARITH_FIXED
         assert_int_equal(r_div_le1(a, b), r_div(a, b));
+        /* +-b / c, c != 0 and |b| < 32767 |c| (its sign and c's: every case) */
+        if ((c != 0) && ((int64_t)b < ((c < 0) ? -(int64_t)c : (int64_t)c) * 32767)) {
+            assert_int_equal(r_div_nt(b, c), r_div(b, c));
+            assert_int_equal(r_div_nt(r_neg(b), c), r_div(r_neg(b), c));
+            ++n_div;
+        }
         {
             int64_t m = (int64_t)c + (((int64_t)a * b + 32768) >> 16);
             int64_t p = ((int64_t)a * b + 32768) >> 16;
@@ -192,13 +200,16 @@ static void test_div_le1_and_certified(void **s)
         }
 #else
         assert_true(r_div_le1(a, b) == r_div(a, b));
+        assert_true(r_div_nt(a, b) == r_div(a, b));
         assert_true(r_mac_nt(c, a, b) == r_mac(c, a, b));
         ++n_nt;
+        ++n_div;
 #endif
     }
     assert_int_equal(grip_debug_saturation_count(), 0);
-    print_message("# div_le1: %d pairs as r_div; certified operations: %ld in range as the checked ones\n", N_PAIRS,
-                  n_nt);
+    print_message("# div_le1: %d pairs as r_div; div_nt: %ld as r_div; certified operations: %ld in range as the "
+                  "checked ones\n",
+                  N_PAIRS, n_div, n_nt);
 }
 
 static void test_atan2_q1_as_atan2(void **s)
@@ -357,6 +368,16 @@ static void test_preconditions_flagged(void **s)
     grip_debug_saturation_reset();
     assert_int_equal(r_div_le1(RC(2.0), RC(1.0)), r_div(RC(2.0), RC(1.0)));
     assert_string_equal(grip_debug_saturation_first(), "div_le1");
+    /* div_nt by 0, or with a quotient beyond 2^15: flagged, answered as r_div */
+    grip_debug_saturation_reset();
+    {
+        grip_real_t q = r_div_nt(RC(1.0), 0);
+        assert_string_equal(grip_debug_saturation_first(), "div_nt");
+        assert_int_equal(q, r_div(RC(1.0), 0));
+    }
+    grip_debug_saturation_reset();
+    assert_int_equal(r_div_nt(RC(20000.0), RC(0.5)), INT32_MAX);
+    assert_string_equal(grip_debug_saturation_first(), "div_nt");
     /* a certified operation whose result leaves the range: counted as
      * "cert", answered as the checked operation */
     grip_debug_saturation_reset();
