@@ -139,17 +139,21 @@ static grip_real_t mf_trail_at_c(const mf_op *op, const mf_trail *tc, grip_real_
 }
 #endif
 
-/* mf_trail_at or its certified copy (cert: a constant in each caller) */
+/* The certified copy of a block (certified: its call) where cert, a
+ * constant in each caller, is 1 and the build has those copies
+ * (MF_CERT_PATH), else the checked one (checked: its call). One expression
+ * of both calls' type; without MF_CERT_PATH the certified call is not
+ * compiled (its function does not exist). */
+#if MF_CERT_PATH
+#define MF_CERT_PICK(cert, certified, checked) ((cert) ? (certified) : (checked))
+#else
+#define MF_CERT_PICK(cert, certified, checked) ((void)(cert), (checked))
+#endif
+
+/* mf_trail_at or its certified copy */
 static MF_ALWAYS_INLINE grip_real_t mf_trail_at_any(const mf_op *op, const mf_trail *tc, grip_real_t a, int cert)
 {
-#if MF_CERT_PATH
-    if (cert) {
-        return mf_trail_at_c(op, tc, a);
-    }
-#else
-    (void)cert;
-#endif
-    return mf_trail_at(op, tc, a);
+    return MF_CERT_PICK(cert, mf_trail_at_c(op, tc, a), mf_trail_at(op, tc, a));
 }
 
 /* Residual moment Mzr / (Fz R0) at a residual slip angle a, Cr = 1 (4.E36). */
@@ -667,14 +671,8 @@ static MF_ALWAYS_INLINE grip_status_t mf_pure_begin_any(const grip_mf_params *p,
                                                         const grip_mf_input *in, grip_mf_output *out, mf_pure *s,
                                                         int cert)
 {
-#if MF_CERT_PATH
-    if (cert) {
-        return mf_pure_begin_prep_c(k, in, out, s);
-    }
-#else
-    (void)cert;
-#endif
-    return (k != NULL) ? mf_pure_begin_prep(k, in, out, s) : mf_pure_begin(p, in, out, s);
+    return MF_CERT_PICK(cert, mf_pure_begin_prep_c(k, in, out, s),
+                        (k != NULL) ? mf_pure_begin_prep(k, in, out, s) : mf_pure_begin(p, in, out, s));
 }
 
 /* mf_lat_pure, mf_lat_pure_g0, mf_trail_coefs, mf_gyk, or their certified
@@ -682,55 +680,24 @@ static MF_ALWAYS_INLINE grip_status_t mf_pure_begin_any(const grip_mf_params *p,
 static MF_ALWAYS_INLINE void mf_lat_pure_any(const grip_mf_params *p, const mf_op *op, const mf_lat_common *c,
                                              grip_real_t g, int cert, mf_lat *out)
 {
-#if MF_CERT_PATH
-    if (cert) {
-        mf_lat_pure_c(p, op, c, g, out);
-        return;
-    }
-#else
-    (void)cert;
-#endif
-    mf_lat_pure(p, op, c, g, out);
+    MF_CERT_PICK(cert, mf_lat_pure_c(p, op, c, g, out), mf_lat_pure(p, op, c, g, out));
 }
 
 static MF_ALWAYS_INLINE void mf_lat_pure_g0_any(const grip_mf_params *p, const mf_op *op, const mf_lat_common *c,
                                                 int cert, mf_lat *out)
 {
-#if MF_CERT_PATH
-    if (cert) {
-        mf_lat_pure_g0_c(p, op, c, out);
-        return;
-    }
-#else
-    (void)cert;
-#endif
-    mf_lat_pure_g0(p, op, c, out);
+    MF_CERT_PICK(cert, mf_lat_pure_g0_c(p, op, c, out), mf_lat_pure_g0(p, op, c, out));
 }
 
 static MF_ALWAYS_INLINE void mf_trail_coefs_any(const grip_mf_params *p, const mf_op *op, const mf_lat *lat,
                                                 int cert, mf_trail *out)
 {
-#if MF_CERT_PATH
-    if (cert) {
-        mf_trail_coefs_c(p, op, lat, out);
-        return;
-    }
-#else
-    (void)cert;
-#endif
-    mf_trail_coefs(p, op, lat, out);
+    MF_CERT_PICK(cert, mf_trail_coefs_c(p, op, lat, out), mf_trail_coefs(p, op, lat, out));
 }
 
 static MF_ALWAYS_INLINE grip_real_t mf_gyk_any(const grip_mf_params *p, const mf_op *op, grip_real_t g, int cert)
 {
-#if MF_CERT_PATH
-    if (cert) {
-        return mf_gyk_c(p, op, g);
-    }
-#else
-    (void)cert;
-#endif
-    return mf_gyk(p, op, g);
+    return MF_CERT_PICK(cert, mf_gyk_c(p, op, g), mf_gyk(p, op, g));
 }
 
 
