@@ -58,18 +58,7 @@ static void mf_lat_pure_g0(const grip_mf_params *p, const mf_op *op, const mf_la
 
 /* A prepared set whose coefficient terms are certified (MF_PF_CERT,
  * mf_cert_ok): the evaluation's own copies of the blocks, with those terms
- * unchecked (cert = 1: mf_cmac ...). Where the build optimizes for speed
- * only (the Cortex-M0+ firmware at -Os keeps one copy). */
-#if GRIP_ARITH_FIXED
-#if GRIP_Q16_INLINE_KERNELS
-#define MF_CERT_PATH 1
-#else
-#define MF_CERT_PATH 0
-#endif
-#else
-#define MF_CERT_PATH 0
-#endif
-
+ * unchecked (cert = 1: mf_cmac ...; MF_CERT_PATH, mf_internal.h). */
 #if MF_CERT_PATH
 static void mf_lat_pure_c(const grip_mf_params *p, const mf_op *op, const mf_lat_common *c, grip_real_t g,
                           mf_lat *out)
@@ -1042,7 +1031,7 @@ static const size_t mf_cert_coefs[] = {
  * inclinations of each force (<= 1, times max |LGAx|, |LGAy|, |LGAz| in
  * MF 5.2), |kappa| (<= 1.5), and the arctangents (pi <= (1 + M)^2 for
  * M >= 1). Fixed build only: the float build has no range tests. */
-static int mf_cert_ok(const grip_mf_params *p, grip_real_t fz_max, int mf52)
+static int mf_cert_ok(const grip_mf_params *p, grip_real_t fz_max, int mf52, int64_t *m_out)
 {
     int64_t c = 0;
     int64_t m = 65536;                      /* 1 */
@@ -1074,6 +1063,7 @@ static int mf_cert_ok(const grip_mf_params *p, grip_real_t fz_max, int mf52)
     if (m > ((int64_t)16 << 16)) {
         return 0;
     }
+    *m_out = m;
     /* the shape factors C of the curves (C atan(.), mf_shape_eq): |C| <=
      * 20000 (+ 1 LSB: PCX1 LCX, PCY1 LCY round), so |C atan(.)| < 31417 */
     {
@@ -1131,7 +1121,13 @@ static void mf_prepare_fill(const grip_mf_params *p, uint32_t options, grip_mf_p
         f |= z.flags;   /* MF_PF_CZ, MF_PF_RE, MF_PF_RE_U */
     }
 #if MF_CERT_PATH
-    f |= mf_cert_ok(p, k->fz_max, mf52) ? MF_PF_CERT : 0u;
+    {
+        int64_t m = 0;
+        if (mf_cert_ok(p, k->fz_max, mf52, &m)) {
+            f |= MF_PF_CERT;
+            f |= mf_cert_ext_ok(p, m) ? MF_PF_CERT_EXT : 0u;
+        }
+    }
 #endif
     k->options = options;
     k->flags = f;

@@ -30,9 +30,7 @@
  * (QL +-8.4e6, QS +-32768) in both builds, so that both flag the same
  * channels. */
 #define MF_QL_MAX      RCL(8.0e6)
-#define MF_QL_SMALL    RCL(250.0)     /* MF_QL_MAX / 32000                      */
 #define MF_QS_MAX      RC(30000.0)
-#define MF_QS_SMALL    RC(1.0)        /* MF_QS_MAX / 30000                      */
 
 #define MF_HALF_PI     RC(1.5707963267949)
 #define MF_LN10        RC(2.30258509299405)
@@ -47,31 +45,38 @@
 #define MF_RL62_TOL    RC(2.0e-3)     /* |Fz62 - Fz| / FNOMIN at the result      */
 #define MF_EXP_MAX     RC(10.0)       /* exp arguments beyond: channel flagged   */
 
-/* x * s, or 0 with *ok cleared when the product would leave
- * [-max, max]: small is max / 32000 (below it no QS x can reach max). No
- * overflow in either build. */
-static grip_real_t mf_times(grip_real_t x, grip_real_t s, grip_real_t max, grip_real_t small, int *ok)
+/* x * s, or 0 with *ok cleared where |x| > MF_QS_MAX or the product
+ * would leave [-max, max] (a NaN too: the tests are written as "not
+ * within"). The product first, then its magnitude: no division, and in the
+ * fixed build the exact rounded product (q16_mul_round, before any range
+ * test), so that a product beyond the format is flagged, never saturated. */
+static inline grip_real_t mf_times(grip_real_t x, grip_real_t s, grip_real_t max, int *ok)
 {
-    grip_real_t as = r_abs(s);
-    if ((r_abs(x) <= RC(2.0)) && (as <= r_mul(RC(0.5), max))) {
-        return r_mul(x, s);   /* the common case, without a division */
-    }
-    /* written as "not within" so that a NaN x (float build) is flagged too */
-    if (!(r_abs(x) <= MF_QS_MAX) || ((as > small) && !(r_abs(x) <= r_div(max, as)))) {
+#if GRIP_ARITH_FIXED
+    int64_t v = q16_mul_round(x, s);
+    if ((x > MF_QS_MAX) || (x < -MF_QS_MAX) || (v > (int64_t)max) || (v < -(int64_t)max)) {
         *ok = 0;
         return R_ZERO;
     }
-    return r_mul(x, s);
+    return (grip_real_t)v;
+#else
+    grip_real_t v = x * s;
+    if (!(fabsf(x) <= MF_QS_MAX) || !(fabsf(v) <= max)) {
+        *ok = 0;
+        return R_ZERO;
+    }
+    return v;
+#endif
 }
 
-static grip_real_t mf_times_ql(grip_real_t x, grip_real_t s, int *ok)
+static inline grip_real_t mf_times_ql(grip_real_t x, grip_real_t s, int *ok)
 {
-    return mf_times(x, s, MF_QL_MAX, MF_QL_SMALL, ok);
+    return mf_times(x, s, MF_QL_MAX, ok);
 }
 
-static grip_real_t mf_times_qs(grip_real_t x, grip_real_t s, int *ok)
+static inline grip_real_t mf_times_qs(grip_real_t x, grip_real_t s, int *ok)
 {
-    return mf_times(x, s, MF_QS_MAX, MF_QS_SMALL, ok);
+    return mf_times(x, s, MF_QS_MAX, ok);
 }
 
 /* a / b limited to +-lim (mf_div_lim); *ok cleared when the limit acts. */
@@ -147,6 +152,16 @@ static MF_ALWAYS_INLINE grip_real_t ext_halley(grip_real_t r, grip_real_t a, gri
     return r_clamp(r_sub(r, *step), RC(0.01), MF_RE_MAX);
 }
 
+/* a = Q_RE0 - FNOMIN / (Cz R0) (DREFF atan(BREFF Fz/FNOMIN) + FREFF
+ * Fz/FNOMIN) (ext_radius), k = FNOMIN / (Cz R0); the terms of the
+ * deflection's bracket are certified terms (cert, MF_PF_CERT_EXT). */
+static MF_ALWAYS_INLINE grip_real_t ext_re_a(const grip_mf_params *p, grip_real_t k, grip_real_t fz, int cert)
+{
+    grip_real_t defl = mf_cadd(cert, mf_cmul(cert, p->dreff, r_atan(mf_cmul(cert, p->breff, fz))),
+                               mf_cmul(cert, p->freff, fz));
+    return r_sub(p->q_re0, r_mul(k, defl));
+}
+
 /* Re = Romega(Omega) - FNOMIN / Cz (DREFF atan(BREFF Fz/FNOMIN) + FREFF
  * Fz/FNOMIN), Romega = R0 (Q_RE0 + Q_V1 (Omega R0 / LONGVL)^2), Omega =
  * (1 + kappa) vx / Re. With r = Re / R0 and u = (1 + kappa) vx / LONGVL:
@@ -163,11 +178,10 @@ static MF_ALWAYS_INLINE grip_real_t ext_halley(grip_real_t r, grip_real_t a, gri
  * the last step must be below MF_RE_TOL. No root when b < -4 a^3 / 27.
  * Forced inline: with a second caller (mf_rolling_radius) GCC made it a
  * call, +150 x86 instructions per grip_mf_eval_ext. */
-static MF_ALWAYS_INLINE void ext_radius(ext_ctx *e)
+static MF_ALWAYS_INLINE void ext_radius(ext_ctx *e, int cert)
 {
     const grip_mf_params *p = e->p;
     int i;
-    grip_real_t k;
     grip_real_t a;
     grip_real_t b;
     grip_real_t num;
@@ -186,8 +200,7 @@ static MF_ALWAYS_INLINE void ext_radius(ext_ctx *e)
             !(r_mul(r_abs(r_mul(e->omega, p->unloaded_radius)), RC(1.0 / 181.0)) < p->longvl)) {
             return;
         }
-        k = e->re_k;
-        a = r_sub(p->q_re0, r_mul(k, r_add(r_mul(p->dreff, r_atan(r_mul(p->breff, e->fz))), r_mul(p->freff, e->fz))));
+        a = ext_re_a(p, e->re_k, e->fz, cert);
         w = r_div(r_mul(e->omega, p->unloaded_radius), p->longvl);
         bw = r_mul(p->q_v1, r_sq(w));
         r = r_add(a, bw);
@@ -200,15 +213,16 @@ static MF_ALWAYS_INLINE void ext_radius(ext_ctx *e)
         e->re_ok = 1;
         return;
     }
-    /* FNOMIN / (Cz R0) < 1000 (MF_PF_RE), and |u| < 181 (u^2 in QS) */
-    num = r_mul(r_add(R_ONE, e->kap), e->vx);
+    /* FNOMIN / (Cz R0) < 1000 (MF_PF_RE), and |u| < 181 (u^2 in QS);
+     * |num| <= 2.5 * 300 m/s (kappa and vx clamped): no range test */
+    num = r_mul_nt(r_add_nt(R_ONE, e->kap), e->vx);
     if (((e->czf & MF_PF_RE) == 0u) ||
         (((e->czf & MF_PF_RE_U) == 0u) && !(r_mul(r_abs(num), RC(1.0 / 181.0)) < p->longvl))) {
         return;
     }
-    k = e->re_k;
-    a = r_sub(p->q_re0, r_mul(k, r_add(r_mul(p->dreff, r_atan(r_mul(p->breff, e->fz))), r_mul(p->freff, e->fz))));
-    e->u = r_div(num, p->longvl);
+    a = ext_re_a(p, e->re_k, e->fz, cert);
+    /* LONGVL > 0 and |u| < 182 (the test above, or LONGVL > 4.2 m/s) */
+    e->u = r_div_nt(num, p->longvl);
     b = r_mul(p->q_v1, r_sq(e->u));
     if (!(a > RC(0.01))) {
         return;
@@ -218,10 +232,13 @@ static MF_ALWAYS_INLINE void ext_radius(ext_ctx *e)
         /* r = a (1 + eps), eps (1 + eps)^2 = beta = b / a^3: the root's
          * series, beta - 2 beta^2 + 7 beta^3 - 30 beta^4, whose next term
          * (143 beta^5) is below 5e-10 for |beta| <= MF_RE_BETA */
-        grip_real_t beta = r_div(b, a3);
-        grip_real_t eps = r_mul(beta, r_sub(R_ONE, r_mul(beta, r_sub(RC(2.0), r_mul(beta, r_sub(RC(7.0),
-                                                                                                 r_mul(RC(30.0), beta)))))));
-        r = r_add(a, r_mul(a, eps));
+        grip_real_t beta = r_div_nt(b, a3);   /* a^3 > 0.027, |beta| <= 0.005 */
+        /* |beta| <= 0.005 (and a rounding): no term of the series can leave
+         * the range, so none has a range test (r_msub_nt: the bits of
+         * r_sub(c, r_mul(a, b)) where the product is within it) */
+        grip_real_t eps =
+            r_mul_nt(beta, r_msub_nt(R_ONE, beta, r_msub_nt(RC(2.0), beta, r_msub_nt(RC(7.0), RC(30.0), beta))));
+        r = r_mac(a, a, eps);
         if (!(r <= MF_RE_MAX)) {
             return;
         }
@@ -297,7 +314,7 @@ grip_real_t mf_rolling_radius(const grip_mf_params *p, grip_real_t kap, grip_rea
     e.r0czp = z.r0czp;
     e.re_k = z.re_k;
     e.czf = z.flags;
-    ext_radius(&e);
+    ext_radius(&e, 0);
     return e.re_ok ? e.r : R_ZERO;
 }
 
@@ -638,13 +655,50 @@ static grip_real_t ext_sin2atan(grip_real_t n, grip_real_t d)
     return (((n < R_ZERO) != (d < R_ZERO)) && (q != R_ZERO)) ? r_neg(q) : q;
 }
 
+/* A relaxation length |K / C| [m] (K, C in the same format), *ok cleared
+ * unless it is below 1000 m. Fixed build: the bound as a product of the
+ * magnitudes (|K| < 1000 |C|, false for C = 0), then their rounded
+ * quotient (q16_div_mag: r_div's value, below 1000.5); float build: the
+ * quotient and one comparison (a zero or NaN C gives an infinity or a NaN,
+ * which fails it). */
+static MF_ALWAYS_INLINE grip_real_t ext_sigma(grip_real_t k, grip_real_t c, int *ok)
+{
+#if GRIP_ARITH_FIXED
+    uint32_t uk = (k < 0) ? (0u - (uint32_t)k) : (uint32_t)k;
+    uint32_t uc = (c < 0) ? (0u - (uint32_t)c) : (uint32_t)c;
+    if ((uint64_t)uk >= ((uint64_t)uc * 1000u)) {
+        *ok = 0;
+        return R_ZERO;
+    }
+    return (grip_real_t)q16_div_mag(uk, uc);
+#else
+    grip_real_t s = r_div(r_abs(k), r_abs(c));
+    if (!(s < RC(1000.0))) {
+        *ok = 0;
+    }
+    return s;
+#endif
+}
+
+/* A structural stiffness, (1 + c1 dfz + c2 dfz^2)(1 + c3 dpi) c0 [N/m]
+ * (QL) for c0 > 0, *ok cleared beyond MF_QL_MAX; cert (MF_PF_CERT_EXT):
+ * the terms, their product and the stiffness are within their ranges
+ * (mf_cert_ext_ok), no range test. */
+static MF_ALWAYS_INLINE grip_real_t ext_cstiff(grip_real_t c1, grip_real_t c2, grip_real_t c3, grip_real_t c0,
+                                               grip_real_t dfz, grip_real_t dpi, int *ok, int cert)
+{
+    grip_real_t f = mf_cmul(cert, mf_cadd(cert, R_ONE, mf_cmac(cert, mf_cmul(cert, c1, dfz), c2, mf_csq(cert, dfz))),
+                            mf_cmac(cert, R_ONE, c3, dpi));
+    return cert ? r_mul_nt(f, c0) : mf_times_ql(f, c0, ok);
+}
+
 /* MFeval's calculateRelax: Cx = LONGITUDINAL_STIFFNESS (1 + PCFX1 dfz +
  * PCFX2 dfz^2)(1 + PCFX3 dpi), Cy likewise; MF 6.x: sigma_x = |Kxk / Cx|,
  * sigma_y = |Kya / Cy|; MF 5.2: sigma_x = (PTX1 + PTX2 dfz) exp(-PTX3 dfz)
  * LSGKP R0 Fz / FNOMIN, sigma_y = PTY1 sin(2 atan(Fz / (PTY2 Fz0'))) (1 -
  * PKY3 |gamma|) R0 LFZO LSGAL. kxk, kya: Kxk, Kya [N] of the evaluation. */
-static void ext_relax(const ext_ctx *e, grip_real_t kxk, int kxk_ok, grip_real_t kya, int kya_ok, uint32_t want,
-                      grip_mf_output_ext *out, uint32_t *valid)
+static MF_ALWAYS_INLINE void ext_relax(const ext_ctx *e, grip_real_t kxk, int kxk_ok, grip_real_t kya, int kya_ok,
+                                       uint32_t want, grip_mf_output_ext *out, uint32_t *valid, int cert)
 {
     const grip_mf_params *p = e->p;
     const mf_ext_op *op = &e->c->op;
@@ -665,14 +719,10 @@ static void ext_relax(const ext_ctx *e, grip_real_t kxk, int kxk_ok, grip_real_t
         cyok = 1;
     }
     if (cxok) {
-        cx = mf_times_ql(r_mul(r_add(R_ONE, r_add(r_mul(p->pcfx1, dfz), r_mul(p->pcfx2, r_sq(dfz)))),
-                               r_add(R_ONE, r_mul(p->pcfx3, dpi))),
-                         p->longitudinal_stiffness, &cxok);
+        cx = ext_cstiff(p->pcfx1, p->pcfx2, p->pcfx3, p->longitudinal_stiffness, dfz, dpi, &cxok, cert);
     }
     if (cyok) {
-        cy = mf_times_ql(r_mul(r_add(R_ONE, r_add(r_mul(p->pcfy1, dfz), r_mul(p->pcfy2, r_sq(dfz)))),
-                               r_add(R_ONE, r_mul(p->pcfy3, dpi))),
-                         p->lateral_stiffness, &cyok);
+        cy = ext_cstiff(p->pcfy1, p->pcfy2, p->pcfy3, p->lateral_stiffness, dfz, dpi, &cyok, cert);
     }
     grip_real_t sx = R_ZERO;
     grip_real_t sy = R_ZERO;
@@ -700,16 +750,16 @@ static void ext_relax(const ext_ctx *e, grip_real_t kxk, int kxk_ok, grip_real_t
                          p->lfzo),
                    p->lsgal);
     } else {
-        /* |K / C| below 1000 m, decided by a product (no division) */
+        /* |K / C| below 1000 m (ext_sigma) */
         sxok = 0;
         syok = 0;
-        if (cxok && kxk_ok && (r_mul(r_abs(kxk), RC(0.001)) < r_abs(cx))) {
+        if (cxok && kxk_ok) {
             sxok = 1;
-            sx = r_div(r_abs(kxk), r_abs(cx));
+            sx = ext_sigma(kxk, cx, &sxok);
         }
-        if (cyok && kya_ok && (r_mul(r_abs(kya), RC(0.001)) < r_abs(cy))) {
+        if (cyok && kya_ok) {
             syok = 1;
-            sy = r_div(r_abs(kya), r_abs(cy));
+            sy = ext_sigma(kya, cy, &syok);
         }
     }
     if (sxok && ((want & GRIP_MF_EXT_SIGMAX) != 0u)) {
@@ -721,6 +771,61 @@ static void ext_relax(const ext_ctx *e, grip_real_t kxk, int kxk_ok, grip_real_t
         *valid |= GRIP_MF_EXT_SIGMAY;
     }
 }
+
+#if MF_CERT_PATH
+/* |v| of a Q15.16 or Q23.8 value, as int64 */
+static int64_t ext_cert_abs(grip_real_t v)
+{
+    return (v < 0) ? -(int64_t)v : (int64_t)v;
+}
+
+/* A bound of |1 + c1 x + c2 x^2| for |x| <= m (Q16.16): 1 + c (1 + m)^2,
+ * c = max(|c1|, |c2|), rounded up (mf_cert_ok's bound); c < 2^31, m <= 16. */
+static int64_t ext_cert_poly(grip_real_t c1, grip_real_t c2, int64_t m)
+{
+    int64_t c = (ext_cert_abs(c1) > ext_cert_abs(c2)) ? ext_cert_abs(c1) : ext_cert_abs(c2);
+    int64_t b = ((c * (65536 + m)) + 65535) >> 16;
+    b = ((b * (65536 + m)) + 65535) >> 16;
+    return b + 65536;
+}
+
+/* ext_cstiff's terms for |dfz| <= m, |dpi| <= 1 <= m: the polynomial in
+ * dfz and the pressure factor each, and their product, at most 30000 (a
+ * few LSB of rounding below 32768), and that times c0 at most 7.99e6 N/m,
+ * below MF_QL_MAX by far more than the roundings (so that the checked form,
+ * mf_times_ql, keeps its ok). */
+static int ext_cert_cstiff(grip_real_t c1, grip_real_t c2, grip_real_t c3, grip_real_t c0, int64_t m)
+{
+    int64_t lim = (int64_t)30000 << 16;
+    int64_t bp = ext_cert_poly(c1, c2, m);
+    int64_t bq = 65536 + ext_cert_abs(c3) + 1;   /* 1 + |c3| |dpi|, and a rounding */
+    int64_t bf;
+    if ((bp > lim) || (bq > lim)) {
+        return 0;
+    }
+    bf = ((bp * bq) + 65535) >> 16;
+    if (bf > lim) {
+        return 0;
+    }
+    /* c0 (QL, < 2^31) times bf (<= 30000 << 16): below 2^62 */
+    return (((ext_cert_abs(c0) * bf) + 65535) >> 16) <= (int64_t)RCL(7.99e6);
+}
+
+int mf_cert_ext_ok(const grip_mf_params *p, int64_t m)
+{
+    /* Fz / FNOMIN <= GRIP_MF_FZ_MAX_REL (4) and a rounding: 5; the
+     * arctangent <= pi / 2 < 5 */
+    int64_t f5 = (int64_t)5 << 16;
+    int64_t lim = (int64_t)30000 << 16;
+    int64_t tb = (ext_cert_abs(p->breff) * f5) >> 16;
+    int64_t td = ((ext_cert_abs(p->dreff) + ext_cert_abs(p->freff)) * f5) >> 16;
+    if (((tb + 1) > lim) || ((td + 2) > lim)) {
+        return 0;
+    }
+    return ext_cert_cstiff(p->pcfx1, p->pcfx2, p->pcfx3, p->longitudinal_stiffness, m) &&
+           ext_cert_cstiff(p->pcfy1, p->pcfy2, p->pcfy3, p->lateral_stiffness, m);
+}
+#endif
 
 /* ------------------------------------------------------------ Mx, My */
 
@@ -905,7 +1010,7 @@ static inline void ext_finite(grip_real_t *v, uint32_t bit, uint32_t outputs, ui
 
 /* The inputs as the model saw them, before the low-speed scaling: the
  * conventions and clamps of mf_prepare (mf_eval.c) for kappa, gamma, vx. */
-static int ext_inputs(uint32_t mode, uint32_t outputs, const grip_mf_input *in, const grip_mf_spin *spin,
+static MF_ALWAYS_INLINE int ext_inputs(uint32_t mode, uint32_t outputs, const grip_mf_input *in, const grip_mf_spin *spin,
                       const mf_io *io, ext_ctx *e)
 {
     int clamped = 0;
@@ -937,46 +1042,36 @@ grip_status_t grip_mf_eval_ext(const grip_mf_params *p, const grip_mf_input *in,
 
 /* Kxk, Kya [N] and the relaxation's Cx, Cy, sigma_x, sigma_y (want holds
  * at least one of EXT_STIFF). */
-static void ext_stiff(const ext_ctx *e, uint32_t want, grip_mf_output_ext *out, uint32_t *valid)
+static MF_ALWAYS_INLINE void ext_stiff(const ext_ctx *e, uint32_t want, grip_mf_output_ext *out, uint32_t *valid,
+                                       int cert)
 {
     const mf_core *c = e->c;
-    grip_real_t kq = MF_QS_MAX;   /* 8e6 N / Fz: the largest |K / Fz| that fits QL */
     grip_real_t kxk = R_ZERO;
     grip_real_t kya = R_ZERO;
     int kxk_ok = 1;
     int kya_ok = 1;
-    if (c->op.fz_ql > MF_QL_SMALL) {
-        kq = r_div(MF_QL_MAX, c->op.fz_ql);
-    }
+    /* K = (K / Fz) Fz, valid within +-8e6 N (QL): the product, then its
+     * magnitude (mf_times: no division for a bound of K / Fz) */
     if ((want & (GRIP_MF_EXT_KXK | GRIP_MF_EXT_SIGMAX)) != 0u) {
-        kxk_ok = 0;
-        if (r_abs(c->kxk) <= kq) {
-            kxk_ok = 1;
-            kxk = r_mul(c->kxk, c->op.fz_ql);
-        }
+        kxk = mf_times_ql(c->kxk, c->op.fz_ql, &kxk_ok);
         if (kxk_ok && ((want & GRIP_MF_EXT_KXK) != 0u)) {
             out->kxk = kxk;
             *valid |= GRIP_MF_EXT_KXK;
         }
     }
     if ((want & (GRIP_MF_EXT_KYA | GRIP_MF_EXT_SIGMAY)) != 0u) {
-        kya_ok = 0;
-        if (r_abs(c->kya) <= kq) {
-            kya_ok = 1;
-            kya = r_mul(c->kya, c->op.fz_ql);
-        }
+        kya = mf_times_ql(c->kya, c->op.fz_ql, &kya_ok);
         if (kya_ok && ((want & GRIP_MF_EXT_KYA) != 0u)) {
             out->kya = kya;
             *valid |= GRIP_MF_EXT_KYA;
         }
     }
     if ((want & (GRIP_MF_EXT_CX | GRIP_MF_EXT_CY | GRIP_MF_EXT_SIGMAX | GRIP_MF_EXT_SIGMAY)) != 0u) {
-        ext_relax(e, kxk, kxk_ok, kya, kya_ok, want, out, valid);
+        ext_relax(e, kxk, kxk_ok, kya, kya_ok, want, out, valid, cert);
     }
-    /* Kxk, Kya are finite (a NaN fails |K / Fz| <= kq, and the product is
-     * then below 8e6), and so are MF 6.x's sigma (|K| / |C| with 0.001 |K|
-     * < |C|, false for a NaN C); Cx, Cy and MF 5.2's sigma are not when a
-     * coefficient is not */
+    /* Kxk, Kya are finite where valid (a NaN or infinite product fails
+     * |K| <= 8e6), and so are MF 6.x's sigma (|K| / |C| below 1000);
+     * Cx, Cy and MF 5.2's sigma are not when a coefficient is not */
     ext_finite(&out->cx, GRIP_MF_EXT_CX, want, valid);
     ext_finite(&out->cy, GRIP_MF_EXT_CY, want, valid);
     if (c->op.mf52) {
@@ -1082,10 +1177,13 @@ static MF_ALWAYS_INLINE int ext_forces(const grip_mf_output *base, grip_status_t
 
 /* The requested channels of an evaluation whose status st is not an error
  * (c: its intermediates; mode: its use-mode bits; out: the forces written,
- * the channels zero (ext_start); k: the prepared set of p, or NULL). */
-static grip_status_t ext_channels(const grip_mf_params *p, const grip_mf_prepared *k, mf_core *c, grip_status_t st,
-                                  const grip_mf_input *in, const grip_mf_spin *spin, uint32_t mode, uint32_t outputs,
-                                  grip_mf_output_ext *out)
+ * the channels zero (ext_start); k: the prepared set of p, or NULL; cert, a
+ * constant in each caller: the set's extended certificate holds,
+ * MF_PF_CERT_EXT). */
+static MF_ALWAYS_INLINE grip_status_t ext_channels_body(const grip_mf_params *p, const grip_mf_prepared *k, mf_core *c,
+                                                        grip_status_t st, const grip_mf_input *in,
+                                                        const grip_mf_spin *spin, uint32_t mode, uint32_t outputs,
+                                                        grip_mf_output_ext *out, int cert)
 {
     ext_ctx e;
     uint32_t valid = 0u;
@@ -1134,16 +1232,19 @@ static grip_status_t ext_channels(const grip_mf_params *p, const grip_mf_prepare
         }
     }
     if ((outputs & (GRIP_MF_EXT_RE | GRIP_MF_EXT_OMEGA | GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ)) != 0u) {
-        ext_radius(&e);
+        ext_radius(&e, cert);
         if (e.re_ok && ((outputs & GRIP_MF_EXT_RE) != 0u)) {
             ok = 1;
-            /* finite: r is (ext_radius), and an R0 of +Inf has no Cz (MF_PF_CZ) */
-            out->re = mf_times_qs(e.r, p->unloaded_radius, &ok);
+            /* finite: r is (ext_radius), and an R0 of +Inf has no Cz
+             * (MF_PF_CZ); r <= MF_RE_MAX, so with R0 <= 5000 m the product
+             * is within QS without a test */
+            out->re = (p->unloaded_radius <= RC(5000.0)) ? r_mul_nt(e.r, p->unloaded_radius)
+                                                          : mf_times_qs(e.r, p->unloaded_radius, &ok);
             valid |= ok ? GRIP_MF_EXT_RE : 0u;
         }
     }
     if ((outputs & EXT_STIFF) != 0u) {
-        ext_stiff(&e, outputs, out, &valid);
+        ext_stiff(&e, outputs, out, &valid, cert);
     }
     if ((outputs & EXT_MORE) != 0u) {
         valid |= ext_more(&e, mode, outputs, out);
@@ -1152,14 +1253,58 @@ static grip_status_t ext_channels(const grip_mf_params *p, const grip_mf_prepare
     return st;
 }
 
-/* ext_channels without a prepared set, with the eight arguments that
+/* The channels' functions. Where the build optimizes for size (the
+ * Cortex-M0+ firmware at -Os) one function serves both entry points
+ * (ext_channels); elsewhere a prepared set has copies of its own
+ * (ext_channels_prep and, where MF_CERT_PATH, the certified
+ * ext_channels_prep_c, MF_PF_CERT_EXT), in which k not NULL, no spin and
+ * the set's options fold the given-Omega forms away: x86 float 19
+ * instructions fewer per prepared call, for 3.5 KB of Cortex-M4F text. */
+#if defined(__OPTIMIZE_SIZE__)
+#define EXT_PREP_COPY 0
+#else
+#define EXT_PREP_COPY 1
+#endif
+
+#if EXT_PREP_COPY
+/* kept out of line, as ext_channels_spin: inlined, its frame would add to
+ * the deepest stack path of grip_mf_eval_ext_prepared */
+static MF_NOINLINE grip_status_t ext_channels_prep(const grip_mf_prepared *k, mf_core *c, grip_status_t st,
+                                                   const grip_mf_input *in, uint32_t outputs, grip_mf_output_ext *out)
+{
+    return ext_channels_body(k->p, k, c, st, in, &SPIN_ZERO, k->options, outputs, out, 0);
+}
+
+#if MF_CERT_PATH
+/* (not kept out of line: the copy exists only where the build optimizes
+ * for speed, not in the firmware whose stack budget is measured) */
+static grip_status_t ext_channels_prep_c(const grip_mf_prepared *k, mf_core *c, grip_status_t st,
+                                         const grip_mf_input *in, uint32_t outputs, grip_mf_output_ext *out)
+{
+    return ext_channels_body(k->p, k, c, st, in, &SPIN_ZERO, k->options, outputs, out, 1);
+}
+#endif
+#else
+static grip_status_t ext_channels(const grip_mf_params *p, const grip_mf_prepared *k, mf_core *c, grip_status_t st,
+                                  const grip_mf_input *in, const grip_mf_spin *spin, uint32_t mode, uint32_t outputs,
+                                  grip_mf_output_ext *out)
+{
+    return ext_channels_body(p, k, c, st, in, spin, mode, outputs, out, 0);
+}
+#endif
+
+/* The channels without a prepared set (ext_channels_body), with the eight arguments that
  * grip_mf_eval_ext_spin can pass without a larger frame (its frame is on
  * the deepest stack path of grip_mf_eval_ext; this one is not). */
 static MF_NOINLINE grip_status_t ext_channels_spin(const grip_mf_params *p, mf_core *c, const grip_mf_input *in,
                                                   const grip_mf_spin *spin, uint32_t mode, uint32_t outputs,
                                                   grip_status_t st, grip_mf_output_ext *out)
 {
+#if EXT_PREP_COPY
+    return ext_channels_body(p, NULL, c, st, in, spin, mode, outputs, out, 0);
+#else
     return ext_channels(p, NULL, c, st, in, spin, mode, outputs, out);
+#endif
 }
 
 grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input *in, const grip_mf_spin *spin,
@@ -1231,5 +1376,14 @@ grip_status_t grip_mf_eval_ext_prepared(const grip_mf_prepared *prep, const grip
     if (!ext_forces(&base, st, out)) {
         return st;
     }
+#if EXT_PREP_COPY
+#if MF_CERT_PATH
+    if ((prep->flags & MF_PF_CERT_EXT) != 0u) {
+        return ext_channels_prep_c(prep, &c, st, in, outputs, out);
+    }
+#endif
+    return ext_channels_prep(prep, &c, st, in, outputs, out);
+#else
     return ext_channels(prep->p, prep, &c, st, in, &SPIN_ZERO, prep->options, outputs, out);
+#endif
 }

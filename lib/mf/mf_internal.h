@@ -172,6 +172,20 @@ typedef struct {
  * prepared set whose certificate holds (MF_PF_CERT), where the terms cannot
  * leave Q15.16 and so need no range test (r_mac_nt ...: the same bits), 0
  * elsewhere (the checked operations). The float build has one form. */
+/* Whether the evaluations of a certified prepared set have copies of
+ * their own with the certified operations (cert = 1): the fixed build where
+ * it optimizes for speed (the Cortex-M0+ firmware at -Os keeps one copy,
+ * the checked one; the float build has one form). */
+#if GRIP_ARITH_FIXED
+#if GRIP_Q16_INLINE_KERNELS
+#define MF_CERT_PATH 1
+#else
+#define MF_CERT_PATH 0
+#endif
+#else
+#define MF_CERT_PATH 0
+#endif
+
 #if GRIP_ARITH_FIXED
 static MF_ALWAYS_INLINE grip_real_t mf_cmac(int cert, grip_real_t c, grip_real_t a, grip_real_t b) /* grip-deviation: MISRA-5.5 the float build's macro of this name: the #if's other branch */
 {
@@ -504,6 +518,8 @@ int mf_params_usable_plain(const grip_mf_params *p);
 #define MF_PF_RE_U        0x200u /* LONGVL > 4.2 m/s: |u| < 181 for every input  */
 #define MF_PF_CERT        0x400u /* the coefficient terms cannot leave Q15.16  */
                                  /* (mf_cert_ok, the fixed build at -O2)       */
+#define MF_PF_CERT_EXT    0x800u /* and those of the extended outputs' Re, Cx, */
+                                 /* Cy (mf_cert_ext_ok, mf_ext.c)              */
 
 /* The set has what the turn-slip equations divide by: PHYP1 > 0 (C_Hyp)
  * and 0 < QDRP1 < 2 (C_Drp, sin(pi/2 C_Drp) > 0). */
@@ -538,6 +554,18 @@ typedef struct {
 
 #define mf_ext_cz_form GRIP_TYPED(grip_mf_i_ext_cz_form)
 void mf_ext_cz_form(const grip_mf_params *p, grip_real_t dpi, mf_ext_cz *z);
+
+#if MF_CERT_PATH
+/* The certificate of the extended outputs' coefficient terms (MF_PF_CERT_EXT;
+ * docs/numerics.md, "Certified operations") of a set whose evaluation's
+ * certificate holds with the factor bound m (Q16.16 as int64, >= 1): the
+ * terms of Re's deflection (BREFF, DREFF, FREFF times Fz / FNOMIN or an
+ * arctangent) and the structural stiffnesses Cx, Cy (PCFX1, PCFX2 times dfz
+ * and its square, PCFX3 times dpi; their product, and that times
+ * LONGITUDINAL_STIFFNESS within MF_QL_MAX; PCFY* likewise). */
+#define mf_cert_ext_ok GRIP_TYPED(grip_mf_i_cert_ext_ok)
+int mf_cert_ext_ok(const grip_mf_params *p, int64_t m);
+#endif
 
 /* mu_x (4.E13) at dfz, dpi, the camber of mu_x and LMUX*. */
 static MF_ALWAYS_INLINE grip_real_t mf_mux(const grip_mf_params *p, grip_real_t dfz, grip_real_t dpi, grip_real_t gmux,

@@ -232,10 +232,11 @@ static void expect_refused(const grip_mf_params *p, uint32_t options, const char
 /* Sets outside the box of the fixed build's certificate (a coefficient of a
  * certified term too large, a load factor LFZO so small that dfz reaches
  * 79, a curve's shape factor C beyond 20000), each with a term that does
- * leave Q15.16: not certified (MF_PF_CERT, 0x400 of lib/mf/mf_internal.h), and the
- * prepared evaluation, on the checked operations, still the unprepared one
- * bit for bit; the shipped sets are certified. Both builds (the float
- * build has no certificate). */
+ * leave Q15.16: not certified (MF_PF_CERT, 0x400 of lib/mf/mf_internal.h, nor
+ * MF_PF_CERT_EXT, 0x800), and the prepared evaluation, on the checked
+ * operations, still the unprepared one bit for bit; likewise sets beyond
+ * the box of the extended outputs' terms alone; the shipped sets are
+ * certified. Both builds (the float build has no certificate). */
 static void test_certificate(void **s)
 {
     const grip_mf_params *good = grip_test_tire_params("MagicFormula61_Paramerters");
@@ -258,14 +259,31 @@ static void test_certificate(void **s)
         }
         assert_int_equal(grip_mf_prepare(&p, p.options, &prep), GRIP_OK);
 #if GRIP_ARITH_FIXED && !defined(__OPTIMIZE_SIZE__)
-        assert_true((prep.flags & 0x400u) == 0u);
+        assert_true((prep.flags & 0xC00u) == 0u);
 #endif
         (void)check_set(&p, p.options, "uncertified");
+    }
+    /* beyond the extended outputs' box only (MF_PF_CERT_EXT, 0x800): the
+     * combined evaluation certified, the channels checked */
+    for (k = 0; k < 3; k++) {
+        p = *good;
+        if (k == 0) {
+            p.breff = qs(10000.0);  /* BREFF Fz / FNOMIN reaches 40000 */
+        } else if (k == 1) {
+            p.pcfy1 = qs(20.0);     /* Cy (1 + PCFY1 dfz ...) LATERAL_STIFFNESS beyond 8e6 N/m */
+        } else {
+            p.pcfx2 = qs(-3000.0);  /* PCFX2 dfz^2 reaches -27000, Cx beyond QL */
+        }
+        assert_int_equal(grip_mf_prepare(&p, p.options, &prep), GRIP_OK);
+#if GRIP_ARITH_FIXED && !defined(__OPTIMIZE_SIZE__)
+        assert_true((prep.flags & 0xC00u) == 0x400u);
+#endif
+        (void)check_set(&p, p.options, "uncertified channels");
     }
 #if GRIP_ARITH_FIXED && !defined(__OPTIMIZE_SIZE__)
     for (k = 0; k < grip_test_tire_count; k++) {
         assert_int_equal(grip_mf_prepare(grip_test_tires[k].params, 0u, &prep), GRIP_OK);
-        assert_true((prep.flags & 0x400u) != 0u);
+        assert_true((prep.flags & 0xC00u) == 0xC00u);
     }
 #endif
 }
