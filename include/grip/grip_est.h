@@ -281,6 +281,8 @@ typedef struct {
     grip_real_t fy_shape[2][GRIP_EST_SHAPE_N + 1]; /* QS |Fy| / Fz at static load, alpha = k alpha_pk / N
                                                      * (mu's secant, docs/estimator.md) */
     grip_real_t kappa_pk[2];    /* QS |slip ratio| of the braking force's peak at static load */
+    grip_real_t mu_xy[2];       /* QS mu0 over the braking peak |Fx|/Fz at static load: the
+                                 * friction ellipse's axis ratio (utilization, excitation) */
     grip_real_t mu0_k[2];       /* QS load sensitivity of the peak: mu0(Fz) = mu0 + mu0_k (Fz / Fz_static - 1) */
     grip_real_t k_us;           /* QS stability factor A [s^2/m^2] times 100 (learned stiffness) */
     grip_real_t k_us0;          /* QS the same of the tire file's car (the learners' gate) */

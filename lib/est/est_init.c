@@ -339,7 +339,7 @@ grip_status_t grip_est_init_detail(grip_est_t *est, const grip_est_config_t *cfg
     for (a = 0; a < 2; ++a) {
         grip_mf_input in;
         grip_mf_output o1, o2;
-        grip_real_t best, best2, alpha2, mux_pk;   /* mux_pk: the braking peak, not used */
+        grip_real_t best, best2, alpha2, mux_pk;   /* mux_pk: the braking peak |Fx| / Fz */
         in.kappa = R_ZERO;
         in.alpha = RC(0.01);
         in.gamma = R_ZERO;
@@ -393,6 +393,11 @@ grip_status_t grip_est_init_detail(grip_est_t *est, const grip_est_config_t *cfg
             (void)check_fail(detail, "tire", a, "model.mf", "a peak lateral friction >= 0.05 at the axle's static load");
             return GRIP_ERR_PARAM;
         }
+        if (mux_pk < RC(0.05)) {
+            (void)check_fail(detail, "tire", a, "model.mf", "a peak braking friction >= 0.05 at the axle's static load");
+            return GRIP_ERR_PARAM;
+        }
+        est->mu_xy[a] = r_div(best, mux_pk);
         est->sig_a[a] = relax_length(&cfg->tire[a], est->c_alpha[a], est->fz_static[a]);
         /* the lateral force's shape over [0, alpha_pk] for mu's secant */
         est->inv_apk[a] = r_div(R_ONE, est->alpha_pk[a]);

@@ -149,7 +149,10 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
             fyn = R_ZERO;
             fzr = R_ZERO;
         }
-        u = r_div(r_sqrt(r_add(r_sq(fxn), r_sq(fyn))), r_mul(s->mu, est->mu0[axle]));
+        /* on the friction ellipse: Fx against the braking peak, Fy against
+         * the lateral one (a tire whose peaks differ saturates in braking
+         * at its own Fx peak, not at the lateral one) */
+        u = r_div(r_sqrt(r_add(r_sq(r_mul(fxn, est->mu_xy[axle])), r_sq(fyn))), r_mul(s->mu, est->mu0[axle]));
         out->util[i] = r_min(u, RC(1.5));
         umax_est = r_max(umax_est, out->util[i]);
         g = r_max(RC(EST_G_MIN), r_sqrt(r_sub(R_ONE, r_min(u, R_ONE))));
@@ -162,7 +165,7 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
              * own adaptation. */
             grip_real_t cap = r_max(r_mul(est->mu0[axle], out->fz[i]), RCL(50.0));
             grip_real_t ulin_y = r_div(r_mul(r_abs(alpha), ca), cap);
-            grip_real_t ulin_x = r_div(r_mul(r_abs(kappa), ck), cap);
+            grip_real_t ulin_x = r_div(r_mul(r_mul(r_abs(kappa), ck), est->mu_xy[axle]), cap);
             umax = r_max(umax, r_max(ulin_y, ulin_x));
             umax_x = r_max(umax_x, ulin_x);
             kappa_sum = r_add(kappa_sum, kappa);
@@ -209,7 +212,7 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
         grip_real_t fxa = r_add(out->fx[2 * i], out->fx[2 * i + 1]);
         if (fzx > RCL(100.0)) {
             grip_real_t fxn = r_div(fxa, fzx), fyn = r_div(out->fy_axle[i], fzx);
-            out->util_axle[i] = r_min(r_div(r_sqrt(r_add(r_sq(fxn), r_sq(fyn))), r_mul(s->mu, est->mu0[i])),
+            out->util_axle[i] = r_min(r_div(r_sqrt(r_add(r_sq(r_mul(fxn, est->mu_xy[i])), r_sq(fyn))), r_mul(s->mu, est->mu0[i])),
                                       RC(1.5));
         }
     }

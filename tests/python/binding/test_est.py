@@ -262,6 +262,45 @@ class TestFrictionFromOutside(common.BindingTest):
                     grip.est.Estimator(tyre, arith=arith).measure_friction(2.5, 0.05)
 
 
+class TestFrictionEllipse(common.BindingTest):
+    """A tire whose lateral peak is 25 % above its braking peak (PDY1 x
+    1.25) through an ABS stop onto a low road (the reference simulator's
+    wet mu step): the utilization on the friction ellipse (mu_xy) in C
+    against est_ref. Tolerances: the golden ones (TestFrictionFromOutside)."""
+
+    TOL = TestFrictionFromOutside.TOL
+
+    def test_against_reference(self):
+        from python.reference.test_est import _simulated
+        from grip_tools.evaluate import est_eval
+        t, value, valid, t_limit, _ = _simulated(self, "mu-step", "wet")
+        with open(TIR) as f:
+            text = f.read()
+        lines = []
+        for line in text.splitlines():
+            if line.split("=")[0].strip().upper() == "PDY1":
+                v = float(line.split("=")[1].split("$")[0])
+                line = f"PDY1 = {1.25 * v!r} $ the braking peak's x 1.25"
+            lines.append(line)
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "lateral_peak_high.tir")
+            with open(path, "w") as f:
+                f.write("\n".join(lines) + "\n")
+            cfg = est_ref.config(tir.load_params(path), rate_hz=100, **est_eval.est_vehicle())
+            tyre = grip.mf.load(path)
+        ref = est_ref.run(cfg, value, valid)
+        r = {k: np.array([o[k] for o in ref]) for k in ("beta", "mu", "vx", "mu_conf")}
+        self.assertLess(float(np.min(r["mu"][t >= t_limit + 1.0])), 0.5)   # the ellipse moved mu: the road is 0.3
+        for arith in ARITHS:
+            with self.subTest(arith=arith):
+                o = grip.est.Estimator(dict(tire=tyre, rate_hz=100, **est_eval.est_vehicle()), arith=arith).step(
+                    samples(t, value, valid))
+                for k, tol in self.TOL[arith].items():
+                    err = float(np.max(np.abs(o[k] - r[k])))
+                    print(f"# friction ellipse {arith}: {k} max |C - reference| {err:.2e} (tolerance {tol:g})")
+                    self.assertLessEqual(err, tol)
+
+
 class TestLearned(common.BindingTest):
     """grip_est_learned_get / _set (stiff_est = 1, kx_est = 1 with a
     rear-wheel drive): the blob carries the learned stiffnesses to another

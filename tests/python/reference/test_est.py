@@ -837,6 +837,37 @@ class AbsBrakingTests(unittest.TestCase):
         self.assertLessEqual(worst[saved], 0.1)
         self.assertGreater(worst[0.5], 0.1)
 
+    def test_lateral_peak_above_braking_peak(self):
+        # The same stop with the estimator's tire's lateral peak 25 % above
+        # its braking peak (PDY1 x 1.25; the simulator's tire and road as
+        # before). The braking wheels saturate at the braking peak: read
+        # against the lateral one, the model never saw them saturated, the
+        # slope factor kept dFx/dmu at 0 and mu stopped high (the
+        # independent judge's Escort on a 0.35 road: 0.80 with a tire
+        # fitted to its cornering). On the friction ellipse (mu_xy) mu
+        # follows the road; with mu_xy = 1 (the old reading) it does not.
+        t, value, valid, t_limit, mu_t = _simulated(self, "mu-step", "wet")
+        from grip_tools.evaluate import est_eval
+        p = dict(_params())
+        p["pdy1"] = 1.25 * p["pdy1"]
+        cfg = est_eval.est_config()
+        cfg["tire"] = (p, p)
+        after = t >= t_limit + 1.0
+        worst = {}
+        for ellipse in (True, False):
+            est = est_ref.Estimator(cfg)
+            if ellipse:
+                self.assertAlmostEqual(est.mu_xy[0], 1.25 * est_ref.Estimator(est_eval.est_config()).mu_xy[0], 2)
+            else:
+                est.mu_xy = [1.0, 1.0]
+            mu = np.array([est.step(value[k], valid[k])["mu"] for k in range(len(t))])
+            worst[ellipse] = float(np.max(np.abs(mu[after] - mu_t[after])))
+        print(f"\n# wet mu step, lateral peak 1.25 x the braking peak: largest |mu error| from "
+              f"{t_limit + 1.0:.2f} s: {worst[True]:.3f} on the friction ellipse, {worst[False]:.3f} "
+              f"against the lateral peak", flush=True)
+        self.assertLessEqual(worst[True], 0.1)
+        self.assertGreater(worst[False], 0.1)
+
 
 def _kinematic_turn(vx, delta, delta_r=0.0):
     """One input sample of a steady low-speed turn on rolling wheels (no

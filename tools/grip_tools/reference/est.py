@@ -543,6 +543,7 @@ class Estimator:
         self.c_alpha, self.c_kappa, self.mu0 = [0.0, 0.0], [0.0, 0.0], [0.0, 0.0]
         self.alpha_pk = [0.5, 0.5]
         self.kappa_pk = [0.5, 0.5]
+        self.mu_xy = [1.0, 1.0]
         self.mu0_k = [0.0, 0.0]
         self.sig_a = [0.0, 0.0]
         self.fy_shape = [None, None]
@@ -559,9 +560,12 @@ class Estimator:
             self.mu0[a], self.alpha_pk[a] = _peak_friction(P, fz)
             self.mu0_k[a] = 2.0 * (_peak_friction(P, 1.5 * fz)[0] - self.mu0[a])
             # the braking slip of the longitudinal peak (the sliding branch of the tire model)
-            self.kappa_pk[a] = _peak_friction(P, fz, longitudinal=True)[1]
-            if self.c_alpha[a] <= 0 or self.c_kappa[a] <= 0 or self.mu0[a] < 0.05:
+            mux_pk, self.kappa_pk[a] = _peak_friction(P, fz, longitudinal=True)
+            if self.c_alpha[a] <= 0 or self.c_kappa[a] <= 0 or self.mu0[a] < 0.05 or mux_pk < 0.05:
                 raise ValueError("tire model gives no cornering/slip stiffness or friction")
+            # the friction ellipse's axis ratio: Fx is measured against the
+            # braking peak, Fy against the lateral one
+            self.mu_xy[a] = self.mu0[a] / mux_pk
             self.sig_a[a] = _relax_length(P, self.c_alpha[a], fz)
             # the lateral force's shape for mu's secant (MU_SECANT)
             sj = self.alpha_pk[a] * np.arange(SHAPE_N + 1) / SHAPE_N
@@ -1386,7 +1390,9 @@ class Estimator:
         fxn = np.where(big, fx / np.where(big, fz, 1.0), 0.0)
         fyn = np.where(big, fy / np.where(big, fz, 1.0), 0.0)
         fzr = np.where(big, fz / fzst, 0.0)
-        u = np.sqrt(fxn ** 2 + fyn ** 2) / (mu * mu0w)
+        # on the friction ellipse (est_tires.c)
+        xyw = np.array([self.mu_xy[a] for a in axle])
+        u = np.sqrt((fxn * xyw) ** 2 + fyn ** 2) / (mu * mu0w)
         o["util"] = np.minimum(u, 1.5)
         g = np.maximum(G_MIN, np.sqrt(1.0 - np.minimum(u, 1.0)))
         ca = fzr * caw * kw
@@ -1396,7 +1402,7 @@ class Estimator:
         # itself, which would let a falling mu excite its own adaptation.
         cap = np.maximum(mu0w * fz, 50.0)
         ulin_y = np.abs(alpha) * ca / cap
-        ulin_x = np.abs(kappa) * ck / cap
+        ulin_x = np.abs(kappa) * ck * xyw / cap
         s.umax = float(np.max(np.maximum(ulin_y, ulin_x)))
         s.umax_x = float(np.max(ulin_x))
         c2 = 1.0 / (1.0 + np.clip(t, -100.0, 100.0) ** 2)
@@ -1424,7 +1430,8 @@ class Estimator:
             fzx = fz[2 * a] + fz[2 * a + 1]
             fxa = fx[2 * a] + fx[2 * a + 1]
             if fzx > 100.0:
-                o["util_axle"][a] = min(math.hypot(fxa / fzx, (fy[2 * a] + fy[2 * a + 1]) / fzx) / (mu * self.mu0[a]), 1.5)
+                o["util_axle"][a] = min(math.hypot(fxa / fzx * self.mu_xy[a], (fy[2 * a] + fy[2 * a + 1]) / fzx)
+                                        / (mu * self.mu0[a]), 1.5)
         # the measured ax also carries the drag and the rolling resistance
         # (vx > 0 here: the lateral observer runs above V_OFF)
         s.ay_m, s.racc = sfy / m, smz / c["iz"]
