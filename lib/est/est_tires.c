@@ -141,7 +141,7 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
         }
         /* utilization and local slope */
         if (out->fz[i] > RCL(50.0)) {
-            fxn = r_div(out->fx[i], out->fz[i]);
+            fxn = r_div(r_mul(out->fx[i], est->mu_xy[axle]), out->fz[i]);
             fyn = r_div(out->fy[i], out->fz[i]);
             fzr = r_div(out->fz[i], est->fz_static[axle]);
         } else {
@@ -152,7 +152,7 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
         /* on the friction ellipse: Fx against the braking peak, Fy against
          * the lateral one (a tire whose peaks differ saturates in braking
          * at its own Fx peak, not at the lateral one) */
-        u = r_div(r_sqrt(r_add(r_sq(r_mul(fxn, est->mu_xy[axle])), r_sq(fyn))), r_mul(s->mu, est->mu0[axle]));
+        u = r_div(r_sqrt(r_add(r_sq(fxn), r_sq(fyn))), r_mul(s->mu, est->mu0[axle]));
         out->util[i] = r_min(u, RC(1.5));
         umax_est = r_max(umax_est, out->util[i]);
         g = r_max(RC(EST_G_MIN), r_sqrt(r_sub(R_ONE, r_min(u, R_ONE))));
