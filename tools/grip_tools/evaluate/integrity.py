@@ -656,8 +656,11 @@ def _run(out, judges, runs_dir, full, av21_log, consts):
     with open(os.path.join(out, "integrity.json"), "w") as f:
         json.dump({"consts": list(consts), "judges": res}, f, indent=1)
     note = f" with {', '.join(consts)}" if consts else ""
+    # the options that decide what the table holds
+    cmd = "grip est-eval --integrity" + (" --full" if full else "") + (
+        "" if list(judges) == list(JUDGES) else f" --judges {','.join(judges)}")
     with open(os.path.join(out, "integrity_table.md"), "w") as f:
-        f.write(f"<!-- written by `grip est-eval --integrity`{note}; do not edit -->\n\n## Summary\n\n" + summary
+        f.write(f"<!-- written by `{cmd}`{note}; do not edit -->\n\n## Summary\n\n" + summary
                 + "\n## Every run\n\n" + detail
                 + "\n## The runs below 90 % beta valid\n\n"
                 "steps: moving, outside spins and full saturation; ceiling: the share of them with |beta error| "
