@@ -274,20 +274,11 @@ class TestFrictionEllipse(common.BindingTest):
         from python.reference.test_est import _simulated
         from grip_tools.evaluate import est_eval
         t, value, valid, t_limit, _ = _simulated(self, "mu-step", "wet")
-        with open(TIR) as f:
-            text = f.read()
-        lines = []
-        for line in text.splitlines():
-            if line.split("=")[0].strip().upper() == "PDY1":
-                v = float(line.split("=")[1].split("$")[0])
-                line = f"PDY1 = {1.25 * v!r} $ the braking peak's x 1.25"
-            lines.append(line)
-        with tempfile.TemporaryDirectory() as d:
-            path = os.path.join(d, "lateral_peak_high.tir")
-            with open(path, "w") as f:
-                f.write("\n".join(lines) + "\n")
-            cfg = est_ref.config(tir.load_params(path), rate_hz=100, **est_eval.est_vehicle())
-            tyre = grip.mf.load(path)
+        params = dict(tir.load_params(TIR))
+        params["pdy1"] = 1.25 * params["pdy1"]
+        cfg = est_ref.config(params, rate_hz=100, **est_eval.est_vehicle())
+        tyre = grip.mf.load(TIR)
+        tyre = tyre.replace(pdy1=1.25 * tyre.values["pdy1"])
         ref = est_ref.run(cfg, value, valid)
         r = {k: np.array([o[k] for o in ref]) for k in ("beta", "mu", "vx", "mu_conf")}
         self.assertLess(float(np.min(r["mu"][t >= t_limit + 1.0])), 0.5)   # the ellipse moved mu: the road is 0.3
