@@ -139,7 +139,10 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
         if (s->ws_ok[i] && st >= 0) {
             s->valid |= GRIP_EST_V_WHEEL(i);
         }
-        /* utilization and local slope */
+        /* utilization and local slope, on the friction ellipse: Fx against
+         * the braking peak (fxn scaled by mu_xy), Fy against the lateral
+         * one (a tire whose peaks differ saturates in braking at its own
+         * Fx peak, not at the lateral one) */
         if (out->fz[i] > RCL(50.0)) {
             fxn = r_div(r_mul(out->fx[i], est->mu_xy[axle]), out->fz[i]);
             fyn = r_div(out->fy[i], out->fz[i]);
@@ -149,9 +152,6 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
             fyn = R_ZERO;
             fzr = R_ZERO;
         }
-        /* on the friction ellipse: Fx against the braking peak, Fy against
-         * the lateral one (a tire whose peaks differ saturates in braking
-         * at its own Fx peak, not at the lateral one) */
         u = r_div(r_sqrt(r_add(r_sq(fxn), r_sq(fyn))), r_mul(s->mu, est->mu0[axle]));
         out->util[i] = r_min(u, RC(1.5));
         umax_est = r_max(umax_est, out->util[i]);
