@@ -3,7 +3,9 @@
 # output is kept in build/test-logs/<step>.log and echoed; TAP lines
 # ("ok" / "not ok") are counted; a step that fails without a "not ok" line
 # (a build error, a crash) counts as one failure. Ends with the summary line
-# "N passed, N failed". Exit status 0 only if nothing failed.
+# "N passed, N failed", preceded by every failing line (with its step) so
+# that the last lines of a CI log name what failed. Exit status 0 only if
+# nothing failed.
 set -u
 cd "$(dirname "$0")/.."
 LOGS=build/test-logs
@@ -12,6 +14,8 @@ mkdir -p "$LOGS"
 JOBS="-j2"
 passed=0
 failed=0
+FAILURES="$LOGS/failures.txt"
+: >"$FAILURES"
 start=$(date +%s)
 
 step() {
@@ -28,7 +32,9 @@ step() {
         echo "not ok - $name exited with status $rc; last lines of $LOGS/$name.log:"
         tail -20 "$LOGS/$name.log" | sed 's/^/#   /'
         f=1
+        echo "$name: exited with status $rc" >>"$FAILURES"
     fi
+    grep -E '^not ok ' "$LOGS/$name.log" | sed "s/^/$name: /" >>"$FAILURES"
     passed=$((passed + p))
     failed=$((failed + f))
     echo "=== $name: $p passed, $f failed ($(( $(date +%s) - t0 )) s)"
@@ -72,6 +78,10 @@ step python env GRIP_TEST_JOBS=2 GRIP_TIRE_BIN=build/float-gcc/bin/grip-tire .ve
 step python_grip_tire_fixed env GRIP_TIRE_BIN=build/fixed-gcc/bin/grip-tire \
     .venv/bin/python tests/python/run.py 'test_grip_tire*.py'
 
+if [ -s "$FAILURES" ]; then
+    echo "failures (logs in $LOGS):"
+    sed 's/^/  /' "$FAILURES"
+fi
 echo "total time $(( $(date +%s) - start )) s"
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
