@@ -204,7 +204,9 @@ static MF_ALWAYS_INLINE void ext_radius(ext_ctx *e, int cert)
         w = r_div(r_mul(e->omega, p->unloaded_radius), p->longvl);
         bw = r_mul(p->q_v1, r_sq(w));
         r = r_add(a, bw);
-        if (!(a > RC(0.01)) || !(r <= MF_RE_MAX)) {
+        /* a radius, positive and finite (Q_V1 < 0 at a high spin, or an
+         * infinite Q_V1 in the float build, would make it neither) */
+        if (!(a > RC(0.01)) || !(r > RC(0.01)) || !(r <= MF_RE_MAX)) {
             return;
         }
         e->r = r;
