@@ -576,6 +576,46 @@ static void test_turn_slip_clamps_and_signs(void **state)
     assert_true(a.fx == b.fx && a.fy == -b.fy && a.mz == -b.mz);
 }
 
+/* With the spin given, Romega / R0 = a + Q_V1 (Omega R0 / LONGVL)^2: a
+ * negative Q_V1 at a high spin takes it to 0 and below, where no rolling
+ * radius exists; Re and the channels built on it are not valid there
+ * (neither is anything else flagged that is not finite: float build, Q_V1
+ * infinite). At a moderate spin the same set gives a valid Re. */
+static void test_ext_spin_radius_positive(void **state)
+{
+    const grip_mf_params *p = tire("MagicFormula61_Paramerters");
+    grip_mf_params q = *p;
+    grip_mf_input in = mk(0.0, 0.0, 0.0, 4000.0, 0.0, 16.0);
+    grip_mf_output_ext o;
+    grip_mf_spin sp = { 0 };
+    const uint32_t radius = GRIP_MF_EXT_RE | GRIP_MF_EXT_OMEGA | GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ;
+    int j;
+    (void)state;
+    q.q_v1 = to_qs(-0.5);
+    sp.omega = to_qs(20.0);
+    assert_true(grip_mf_eval_ext_spin(&q, &in, &sp, GRIP_MF_EXT_ALL, &o) >= 0);
+    assert_true((o.valid & GRIP_MF_EXT_RE) != 0u);
+    assert_true(from_qs(o.re) > 0.1);
+    sp.omega = to_qs(-500.0);
+    assert_true(grip_mf_eval_ext_spin(&q, &in, &sp, GRIP_MF_EXT_ALL, &o) >= 0);
+    assert_true((o.valid & radius) == 0u);
+    for (j = 0; j < NCH; j++) {
+        if ((CHANNELS[j].bit & radius) != 0u) {
+            assert_true(raw(&o, j) == 0);
+        }
+    }
+#if !GRIP_ARITH_FIXED
+    q.q_v1 = -INFINITY;
+    sp.omega = to_qs(-3000.0);
+    assert_true(grip_mf_eval_ext_spin(&q, &in, &sp, GRIP_MF_EXT_ALL, &o) >= 0);
+    assert_true((o.valid & radius) == 0u);
+    for (j = 0; j < NCH; j++) {
+        assert_true(isfinite(val(&o, j)));
+    }
+#endif
+    assert_no_saturation();
+}
+
 /* At phit = 0 MFeval's zeta7 is 0/0; grip takes the limit. No jump at 0:
  * the step of Mz from 0 to h is at most twice the step from h to 2h (+ 4
  * LSB in the fixed build, 1e-6 relative in float), on both sides, h = 1e-5
@@ -625,6 +665,7 @@ int main(void)
         cmocka_unit_test_setup(test_use_mode_arguments, setup),
         cmocka_unit_test_setup(test_turn_slip_clamps_and_signs, setup),
         cmocka_unit_test_setup(test_turn_slip_phit_zero_limit, setup),
+        cmocka_unit_test_setup(test_ext_spin_radius_positive, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
