@@ -341,12 +341,15 @@ def _judge_truth_run(veh, tr, tire_path, t, est):
 
 def learned_values(vname, cache):
     """The learned configuration of one vehicle: its vehicle values (the
-    generic ones with stiff_est = 1, roll_est = 1) and the C float build's
-    blob after the vehicle's learning drive (judge.learn)."""
+    generic ones with stiff_est = 1, roll_est = 1, and est_eval.EXTRA, the
+    options every run gets) and the C float build's blob after the
+    vehicle's learning drive (judge.learn)."""
     from grip_tools.sim.independent import judge, mb
     values = judge.oem_vehicle(mb.Vehicle(vname))
     taught = judge.learn(vname, values, {"float": ("binding", "float")}, cache)
-    return dict(values, stiff_est=1, roll_est=1), taught["float"]
+    run_values = dict(values, stiff_est=1, roll_est=1)
+    run_values.update(est_eval.EXTRA)
+    return run_values, taught["float"]
 
 
 def learned_run(vname, mname, sname, cache, values, learned):
@@ -382,15 +385,16 @@ def judge_learned(cache, full=False):
 
 
 def fitted_characterization(vname, cache):
-    """judge.characterize's ramp steer and fit for one vehicle (the fitted
-    configuration's tire and roll values), cached in cache/."""
+    """judge.characterize's runs and fits for one vehicle (the fitted
+    configuration's tire and roll values), cached in cache/ (redone when
+    the cache holds another version of the procedure)."""
     from grip_tools.sim.independent import judge
     os.makedirs(cache, exist_ok=True)
     path = os.path.join(cache, f"characterization_{vname}.json")
     if os.path.exists(path):
         with open(path) as f:
             c = json.load(f)
-        if os.path.exists(c["tir"]):
+        if os.path.exists(c["tir"]) and c.get("characterization") == judge.CHARACTERIZATION:
             return c
     c = judge.characterize(vname, cache, cache)
     with open(path, "w") as f:
@@ -654,11 +658,12 @@ def _run(out, judges, runs_dir, full, av21_log, consts):
         print(f"integrity: {j} done", file=sys.stderr)
     summary, detail, limit = table(res)
     with open(os.path.join(out, "integrity.json"), "w") as f:
-        json.dump({"consts": list(consts), "judges": res}, f, indent=1)
+        json.dump({"consts": list(consts), "vehicle_extra": dict(est_eval.EXTRA), "judges": res}, f, indent=1)
     note = f" with {', '.join(consts)}" if consts else ""
     # the options that decide what the table holds
     cmd = "grip est-eval --integrity" + (" --full" if full else "") + (
-        "" if list(judges) == list(JUDGES) else f" --judges {','.join(judges)}")
+        "" if list(judges) == list(JUDGES) else f" --judges {','.join(judges)}") + "".join(
+        f" --{k.replace('_', '-')}" for k in ("bank_est", "stiff_est", "roll_est") if est_eval.EXTRA.get(k))
     with open(os.path.join(out, "integrity_table.md"), "w") as f:
         f.write(f"<!-- written by `{cmd}`{note}; do not edit -->\n\n## Summary\n\n" + summary
                 + "\n## Every run\n\n" + detail

@@ -12,9 +12,10 @@ two configurations an OEM could have:
            the sensors' data-sheet latencies; no drag or rolling resistance
            (the model has none); tire tests/data/mfeval-tir/
            PacejkaBook_Defaults.tir; everything else grip_est_config_default
-  fitted   the same, plus what a constant-speed ramp steer on dry asphalt
-           with wheel-force transducers gives (characterize): the lateral
-           Magic Formula group fitted with `grip fit-mf --model fy` (start
+  fitted   the same, plus what a constant-speed ramp steer and a straight
+           braking run on dry asphalt with wheel-force transducers give
+           (characterize): the lateral and longitudinal Magic Formula groups
+           fitted with `grip fit-mf --model fy` / `--model fx` (start
            PacejkaBook_Defaults, its other groups kept), the roll gradient
            and the front share of the lateral load transfer; the tire
            declared as fitted to the car (tire_tol FITTED_TIRE_TOL, the
@@ -103,6 +104,14 @@ def selection_error(vehicles=None, manoeuvres=None, surfaces=None):
 # load dependence of the peak are not in its data) and PKY2
 FIT_FIX = "pcy1,pey1,pey2,pky2,pky4,pdy2"
 FIT_PKY2 = 8.0
+# its longitudinal fit, from a straight braking run to the ABS's slip band
+# (manoeuvres.brake_ramp): peak, its load dependence, curvature and slip
+# stiffness free; the shape factor, the curvature's load and sign terms and
+# the shifts held (a braking run at one camber, slips 0 - 12 %, has nothing
+# of them in its data)
+FIT_FIX_X = "pcx1,pex2,pex3,pex4,pdx3,phx1,phx2,pvx1,pvx2,pkx3"
+# the version of characterize's procedure, kept with its cached results
+CHARACTERIZATION = 2
 # runs whose step is halved once to measure the integration error
 # (the low-speed one, with its sub-steps, only with --full)
 STEP_CHECK = (("bmw320i", "sine-dwell", "dry"),)
@@ -233,44 +242,73 @@ def _merge_tir(base_path, fragment, out_path, header):
         f.write(text)
 
 
-def characterize(vname, out_dir, work_dir):
-    """The ramp steer of one vehicle on dry asphalt -> fitted_<vehicle>.tir
-    in out_dir, and the measured roll gradient and front roll share.
-    Returns a dict (tir path, values, fit report)."""
-    from grip_tools.fit import mf as fit_mf
+def _wheel_data(vname, manoeuvre, slip, force):
+    """The four wheels' (slip, Fz, force) of one dry characterization run,
+    moving steps, |slip| below its limit and Fz above 200 N, thinned to about
+    3,000 points; and the run's truth."""
     veh = mb.Vehicle(vname)
-    sc = man_mod.build("ramp-steer", veh, 1.0)
-    sim = mb.simulate(veh, sc, 1.0)
+    sim = mb.simulate(veh, man_mod.build(manoeuvre, veh, 1.0), 1.0)
     t = np.arange(sensors.DELAY, sim["t"][-1], sensors.STEP)
     tr = sensors.truth(sim, veh, t)
     mov = tr["vx"] > 5.0
-    alpha = np.concatenate([tr[f"alpha_{w}"][mov] for w in mb.WHEELS])
+    x = np.concatenate([tr[f"{slip}_{w}"][mov] for w in mb.WHEELS])
     fz = np.concatenate([tr[f"fz_{w}"][mov] for w in mb.WHEELS])
-    fy = np.concatenate([tr[f"fy_{w}"][mov] for w in mb.WHEELS])
-    keep = (np.abs(alpha) < 15.0 / DEG) & (fz > 200.0)
-    alpha, fz, fy = alpha[keep], fz[keep], fy[keep]
-    step = max(1, len(alpha) // 3000)
+    f = np.concatenate([tr[f"{force}_{w}"][mov] for w in mb.WHEELS])
+    keep = (np.abs(x) < (15.0 / DEG if slip == "alpha" else 0.3)) & (fz > 200.0)
+    x, fz, f = x[keep], fz[keep], f[keep]
+    step = max(1, len(x) // 3000)
+    return {slip: x[::step], "fz": fz[::step], force: f[::step]}, tr
+
+
+def _fit_group(data, model, start, fix, work_dir, name):
+    """grip fit-mf of one group from start with fix held -> (the group's
+    .tir fragment, fit-mf's report)."""
+    from grip_tools.fit import mf as fit_mf
+    import contextlib
+    import io
+    csv = os.path.join(work_dir, f"{name}_wheels.csv")
+    units = {"alpha": "rad", "kappa": "-", "fz": "N", "fx": "N", "fy": "N"}
+    sensors.write_csv(csv, {f"{k}[{units[k]}]": v for k, v in data.items()})
+    frag = os.path.join(work_dir, f"{name}_{model}.tir")
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        rc = fit_mf.main([csv, "--model", model, "--tir", start, "--start", "tir", "--fix", fix,
+                          "--tir-out", frag])
+    report = buf.getvalue()
+    if rc != 0:
+        raise RuntimeError(f"fit-mf --model {model} failed for {name}: {report}")
+    with open(frag) as f:
+        return f.read(), report
+
+
+def _fit_figures(report):
+    """fit-mf's RMS [N] and its largest error as a share of the largest
+    measured force."""
+    rms = re.search(r"RMS\s+([0-9.eE+-]+)", report)
+    share = re.search(r"/ ([0-9.eE+-]+) % of max", report)
+    return (float(rms.group(1)) if rms else None), (float(share.group(1)) / 100.0 if share else None)
+
+
+def characterize(vname, out_dir, work_dir):
+    """The ramp steer and the braking run of one vehicle on dry asphalt ->
+    fitted_<vehicle>.tir in out_dir (lateral group from the ramp,
+    longitudinal from the braking), and the ramp's measured roll gradient
+    and front roll share. Returns a dict (tir path, values, fit reports)."""
+    veh = mb.Vehicle(vname)
     os.makedirs(work_dir, exist_ok=True)
-    csv = os.path.join(work_dir, f"ramp_{vname}_wheels.csv")
-    sensors.write_csv(csv, {"alpha": alpha[::step], "fz": fz[::step], "fy": fy[::step]})
-    frag = os.path.join(work_dir, f"ramp_{vname}_fy.tir")
+    data_y, tr = _wheel_data(vname, "ramp-steer", "alpha", "fy")
     # start: PacejkaBook_Defaults with PKY2 = FIT_PKY2 (cornering stiffness
     # linear in load over a car's wheel loads, as the ramp's data are: with
     # PKY2 free the fit drives PKY1 and PKY2 to 1e4..1e5 along that line)
     start = os.path.join(work_dir, f"ramp_{vname}_start.tir")
     _merge_tir(GENERIC_TIR, f"PKY2 = {FIT_PKY2}", start, "")
-    import contextlib
-    import io
-    buf = io.StringIO()
-    with contextlib.redirect_stdout(buf):
-        rc = fit_mf.main([csv, "--model", "fy", "--tir", start, "--start", "tir", "--fix", FIT_FIX,
-                          "--tir-out", frag])
-    report = buf.getvalue()
-    if rc != 0:
-        raise RuntimeError(f"fit-mf failed for {vname}: {report}")
-    with open(frag) as f:
-        fragment = f.read()
+    frag_y, report = _fit_group(data_y, "fy", start, FIT_FIX, work_dir, f"ramp_{vname}")
+    lateral = os.path.join(work_dir, f"ramp_{vname}_lateral.tir")
+    _merge_tir(start, frag_y, lateral, "")
+    data_x, _ = _wheel_data(vname, "brake-ramp", "kappa", "fx")
+    frag_x, report_x = _fit_group(data_x, "fx", lateral, FIT_FIX_X, work_dir, f"brake_{vname}")
     # roll gradient and front share of the lateral load transfer, linear range
+    mov = tr["vx"] > 5.0
     ay = tr["ay_kin"]
     lin = mov & (np.abs(ay) > 1.0) & (np.abs(ay) < 4.0)
     roll_gradient = float(np.polyfit(ay[lin], tr["roll"][lin], 1)[0])
@@ -281,17 +319,20 @@ def characterize(vname, out_dir, work_dir):
     values = dict(roll_gradient=round(max(0.0, min(0.05, roll_gradient)), 6),
                   roll_split_front=round(max(0.0, min(1.0, split)), 4))
     out_tir = os.path.join(out_dir, f"fitted_{vname}.tir")
-    header = (f"$ grip independent judge: {veh.label} tire, lateral group fitted with `grip fit-mf --model fy "
+    header = (f"$ grip independent judge: {veh.label} tire. Lateral group fitted with `grip fit-mf --model fy "
               f"--start tir --fix {FIT_FIX}` from PacejkaBook_Defaults.tir with PKY2 = {FIT_PKY2} to the four "
-              f"wheels of a dry ramp steer at 80 km/h ({len(alpha[::step])} points); every other group "
-              f"PacejkaBook_Defaults' (tools/grip_tools/sim/independent/judge.py)\n")
-    _merge_tir(start, fragment, out_tir, header)
-    rms = re.search(r"RMS\s+([0-9.eE+-]+)", report)
-    # the largest error as a share of the largest measured |Fy|
-    share = re.search(r"/ ([0-9.eE+-]+) % of max", report)
-    return dict(vehicle=vname, tir=out_tir, values=values, fit_points=int(len(alpha[::step])),
-                fit_report=report.strip().splitlines()[:6], fit_rms_N=float(rms.group(1)) if rms else None,
-                fit_max_share=float(share.group(1)) / 100.0 if share else None,
+              f"wheels of a dry ramp steer at 80 km/h ({len(data_y['alpha'])} points); longitudinal group with "
+              f"`grip fit-mf --model fx --start tir --fix {FIT_FIX_X}` to the four wheels of a dry straight "
+              f"braking run to the ABS's slip band from 100 km/h ({len(data_x['kappa'])} points); every other "
+              f"group PacejkaBook_Defaults' (tools/grip_tools/sim/independent/judge.py)\n")
+    _merge_tir(lateral, frag_x, out_tir, header)
+    rms, share = _fit_figures(report)
+    rms_x, share_x = _fit_figures(report_x)
+    return dict(vehicle=vname, tir=out_tir, values=values, characterization=CHARACTERIZATION,
+                fit_points=int(len(data_y["alpha"])), fit_report=report.strip().splitlines()[:6],
+                fit_rms_N=rms, fit_max_share=share,
+                fit_x_points=int(len(data_x["kappa"])), fit_x_report=report_x.strip().splitlines()[:6],
+                fit_x_rms_N=rms_x, fit_x_max_share=share_x,
                 ay_max=float(np.max(np.abs(ay[mov]))))
 
 
@@ -679,12 +720,13 @@ def summary_md(results, configs, builds, in_family, step_err, chars):
                          f"{d['beta_true_max_deg']:.1f} |")
         lines.append("")
     if chars:
-        lines.append("## Fitted configuration (ramp steer, dry, 80 km/h)\n")
-        lines.append("| vehicle | fitted tire | fit RMS [N] | points | roll gradient [rad/(m/s^2)] | front roll share | mu_true per unit road factor (generic / fitted) |")
+        lines.append("## Fitted configuration (ramp steer at 80 km/h and braking from 100 km/h, dry)\n")
+        lines.append("| vehicle | fitted tire | Fy fit RMS [N] / points | Fx fit RMS [N] / points | roll gradient [rad/(m/s^2)] | front roll share | mu_true per unit road factor (generic / fitted) |")
         lines.append("|---|---|---|---|---|---|---|")
         for c in chars:
-            lines.append(f"| {c['vehicle']} | {os.path.basename(c['tir'])} | {_f(c.get('fit_rms_N'), '.0f')} | "
-                         f"{c['fit_points']} | {c['values']['roll_gradient']:.4f} | {c['values']['roll_split_front']:.3f} | "
+            lines.append(f"| {c['vehicle']} | {os.path.basename(c['tir'])} | {_f(c.get('fit_rms_N'), '.0f')} / "
+                         f"{c['fit_points']} | {_f(c.get('fit_x_rms_N'), '.0f')} / {c.get('fit_x_points', '-')} | "
+                         f"{c['values']['roll_gradient']:.4f} | {c['values']['roll_split_front']:.3f} | "
                          f"{c['mu_norm']['generic']:.3f} / {c['mu_norm']['fitted']:.3f} |")
         lines.append("")
     if any("learned" in c for c in chars):

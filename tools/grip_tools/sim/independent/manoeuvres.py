@@ -247,12 +247,11 @@ def double_lane_change(veh, mu_surface, v0=70 * KMH, offset=3.5, x_in=20.0, len_
                     meta=dict(offset=offset))
 
 
-def brake_in_turn(veh, mu_surface, v0=80 * KMH, ay=4.0, decel=4.0, t_brake=3.5, v_release=6.0):
-    d = veh.linear_delta(v0, ay)
+def _braking(v0, t_brake, v_release, demand):
+    """The speed program of a braking run: v0 held until t_brake, then the
+    braking demand(t) [m/s^2, > 0] until vx falls below v_release, rolling
+    from then on."""
     state = {"released": False}
-
-    def steer(drv, t, x, dt):
-        return _ramp(t, 0.3, 0.5, d)
 
     def speed(drv, t, x):
         if t < t_brake:
@@ -260,7 +259,17 @@ def brake_in_turn(veh, mu_surface, v0=80 * KMH, ay=4.0, decel=4.0, t_brake=3.5, 
         if state["released"] or x[mb.VX] < v_release:
             state["released"] = True
             return ("coast",)
-        return ("accel", -decel * min(1.0, (t - t_brake) / 0.2))
+        return ("accel", -demand(t))
+    return speed
+
+
+def brake_in_turn(veh, mu_surface, v0=80 * KMH, ay=4.0, decel=4.0, t_brake=3.5, v_release=6.0):
+    d = veh.linear_delta(v0, ay)
+
+    def steer(drv, t, x, dt):
+        return _ramp(t, 0.3, 0.5, d)
+
+    speed = _braking(v0, t_brake, v_release, lambda t: decel * min(1.0, (t - t_brake) / 0.2))
     dur = t_brake + v0 / decel * 1.3 + 1.0
     return Scenario("brake-in-turn", v0, dur, steer, speed, meta=dict(delta=d, t_brake=t_brake))
 
@@ -270,15 +279,7 @@ def mu_step(veh, mu_surface, v0=80 * KMH, t_brake=1.0, v_release=6.0):
     mu_hi = max(mu_surface, mu_surface * rel_after)
     decel = 0.8 * mb.G * mu_hi
     x_step = v0 * (t_brake + 1.0)
-    state = {"released": False}
-
-    def speed(drv, t, x):
-        if t < t_brake:
-            return ("hold", v0, 0.0)
-        if state["released"] or x[mb.VX] < v_release:
-            state["released"] = True
-            return ("coast",)
-        return ("accel", -decel * min(1.0, (t - t_brake) / 0.2))
+    speed = _braking(v0, t_brake, v_release, lambda t: decel * min(1.0, (t - t_brake) / 0.2))
 
     def road(t, x):
         return 0.0, 0.0, (rel_after if x[mb.X_] >= x_step else 1.0)
@@ -339,6 +340,15 @@ def ramp_steer(veh, mu_surface, v0=80 * KMH, rate=0.01, t0=1.0, duration=None):
     return Scenario("ramp-steer", v0, duration, steer, lambda drv, t, x: ("hold", v0, 0.0))
 
 
+def brake_ramp(veh, mu_surface, v0=100 * KMH, t0=1.0, rate=3.0, v_release=8.0):
+    """Straight-line braking whose demand rises by rate [m/s^2 per s] until
+    the ABS holds the wheels at its slip band (6 - 12 %), released at
+    v_release: the tire's longitudinal characterization run
+    (judge.characterize), not a judged manoeuvre."""
+    speed = _braking(v0, t0, v_release, lambda t: min(-Driver.A_MIN, rate * (t - t0)))
+    return Scenario("brake-ramp", v0, t0 + v0 / (0.5 * mb.G) + 1.0, lambda drv, t, x, dt: 0.0, speed)
+
+
 def learning_drive(veh, mu_surface, v0=80 * KMH, duration=90.0):
     """Ordinary driving on a dry road for the estimator's online stiffness
     learning (judge.learn): 80 km/h held, a weave of three incommensurate
@@ -385,6 +395,8 @@ MANOEUVRES = {
 def build(name, vehicle, surface_factor):
     if name == "ramp-steer":
         return ramp_steer(vehicle, surface_factor)
+    if name == "brake-ramp":
+        return brake_ramp(vehicle, surface_factor)
     if name == "learning-drive":
         return learning_drive(vehicle, surface_factor)
     if name == "learning-drive-long":
