@@ -104,6 +104,16 @@ class CommandLineTests(unittest.TestCase):
             self.assertIn(said, err.getvalue(), args)
 
 
+    def test_table_header_names_the_estimator_options(self):
+        # a table written with --bank-est says so (the header named only the
+        # set and the judges)
+        from grip_tools.evaluate import est_eval, integrity
+        self.assertEqual(integrity.table_command(True, ["fitted"]), "grip est-eval --integrity --full --judges fitted")
+        with mock.patch.dict(est_eval.EXTRA, {"bank_est": 1}):
+            self.assertEqual(integrity.table_command(False, list(integrity.JUDGES)),
+                             "grip est-eval --integrity --bank-est")
+
+
 class RunAwayTests(unittest.TestCase):
     """The generic-tire run-away: the car's rear tire much stiffer than the
     estimator's (the estimator's rear LKY at 0.4 x the car's), a steady turn

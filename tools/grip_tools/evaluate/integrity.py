@@ -636,6 +636,15 @@ def run(out, judges=JUDGES, runs_dir=None, full=False, av21_log=None, consts=(),
             p.stop()
 
 
+def table_command(full, judges):
+    """The command line that decides what the table holds, for its header:
+    the set, the judges and the estimator options every run got
+    (est_eval.EXTRA)."""
+    return "grip est-eval --integrity" + (" --full" if full else "") + (
+        "" if list(judges) == list(JUDGES) else f" --judges {','.join(judges)}") + "".join(
+        f" --{k.replace('_', '-')}" for k in ("bank_est", "stiff_est", "roll_est") if est_eval.EXTRA.get(k))
+
+
 def _run(out, judges, runs_dir, full, av21_log, consts):
     res = {}
     for j in judges:
@@ -660,10 +669,7 @@ def _run(out, judges, runs_dir, full, av21_log, consts):
     with open(os.path.join(out, "integrity.json"), "w") as f:
         json.dump({"consts": list(consts), "vehicle_extra": dict(est_eval.EXTRA), "judges": res}, f, indent=1)
     note = f" with {', '.join(consts)}" if consts else ""
-    # the options that decide what the table holds
-    cmd = "grip est-eval --integrity" + (" --full" if full else "") + (
-        "" if list(judges) == list(JUDGES) else f" --judges {','.join(judges)}") + "".join(
-        f" --{k.replace('_', '-')}" for k in ("bank_est", "stiff_est", "roll_est") if est_eval.EXTRA.get(k))
+    cmd = table_command(full, judges)
     with open(os.path.join(out, "integrity_table.md"), "w") as f:
         f.write(f"<!-- written by `{cmd}`{note}; do not edit -->\n\n## Summary\n\n" + summary
                 + "\n## Every run\n\n" + detail
