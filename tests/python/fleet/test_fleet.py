@@ -93,24 +93,34 @@ def run(out, *extra, cl=None, on_result=None):
     return fr.run_fleet(a, client=cl, on_result=on_result)
 
 
-def same_bits(a, b):
-    """Two tables equal bit for bit: same schema, every column the same
-    validity and the same bytes of every value (NaN included)."""
+def bits_differ(a, b):
+    """Where two tables differ bit for bit (schema, row count, then each
+    column's validity and the bytes of every value, NaN included): None
+    when they are the same, else the first difference in words (the column
+    and the first differing row's values)."""
     import pyarrow as pa
-    if a.schema != b.schema or a.num_rows != b.num_rows:
-        return False
+    if a.schema != b.schema:
+        return f"schema: {a.schema} / {b.schema}"
+    if a.num_rows != b.num_rows:
+        return f"rows: {a.num_rows} / {b.num_rows}"
     for n in a.column_names:
         x, y = a[n].combine_chunks(), b[n].combine_chunks()
-        if x.null_count or y.null_count:
-            if x.is_null().to_pylist() != y.is_null().to_pylist():
-                return False
+        xl, yl = x.to_pylist(), y.to_pylist()
         if pa.types.is_floating(x.type):
             xs, ys = x.to_numpy(zero_copy_only=False), y.to_numpy(zero_copy_only=False)
-            if xs.tobytes() != ys.tobytes():
-                return False
-        elif not x.equals(y):
-            return False
-    return True
+            same = x.is_null().to_pylist() == y.is_null().to_pylist() and xs.tobytes() == ys.tobytes()
+        else:
+            same = x.is_null().to_pylist() == y.is_null().to_pylist() and x.equals(y)
+        if not same:
+            k = next((i for i in range(len(xl)) if repr(xl[i]) != repr(yl[i])), 0)
+            ids = a["log_id"].to_pylist() if "log_id" in a.column_names else None
+            return f"column {n}, row {k}{f' ({ids[k]})' if ids else ''}: {xl[k]!r} / {yl[k]!r}"
+    return None
+
+
+def same_bits(a, b):
+    """Two tables equal bit for bit (bits_differ)."""
+    return bits_differ(a, b) is None
 
 
 def table(path, drop=("wall_s", "cpu_s", "rss_peak_mb")):
@@ -206,8 +216,8 @@ class FleetRunTests(unittest.TestCase):
         info = run(out, "--steps", *BACKEND, cl=cl, on_result=kill_one)
         self.assertTrue(killed)
         self.assertEqual(info["rows"], N + 1)
-        self.assertTrue(same_bits(table(os.path.join(self.serial, "logs.parquet")),
-                                  table(os.path.join(out, "logs.parquet"))))
+        self.assertIsNone(bits_differ(table(os.path.join(self.serial, "logs.parquet")),
+                                      table(os.path.join(out, "logs.parquet"))))
         # the nanny restarts the worker
         deadline = time.time() + 60
         while len(cl.scheduler_info()["workers"]) < 2 and time.time() < deadline:
