@@ -397,12 +397,18 @@ def run_fleet(a, specs=None, client=None, on_result=None):
                               key=[f"grip-fleet-{d['log_id']}-{os.urandom(4).hex()}" for d in tasks])
             by_key = {f.key: d for f, d in zip(futs, tasks)}
             for f in as_completed(futs):
-                if f.status == "finished":
+                # result(), not the status: a future whose result lived on a
+                # worker that died after as_completed yielded it is lost and
+                # computed again (result() waits for that); only a task Dask
+                # gave up on raises here
+                try:
                     r = f.result()
-                else:
+                except (KeyboardInterrupt, SystemExit):
+                    raise
+                except BaseException as exc:    # the task's error, KilledWorker, a cancellation
                     d = by_key[f.key]
                     r = {"log_id": d["log_id"], "skipped": False, "bands": [],
-                         "rows": task_failed_rows(d, opts, f.exception())}
+                         "rows": task_failed_rows(d, opts, exc)}
                 f.release()
                 take(r)
     finally:
