@@ -105,13 +105,13 @@ def bits_differ(a, b):
         return f"rows: {a.num_rows} / {b.num_rows}"
     for n in a.column_names:
         x, y = a[n].combine_chunks(), b[n].combine_chunks()
-        xl, yl = x.to_pylist(), y.to_pylist()
+        same = x.is_null().to_pylist() == y.is_null().to_pylist()
         if pa.types.is_floating(x.type):
-            xs, ys = x.to_numpy(zero_copy_only=False), y.to_numpy(zero_copy_only=False)
-            same = x.is_null().to_pylist() == y.is_null().to_pylist() and xs.tobytes() == ys.tobytes()
+            same = same and (x.to_numpy(zero_copy_only=False).tobytes() == y.to_numpy(zero_copy_only=False).tobytes())
         else:
-            same = x.is_null().to_pylist() == y.is_null().to_pylist() and x.equals(y)
+            same = same and x.equals(y)
         if not same:
+            xl, yl = x.to_pylist(), y.to_pylist()
             k = next((i for i in range(len(xl)) if repr(xl[i]) != repr(yl[i])), 0)
             ids = a["log_id"].to_pylist() if "log_id" in a.column_names else None
             return f"column {n}, row {k}{f' ({ids[k]})' if ids else ''}: {xl[k]!r} / {yl[k]!r}"

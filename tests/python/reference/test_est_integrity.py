@@ -103,7 +103,6 @@ class CommandLineTests(unittest.TestCase):
             self.assertEqual(cm.exception.code, 2, args)
             self.assertIn(said, err.getvalue(), args)
 
-
     def test_table_header_names_the_estimator_options(self):
         # a table written with --bank-est says so (the header named only the
         # set and the judges)

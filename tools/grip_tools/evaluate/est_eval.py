@@ -122,6 +122,8 @@ def sim_resistance():
 
 # estimator settings every run of this invocation adds (--bank-est: {"bank_est": 1})
 EXTRA = {}
+# the estimator switches that est-eval's options (--bank-est, ...) put in EXTRA
+EXTRA_OPTIONS = ("bank_est", "stiff_est", "roll_est")
 
 
 def est_vehicle():
@@ -822,12 +824,7 @@ def main(argv=None):
         from grip_tools.evaluate import integrity
         a.judges = ",".join(integrity.JUDGES)
     EXTRA.clear()
-    if a.bank_est:
-        EXTRA["bank_est"] = 1
-    if a.stiff_est:
-        EXTRA["stiff_est"] = 1
-    if a.roll_est:
-        EXTRA["roll_est"] = 1
+    EXTRA.update({k: 1 for k in EXTRA_OPTIONS if getattr(a, k)})
     if a.integrity:
         from grip_tools.evaluate import integrity
         judges = [j for j in a.judges.split(",") if j]

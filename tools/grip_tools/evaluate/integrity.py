@@ -642,7 +642,7 @@ def table_command(full, judges):
     (est_eval.EXTRA)."""
     return "grip est-eval --integrity" + (" --full" if full else "") + (
         "" if list(judges) == list(JUDGES) else f" --judges {','.join(judges)}") + "".join(
-        f" --{k.replace('_', '-')}" for k in ("bank_est", "stiff_est", "roll_est") if est_eval.EXTRA.get(k))
+        f" --{k.replace('_', '-')}" for k in est_eval.EXTRA_OPTIONS if est_eval.EXTRA.get(k))
 
 
 def _run(out, judges, runs_dir, full, av21_log, consts):

@@ -242,11 +242,10 @@ def _merge_tir(base_path, fragment, out_path, header):
         f.write(text)
 
 
-def _wheel_data(vname, manoeuvre, slip, force):
+def _wheel_data(veh, manoeuvre, slip, force):
     """The four wheels' (slip, Fz, force) of one dry characterization run,
     moving steps, |slip| below its limit and Fz above 200 N, thinned to about
     3,000 points; and the run's truth."""
-    veh = mb.Vehicle(vname)
     sim = mb.simulate(veh, man_mod.build(manoeuvre, veh, 1.0), 1.0)
     t = np.arange(sensors.DELAY, sim["t"][-1], sensors.STEP)
     tr = sensors.truth(sim, veh, t)
@@ -296,7 +295,7 @@ def characterize(vname, out_dir, work_dir):
     and front roll share. Returns a dict (tir path, values, fit reports)."""
     veh = mb.Vehicle(vname)
     os.makedirs(work_dir, exist_ok=True)
-    data_y, tr = _wheel_data(vname, "ramp-steer", "alpha", "fy")
+    data_y, tr = _wheel_data(veh, "ramp-steer", "alpha", "fy")
     # start: PacejkaBook_Defaults with PKY2 = FIT_PKY2 (cornering stiffness
     # linear in load over a car's wheel loads, as the ramp's data are: with
     # PKY2 free the fit drives PKY1 and PKY2 to 1e4..1e5 along that line)
@@ -305,7 +304,7 @@ def characterize(vname, out_dir, work_dir):
     frag_y, report = _fit_group(data_y, "fy", start, FIT_FIX, work_dir, f"ramp_{vname}")
     lateral = os.path.join(work_dir, f"ramp_{vname}_lateral.tir")
     _merge_tir(start, frag_y, lateral, "")
-    data_x, _ = _wheel_data(vname, "brake-ramp", "kappa", "fx")
+    data_x, _ = _wheel_data(veh, "brake-ramp", "kappa", "fx")
     frag_x, report_x = _fit_group(data_x, "fx", lateral, FIT_FIX_X, work_dir, f"brake_{vname}")
     # roll gradient and front share of the lateral load transfer, linear range
     mov = tr["vx"] > 5.0
