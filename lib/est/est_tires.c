@@ -33,6 +33,18 @@ static grip_real_t kappa_at_friction(grip_real_t kappa, grip_real_t mu, grip_rea
     return r_clamp(tk, RC(-1.5), RC(1.5));
 }
 
+/* A tire's or an axle's utilization on the friction ellipse: Fx against
+ * the braking peak (Fx / Fz scaled by mu_xy, the lateral peak over the
+ * longitudinal one), Fy against the lateral peak mu_cap = mu mu0 (a tire
+ * whose peaks differ saturates in braking at its own Fx peak, not at the
+ * lateral one). fz > 0. */
+static inline grip_real_t ellipse_util(grip_real_t fx, grip_real_t fy, grip_real_t fz, grip_real_t mu_xy, grip_real_t mu_cap)
+{
+    grip_real_t fxn = r_div(r_mul(fx, mu_xy), fz);
+    grip_real_t fyn = r_div(fy, fz);
+    return r_div(r_sqrt(r_add(r_sq(fxn), r_sq(fyn))), mu_cap);
+}
+
 /* Quasi-static load transfer from ax and ay on the static loads. Kept out
  * of est_tires' frame, which is under the Magic Formula evaluations. */
 static EST_NOINLINE void loads(const grip_est_t *est, est_ctx_t *s, grip_est_output_t *out)
@@ -89,7 +101,7 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
         grip_real_t alpha = r_atan(t);       /* kinematic, then lagged (relaxation) */
         grip_real_t kappa = R_ZERO;
         grip_real_t lever = r_add(r_mul(est->xw[i], cdi), r_mul(est->yw[i], sdi));
-        grip_real_t c2, dady, dadr, ca, ck, g, u, dfda, dfdmu, fxn, fyn, fzr, ka;
+        grip_real_t c2, dady, dadr, ca, ck, g, u, dfda, dfdmu, fzr, ka;
         grip_mf_input ti;
         grip_mf_output to;
         grip_status_t st;
@@ -139,20 +151,13 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
         if (s->ws_ok[i] && st >= 0) {
             s->valid |= GRIP_EST_V_WHEEL(i);
         }
-        /* utilization and local slope, on the friction ellipse: Fx against
-         * the braking peak (fxn scaled by mu_xy), Fy against the lateral
-         * one (a tire whose peaks differ saturates in braking at its own
-         * Fx peak, not at the lateral one) */
+        /* utilization and local slope, on the friction ellipse */
+        u = R_ZERO;
+        fzr = R_ZERO;
         if (out->fz[i] > RCL(50.0)) {
-            fxn = r_div(r_mul(out->fx[i], est->mu_xy[axle]), out->fz[i]);
-            fyn = r_div(out->fy[i], out->fz[i]);
+            u = ellipse_util(out->fx[i], out->fy[i], out->fz[i], est->mu_xy[axle], r_mul(s->mu, est->mu0[axle]));
             fzr = r_div(out->fz[i], est->fz_static[axle]);
-        } else {
-            fxn = R_ZERO;
-            fyn = R_ZERO;
-            fzr = R_ZERO;
         }
-        u = r_div(r_sqrt(r_add(r_sq(fxn), r_sq(fyn))), r_mul(s->mu, est->mu0[axle]));
         out->util[i] = r_min(u, RC(1.5));
         umax_est = r_max(umax_est, out->util[i]);
         g = r_max(RC(EST_G_MIN), r_sqrt(r_sub(R_ONE, r_min(u, R_ONE))));
@@ -211,9 +216,7 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
         grip_real_t fzx = r_add(out->fz[2 * i], out->fz[2 * i + 1]); /* grip-deviation: bugprone-implicit-widening-of-multiplication-result i <= 1 */
         grip_real_t fxa = r_add(out->fx[2 * i], out->fx[2 * i + 1]);
         if (fzx > RCL(100.0)) {
-            grip_real_t fxn = r_div(fxa, fzx), fyn = r_div(out->fy_axle[i], fzx);
-            out->util_axle[i] = r_min(r_div(r_sqrt(r_add(r_sq(r_mul(fxn, est->mu_xy[i])), r_sq(fyn))), r_mul(s->mu, est->mu0[i])),
-                                      RC(1.5));
+            out->util_axle[i] = r_min(ellipse_util(fxa, out->fy_axle[i], fzx, est->mu_xy[i], r_mul(s->mu, est->mu0[i])), RC(1.5));
         }
     }
     s->ay_m = r_div(sfy, c->mass);

@@ -811,6 +811,21 @@ class DrivingResistanceTests(unittest.TestCase):
         self.assertLessEqual(worst["declared"], 0.1)
 
 
+class FrictionEllipseTests(unittest.TestCase):
+    """est_tires.c ellipse_util: the tire's and the axle's utilization,
+    Fx against the braking peak and Fy against the lateral one."""
+
+    def test_each_peak_and_their_ellipse_reach_one(self):
+        fz, mu, mu0 = 4000.0, 0.8, 1.1
+        mu_x = 1.3                        # the braking peak Fx / Fz at mu = 1
+        mu_xy = mu0 / mu_x                # the lateral peak over the braking one
+        fx_pk, fy_pk = mu * mu_x * fz, mu * mu0 * fz
+        for fx, fy in ((fx_pk, 0.0), (-fx_pk, 0.0), (0.0, fy_pk), (0.6 * fx_pk, -0.8 * fy_pk)):
+            self.assertAlmostEqual(float(est_ref.ellipse_util(fx, fy, fz, mu_xy, mu * mu0)), 1.0, places=12)
+        # Fx measured against the lateral peak instead would read 1.18
+        self.assertAlmostEqual(float(est_ref.ellipse_util(fx_pk, 0.0, fz, 1.0, mu * mu0)), mu_x / mu0, places=12)
+
+
 class AbsBrakingTests(unittest.TestCase):
     """Straight braking with an ABS: a braked wheel past 15 % slip is a
     friction measurement (docs/estimator.md, "5. Friction")."""

@@ -404,6 +404,13 @@ def _clamp(x, lo, hi):
     return min(max(x, lo), hi)
 
 
+def ellipse_util(fx, fy, fz, mu_xy, mu_cap):
+    """est_tires.c ellipse_util: a tire's or an axle's utilization on the
+    friction ellipse, Fx against the braking peak (Fx / Fz scaled by mu_xy),
+    Fy against the lateral peak mu_cap = mu mu0. fz > 0."""
+    return np.sqrt((fx * mu_xy / fz) ** 2 + (fy / fz) ** 2) / mu_cap
+
+
 def _between(x, f):
     """x limited to the interval between 0 and f (either sign of f)."""
     return np.clip(x, np.minimum(f, 0.0), np.maximum(f, 0.0))
@@ -1387,12 +1394,10 @@ class Estimator:
         caw = np.array([self.c_alpha[a] for a in axle])
         ckw = np.array([self.c_kappa[a] for a in axle])
         big = fz > 50.0
-        fxn = np.where(big, fx / np.where(big, fz, 1.0), 0.0)
-        fyn = np.where(big, fy / np.where(big, fz, 1.0), 0.0)
         fzr = np.where(big, fz / fzst, 0.0)
-        # on the friction ellipse (est_tires.c)
+        # on the friction ellipse
         xyw = np.array([self.mu_xy[a] for a in axle])
-        u = np.sqrt((fxn * xyw) ** 2 + fyn ** 2) / (mu * mu0w)
+        u = np.where(big, ellipse_util(fx, fy, np.where(big, fz, 1.0), xyw, mu * mu0w), 0.0)
         o["util"] = np.minimum(u, 1.5)
         g = np.maximum(G_MIN, np.sqrt(1.0 - np.minimum(u, 1.0)))
         ca = fzr * caw * kw
@@ -1430,8 +1435,8 @@ class Estimator:
             fzx = fz[2 * a] + fz[2 * a + 1]
             fxa = fx[2 * a] + fx[2 * a + 1]
             if fzx > 100.0:
-                o["util_axle"][a] = min(math.hypot(fxa / fzx * self.mu_xy[a], (fy[2 * a] + fy[2 * a + 1]) / fzx)
-                                        / (mu * self.mu0[a]), 1.5)
+                o["util_axle"][a] = min(float(ellipse_util(fxa, fy[2 * a] + fy[2 * a + 1], fzx, self.mu_xy[a],
+                                                           mu * self.mu0[a])), 1.5)
         # the measured ax also carries the drag and the rolling resistance
         # (vx > 0 here: the lateral observer runs above V_OFF)
         s.ay_m, s.racc = sfy / m, smz / c["iz"]
