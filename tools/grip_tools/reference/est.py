@@ -1376,13 +1376,16 @@ class Estimator:
         apk = np.array([self.alpha_pk[0], self.alpha_pk[0], self.alpha_pk[1], self.alpha_pk[1]])
         kw = np.array([self.stf_k[0], self.stf_k[0], self.stf_k[1], self.stf_k[1]])
         ta = np.clip(kw * alpha / mu, -apk, apk) * side
-        fx = np.zeros(4)
-        fy = np.zeros(4)
-        mz = np.zeros(4)
-        for a in range(2):
-            sl = slice(2 * a, 2 * a + 2)
-            fxa, fya, mza = _tire(c["tire"][a], tk[sl], ta[sl], fz[sl], vxw[sl])
-            fx[sl], fy[sl], mz[sl] = fxa, fya * side[sl], mza * side[sl]
+        if c["tire"][0] is c["tire"][1]:
+            # one tire on both axles: the four wheels in one evaluation
+            fx, fy, mz = _tire(c["tire"][0], tk, ta, fz, vxw)
+            fy, mz = fy * side, mz * side
+        else:
+            fx, fy, mz = np.zeros(4), np.zeros(4), np.zeros(4)
+            for a in range(2):
+                sl = slice(2 * a, 2 * a + 2)
+                fxa, fya, mza = _tire(c["tire"][a], tk[sl], ta[sl], fz[sl], vxw[sl])
+                fx[sl], fy[sl], mz[sl] = fxa, fya * side[sl], mza * side[sl]
         fx, fy, mz = mu * fx, mu * fy, mu * mz
         o.update(kappa=kappa, alpha=alpha, fx=fx, fy=fy, mz=mz)
         for i in range(4):
