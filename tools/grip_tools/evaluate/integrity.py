@@ -113,8 +113,10 @@ def reference_run(cfg, value, valid, friction=()):
     res["flags"] = np.array([o["flags"] for o in outs], dtype=np.int64)
     # the kinematic vy's increments and its deviation's, the filter's vy
     # deviation (a reference trace, absent while the lateral filter is off)
-    for k in ("kin_dvy", "kin_dsd", "filter_vy_sd"):
+    for k in ("kin_dvy", "kin_dsd", "filter_vy_sd", "filter_vy_sd_tire", "mu_hyp_vy_sd"):
         res[k] = np.array([o.get(k, np.nan) for o in outs])
+    # each axle's slip-angle shift under mu's hypothesis (0 without one)
+    res["mu_hyp_shift"] = np.array([o.get("mu_hyp_shift", (0.0, 0.0)) for o in outs])
     return res
 
 
@@ -193,6 +195,19 @@ def judge_run(t, est, truth, moving, outside=None):
         # without the kinematic deviation itself within the limit
         fb = est["filter_vy_sd"] / np.maximum(np.abs(est["vx"]), est_ref.V_OFF) * np.cos(est["beta"]) ** 2
         r["withheld"]["filter_over"] = int(np.sum(wh & ~(fb <= est_ref.BETA_SD_MAX)))
+        if "mu_hyp_vy_sd" in est:
+            # of those, the ones whose largest part is mu's term (friction
+            # not yet identified), and how alike that hypothesis shifts the
+            # two axles' slip angles: |front - rear| over the larger, median.
+            # Alike, the steering and the yaw rate (which fix alpha_f -
+            # alpha_r) cannot exclude it: friction is unobservable there
+            hyp = wh & ~(fb <= est_ref.BETA_SD_MAX) & (est["mu_hyp_vy_sd"] > est["filter_vy_sd_tire"])
+            r["withheld"]["mu_term"] = int(hyp.sum())
+            if hyp.any():
+                sh = np.abs(est["mu_hyp_shift"][hyp])
+                gap = np.abs(sh[:, 0] - sh[:, 1]) / np.maximum(np.max(sh, axis=1), 1e-9)
+                r["withheld"]["mu_shift_gap_med"] = float(np.median(gap))
+                r["withheld"]["mu_shift_med_deg"] = float(np.median(np.max(sh, axis=1)) * DEG)
     if truth.get("vy") is not None and "kin_dvy" in est:
         r["kin_drift"] = kinematic_drift(t, est["kin_dvy"], est["kin_dsd"], truth["vy"], moving)
     r["kin_steps"] = int(np.sum(((est["flags"] & est_ref.F_BETA_KIN) != 0) & moving))

@@ -2127,6 +2127,9 @@ class Estimator:
         # (integrity.judge_run), not a C output: this step's kinematic
         # increment of vy and of its deviation, the filter's deviation [m/s]
         o["kin_dvy"], o["kin_dsd"], o["filter_vy_sd"] = dvy, rate * c["dt"], sd_dmu
+        # and the parts of the filter's deviation [m/s]: without mu's term,
+        # and mu's term alone (why beta is withheld: integrity.judge_run)
+        o["filter_vy_sd_tire"], o["mu_hyp_vy_sd"] = sd_dyn, sd_h
         x0 = float(self.x[0])
         # the filter's share c: 1 while its deviation is at most Q0 of the
         # kinematic one's, 0 from where it is the larger, linear between
@@ -2182,9 +2185,13 @@ class Estimator:
         covers the hypothesis SEC_K sigma away."""
         mu = float(self.x[2])
         mu_h = max(mu - SEC_K * S[2] * math.sqrt(self.P[2, 2]), s.mu_lb)
+        # each axle's shift under the hypothesis [rad], a reference trace:
+        # alike on both axles, the steering and the yaw rate (which fix
+        # alpha_f - alpha_r) cannot tell mu_h from mu (integrity.judge_run)
+        o["mu_hyp_shift"] = (0.0, 0.0)
         if mu_h >= mu:
             return 0.0
-        d = 0.0
+        shift = [0.0, 0.0]
         for ax in (0, 1):
             a = 0.5 * abs(float(o["alpha"][2 * ax]) + float(o["alpha"][2 * ax + 1]))
             row = self.fy_shape[ax]
@@ -2192,8 +2199,9 @@ class Estimator:
             ya = shape_lookup(row, xa)
             num, den = ya * (mu / mu_h) - ya, row[-1] - ya
             xh = 1.0 if num >= den else xa + (1.0 - xa) * (num / den)
-            d = max(d, self.alpha_pk[ax] * mu_h * xh - a)
-        return d / SEC_K
+            shift[ax] = self.alpha_pk[ax] * mu_h * xh - a
+        o["mu_hyp_shift"] = (shift[0], shift[1])
+        return max(0.0, shift[0], shift[1]) / SEC_K
 
     def check_consistency(self, s):
         """est_checks.c, before the outputs: with the lateral filter on, the
