@@ -194,14 +194,15 @@ def judge_run(t, est, truth, moving, outside=None):
         # beta_sd_max: no share of the kinematic vy could have kept it valid
         # without the kinematic deviation itself within the limit
         fb = est["filter_vy_sd"] / np.maximum(np.abs(est["vx"]), est_ref.V_OFF) * np.cos(est["beta"]) ** 2
-        r["withheld"]["filter_over"] = int(np.sum(wh & ~(fb <= est_ref.BETA_SD_MAX)))
+        over = wh & ~(fb <= est_ref.BETA_SD_MAX)
+        r["withheld"]["filter_over"] = int(over.sum())
         if "mu_hyp_vy_sd" in est:
             # of those, the ones whose largest part is mu's term (friction
             # not yet identified), and how alike that hypothesis shifts the
             # two axles' slip angles: |front - rear| over the larger, median.
             # Alike, the steering and the yaw rate (which fix alpha_f -
             # alpha_r) cannot exclude it: friction is unobservable there
-            hyp = wh & ~(fb <= est_ref.BETA_SD_MAX) & (est["mu_hyp_vy_sd"] > est["filter_vy_sd_tire"])
+            hyp = over & (est["mu_hyp_vy_sd"] > est["filter_vy_sd_tire"])
             r["withheld"]["mu_term"] = int(hyp.sum())
             if hyp.any():
                 sh = np.abs(est["mu_hyp_shift"][hyp])
