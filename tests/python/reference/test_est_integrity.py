@@ -94,7 +94,8 @@ class CommandLineTests(unittest.TestCase):
                            (["--road-friction", "0"], "--road-friction 0.0"),
                            (["--road-friction", "nan"], "--road-friction nan"),
                            (["--manoeuvres", "step-steer"], "--manoeuvres: only with --independent"),
-                           (["--independent"], "one at a time")):
+                           (["--independent"], "one at a time"),
+                           (["--bank-est", "--no-bank-est"], "--no-bank-est: one at a time")):
             err = io.StringIO()
             with tempfile.TemporaryDirectory() as d, contextlib.redirect_stderr(err):
                 with self.assertRaises(SystemExit) as cm:
@@ -111,6 +112,9 @@ class CommandLineTests(unittest.TestCase):
         with mock.patch.dict(est_eval.EXTRA, {"bank_est": 1}):
             self.assertEqual(integrity.table_command(False, list(integrity.JUDGES)),
                              "grip est-eval --integrity --bank-est")
+        with mock.patch.dict(est_eval.EXTRA, {"bank_est": 0}):
+            self.assertEqual(integrity.table_command(True, ["fitted"]),
+                             "grip est-eval --integrity --full --judges fitted --no-bank-est")
 
 
 class RunAwayTests(unittest.TestCase):
@@ -336,9 +340,9 @@ class IndependentJudgeTests(unittest.TestCase):
         # a further 14 % of the run (mu not yet identified), beta is valid
         # on >= 90 % of its steps, and below that under the generic tire's
         # default tolerance (the configuration's declaration before). With
-        # the term the larger tolerance gives more availability (81 against
-        # 76 %): it moves the blend towards the kinematic vy, whose bound
-        # has no friction term
+        # the term the larger tolerance gives more availability: it moves
+        # the blend towards the kinematic vy, whose bound has no friction
+        # term
         from grip_tools.sim.independent import judge
         integrity, c, r = self._fitted_run("sine-dwell", "wet")
         fit_max = c["fit_max_share"]

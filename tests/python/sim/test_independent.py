@@ -167,6 +167,17 @@ class JudgeTests(unittest.TestCase):
                       "model tire / generic f / r |\n|---|---|---|---|---|---|\n"
                       "| car | float | 1.354 | 0.53 | 7 | 1.39 / 1.39 |\n", md)
 
+    def test_fitted_configuration_estimates_the_bank(self):
+        # the fitted configuration follows docs/estimator/road.md (a tire
+        # fitted to the car: bank_est = 1) on top of the generic values;
+        # the invocation's options come last (--no-bank-est: 0)
+        c = {"values": {"roll_gradient": 0.004, "roll_share_f": 0.6}}
+        generic = {"mass": 1000.0, "bank_est": 0}
+        v = judge.fitted_config_values(generic, c)
+        self.assertEqual((v["bank_est"], v["tire_tol"], v["roll_gradient"], v["mass"]),
+                         (1, judge.FITTED_TIRE_TOL, 0.004, 1000.0))
+        self.assertEqual(judge.fitted_config_values(generic, c, {"bank_est": 0})["bank_est"], 0)
+
     def test_bicycle_baseline_is_kinematic_at_low_speed(self):
         bp = dict(m=1200.0, lf=1.1, lr=1.5, cf=8e4, cr=8e4)
         b = judge.bicycle_beta(bp, np.array([0.05]), np.array([1.0]))

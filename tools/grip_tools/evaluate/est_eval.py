@@ -120,7 +120,7 @@ def sim_resistance():
     return dict(cda=float(veh.cda), air_density=float(veh.rho), crr=float(qsy1))
 
 
-# estimator settings every run of this invocation adds (--bank-est: {"bank_est": 1})
+# estimator settings every run of this invocation adds (--bank-est: {"bank_est": 1}; --no-bank-est: {"bank_est": 0})
 EXTRA = {}
 # the estimator switches that est-eval's options (--bank-est, ...) put in EXTRA
 EXTRA_OPTIONS = ("bank_est", "stiff_est", "roll_est")
@@ -785,7 +785,10 @@ def main(argv=None):
                          "docs/estimator/stiffness.md)")
     ap.add_argument("--bank-est", action="store_true",
                     help="every run with the estimator's bank_est = 1 (the road's bank estimated, "
-                         "docs/estimator/road.md); default the configuration's 0")
+                         "docs/estimator/road.md); default the configuration's (the fitted one's 1, "
+                         "the others' 0)")
+    ap.add_argument("--no-bank-est", action="store_true",
+                    help="every run with bank_est = 0, the fitted configuration's included")
     ap.add_argument("--av21", nargs="?", const=av21_log.LOG, default=None, metavar="LOG",
                     help="also run the C builds on the Dallara AV-21 log (default %(const)s): <out>/av21.json, "
                          "av21.png, av21_standin.tir")
@@ -820,11 +823,15 @@ def main(argv=None):
             ap.error(f"{opt}: only with {mode}")
     if a.independent and a.integrity:
         ap.error("--independent and --integrity: one at a time")
+    if a.bank_est and a.no_bank_est:
+        ap.error("--bank-est and --no-bank-est: one at a time")
     if a.judges is None:
         from grip_tools.evaluate import integrity
         a.judges = ",".join(integrity.JUDGES)
     EXTRA.clear()
     EXTRA.update({k: 1 for k in EXTRA_OPTIONS if getattr(a, k)})
+    if a.no_bank_est:
+        EXTRA["bank_est"] = 0
     if a.integrity:
         from grip_tools.evaluate import integrity
         judges = [j for j in a.judges.split(",") if j]

@@ -291,11 +291,10 @@ def independent_run(vname, mname, sname, cache, fitted=None):
     veh = mb.Vehicle(vname)
     t, value, valid, tr = _run_inputs(vname, mname, sname, cache)
     if fitted is None:
-        tire_path, extra = judge.GENERIC_TIR, {}
+        tire_path, values = judge.GENERIC_TIR, {**judge.oem_vehicle(veh), **est_eval.EXTRA}
     else:
-        tire_path, extra = fitted["tir"], judge.fitted_values(fitted)
-    cfg = est_ref.config(tir.load_params(tire_path), rate_hz=100,
-                         **dict(judge.oem_vehicle(veh), **extra, **est_eval.EXTRA))
+        tire_path, values = fitted["tir"], judge.fitted_config_values(judge.oem_vehicle(veh), fitted, est_eval.EXTRA)
+    cfg = est_ref.config(tir.load_params(tire_path), rate_hz=100, **values)
     return _judge_truth_run(veh, tr, tire_path, t, reference_run(cfg, value, valid, road_friction(veh, t, tr)))
 
 
@@ -658,7 +657,8 @@ def table_command(full, judges):
     (est_eval.EXTRA)."""
     return "grip est-eval --integrity" + (" --full" if full else "") + (
         "" if list(judges) == list(JUDGES) else f" --judges {','.join(judges)}") + "".join(
-        f" --{k.replace('_', '-')}" for k in est_eval.EXTRA_OPTIONS if est_eval.EXTRA.get(k))
+        (f" --{k.replace('_', '-')}" if est_eval.EXTRA[k] else f" --no-{k.replace('_', '-')}")
+        for k in est_eval.EXTRA_OPTIONS if k in est_eval.EXTRA)
 
 
 def _run(out, judges, runs_dir, full, av21_log, consts):

@@ -19,7 +19,9 @@ two configurations an OEM could have:
            PacejkaBook_Defaults, its other groups kept), the roll gradient
            and the front share of the lateral load transfer; the tire
            declared as fitted to the car (tire_tol FITTED_TIRE_TOL, the
-           calibration of docs/estimator/integrity.md)
+           calibration of docs/estimator/integrity.md) and the road's bank
+           estimated (bank_est = 1, what docs/estimator/road.md asks of a
+           tire fitted to the car; est-eval --no-bank-est: without it)
   learned  generic, with the estimator's online stiffness and roll-gradient
            learning on (stiff_est = 1, roll_est = 1) and starting from what it learned in 90 s of
            ordinary driving on a dry road (learn: the learning drive, its
@@ -222,8 +224,17 @@ FITTED_TIRE_TOL = 0.1
 
 def fitted_values(characterization):
     """The fitted configuration's vehicle values beyond the generic ones:
-    characterize's measured roll values and the tire's declared tolerance."""
-    return dict(characterization["values"], tire_tol=FITTED_TIRE_TOL)
+    characterize's measured roll values, the tire's declared tolerance and
+    the bank estimated (a tire fitted to the car leaves the bank observer
+    little to mistake for a bank: docs/estimator/road.md)."""
+    return dict(characterization["values"], tire_tol=FITTED_TIRE_TOL, bank_est=1)
+
+
+def fitted_config_values(values, characterization, extra=None):
+    """The fitted configuration's vehicle values: the generic ones (values),
+    fitted_values, then the options every run of the invocation gets
+    (extra, est_eval.EXTRA: --no-bank-est turns bank_est off here too)."""
+    return {**values, **fitted_values(characterization), **(extra or {})}
 
 
 def _merge_tir(base_path, fragment, out_path, header):
@@ -890,7 +901,7 @@ def run(out, full=False, vehicles=None, manoeuvres=None, surfaces=None, jobs=Non
                                               mu_norm=mu_norm(veh, GENERIC_TIR), bicycle=bp)}
             for c in chars:
                 if c["vehicle"] == v:
-                    vf = dict(values, **fitted_values(c))
+                    vf = fitted_config_values(values, c, vehicle_extra)
                     per_vehicle[v]["fitted"] = dict(tir=c["tir"], lines=vehicle_lines(vf), values=vf,
                                                     mu_norm=mu_norm(veh, c["tir"]), bicycle=bp)
                     c["mu_norm"] = {"generic": per_vehicle[v]["generic"]["mu_norm"],
