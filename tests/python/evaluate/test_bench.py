@@ -117,12 +117,40 @@ class InlineKernels(unittest.TestCase):
         self.assertEqual(flags, [0, 1, 0, 0, 1, 0])
 
 
+class Profile(unittest.TestCase):
+    """grip bench --profile: a Cortex-M trace's instructions per call of a
+    case, by the function whose address range holds each one."""
+
+    # bench_mark at 0x10; three functions, one of size 0 (counted as 2 bytes)
+    FNS = [(0x10, 4, "bench_mark"), (0x100, 0x20, "case_body"), (0x200, 0x10, "kernel"), (0x300, 0, "tiny")]
+
+    def test_spans_by_function(self):
+        m = 0x10
+        # the image runs "empty" then "eval" twice each: mark, call, mark;
+        # between calls the harness runs code outside every span
+        pcs = [0x50, m, 0x100, m, 0x60,               # empty, call 1
+               m, 0x104, m,                            # empty, call 2
+               m, 0x100, 0x200, 0x204, 0x300, 0x400, m,  # eval, call 1
+               m, 0x108, 0x200, m]                     # eval, call 2
+        prof = bench.profile_spans(iter(pcs), m, self.FNS, ["empty", "eval"], "^eval$")
+        self.assertEqual(list(prof), ["eval"])
+        self.assertEqual(prof["eval"], {"case_body": 1.0, "kernel": 1.5, "tiny": 0.5, "?": 0.5})
+        md = bench.profile_md("m4f", prof)
+        self.assertIn("### eval (m4f): 4 instructions per call", md)
+        # the most expensive function first
+        self.assertLess(md.index("| kernel | 1.5 | 42.9 % |"), md.index("| case_body | 1.0 |"))
+
+    def test_no_case_matches(self):
+        self.assertEqual(bench.profile_spans(iter([0x10, 0x100, 0x10]), 0x10, self.FNS, ["a"], "^b$"), {})
+
 
 class CommandLine(unittest.TestCase):
     def test_bad_options_are_refused_before_measuring(self):
         import contextlib
         import io
-        for args, said in ((["--cases", "("], "--cases '('"), (["--targets", "m4f,m5x"], "--targets: m5x")):
+        for args, said in ((["--cases", "("], "--cases '('"), (["--targets", "m4f,m5x"], "--targets: m5x"),
+                           (["--profile", "["], "--profile '['"),
+                           (["--profile", "mf61", "--targets", ""], "--profile: needs a target")):
             err = io.StringIO()
             with contextlib.redirect_stderr(err), self.assertRaises(SystemExit) as cm:
                 bench.main(args)

@@ -28,6 +28,10 @@ ROOT = REPO_ROOT
 TRACE_PC = re.compile(r"^Trace \d+: 0x[0-9a-f]+ \[[0-9a-f]+/([0-9a-f]+)/")
 
 
+# the benchmark image of each --targets name and the qemu board it runs on
+TARGET_IMAGES = {"m4f": ("m4f-float", "mps2-an386"), "m0p": ("m0p-fixed", "mps2-an385")}
+
+
 def host_ns(arith):
     exe = os.path.join(ROOT, f"build/{arith}-gcc/bench/bench_host")
     out = subprocess.run([exe], check=True, capture_output=True, text=True).stdout
@@ -133,16 +137,10 @@ M_HELPER_FN = re.compile(r"^(__aeabi_\w+|__\w+(di|si)\d|__clz\w+|__ctz\w+|__gnu_
 
 def symbol_classes(elf):
     """Sorted function starts and, per start, 1 kernel / 0 other / None libgcc helper."""
-    nm = subprocess.run(["arm-none-eabi-nm", "-S", "--defined-only", elf], check=True,
-                        capture_output=True, text=True).stdout
-    syms = []
-    for l in nm.splitlines():
-        p = l.split()
-        if len(p) == 4 and p[2] in "tTwW":
-            cls = 1 if M_KERNEL_FN.match(p[3]) else (None if M_HELPER_FN.match(p[3]) else 0)
-            syms.append((int(p[0], 16) & ~1, int(p[1], 16), cls))
-    syms.sort()
-    return [s[0] for s in syms], syms
+    syms = [(a, size, 1 if M_KERNEL_FN.match(n) else (None if M_HELPER_FN.match(n) else 0))
+            for a, size, n in function_table(elf)]
+    syms.sort(key=lambda x: (x[0], x[1], -1 if x[2] is None else x[2]))
+    return [x[0] for x in syms], syms
 
 
 # grip's float kernels (lib/arith/f32_kernels.h) are inlined into their callers:
@@ -184,46 +182,62 @@ def decodedline_ranges(text, sources=INLINE_KERNEL_SOURCES):
     return addrs, flags
 
 
+def _qemu_trace(target, machine, d):
+    """Runs the target's benchmark image under qemu-system-arm with the
+    block trace (one instruction per block) into directory d; returns (elf,
+    trace log path, the case names in the image's order)."""
+    elf = os.path.join(ROOT, f"build/{target}/grip-bench.elf")
+    log = os.path.join(d, "trace.log")
+    run = subprocess.run(["qemu-system-arm", "-M", machine, "-nographic", "-singlestep",
+                          "-semihosting-config", "enable=on,target=native",
+                          "-d", "exec,nochain", "-D", log, "-kernel", elf],
+                         capture_output=True, text=True, timeout=600)
+    if run.returncode != 0:
+        raise RuntimeError(f"qemu {target}: exit {run.returncode}: {run.stdout[-500:]}")
+    # semihosting SYS_WRITE0 output arrives on stderr
+    names = [l[len("bench: "):] for l in (run.stdout + run.stderr).splitlines() if l.startswith("bench: ")]
+    return elf, log, names
+
+
+def _trace_pcs(log):
+    """The program counters of a qemu block trace, in order."""
+    with open(log) as f:
+        for line in f:
+            m = TRACE_PC.match(line)
+            if m:
+                yield int(m.group(1), 16)
+
+
+def _mark_address(elf):
+    nm = subprocess.run(["arm-none-eabi-nm", elf], check=True, capture_output=True, text=True).stdout
+    return next(int(l.split()[0], 16) & ~1 for l in nm.splitlines() if l.endswith(" bench_mark"))
+
+
 def qemu_counts(target, machine):
     """Per case: (mean, max, mean inside the math kernels) instructions per call."""
-    elf = os.path.join(ROOT, f"build/{target}/grip-bench.elf")
-    nm = subprocess.run(["arm-none-eabi-nm", elf], check=True, capture_output=True, text=True).stdout
-    mark = next(int(l.split()[0], 16) & ~1 for l in nm.splitlines() if l.endswith(" bench_mark"))
-    starts, syms = symbol_classes(elf)
-    k_addrs, k_flags = inline_kernel_ranges(elf)
     with tempfile.TemporaryDirectory() as d:
-        log = os.path.join(d, "trace.log")
-        run = subprocess.run(["qemu-system-arm", "-M", machine, "-nographic", "-singlestep",
-                              "-semihosting-config", "enable=on,target=native",
-                              "-d", "exec,nochain", "-D", log, "-kernel", elf],
-                             capture_output=True, text=True, timeout=600)
-        if run.returncode != 0:
-            raise RuntimeError(f"qemu {target}: exit {run.returncode}: {run.stdout[-500:]}")
-        # semihosting SYS_WRITE0 output arrives on stderr
-        names = [l[len("bench: "):] for l in (run.stdout + run.stderr).splitlines() if l.startswith("bench: ")]
+        elf, log, names = _qemu_trace(target, machine, d)
+        mark = _mark_address(elf)
+        starts, syms = symbol_classes(elf)
+        k_addrs, k_flags = inline_kernel_ranges(elf)
         counts, kcounts, since, ksince = [], [], None, 0
         cls_last = 0
-        with open(log) as f:
-            for line in f:
-                m = TRACE_PC.match(line)
-                if not m:
-                    continue
-                pc = int(m.group(1), 16)
-                if pc == mark:
-                    if since is not None:
-                        counts.append(since)
-                        kcounts.append(ksince)
-                    since, ksince = 0, 0
-                elif since is not None:
-                    since += 1
-                    i = bisect.bisect_right(starts, pc) - 1
-                    if i >= 0 and pc < syms[i][0] + max(syms[i][1], 2):
-                        if syms[i][2] is not None:
-                            cls_last = syms[i][2]
-                    else:
-                        cls_last = 0
-                    j = bisect.bisect_right(k_addrs, pc) - 1
-                    ksince += cls_last or (k_flags[j] if j >= 0 else 0)
+        for pc in _trace_pcs(log):
+            if pc == mark:
+                if since is not None:
+                    counts.append(since)
+                    kcounts.append(ksince)
+                since, ksince = 0, 0
+            elif since is not None:
+                since += 1
+                i = bisect.bisect_right(starts, pc) - 1
+                if i >= 0 and pc < syms[i][0] + max(syms[i][1], 2):
+                    if syms[i][2] is not None:
+                        cls_last = syms[i][2]
+                else:
+                    cls_last = 0
+                j = bisect.bisect_right(k_addrs, pc) - 1
+                ksince += cls_last or (k_flags[j] if j >= 0 else 0)
     # marks come in pairs (start, end): keep the start->end intervals
     spans = counts[0::2]
     kspans = kcounts[0::2]
@@ -236,6 +250,75 @@ def qemu_counts(target, machine):
     return out
 
 
+def function_table(elf):
+    """Sorted (start, size, name) of the image's functions (nm -S)."""
+    nm = subprocess.run(["arm-none-eabi-nm", "-S", "--defined-only", elf], check=True,
+                        capture_output=True, text=True).stdout
+    fns = []
+    for l in nm.splitlines():
+        p = l.split()
+        if len(p) == 4 and p[2] in "tTwW":
+            fns.append((int(p[0], 16) & ~1, int(p[1], 16), p[3]))
+    fns.sort()
+    return fns
+
+
+def profile_spans(pcs, mark, fns, names, case_re):
+    """Per case whose name matches case_re: {function: instructions per
+    call}, each instruction counted in the function whose address range
+    holds it ("?" outside every one). pcs: the trace's program counters;
+    mark: bench_mark's address, called before and after every call of a
+    case; fns: function_table's; names: the cases in the image's order, each
+    run the same number of times."""
+    starts = [f[0] for f in fns]
+    spans, cur, n_marks = [], None, 0
+    for pc in pcs:
+        if pc == mark:
+            # marks come in pairs: a call's start, then its end
+            if n_marks % 2 == 0:
+                cur = {}
+                spans.append(cur)
+            else:
+                cur = None
+            n_marks += 1
+        elif cur is not None:
+            i = bisect.bisect_right(starts, pc) - 1
+            name = fns[i][2] if i >= 0 and pc < fns[i][0] + max(fns[i][1], 2) else "?"
+            cur[name] = cur.get(name, 0) + 1
+    per = len(spans) // len(names) if names else 0
+    out = {}
+    for k, case in enumerate(names):
+        if not per or not re.search(case_re, case):
+            continue
+        tot = {}
+        for sp in spans[k * per:(k + 1) * per]:
+            for fn, n in sp.items():
+                tot[fn] = tot.get(fn, 0) + n
+        out[case] = {fn: n / per for fn, n in tot.items()}
+    return out
+
+
+def qemu_profile(target, machine, case_re):
+    """profile_spans of the target's benchmark image run under qemu."""
+    with tempfile.TemporaryDirectory() as d:
+        elf, log, names = _qemu_trace(target, machine, d)
+        return profile_spans(_trace_pcs(log), _mark_address(elf), function_table(elf), names, case_re)
+
+
+def profile_md(target, prof):
+    """The profile of each case as a markdown table, the most expensive
+    function first."""
+    md = []
+    for case, per_fn in prof.items():
+        total = sum(per_fn.values())
+        md += [f"### {case} ({target}): {total:.0f} instructions per call", "",
+               "| function | instructions per call | share |", "|---|---|---|"]
+        md += [f"| {fn} | {n:.1f} | {100 * n / total:.1f} % |"
+               for fn, n in sorted(per_fn.items(), key=lambda x: (-x[1], x[0]))]
+        md.append("")
+    return "\n".join(md)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="grip bench", description=__doc__)
     ap.add_argument("--outdir", default=os.path.join(ROOT, "build/bench"))
@@ -244,22 +327,39 @@ def main(argv=None):
                          "while optimizing; the image still runs every case once)")
     ap.add_argument("--targets", default="m4f,m0p",
                     help="comma-separated Cortex-M images to run (m4f, m0p, or empty for none)")
+    ap.add_argument("--profile", default=None, metavar="REGEX",
+                    help="instead of the table: the Cortex-M instructions per call of each matching case "
+                         "by function (--targets' images; writes <outdir>/profile_<target>.md)")
     args = ap.parse_args(argv)
-    try:
-        re.compile(args.cases)
-    except re.error as e:
-        ap.error(f"--cases {args.cases!r}: not a regular expression ({e})")
+    for opt, val in (("--cases", args.cases), ("--profile", args.profile)):
+        try:
+            re.compile(val or "")
+        except re.error as e:
+            ap.error(f"{opt} {val!r}: not a regular expression ({e})")
     unknown = [t for t in args.targets.split(",") if t and t not in ("m4f", "m0p")]
     if unknown:
         ap.error(f"--targets: {', '.join(unknown)}: unknown (have m4f, m0p, or empty for none)")
     os.makedirs(args.outdir, exist_ok=True)
+    if args.profile is not None:
+        targets = [t for t in args.targets.split(",") if t]
+        if not targets:
+            ap.error("--profile: needs a target (--targets m4f, m0p)")
+        for t in targets:
+            prof = qemu_profile(*TARGET_IMAGES[t], args.profile)
+            if not prof:
+                ap.error(f"--profile {args.profile!r}: no case of the {t} image matches")
+            text = profile_md(t, prof)
+            with open(os.path.join(args.outdir, f"profile_{t}.md"), "w") as f:
+                f.write(text)
+            print(text)
+        return 0
     ns = {a: host_ns(a) for a in ("float", "fixed")}
     cases = [c for c in ns["float"] if re.search(args.cases, c)]
     ir = {a: {c: callgrind_ir(a, c) for c in cases} for a in ("float", "fixed")}
     targets = [t for t in args.targets.split(",") if t]
     none = {c: (float("nan"), float("nan"), float("nan")) for c in cases}
-    m4f = qemu_counts("m4f-float", "mps2-an386") if "m4f" in targets else none
-    m0p = qemu_counts("m0p-fixed", "mps2-an385") if "m0p" in targets else none
+    m4f = qemu_counts(*TARGET_IMAGES["m4f"]) if "m4f" in targets else none
+    m0p = qemu_counts(*TARGET_IMAGES["m0p"]) if "m0p" in targets else none
     header = ["case", "host ns float", "host ns fixed", "x86 instr float", "x86 instr fixed",
               "x86 float in kernels", "x86 fixed in kernels",
               "M4F instr mean", "M4F instr max", "M4F in kernels", "M0+ instr mean", "M0+ instr max",
