@@ -683,6 +683,11 @@ def av21_report(log, outdir, bins):
                                         np.where(ins["vx"] > 10.0, beta_ins, np.nan) * DEG),
              "beta_bicycle_vs_ins": _stats(np.where(vb & (ins["vx"] > 10.0), beta_lin, np.nan) * DEG,
                                            np.where(ins["vx"] > 10.0, beta_ins, np.nan) * DEG),
+             # every step above 10 m/s, valid or not (what the flags do not decide), and beta = 0 there
+             "beta_all_vs_ins": _stats(np.where(ins["vx"] > 10.0, o["beta"], np.nan) * DEG,
+                                       np.where(ins["vx"] > 10.0, beta_ins, np.nan) * DEG),
+             "beta_zero_all_vs_ins": _stats(np.where(ins["vx"] > 10.0, 0.0, np.nan),
+                                            np.where(ins["vx"] > 10.0, beta_ins, np.nan) * DEG),
              "beta_est_max_deg": float(np.nanmax(np.abs(np.where(vb, o["beta"], np.nan))) * DEG),
              "yaw_rate_bias_end": float(o["yaw_rate_bias"][-1]),
              "yaw_rate_bias_range": [float(np.min(o["yaw_rate_bias"])), float(np.max(o["yaw_rate_bias"]))],
