@@ -213,6 +213,22 @@ def _mark_address(elf):
     return next(int(l.split()[0], 16) & ~1 for l in nm.splitlines() if l.endswith(" bench_mark"))
 
 
+def mark_spans(pcs, mark):
+    """The program counters of each call a benchmark case makes: bench_mark
+    is called before and after every call, so the marks come in pairs (a
+    call's start, its end); what runs between an end and the next start is
+    the harness. Yields one list per call, in order."""
+    span, n_marks = None, 0
+    for pc in pcs:
+        if pc == mark:
+            if n_marks % 2 == 1:
+                yield span
+            span = [] if n_marks % 2 == 0 else None
+            n_marks += 1
+        elif span is not None:
+            span.append(pc)
+
+
 def qemu_counts(target, machine):
     """Per case: (mean, max, mean inside the math kernels) instructions per call."""
     with tempfile.TemporaryDirectory() as d:
@@ -220,16 +236,11 @@ def qemu_counts(target, machine):
         mark = _mark_address(elf)
         starts, syms = symbol_classes(elf)
         k_addrs, k_flags = inline_kernel_ranges(elf)
-        counts, kcounts, since, ksince = [], [], None, 0
+        spans, kspans = [], []
         cls_last = 0
-        for pc in _trace_pcs(log):
-            if pc == mark:
-                if since is not None:
-                    counts.append(since)
-                    kcounts.append(ksince)
-                since, ksince = 0, 0
-            elif since is not None:
-                since += 1
+        for span in mark_spans(_trace_pcs(log), mark):
+            ksince = 0
+            for pc in span:
                 i = bisect.bisect_right(starts, pc) - 1
                 if i >= 0 and pc < syms[i][0] + max(syms[i][1], 2):
                     if syms[i][2] is not None:
@@ -238,9 +249,8 @@ def qemu_counts(target, machine):
                     cls_last = 0
                 j = bisect.bisect_right(k_addrs, pc) - 1
                 ksince += cls_last or (k_flags[j] if j >= 0 else 0)
-    # marks come in pairs (start, end): keep the start->end intervals
-    spans = counts[0::2]
-    kspans = kcounts[0::2]
+            spans.append(len(span))
+            kspans.append(ksince)
     per = len(spans) // len(names)
     out = {}
     empty = statistics.mean(spans[0:per])
@@ -271,20 +281,14 @@ def profile_spans(pcs, mark, fns, names, case_re):
     case; fns: function_table's; names: the cases in the image's order, each
     run the same number of times."""
     starts = [f[0] for f in fns]
-    spans, cur, n_marks = [], None, 0
-    for pc in pcs:
-        if pc == mark:
-            # marks come in pairs: a call's start, then its end
-            if n_marks % 2 == 0:
-                cur = {}
-                spans.append(cur)
-            else:
-                cur = None
-            n_marks += 1
-        elif cur is not None:
+    spans = []
+    for span in mark_spans(pcs, mark):
+        cur = {}
+        for pc in span:
             i = bisect.bisect_right(starts, pc) - 1
             name = fns[i][2] if i >= 0 and pc < fns[i][0] + max(fns[i][1], 2) else "?"
             cur[name] = cur.get(name, 0) + 1
+        spans.append(cur)
     per = len(spans) // len(names) if names else 0
     out = {}
     for k, case in enumerate(names):
