@@ -31,6 +31,46 @@ static grip_real_t spread_reference(grip_real_t v_mean, grip_real_t vmin, grip_r
     return v;
 }
 
+/* Wheel-speed reference while driving: on a front-driven car (drive_front
+ * exactly 1, an OEM datum) with its rear wheels not steered, the mean of
+ * the rear wheels while both are in the reference: they carry no drive
+ * torque, and their speed at the CG does not rest on the estimated vy.
+ * Else the slowest wheel, the one the drive slips least. The slowest of
+ * four noisy wheels reads low by about their noise: on a front-driven car
+ * in a circle ramp it held vx 0.2 - 0.5 % low, slip the tire model turned
+ * into a few hundred N of Fx per wheel. A steered undriven axle (rear
+ * drive) is no better a reference than the slowest wheel: its speed at the
+ * CG moves with the error of vy times the steering angle's tangent. */
+static grip_real_t drive_reference(const grip_est_t *est, const est_ctx_t *s, const grip_real_t *vcs,
+                                   const int *in_ref, grip_real_t vmin)
+{
+    if (est->cfg.drive_front == R_ONE && s->sr == R_ZERO && in_ref[2] && in_ref[3]) {
+        return r_mul(RC(0.5), r_add(vcs[2], vcs[3]));
+    }
+    return vmin;
+}
+
+/* Whether the reference wheels agree: their spread within 0.5 m/s + 5 %
+ * of the prediction, or, of three or more, the spread of the others than
+ * the one farthest from their mean (a driven wheel slipping in a corner
+ * below the outlier test, which the reference already leaves out: taken as
+ * a disagreement it left vx to ax at 0.5 /s, 0.6 m/s low beyond the limit
+ * of a circle ramp). vmin2, vmax2: the second smallest and largest. */
+static int wheels_agree(grip_real_t vmin, grip_real_t vmin2, grip_real_t vmax, grip_real_t vmax2, grip_real_t mean,
+                        int n, grip_real_t vx_pred)
+{
+    grip_real_t tol = r_add(RC(0.5), r_mul(RC(0.05), r_abs(vx_pred)));
+    grip_real_t rest;
+    if (r_sub(vmax, vmin) <= tol) {
+        return 1;
+    }
+    if (n < 3) {
+        return 0;
+    }
+    rest = (r_add(vmax, vmin) > r_mul(RC(2.0), mean)) ? r_sub(vmax2, vmin) : r_sub(vmax, vmin2);
+    return rest <= tol; /* grip-deviation: MISRA-10.3 comparison result 0/1 returned as int */
+}
+
 void est_speed(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)
 {
     grip_real_t rate = est->rate;
@@ -39,7 +79,8 @@ void est_speed(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)
     int ax_ok = s->ax_ok, vs_ok = s->vs_ok;
     int i, n_ws = 0, wheels_ok = 1, lock = 0, spin = 0, stand = 0, at_rest, dead_reck = 0;
     int ws_ok[4];
-    grip_real_t vmin = RC(1000.0), vmax = RC(-1000.0), vsum = R_ZERO, v_ref = R_ZERO;
+    grip_real_t vmin = RC(1000.0), vmax = RC(-1000.0), vmin2 = RC(1000.0), vmax2 = RC(-1000.0);
+    grip_real_t vsum = R_ZERO, v_ref = R_ZERO;
     grip_real_t r_now = est->active ? est->x[1] : s->yaw;
     /* vy: the filter's; without it the kinematic value of a rear axle
      * rolling without lateral slip (low speed: vy - r lr = vx tan delta_r) */
@@ -48,7 +89,7 @@ void est_speed(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)
     grip_real_t vx_pred = r_add(est->vx, r_div(vx_rate(est, ax, r_now, vy_now, s->g_x), rate));
     grip_real_t k = R_ZERO, kk = R_ZERO;
     grip_real_t vcs[4];
-    int outl[4], n_good = 0;
+    int outl[4], in_ref[4], n_good = 0;
     /* a wheel steered beyond WS_STEER_MAX tells vx only through the
      * estimated vy: it enters the reference only when no wheel steered less
      * gives one (est_tuning.h) */
@@ -126,10 +167,26 @@ void est_speed(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)
     /* the reference uses the wheels that are not locked or spinning
      * (all valid ones when every wheel is) */
     for (i = 0; i < 4; ++i) {
-        if (ws_ok[i] && (!outl[i] || n_good == 0)) {
-            vmin = r_min(vmin, vcs[i]);
-            vmax = r_max(vmax, vcs[i]);
-            vsum = r_add(vsum, vcs[i]);
+        in_ref[i] = ws_ok[i] && (!outl[i] || n_good == 0); /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
+        if (in_ref[i]) {
+            grip_real_t v = vcs[i];
+            if (v < vmin) {
+                vmin2 = vmin;
+                vmin = v;
+            } else if (v < vmin2) {
+                vmin2 = v;
+            } else {
+                /* neither of the two smallest */
+            }
+            if (v > vmax) {
+                vmax2 = vmax;
+                vmax = v;
+            } else if (v > vmax2) {
+                vmax2 = v;
+            } else {
+                /* neither of the two largest */
+            }
+            vsum = r_add(vsum, v);
         }
     }
     if (n_good > 0) {
@@ -146,18 +203,19 @@ void est_speed(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)
         k = RC(EST_K_HI);
     } else if (n_ws > 0) {
         static const grip_real_t inv_n[5] = { RC(0.0), RC(1.0), RC(0.5), RC(1.0 / 3.0), RC(0.25) };
+        grip_real_t v_mean = r_mul(inv_n[n_ws], vsum);
         if (ax < RC(-EST_AX_TH)) {
             v_ref = vmax;
         } else if (ax > RC(EST_AX_TH)) {
-            v_ref = vmin;
+            v_ref = drive_reference(est, s, vcs, in_ref, vmin);
         } else {
-            v_ref = spread_reference(r_mul(inv_n[n_ws], vsum), vmin, vmax, vx_pred);
+            v_ref = spread_reference(v_mean, vmin, vmax, vx_pred);
         }
         {
             /* wheels agree with each other: trust them (fully when they also
              * agree with the prediction, at K_MID when all of them disagree
              * with it, e.g. after a long loss); otherwise K_LO */
-            int agree = r_sub(vmax, vmin) <= r_add(RC(0.5), r_mul(RC(0.05), r_abs(vx_pred))); /* grip-deviation: MISRA-10.3 comparison result 0/1 stored in an int flag */
+            int agree = wheels_agree(vmin, vmin2, vmax, vmax2, v_mean, n_ws, vx_pred);
             int trusted = agree && !lock && !spin; /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
             k = agree ? ((lock || spin) ? RC(EST_K_MID) : RC(EST_K_HI)) : RC(EST_K_LO); /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
             /* braking slips every wheel (the brakes act on all four): the

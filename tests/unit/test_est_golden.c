@@ -108,7 +108,7 @@ typedef struct {
     int aero_bank;   /* 1: the AERO_BANK configuration of tools/grip_tools/golden/est.py; 2: rear_steer = 1; 3: bank_est = 1;
                       * 4: stiff_est = 1; 5: kx_est = 1, drive_front = 0 (the file
                       * has one column more: the learned kx); 6: roll_est = 1 (one
-                      * column more: the roll gradient in use) */
+                      * column more: the roll gradient in use); 7: drive_front = 1 */
 } seq_t;
 
 static void run_sequence(const seq_t *sq)
@@ -120,7 +120,7 @@ static void run_sequence(const seq_t *sq)
     grip_input_sample_t in;
     err_stats e_vx, e_beta, e_yaw, e_bias, e_ref, e_mu, e_conf, e_fz, e_fy, e_alpha, e_kappa, e_fx, e_bsd, e_musd, e_vxsd, e_fysd,
         e_kx, e_rg;
-    int cols = C_OUT + O_COUNT + ((sq->aero_bank >= 5) ? 1 : 0);
+    int cols = C_OUT + O_COUNT + (((sq->aero_bank == 5) || (sq->aero_bank == 6)) ? 1 : 0);
     double kx_got = 1.0, kx_want = 1.0, rg_got = 0.0, rg_want = 0.0, rg_weave = 0.0;
     double fy_peak = 0.0;
     long rows = 0, mask_diff = 0;
@@ -164,6 +164,9 @@ static void run_sequence(const seq_t *sq)
     }
     if (sq->aero_bank == 6) {
         cfg.roll_est = 1u;
+    }
+    if (sq->aero_bank == 7) {
+        cfg.drive_front = to_qs(1.0);
     }
     assert_int_equal(grip_est_init(&est, &cfg), GRIP_OK);
     grip_debug_saturation_reset();
@@ -309,6 +312,7 @@ static const seq_t seqs[] = {
     { "est_stiffness_100hz.txt", 0.01, 0, 4 },
     { "est_stiffness_long_100hz.txt", 0.01, 0, 5 },
     { "est_roll_100hz.txt", 0.01, 0, 6 },
+    { "est_front_drive_100hz.txt", 0.01, 0, 7 },
 };
 
 static void test_bicycle_100hz(void **state) { (void)state; run_sequence(&seqs[0]); }
@@ -322,6 +326,7 @@ static void test_road_bank_100hz(void **state) { (void)state; run_sequence(&seqs
 static void test_stiffness_100hz(void **state) { (void)state; run_sequence(&seqs[8]); }
 static void test_stiffness_long_100hz(void **state) { (void)state; run_sequence(&seqs[9]); }
 static void test_roll_100hz(void **state) { (void)state; run_sequence(&seqs[10]); }
+static void test_front_drive_100hz(void **state) { (void)state; run_sequence(&seqs[11]); }
 
 int main(void)
 {
@@ -337,6 +342,7 @@ int main(void)
         cmocka_unit_test(test_stiffness_100hz),
         cmocka_unit_test(test_stiffness_long_100hz),
         cmocka_unit_test(test_roll_100hz),
+        cmocka_unit_test(test_front_drive_100hz),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -24,6 +24,10 @@ Input sequences (the C test replays exactly the same rows):
                   radius 0.4 % larger, run with kx_est = 1, drive_front = 0
                   (the longitudinal slip stiffness and the mismatch learned);
                   one column more than the others: the learned kx
+  front_drive_100hz the same drive on a front-driven car (front_drive_inputs
+                  below: the left front wheel 10 % fast while driving, ax
+                  0.1 m/s^2 high), run with drive_front = 1 (the rear
+                  axle's mean as the speed reference while driving)
   roll_100hz      the internal generator whose body rolls 0.015 rad/(m/s^2)
                   (the accelerometer reads its gravity), 22 m/s: a 30 s
                   weave, then 5 s into a left curve on a road banked 8 deg
@@ -288,6 +292,19 @@ DRIVE_PROFILE = [(2.0, 0.0), (5.0, 1.5), (7.0, 0.0), (10.0, 2.5), (11.0, 0.0), (
 DRIVE_SLALOM = (12.5, 14.0, 1.0)
 
 
+def front_drive_inputs():
+    """The straight drive of drive_inputs on a front-driven car, its
+    accelerometer reading 0.1 m/s^2 high (an ESC cluster's offset) and the
+    left front wheel 10 % fast while driving (below the 15 % outlier test):
+    the speed reference while driving (est_speed.c). Returns time, value,
+    valid, the truth dict and the driving steps' mask."""
+    t, value, valid, truth = drive_inputs(drive_front=1.0)
+    value[:, est_ref.AX] += 0.1
+    drive = np.array([next((a for te, a in DRIVE_PROFILE if tk < te), 0.0) for tk in t]) > 0.0
+    value[drive, est_ref.WS[0]] *= 1.10
+    return t, value, valid, truth, drive
+
+
 def road_bank(t):
     """The road_bank_100hz sequence's bank [rad] at time t: 0.1 rad (5.7 deg)
     plus 0.04 rad over a 6 s period, as a road whose bank changes along it."""
@@ -522,6 +539,10 @@ def write_golden(outdir):
                    f"straight drive, coasting, traction and braking, rear-wheel drive, the generator's tire "
                    f"{STIFF_LKX} x as stiff in slip, front radius {STIFF_RADIUS} larger, kx_est = 1, "
                    f"drive_front = 0", with_kx=True, kx_est=1, drive_front=0.0)
+    t, v, ok, _, _ = front_drive_inputs()
+    write_sequence(outdir, "front_drive_100hz", 0.01, t, v, ok,
+                   "straight drive, front-wheel drive, the left front wheel 10 % fast while driving, "
+                   "ax 0.1 m/s^2 high, drive_front = 1", drive_front=1.0)
     t, v, ok, _ = roll_inputs()
     write_sequence(outdir, "roll_100hz", 0.01, t, v, ok,
                    f"internal generator, mu 1.0, the body rolling {ROLL_K} rad/(m/s^2), a weave of {ROLL_WEAVE} s, "

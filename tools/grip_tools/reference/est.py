@@ -441,6 +441,29 @@ def spread_reference(v_mean, vmin, vmax, vx_pred):
     return v_mean - w * a * (vmax - v_mean)
 
 
+def drive_reference(drive_front, rear_steered, vcs, in_ref, vmin):
+    """est_speed.c: the wheel-speed reference while driving: on a
+    front-driven car (drive_front exactly 1) whose rear wheels are not
+    steered, the rear wheels' mean while both are in the reference, else
+    the slowest wheel."""
+    if drive_front == 1.0 and not rear_steered and in_ref[2] and in_ref[3]:
+        return 0.5 * (vcs[2] + vcs[3])
+    return vmin
+
+
+def wheels_agree(vals, mean, vx_pred):
+    """est_speed.c: the reference wheels' speeds (vals, sorted) agree: their
+    spread within 0.5 m/s + 5 % of the prediction, or of three or more the
+    spread without the one farthest from their mean."""
+    tol = 0.5 + 0.05 * abs(vx_pred)
+    if vals[-1] - vals[0] <= tol:
+        return True
+    if len(vals) < 3:
+        return False
+    rest = (vals[-2] - vals[0]) if vals[-1] + vals[0] > 2.0 * mean else (vals[-1] - vals[1])
+    return rest <= tol
+
+
 def _tire(P, kappa, alpha, fz, vx):
     """Vectorized grip_mf_eval (left-fitted convention, combined slip)."""
     o = mf.evaluate(P, kappa, alpha, 0.0, fz, None, vx)
@@ -979,8 +1002,9 @@ class Estimator:
         # the axles' mean speeds at the CG, front minus rear (the
         # longitudinal stiffness's measurement; used with every wheel valid)
         self.kx_dv = 0.5 * ((vcs[0] + vcs[1]) - (vcs[2] + vcs[3]))
+        in_ref = [ws_ok[i] and (not outl[i] or n_good == 0) for i in range(4)]
         for i in range(4):
-            if ws_ok[i] and (not outl[i] or n_good == 0):
+            if in_ref[i]:
                 vmin, vmax, vsum = min(vmin, vcs[i]), max(vmax, vcs[i]), vsum + vcs[i]
         if n_good > 0:
             n_ws = n_good
@@ -996,10 +1020,10 @@ class Estimator:
             if ax < -AX_TH:
                 v_ref = vmax
             elif ax > AX_TH:
-                v_ref = vmin
+                v_ref = drive_reference(c.get("drive_front", -1.0), s.sr != 0.0, vcs, in_ref, vmin)
             else:
                 v_ref = spread_reference(vsum / n_ws, vmin, vmax, vx_pred)
-            agree = (vmax - vmin) <= 0.5 + 0.05 * abs(vx_pred)
+            agree = wheels_agree(sorted(vcs[i] for i in range(4) if in_ref[i]), vsum / n_ws, vx_pred)
             k = ((K_MID if (lock or spin) else K_HI) if agree else K_LO)
             trusted = agree and not lock and not spin
             # braking slips every wheel (the brakes act on all four): the
