@@ -103,9 +103,10 @@ typedef struct {
                                 * Negative (default -1, range [-1, 1]): not known, and
                                 * kx_est learns nothing (the axles' force split is what
                                 * the longitudinal stiffness is measured against).
-                                * Exactly 0 or 1 (two-wheel drive): while driving, the
-                                * speed reference is the undriven axle's mean wheel
-                                * speed instead of the slowest wheel (est_speed.c) */
+                                * Exactly 1 (front-wheel drive), rear wheels not steered:
+                                * while driving, the speed reference is the rear axle's
+                                * mean wheel speed instead of the slowest wheel
+                                * (est_speed.c) */
     uint32_t roll_est;         /* 1: learn the body's roll gradient online (est_roll.c,
                                 * docs/estimator/roll.md), starting from roll_gradient,
                                 * while the car weaves on the tires' linear part; kept
