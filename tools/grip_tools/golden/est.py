@@ -499,16 +499,24 @@ def roll_inputs(duration=ROLL_DURATION, weave=ROLL_WEAVE, bank_deg=ROLL_BANK_DEG
                           bank=bank)
 
 
-def write_golden(outdir):
-    os.makedirs(outdir, exist_ok=True)
+def _seq_bicycle_100hz(outdir):
     t, v, ok, _ = bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5))
     write_sequence(outdir, "bicycle_100hz", 0.01, t, v, ok, "internal generator, mu 1.0 then 0.5")
+
+
+def _seq_bicycle_1khz(outdir):
     t, v, ok, _ = bicycle_inputs(dt=0.001, duration=4.0, mu_road=(0.6, 0.6))
     write_sequence(outdir, "bicycle_1khz", 0.001, t, v, ok, "internal generator, mu 0.6")
+
+
+def _seq_faults_100hz(outdir):
     t, v, ok, _ = bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED + 1)
     fv, fok = inject_faults(t, v, ok)
     write_sequence(outdir, "faults_100hz", 0.01, inject_time_faults(t), fv, fok,
                    "internal generator with injected faults")
+
+
+def _seq_aero_bank_100hz(outdir):
     # 26 m/s: at 28 and 30 m/s the
     # estimator's open-loop stretch (vy unobservable with every tire at the
     # model's limit) ends in a recovery cascade that amplifies last-bit
@@ -517,37 +525,61 @@ def write_golden(outdir):
     v[(t >= AERO_BANK_LOCK[0]) & (t < AERO_BANK_LOCK[1]), 2] = 0.0
     write_sequence(outdir, "aero_bank_100hz", 0.01, t, v, ok, "internal generator at 26 m/s, aero, drag, bank, latency, steering lag and latency on, RL locked while braking",
                    **AERO_BANK)
+
+
+def _seq_steer_offset_100hz(outdir):
     t, v, ok = steer_offset_inputs()
     write_sequence(outdir, "steer_offset_100hz", 0.01, t, v, ok,
                    "internal generator, mu 1.0, 40 % steering, steering offset 4.3-5.0 s (understeer bound withdrawn)")
+
+
+def _seq_rear_steer_100hz(outdir):
     t, v, ok, _ = bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 0.5), seed=SEED + 3, v0=REAR_STEER_V0,
                                  steer_gain=2.0, brake_demand=1.0, rear_gain=REAR_STEER_GAIN)
     write_sequence(outdir, "rear_steer_100hz", 0.01, t, v, ok,
                    "internal generator at 9 m/s, rear wheels steered opposite to the front (0.3 x), rear_steer = 1",
                    rear_steer=1)
+
+
+def _seq_road_bank_100hz(outdir):
     t, v, ok, _ = road_bank_inputs()
     write_sequence(outdir, "road_bank_100hz", 0.01, t, v, ok,
                    "internal generator, mu 1.0, half steering, road bank 5.7 +- 2.3 deg along the run, not configured, bank_est = 1",
                    bank_est=1)
+
+
+def _seq_stiffness_100hz(outdir):
     t, v, ok, _ = bicycle_inputs(dt=0.01, duration=12.0, mu_road=(1.0, 1.0), seed=SEED + 4, steer_gain=0.5,
                                  brake_demand=0.5, lky=STIFF_LKY)
     write_sequence(outdir, "stiffness_100hz", 0.01, t, v, ok,
                    f"internal generator, mu 1.0, half steering, the generator's tire {STIFF_LKY} x as stiff, stiff_est = 1",
                    stiff_est=1)
+
+
+def _seq_stiffness_long_100hz(outdir):
     t, v, ok, _ = drive_inputs(lkx=STIFF_LKX, radius_front=STIFF_RADIUS)
     write_sequence(outdir, "stiffness_long_100hz", 0.01, t, v, ok,
                    f"straight drive, coasting, traction and braking, rear-wheel drive, the generator's tire "
                    f"{STIFF_LKX} x as stiff in slip, front radius {STIFF_RADIUS} larger, kx_est = 1, "
                    f"drive_front = 0", with_kx=True, kx_est=1, drive_front=0.0)
+
+
+def _seq_front_drive_100hz(outdir):
     t, v, ok, _, _ = front_drive_inputs()
     write_sequence(outdir, "front_drive_100hz", 0.01, t, v, ok,
                    "straight drive, front-wheel drive, the left front wheel 10 % fast while driving, "
                    "ax 0.1 m/s^2 high, drive_front = 1", drive_front=1.0)
+
+
+def _seq_roll_100hz(outdir):
     t, v, ok, _ = roll_inputs()
     write_sequence(outdir, "roll_100hz", 0.01, t, v, ok,
                    f"internal generator, mu 1.0, the body rolling {ROLL_K} rad/(m/s^2), a weave of {ROLL_WEAVE} s, "
                    f"then a curve banked {ROLL_BANK_DEG} deg towards its centre, roll_est = 1",
                    with_roll=True, roll_est=1)
+
+
+def _seq_sim_sine_dwell(outdir):
     sim = sim_inputs()
     path = os.path.join(outdir, "est_sim_sine_dwell.txt")
     if sim is not None:
@@ -555,6 +587,29 @@ def write_golden(outdir):
         write_sequence(outdir, "sim_sine_dwell", 0.01, t, v, ok, "sim sine-dwell, wet, 4 s")
     elif os.path.exists(path):
         os.remove(path)
+
+
+# Every sequence, the slowest first (the simulator's run, the 1 kHz one): each
+# writes its own file, so golden-all runs them in parallel.
+SEQUENCES = {f.__name__[len("_seq_"):]: f for f in (
+    _seq_sim_sine_dwell, _seq_bicycle_1khz, _seq_bicycle_100hz, _seq_faults_100hz, _seq_aero_bank_100hz,
+    _seq_steer_offset_100hz, _seq_rear_steer_100hz, _seq_road_bank_100hz, _seq_stiffness_100hz,
+    _seq_stiffness_long_100hz, _seq_front_drive_100hz, _seq_roll_100hz)}
+
+
+def golden_jobs():
+    """The names write_job takes, one per sequence file."""
+    return list(SEQUENCES)
+
+
+def write_job(outdir, name):
+    os.makedirs(outdir, exist_ok=True)
+    SEQUENCES[name](outdir)
+
+
+def write_golden(outdir):
+    for name in golden_jobs():
+        write_job(outdir, name)
 
 
 def main(argv=None):
