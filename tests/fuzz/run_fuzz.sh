@@ -50,9 +50,12 @@ tap() {   # status text
     if [ "$1" = ok ]; then echo "ok $n - $2"; else echo "not ok $n - $2"; fail=1; fi
 }
 
-# 1. lib/ objects per build, instrumented for coverage (no libFuzzer main)
-for A in 0 1; do
-    ok=1
+# 1. lib/ objects per build, instrumented for coverage (no libFuzzer main);
+# the two builds at once (each compiles one file at a time)
+build_objs() {   # A; writes $B/log/build-$A.status: ok, or fail, and est-broken when lib/est/ fails
+    A=$1
+    st=ok
+    : >"$B/log/build-$A.notes"
     for s in $LIBSRC $(echo "$HARNESSES" | tr ' ' '\n' | sed -n 's/^[^:]*://p' | sort -u); do
         o="$B/obj$A/$(echo "$s" | tr '/' '_' | sed 's/\.c$/.o/')"
         if [ ! -f "$o" ] || [ "$s" -nt "$o" ] || [ -n "$(find include lib port/linux -name '*.h' -newer "$o" 2>/dev/null | head -1)" ]; then
@@ -61,34 +64,53 @@ for A in 0 1; do
                 rm -f "$o"
                 case "$s" in
                 lib/est/*)   # an unfinished estimator must not stop the other harnesses
-                    echo "# $s does not build: fuzz_est skipped"
-                    HARNESSES=$(echo "$HARNESSES" | sed 's/ est:[^ ]*//; s/ chain:[^ ]*//')
-                    LIBSRC=$(echo "$LIBSRC" | grep -v '^lib/est/') ;;
+                    echo "# $s does not build: fuzz_est skipped" >>"$B/log/build-$A.notes"
+                    touch "$B/log/build-$A.est-broken" ;;
                 *)
-                    ok=0
-                    sed 's/^/# /' "$B/log/build-$A.err" | head -20 ;;
+                    st=fail
+                    sed 's/^/# /' "$B/log/build-$A.err" | head -20 >>"$B/log/build-$A.notes" ;;
                 esac
             fi
         fi
     done
-    if [ $ok = 1 ]; then tap ok "build lib/ for fuzzing (GRIP_ARITH_FIXED=$A)"; else tap fail "build lib/ for fuzzing (GRIP_ARITH_FIXED=$A)"; fi
+    echo $st >"$B/log/build-$A.status"
+}
+rm -f "$B"/log/build-*.est-broken
+for A in 0 1; do build_objs $A & done
+wait
+for A in 0 1; do
+    cat "$B/log/build-$A.notes"
+    if [ -f "$B/log/build-$A.est-broken" ]; then
+        HARNESSES=$(echo "$HARNESSES" | sed 's/ est:[^ ]*//; s/ chain:[^ ]*//')
+        LIBSRC=$(echo "$LIBSRC" | grep -v '^lib/est/')
+    fi
+    if [ "$(cat "$B/log/build-$A.status" 2>/dev/null)" = ok ]; then
+        tap ok "build lib/ for fuzzing (GRIP_ARITH_FIXED=$A)"
+    else
+        tap fail "build lib/ for fuzzing (GRIP_ARITH_FIXED=$A)"
+    fi
 done
 
-# 2. harnesses
-for h in $HARNESSES; do
-    name=${h%%:*}
-    extra=$(echo "${h#*:}" | tr '/' '_' | sed 's/\.c$/.o/')
-    for A in 0 1; do
+# 2. harnesses, the two builds at once
+link_harnesses() {   # A
+    A=$1
+    for h in $HARNESSES; do
+        name=${h%%:*}
+        extra=$(echo "${h#*:}" | tr '/' '_' | sed 's/\.c$/.o/')
         objs=""
         for s in $LIBSRC; do objs="$objs $B/obj$A/$(echo "$s" | tr '/' '_' | sed 's/\.c$/.o/')"; done
         [ -n "$extra" ] && objs="$objs $B/obj$A/$extra"
-        if $CC $SAN -fsanitize=fuzzer -DGRIP_ARITH_FIXED=$A -DGRIP_DEBUG_SATURATION=0 $INC \
+        if ! $CC $SAN -fsanitize=fuzzer -DGRIP_ARITH_FIXED=$A -DGRIP_DEBUG_SATURATION=0 $INC \
             "tests/fuzz/fuzz_$name.c" $objs -lm -o "$B/fuzz_${name}_$A" 2>"$B/log/$name-$A.build"; then
-            :
-        else
-            sed 's/^/# /' "$B/log/$name-$A.build" | head -20
             rm -f "$B/fuzz_${name}_$A"
         fi
+    done
+}
+for A in 0 1; do link_harnesses $A & done
+wait
+for h in $HARNESSES; do
+    for A in 0 1; do
+        [ -x "$B/fuzz_${h%%:*}_$A" ] || sed 's/^/# /' "$B/log/${h%%:*}-$A.build" | head -20
     done
 done
 
