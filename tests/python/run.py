@@ -2,6 +2,7 @@
 top-level runner counts them with the C tests."""
 import os
 import sys
+import time
 import unittest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -14,14 +15,25 @@ sys.path[:] = [p for p in sys.path if os.path.abspath(p or ".") != HERE]
 sys.path.insert(0, os.path.join(TESTS, "..", "tools"))
 
 
+# a test that takes this long [s] gets a "# slow test" line with its time
+SLOW_TEST_S = 10.0
+
+
 class TapResult(unittest.TextTestResult):
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
         self.n = 0
 
+    def startTest(self, test):
+        super().startTest(test)
+        self._t0 = time.monotonic()
+
     def _line(self, ok, test, note=""):
         self.n += 1
         print(f"{'ok' if ok else 'not ok'} {self.n} - {test.id()}{note}", flush=True)
+        took = time.monotonic() - getattr(self, "_t0", time.monotonic())
+        if took >= SLOW_TEST_S:   # for the check's time budget
+            print(f"# slow test {test.id()}: {took:.1f} s", flush=True)
 
     def addSuccess(self, test):
         super().addSuccess(test)

@@ -9,6 +9,7 @@ from unittest import mock
 import numpy as np
 
 from grip_tools.reference import est as est_ref
+from python import sim_runs
 
 DEG = 180.0 / np.pi
 
@@ -131,12 +132,12 @@ class RunAwayTests(unittest.TestCase):
     def setUpClass(cls):
         try:
             from grip_tools.evaluate import est_eval, integrity
-            from grip_tools.sim import cli
+            from grip_tools.sim import cli  # noqa: F401 - importable, or skip
         except ImportError as e:       # pragma: no cover - scipy-less machine
             raise unittest.SkipTest(f"simulator not importable: {e}")
         with tempfile.TemporaryDirectory() as d:
-            cli.main(["-m", "step-steer", "-s", "dry", "--speed", "65", "--duration", "5", "--amplitude", "90",
-                      "-o", d, "--no-plot"])
+            sim_runs.run(["-m", "step-steer", "-s", "dry", "--speed", "65", "--duration", "5", "--amplitude", "90",
+                          "--no-plot"], d)
             cols = est_eval.read_csv(os.path.join(d, "sensors.csv"))
             cls.t, cls.value, cls.valid = est_ref.inputs_from_sensors(cols)
             cls.truth, _ = integrity.own_truth(d, cls.t)
