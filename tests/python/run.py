@@ -31,7 +31,9 @@ class TapResult(unittest.TextTestResult):
     def _line(self, ok, test, note=""):
         self.n += 1
         print(f"{'ok' if ok else 'not ok'} {self.n} - {test.id()}{note}", flush=True)
-        took = time.monotonic() - getattr(self, "_t0", time.monotonic())
+        # a class or module fixture's error comes without startTest: no time
+        t0, self._t0 = getattr(self, "_t0", None), None
+        took = 0.0 if t0 is None else time.monotonic() - t0
         if took >= SLOW_TEST_S:   # for the check's time budget
             print(f"# slow test {test.id()}: {took:.1f} s", flush=True)
 

@@ -61,10 +61,4 @@ def run(args, out_dir):
             os.rename(work, cached)     # atomic: another process may have got there first
         except OSError:
             shutil.rmtree(work, ignore_errors=True)
-    os.makedirs(out_dir, exist_ok=True)
-    for name in os.listdir(cached):
-        src = os.path.join(cached, name)
-        if os.path.isdir(src):
-            shutil.copytree(src, os.path.join(out_dir, name), dirs_exist_ok=True)
-        else:
-            shutil.copy2(src, os.path.join(out_dir, name))
+    shutil.copytree(cached, out_dir, dirs_exist_ok=True)
