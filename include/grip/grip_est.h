@@ -68,6 +68,12 @@ typedef struct {
     grip_real_t roll_split_front; /* QS front share of lateral load transfer [0, 1] */
     grip_real_t roll_gradient; /* QS rad of body roll per m/s^2 of ay, [0, 0.05]: the
                                 * accelerometer's gravity component g sin(roll) is removed */
+    grip_real_t pitch_gradient; /* QS rad of body pitch per m/s^2 of ax (nose down braking,
+                                * up accelerating), [0, 0.05]: the accelerometer's gravity
+                                * component g sin(pitch) is removed, ax used = ax /
+                                * (1 + g pitch_gradient). 0 (default): not removed, as
+                                * without it; a car's value from its K&C data or a
+                                * braking run (docs/estimator.md)                     */
     uint32_t rate_hz;          /* step rate [Hz], [50, 2000] (exact in both builds,
                                 * unlike a Q15.16 period: 1 ms is not representable) */
     uint32_t speed_ref_mu;     /* 1: the vehicle-speed input is a reference calibrated to
@@ -302,6 +308,7 @@ typedef struct {
     int32_t dr_n;               /* steps vx stays valid dead-reckoning (every wheel locked / spinning) */
     grip_real_t rate;           /* QS step rate [1/s] */
     grip_real_t ay_fac;         /* QS 1 / (1 + g rg_k): the roll gradient in use */
+    grip_real_t ax_fac;         /* QS 1 / (1 + g cfg.pitch_gradient) */
     grip_real_t fz_base[2];     /* QL per wheel at rest on the road plane: fz_static x cos */
     grip_real_t k_aero[2];      /* QS N/(m/s)^2 downforce per wheel, front / rear */
     grip_real_t k_drag;         /* QS N/(m/s)^2 drag: 0.5 air_density cda */

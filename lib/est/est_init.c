@@ -36,6 +36,7 @@ grip_status_t grip_est_config_default(grip_est_config_t *cfg, const grip_mf_para
     cfg->wheel_radius = RC(0.30);
     cfg->roll_split_front = RC(0.60);
     cfg->roll_gradient = RC(0.0088);
+    cfg->pitch_gradient = R_ZERO;
     cfg->rate_hz = 100u;
     cfg->speed_ref_mu = 0u;
     cfg->rear_steer = 0u;
@@ -139,6 +140,7 @@ static grip_status_t check_config(const grip_est_config_t *c, grip_check_detail_
         { "wheel_radius", c->wheel_radius, RC(0.05), RC(2.0), "in [0.05, 2] m" },
         { "roll_split_front", c->roll_split_front, R_ZERO, R_ONE, "in [0, 1]" },
         { "roll_gradient", c->roll_gradient, R_ZERO, RC(0.05), "in [0, 0.05] rad/(m/s^2)" },
+        { "pitch_gradient", c->pitch_gradient, R_ZERO, RC(0.05), "in [0, 0.05] rad/(m/s^2)" },
     };
     const check_range_t r2[] = {
         { "drive_front", c->drive_front, RC(-1.0), R_ONE, "in [0, 1], or in [-1, 0) for not known" },
@@ -414,6 +416,7 @@ grip_status_t grip_est_init_detail(grip_est_t *est, const grip_est_config_t *cfg
     }
     est->rate = r_from_int((int32_t)cfg->rate_hz);
     est->ay_fac = r_div(R_ONE, r_add(R_ONE, r_mul(RC(EST_G), cfg->roll_gradient))); /* the roll gradient in use: est_roll.c */
+    est->ax_fac = r_div(R_ONE, r_add(R_ONE, r_mul(RC(EST_G), cfg->pitch_gradient)));
     {
         /* road plane (residual/vehicle.py): the normal load factor
          * 1 / sqrt(1 + sx^2 + sy^2) does not depend on the heading */

@@ -172,7 +172,9 @@ void est_take_inputs(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *
     rear_wheel_angle(est, s, rear_ok);
     /* yaw rate with the estimated gyro bias (state x[3]) removed */
     s->yaw = s->yaw_ok ? r_sub(est->hold[H_YAW], r_mul(RC(EST_S_B), est->x[3])) : R_ZERO;
-    s->ax = s->ax_ok ? est->hold[H_AX] : R_ZERO;
+    /* and pitches: ax_meas = ax cos(theta) + g sin(theta), theta =
+     * pitch_gradient * ax */
+    s->ax = s->ax_ok ? r_mul(est->ax_fac, est->hold[H_AX]) : R_ZERO;
     /* the accelerometer rolls with the body: ay_meas = ay cos(phi) + g sin(phi),
      * phi = roll_gradient * ay, so ay = ay_meas / (1 + g roll_gradient) */
     s->ay = s->ay_ok ? r_mul(est->ay_fac, est->hold[H_AY]) : R_ZERO;

@@ -84,7 +84,7 @@ int vehicle_preset(const char *name, const grip_mf_params *tire, int rate_hz, gr
 
 /* Reads a vehicle file: lines `key = value` (SI units), '#' comments, blank
  * lines. Keys: mass, iz, lf, lr, track (both), track_f, track_r, h_cg,
- * steer_ratio, wheel_radius, roll_split_front, roll_gradient, speed_ref_mu, bank_est, stiff_est,
+ * steer_ratio, wheel_radius, roll_split_front, roll_gradient, pitch_gradient, speed_ref_mu, bank_est, stiff_est,
  * kx_est, roll_est, drive_front,
  * cla, aero_front, air_density, cda, crr, tan_bank, tan_grade, latency, steer_lag,
  * steer_latency, tire_tol, kin_acc_sd, beta_sd_max, vx_sd_max, fy_sd_max; rear_tire = PATH (the rear
@@ -115,6 +115,7 @@ int vehicle_file_read(const char *path, grip_est_config_t *cfg, char *rear_tire,
         { "wheel_radius", offsetof(grip_est_config_t, wheel_radius), VK_QS },
         { "roll_split_front", offsetof(grip_est_config_t, roll_split_front), VK_QS },
         { "roll_gradient", offsetof(grip_est_config_t, roll_gradient), VK_QS },
+        { "pitch_gradient", offsetof(grip_est_config_t, pitch_gradient), VK_QS },
         { "speed_ref_mu", offsetof(grip_est_config_t, speed_ref_mu), VK_FLAG },
         { "bank_est", offsetof(grip_est_config_t, bank_est), VK_FLAG },
         { "stiff_est", offsetof(grip_est_config_t, stiff_est), VK_FLAG },

@@ -108,7 +108,8 @@ typedef struct {
     int aero_bank;   /* 1: the AERO_BANK configuration of tools/grip_tools/golden/est.py; 2: rear_steer = 1; 3: bank_est = 1;
                       * 4: stiff_est = 1; 5: kx_est = 1, drive_front = 0 (the file
                       * has one column more: the learned kx); 6: roll_est = 1 (one
-                      * column more: the roll gradient in use); 7: drive_front = 1 */
+                      * column more: the roll gradient in use); 7: drive_front = 1,
+                      * pitch_gradient = 0.005 */
 } seq_t;
 
 static void run_sequence(const seq_t *sq)
@@ -167,6 +168,7 @@ static void run_sequence(const seq_t *sq)
     }
     if (sq->aero_bank == 7) {
         cfg.drive_front = to_qs(1.0);
+        cfg.pitch_gradient = to_qs(0.005);
     }
     assert_int_equal(grip_est_init(&est, &cfg), GRIP_OK);
     grip_debug_saturation_reset();

@@ -963,6 +963,61 @@ static void test_steering_latency(void **state)
     assert_true(fabs(d_none - now) < 2e-4);
 }
 
+/* Pitch (cfg.pitch_gradient): a straight stop at 6 m/s^2 from 25 m/s whose
+ * accelerometer pitches 0.005 rad per m/s^2 (reads 5 % high), its wheels
+ * 2 % slow (braking slip: vx follows ax, pulled to the wheels at K_SLIP
+ * only). With the gradient configured vx ends within that pull of the
+ * truth and nearer it than without, where the ax error integrates;
+ * out-of-range gradients are refused. */
+static double pitch_stop_error(double pitch_gradient)
+{
+    grip_est_t e;
+    grip_est_config_t cfg;
+    grip_est_output_t o;
+    grip_input_sample_t s;
+    const double kp = 0.005, a = -6.0;
+    double v = 25.0;
+    int k, i;
+    assert_int_equal(grip_est_config_default(&cfg, tire()), GRIP_OK);
+    cfg.pitch_gradient = qs(pitch_gradient);
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_OK);
+    circle(&s, v, 0.0);
+    run(&e, &s, 100, &o);
+    for (k = 0; k < 200; ++k) {
+        v += a * 0.01;
+        circle(&s, v, 0.0);
+        for (i = 0; i < 4; ++i) {
+            s.value[i] = qs(0.98 * v);
+        }
+        s.value[GRIP_IN_AX] = qs(a * (1.0 + 9.80665 * kp));
+        assert_int_equal(grip_est_step(&e, &s, &o), GRIP_OK);
+        assert_finite_out(&o);
+    }
+    return dq(o.vx) - v;
+}
+
+static void test_pitch_gradient(void **state)
+{
+    grip_est_t e;
+    grip_est_config_t cfg;
+    double with_pitch, without;
+    (void)state;
+    assert_int_equal(grip_est_config_default(&cfg, tire()), GRIP_OK);
+    assert_true(cfg.pitch_gradient == 0);
+    cfg.pitch_gradient = qs(0.06);
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_ERR_PARAM);
+    cfg.pitch_gradient = qs(-0.001);
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_ERR_PARAM);
+    with_pitch = pitch_stop_error(0.005);
+    without = pitch_stop_error(0.0);
+    printf("# 2 s stop at 6 m/s^2, accelerometer pitching 0.005 rad/(m/s^2): vx error %.3f m/s with the "
+           "gradient configured, %.3f m/s without\n", with_pitch, without);
+    assert_true(fabs(with_pitch) < 0.5 * fabs(without));
+    /* what remains is the K_SLIP pull towards wheels 2 % slow: at most
+     * 0.02 v (1 - exp(-0.2 / s * 2 s)), 0.16 m/s at 25 m/s */
+    assert_true(fabs(with_pitch) < 0.16);
+}
+
 static int misfit_run(const grip_mf_params *t, int *first_flag, int *vmu_after, int *vmu_steps, double *mu_end)
 {
     grip_est_t e;
@@ -1152,6 +1207,7 @@ int main(void)
         cmocka_unit_test(test_reset_keeps_config),
         cmocka_unit_test(test_steering_lag),
         cmocka_unit_test(test_steering_latency),
+        cmocka_unit_test(test_pitch_gradient),
         cmocka_unit_test(test_model_misfit),
         cmocka_unit_test(test_full_lock_turn),
         cmocka_unit_test(test_missing_ax),

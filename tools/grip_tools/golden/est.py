@@ -568,7 +568,7 @@ def _seq_front_drive_100hz(outdir):
     t, v, ok, _, _ = front_drive_inputs()
     write_sequence(outdir, "front_drive_100hz", 0.01, t, v, ok,
                    "straight drive, front-wheel drive, the left front wheel 10 % fast while driving, "
-                   "ax 0.1 m/s^2 high, drive_front = 1", drive_front=1.0)
+                   "ax 0.1 m/s^2 high, drive_front = 1, pitch_gradient = 0.005", drive_front=1.0, pitch_gradient=0.005)
 
 
 def _seq_roll_100hz(outdir):

@@ -389,7 +389,7 @@ def config(tire_front, tire_rear=None, rate_hz=100, **kw):
     """The passenger car of grip_est_config_default (the simulator's
     'passenger' set) with tire parameter dicts (tir.load_params)."""
     c = dict(mass=1450.0, iz=2450.0, lf=1.10, lr=1.60, track_f=1.55, track_r=1.53, h_cg=0.55,
-             steer_ratio=15.5, wheel_radius=0.30, roll_split_front=0.60, roll_gradient=0.0088,
+             steer_ratio=15.5, wheel_radius=0.30, roll_split_front=0.60, roll_gradient=0.0088, pitch_gradient=0.0,
              rate_hz=int(rate_hz),
              dt=1.0 / int(rate_hz),
              speed_ref_mu=0, rear_steer=0, bank_est=0, stiff_est=0, kx_est=0, drive_front=-1.0, roll_est=0,
@@ -607,6 +607,9 @@ class Estimator:
         # (est_roll.c), its filter's state k / RG_S_U with the prior's variance
         self.rg_k = c["roll_gradient"]
         self.ay_fac = 1.0 / (1.0 + G * self.rg_k)
+        # the body pitches by pitch_gradient per m/s^2 of ax: the
+        # accelerometer reads (1 + g pitch_gradient) ax (est_input.c)
+        self.ax_fac = 1.0 / (1.0 + G * c["pitch_gradient"])
         self.rg_x = c["roll_gradient"] / RG_S_U
         self.rg_p = RG_P_MAX
         self.rg_updates = 0
@@ -907,7 +910,7 @@ class Estimator:
         cd_o, sd_o = cd - sd * dd_o, sd + cd * dd_o
         # yaw rate corrected by the estimated gyro bias (state x[3])
         yaw = self.hold[1] - B_UNIT * self.x[3] if yaw_ok else 0.0
-        ax = self.hold[2] if ax_ok else 0.0
+        ax = self.ax_fac * self.hold[2] if ax_ok else 0.0
         ay = self.ay_fac * self.hold[3] if ay_ok else 0.0
         # road plane: gravity along the body axes at the heading since reset,
         # plus the estimated bank (road)
@@ -941,8 +944,8 @@ class Estimator:
         trusted wheels, dead reckoning on ax with every wheel off, standstill.
 
         State: reads x[0], x[1] (active), hold[4]; writes vx, vx_init,
-        ax_off, dr_steps, no_wheel_steps. Step: reads cd, yaw, ax, ax_ok,
-        vs_ok, g_x; writes ws, ws_ok, wheels_ok, lock, spin, dead_reck,
+        ax_off, dr_steps, no_wheel_steps. Step: reads cd, sd, cr, sr, yaw,
+        ax, ay, ax_ok, vs_ok, g_x; writes ws, ws_ok, wheels_ok, lock, spin, dead_reck,
         at_rest, vx, the wheel flags and V_VX."""
         c = self.cfg
         dt = c["dt"]
@@ -952,6 +955,12 @@ class Estimator:
         # rolling without lateral slip (low speed: vy - r lr = vx tan delta_r)
         vy_now = self.x[0] if self.active else r_now * c["lr"] + self.vx * s.sr / s.cr
         vx_pred = self.vx + self._vx_rate(ax, r_now, vy_now, g_x) * dt
+        # braking or driving by the wheels' own longitudinal force: ax less
+        # the steered axles' lateral forces along the body's x axis (their
+        # steady shares of m ay, times tan delta); at full lock and constant
+        # speed ax is -0.8 m/s^2 of them, which read as braking left vx to
+        # ax and its offset (docs/independent-judge.md, "Pitch and the speed reference's braking test")
+        a_w = ax + s.ay * (c["lr"] * s.sd / s.cd + c["lf"] * s.sr / s.cr) / (c["lf"] + c["lr"])
         ws, ws_ok = [0.0] * 4, [False] * 4
         n_ws, vmin, vmax, vsum = 0, 1000.0, -1000.0, 0.0
         lock = spin = False
@@ -995,7 +1004,7 @@ class Estimator:
         # none locks while it accelerates, so the prediction is what is lost
         # (after a speed-reference fault): the wheels are taken
         if (n_good == 0 and n_ws > 0 and ax_ok
-                and ((spin and not lock and ax <= -DR_AX) or (lock and not spin and ax >= DR_AX))):
+                and ((spin and not lock and a_w <= -DR_AX) or (lock and not spin and a_w >= DR_AX))):
             outl = [False] * 4
             n_good = n_ws
             lock = spin = False
@@ -1017,9 +1026,9 @@ class Estimator:
         if vs_ok:
             v_ref, k = self.hold[4], K_HI
         elif n_ws > 0:
-            if ax < -AX_TH:
+            if a_w < -AX_TH:
                 v_ref = vmax
-            elif ax > AX_TH:
+            elif a_w > AX_TH:
                 v_ref = drive_reference(c.get("drive_front", -1.0), s.sr != 0.0, vcs, in_ref, vmin)
             else:
                 v_ref = spread_reference(vsum / n_ws, vmin, vmax, vx_pred)
@@ -1028,7 +1037,7 @@ class Estimator:
             trusted = agree and not lock and not spin
             # braking slips every wheel (the brakes act on all four): the
             # fastest one is still slower than the car
-            if ax < -AX_TH and v_ref < vx_pred:
+            if a_w < -AX_TH and v_ref < vx_pred:
                 k = min(k, K_SLIP)
                 trusted = False
             # the ax offset (unconfigured grade, accelerometer bias) from the
@@ -1040,7 +1049,7 @@ class Estimator:
         # every wheel locked or spinning (every valid wheel is an outlier)
         # while the car still decelerates or accelerates: no wheel tells the
         # speed, integrate ax
-        dead_reck = n_good == 0 and n_ws > 0 and abs(ax) >= DR_AX and ax_ok and not vs_ok
+        dead_reck = n_good == 0 and n_ws > 0 and abs(a_w) >= DR_AX and ax_ok and not vs_ok
         if dead_reck:
             k = 0.0
             self.dr_steps = min(self.dr_steps + 1, BIG)

@@ -113,7 +113,7 @@ FIT_PKY2 = 8.0
 # of them in its data)
 FIT_FIX_X = "pcx1,pex2,pex3,pex4,pdx3,phx1,phx2,pvx1,pvx2,pkx3"
 # the version of characterize's procedure, kept with its cached results
-CHARACTERIZATION = 2
+CHARACTERIZATION = 3
 # runs whose step is halved once to measure the integration error
 # (the low-speed one, with its sub-steps, only with --full)
 STEP_CHECK = (("bmw320i", "sine-dwell", "dry"),)
@@ -302,8 +302,9 @@ def _fit_figures(report):
 def characterize(vname, out_dir, work_dir):
     """The ramp steer and the braking run of one vehicle on dry asphalt ->
     fitted_<vehicle>.tir in out_dir (lateral group from the ramp,
-    longitudinal from the braking), and the ramp's measured roll gradient
-    and front roll share. Returns a dict (tir path, values, fit reports)."""
+    longitudinal from the braking), the ramp's measured roll gradient and
+    front roll share, and the braking run's pitch gradient. Returns a dict
+    (tir path, values, fit reports)."""
     veh = mb.Vehicle(vname)
     os.makedirs(work_dir, exist_ok=True)
     data_y, tr = _wheel_data(veh, "ramp-steer", "alpha", "fy")
@@ -315,7 +316,7 @@ def characterize(vname, out_dir, work_dir):
     frag_y, report = _fit_group(data_y, "fy", start, FIT_FIX, work_dir, f"ramp_{vname}")
     lateral = os.path.join(work_dir, f"ramp_{vname}_lateral.tir")
     _merge_tir(start, frag_y, lateral, "")
-    data_x, _ = _wheel_data(veh, "brake-ramp", "kappa", "fx")
+    data_x, tr_x = _wheel_data(veh, "brake-ramp", "kappa", "fx")
     frag_x, report_x = _fit_group(data_x, "fx", lateral, FIT_FIX_X, work_dir, f"brake_{vname}")
     # roll gradient and front share of the lateral load transfer, linear range
     mov = tr["vx"] > 5.0
@@ -326,8 +327,15 @@ def characterize(vname, out_dir, work_dir):
     dff = 0.5 * (tr["fz_fr"] - tr["fz_fl"])[lin] * p.T_f
     dfr = 0.5 * (tr["fz_rr"] - tr["fz_rl"])[lin] * p.T_r
     split = float(np.sum(dff * (dff + dfr)) / np.sum((dff + dfr) ** 2))
+    # pitch gradient from the braking run, the same linear range (ISO pitch,
+    # nose down positive: the line's slope over ax is negative)
+    mov_x = tr_x["vx"] > 5.0
+    ax = tr_x["ax_kin"]
+    lin_x = mov_x & (np.abs(ax) > 1.0) & (np.abs(ax) < 4.0)
+    pitch_gradient = -float(np.polyfit(ax[lin_x], tr_x["pitch"][lin_x], 1)[0])
     values = dict(roll_gradient=round(max(0.0, min(0.05, roll_gradient)), 6),
-                  roll_split_front=round(max(0.0, min(1.0, split)), 4))
+                  roll_split_front=round(max(0.0, min(1.0, split)), 4),
+                  pitch_gradient=round(max(0.0, min(0.05, pitch_gradient)), 6))
     out_tir = os.path.join(out_dir, f"fitted_{vname}.tir")
     header = (f"$ grip independent judge: {veh.label} tire. Lateral group fitted with `grip fit-mf --model fy "
               f"--start tir --fix {FIT_FIX}` from PacejkaBook_Defaults.tir with PKY2 = {FIT_PKY2} to the four "
@@ -731,12 +739,13 @@ def summary_md(results, configs, builds, in_family, step_err, chars):
         lines.append("")
     if chars:
         lines.append("## Fitted configuration (ramp steer at 80 km/h and braking from 100 km/h, dry)\n")
-        lines.append("| vehicle | fitted tire | Fy fit RMS [N] / points | Fx fit RMS [N] / points | roll gradient [rad/(m/s^2)] | front roll share | mu_true per unit road factor (generic / fitted) |")
-        lines.append("|---|---|---|---|---|---|---|")
+        lines.append("| vehicle | fitted tire | Fy fit RMS [N] / points | Fx fit RMS [N] / points | roll gradient [rad/(m/s^2)] | front roll share | pitch gradient [rad/(m/s^2)] | mu_true per unit road factor (generic / fitted) |")
+        lines.append("|---|---|---|---|---|---|---|---|")
         for c in chars:
             lines.append(f"| {c['vehicle']} | {os.path.basename(c['tir'])} | {_f(c.get('fit_rms_N'), '.0f')} / "
                          f"{c['fit_points']} | {_f(c.get('fit_x_rms_N'), '.0f')} / {c.get('fit_x_points', '-')} | "
                          f"{c['values']['roll_gradient']:.4f} | {c['values']['roll_split_front']:.3f} | "
+                         f"{c['values'].get('pitch_gradient', 0.0):.4f} | "
                          f"{c['mu_norm']['generic']:.3f} / {c['mu_norm']['fitted']:.3f} |")
         lines.append("")
     if any("learned" in c for c in chars):
