@@ -299,6 +299,15 @@ def _fit_figures(report):
     return (float(rms.group(1)) if rms else None), (float(share.group(1)) / 100.0 if share else None)
 
 
+def _linear_range(tr, acc):
+    """The steps of a characterization run's truth tr where the car moves
+    (above 5 m/s) and the acceleration column acc is within 1 - 4 m/s^2 in
+    magnitude: the body's linear range, where its roll and pitch are lines
+    of the acceleration."""
+    a = np.abs(tr[acc])
+    return (tr["vx"] > 5.0) & (a > 1.0) & (a < 4.0)
+
+
 def characterize(vname, out_dir, work_dir):
     """The ramp steer and the braking run of one vehicle on dry asphalt ->
     fitted_<vehicle>.tir in out_dir (lateral group from the ramp,
@@ -319,20 +328,16 @@ def characterize(vname, out_dir, work_dir):
     data_x, tr_x = _wheel_data(veh, "brake-ramp", "kappa", "fx")
     frag_x, report_x = _fit_group(data_x, "fx", lateral, FIT_FIX_X, work_dir, f"brake_{vname}")
     # roll gradient and front share of the lateral load transfer, linear range
-    mov = tr["vx"] > 5.0
-    ay = tr["ay_kin"]
-    lin = mov & (np.abs(ay) > 1.0) & (np.abs(ay) < 4.0)
-    roll_gradient = float(np.polyfit(ay[lin], tr["roll"][lin], 1)[0])
+    lin = _linear_range(tr, "ay_kin")
+    roll_gradient = float(np.polyfit(tr["ay_kin"][lin], tr["roll"][lin], 1)[0])
     p = veh.p
     dff = 0.5 * (tr["fz_fr"] - tr["fz_fl"])[lin] * p.T_f
     dfr = 0.5 * (tr["fz_rr"] - tr["fz_rl"])[lin] * p.T_r
     split = float(np.sum(dff * (dff + dfr)) / np.sum((dff + dfr) ** 2))
     # pitch gradient from the braking run, the same linear range (ISO pitch,
     # nose down positive: the line's slope over ax is negative)
-    mov_x = tr_x["vx"] > 5.0
-    ax = tr_x["ax_kin"]
-    lin_x = mov_x & (np.abs(ax) > 1.0) & (np.abs(ax) < 4.0)
-    pitch_gradient = -float(np.polyfit(ax[lin_x], tr_x["pitch"][lin_x], 1)[0])
+    lin_x = _linear_range(tr_x, "ax_kin")
+    pitch_gradient = -float(np.polyfit(tr_x["ax_kin"][lin_x], tr_x["pitch"][lin_x], 1)[0])
     values = dict(roll_gradient=round(max(0.0, min(0.05, roll_gradient)), 6),
                   roll_split_front=round(max(0.0, min(1.0, split)), 4),
                   pitch_gradient=round(max(0.0, min(0.05, pitch_gradient)), 6))
@@ -351,7 +356,7 @@ def characterize(vname, out_dir, work_dir):
                 fit_rms_N=rms, fit_max_share=share,
                 fit_x_points=int(len(data_x["kappa"])), fit_x_report=report_x.strip().splitlines()[:6],
                 fit_x_rms_N=rms_x, fit_x_max_share=share_x,
-                ay_max=float(np.max(np.abs(ay[mov]))))
+                ay_max=float(np.max(np.abs(tr["ay_kin"][tr["vx"] > 5.0]))))
 
 
 def learning_drive_inputs(vname, name):
