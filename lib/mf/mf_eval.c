@@ -241,7 +241,7 @@ static MF_ALWAYS_INLINE void mf_lmu(const grip_mf_params *p, mf_op *op, grip_rea
  * for the unprepared evaluations. */
 static MF_ALWAYS_INLINE grip_status_t mf_prepare(const grip_mf_params *p, const grip_mf_prepared *k,
                                                  const grip_mf_input *in, uint32_t mode, mf_op *op, mf_io *io,
-                                                 int ext)
+                                                 int ext, mf_core *x)
 {
     uint32_t opt = ext ? mode : ((k != NULL) ? k->options : p->options);
     int limits = 1;
@@ -306,6 +306,12 @@ static MF_ALWAYS_INLINE grip_status_t mf_prepare(const grip_mf_params *p, const 
     alpha = mf_clamp_sym(alpha, op->book ? RC(GRIP_MF_ALPHA_MAX_BOOK) : RC(GRIP_MF_ALPHA_MAX), &clamped);
     gamma = mf_clamp_sym(gamma, RC(GRIP_MF_GAMMA_MAX), &clamped);
     vx = mf_clamp_sym(vx, RC(GRIP_MF_VX_MAX), &clamped);
+    if (x != NULL) {
+        /* the inputs of the extended outputs: before the low-speed scaling */
+        x->kap = kappa;
+        x->gam = gamma;
+        x->vx = vx;
+    }
     {
         grip_real_t fz_max = (k != NULL) ? k->fz_max : r_mul(RC(GRIP_MF_FZ_MAX_REL), p->fnomin);
         if (io->zero) {
@@ -421,7 +427,7 @@ static grip_status_t mf_finish(const grip_mf_params *p, const mf_op *op, const m
  * coefficients is refused. */
 static MF_ALWAYS_INLINE grip_status_t mf_begin(const grip_mf_params *p, const grip_mf_prepared *k,
                                                const grip_mf_input *in, uint32_t mode, const mf_ts *ts, int ext,
-                                               grip_mf_output *out, mf_op *op, mf_io *io)
+                                               grip_mf_output *out, mf_op *op, mf_io *io, mf_core *x)
 {
     grip_status_t st;
     if (out == NULL) {
@@ -436,7 +442,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_begin(const grip_mf_params *p, const gr
     if (ext && ((mode & GRIP_MF_OPT_TURN_SLIP) != 0u) && ((ts == NULL) || !mf_turn_slip_usable(p))) {
         return GRIP_ERR_PARAM;
     }
-    st = mf_prepare(p, k, in, mode, op, io, ext);
+    st = mf_prepare(p, k, in, mode, op, io, ext, x);
     if ((st == GRIP_OK) && io->zero) {
         return GRIP_OK;
     }
@@ -620,9 +626,9 @@ static MF_NOINLINE grip_real_t mf_ts_moment(const grip_mf_params *p, const mf_op
  * error or when io.zero (Fz <= 0: zero outputs). */
 static MF_ALWAYS_INLINE grip_status_t mf_pure_begin_body(const grip_mf_params *p, const grip_mf_prepared *k,
                                                          const grip_mf_input *in, grip_mf_output *out, mf_pure *s,
-                                                         int cert)
+                                                         int cert, mf_core *x)
 {
-    grip_status_t st = mf_begin(p, k, in, 0u, NULL, 0, out, &s->op, &s->io);
+    grip_status_t st = mf_begin(p, k, in, 0u, NULL, 0, out, &s->op, &s->io, x);
     if ((st < 0) || s->io.zero) {
         return st;
     }
@@ -634,14 +640,24 @@ static MF_ALWAYS_INLINE grip_status_t mf_pure_begin_body(const grip_mf_params *p
 static grip_status_t mf_pure_begin(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out,
                                    mf_pure *s)
 {
-    return mf_pure_begin_body(p, NULL, in, out, s, 0);
+    return mf_pure_begin_body(p, NULL, in, out, s, 0, NULL);
 }
 
 /* The same with a prepared set (p = k->p, not NULL). */
 static grip_status_t mf_pure_begin_prep(const grip_mf_prepared *k, const grip_mf_input *in, grip_mf_output *out,
                                         mf_pure *s)
 {
-    return mf_pure_begin_body(k->p, k, in, out, s, 0);
+    return mf_pure_begin_body(k->p, k, in, out, s, 0, NULL);
+}
+
+/* The same for the prepared extended evaluation: also the inputs of the
+ * extended outputs into *x (mf_prepare), which the channels would
+ * otherwise convert and clamp again (a copy of its own, so that
+ * grip_mf_eval_prepared stores nothing more). */
+static grip_status_t mf_pure_begin_prep_x(const grip_mf_prepared *k, const grip_mf_input *in, grip_mf_output *out,
+                                          mf_pure *s, mf_core *x)
+{
+    return mf_pure_begin_body(k->p, k, in, out, s, 0, x);
 }
 
 #if MF_CERT_PATH
@@ -650,16 +666,27 @@ static grip_status_t mf_pure_begin_prep_c(const grip_mf_prepared *k, const grip_
                                           mf_pure *s)
 {
     /* grip-deviation: ctunullpointer false positive: called only from the prepared evaluation, whose k the API checks */
-    return mf_pure_begin_body(k->p, k, in, out, s, 1);
+    return mf_pure_begin_body(k->p, k, in, out, s, 1, NULL);
+}
+
+static grip_status_t mf_pure_begin_prep_c_x(const grip_mf_prepared *k, const grip_mf_input *in, grip_mf_output *out,
+                                            mf_pure *s, mf_core *x)
+{
+    /* grip-deviation: ctunullpointer false positive: called only from the prepared evaluation, whose k the API checks */
+    return mf_pure_begin_body(k->p, k, in, out, s, 1, x);
 }
 #endif
 
 /* The pure-slip start of an evaluation: unprepared (k NULL), prepared, or
- * prepared and certified (cert, a constant in each caller). */
+ * prepared and certified (cert, a constant in each caller); with a prepared
+ * set and xin (a constant too), also the extended outputs' inputs into *x. */
 static MF_ALWAYS_INLINE grip_status_t mf_pure_begin_any(const grip_mf_params *p, const grip_mf_prepared *k,
                                                         const grip_mf_input *in, grip_mf_output *out, mf_pure *s,
-                                                        int cert)
+                                                        int cert, int xin, mf_core *x)
 {
+    if (xin && (k != NULL)) {
+        return MF_CERT_PICK(cert, mf_pure_begin_prep_c_x(k, in, out, s, x), mf_pure_begin_prep_x(k, in, out, s, x));
+    }
     return MF_CERT_PICK(cert, mf_pure_begin_prep_c(k, in, out, s),
                         (k != NULL) ? mf_pure_begin_prep(k, in, out, s) : mf_pure_begin(p, in, out, s));
 }
@@ -698,7 +725,7 @@ static MF_ALWAYS_INLINE grip_real_t mf_gyk_any(const grip_mf_params *p, const mf
 static MF_NOINLINE grip_status_t mf_begin_x(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode,
                                             const mf_ts *ts, grip_mf_output *out, mf_pure *s)
 {
-    return mf_begin(p, NULL, in, mode, ts, 1, out, &s->op, &s->io);
+    return mf_begin(p, NULL, in, mode, ts, 1, out, &s->op, &s->io, NULL);
 }
 
 static MF_NOINLINE void mf_pure_rest_x(const grip_mf_params *p, mf_pure *s, const mf_ts *ts, grip_real_t emax)
@@ -750,7 +777,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_pure_eval(const grip_mf_params *p, cons
     grip_real_t fy_ref;
     grip_real_t t0;
     grip_real_t mz0;
-    grip_status_t st = mf_pure_begin_any(p, k, in, out, &s, cert);
+    grip_status_t st = mf_pure_begin_any(p, k, in, out, &s, cert, 0, NULL);
     if ((st < 0) || s.io.zero) {
         return st;
     }
@@ -776,7 +803,7 @@ grip_status_t grip_mf_eval_pure(const grip_mf_params *p, const grip_mf_input *in
 static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const grip_mf_prepared *k,
                                                   const grip_mf_input *in, const grip_mf_spin *spin, uint32_t mode,
                                                   grip_real_t re, grip_mf_output *out, mf_core *x, int ext,
-                                                  int cert)
+                                                  int cert, int xin)
 {
     mf_pure s;
     mf_ts ts = { R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, R_ZERO, 0 };
@@ -800,10 +827,9 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
     if (ext) {
         st = mf_pure_begin_x(p, in, spin, mode, emax, out, &s, tsp);
     } else {
-        st = mf_pure_begin_any(p, k, in, out, &s, cert);
+        st = mf_pure_begin_any(p, k, in, out, &s, cert, xin, x);
     }
     if ((x != NULL) && (st >= 0)) {
-        x->op.mode = mode;
         x->op.fz_ql = s.op.fz_ql;
         x->op.fz = s.op.fz;
         x->op.fzp = s.op.fzp;
@@ -898,7 +924,7 @@ static MF_ALWAYS_INLINE grip_status_t mf_combined(const grip_mf_params *p, const
 
 grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, grip_mf_output *out)
 {
-    return mf_combined(p, NULL, in, NULL, 0u, R_ZERO, out, NULL, 0, 0);
+    return mf_combined(p, NULL, in, NULL, 0u, R_ZERO, out, NULL, 0, 0, 0);
 }
 
 /* The two variants of the extended evaluation, functions of their own
@@ -907,22 +933,22 @@ grip_status_t grip_mf_eval(const grip_mf_params *p, const grip_mf_input *in, gri
 grip_status_t mf_eval_core(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode, grip_mf_output *out,
                            mf_core *x)
 {
-    return mf_combined(p, NULL, in, NULL, mode, R_ZERO, out, x, 0, 0);
+    return mf_combined(p, NULL, in, NULL, mode, R_ZERO, out, x, 0, 0, 0);
 }
 
 grip_status_t mf_eval_core_use(const grip_mf_params *p, const grip_mf_input *in, const grip_mf_spin *spin,
                                uint32_t mode, grip_real_t re, grip_mf_output *out, mf_core *x)
 {
-    return mf_combined(p, NULL, in, spin, mode, re, out, x, 1, 0);
+    return mf_combined(p, NULL, in, spin, mode, re, out, x, 1, 0, 0);
 }
 
 grip_status_t mf_eval_core_prepared(const grip_mf_prepared *k, const grip_mf_input *in, grip_mf_output *out,
                                     mf_core *x)
 {
     if (MF_CERT_PATH && ((k->flags & MF_PF_CERT) != 0u)) {
-        return mf_combined(k->p, k, in, NULL, k->options, R_ZERO, out, x, 0, 1);
+        return mf_combined(k->p, k, in, NULL, k->options, R_ZERO, out, x, 0, 1, 1);
     }
-    return mf_combined(k->p, k, in, NULL, k->options, R_ZERO, out, x, 0, 0);
+    return mf_combined(k->p, k, in, NULL, k->options, R_ZERO, out, x, 0, 0, 1);
 }
 
 grip_real_t mf_ts_radius(const grip_mf_params *p, const grip_mf_input *in, uint32_t mode)
@@ -971,9 +997,9 @@ grip_status_t grip_mf_eval_prepared(const grip_mf_prepared *prep, const grip_mf_
         return st;
     }
     if (MF_CERT_PATH && ((prep->flags & MF_PF_CERT) != 0u)) {
-        return mf_combined(prep->p, prep, in, NULL, 0u, R_ZERO, out, NULL, 0, 1);
+        return mf_combined(prep->p, prep, in, NULL, 0u, R_ZERO, out, NULL, 0, 1, 0);
     }
-    return mf_combined(prep->p, prep, in, NULL, 0u, R_ZERO, out, NULL, 0, 0);
+    return mf_combined(prep->p, prep, in, NULL, 0u, R_ZERO, out, NULL, 0, 0, 0);
 }
 
 grip_status_t grip_mf_eval_pure_prepared(const grip_mf_prepared *prep, const grip_mf_input *in,
@@ -1120,6 +1146,9 @@ static void mf_prepare_fill(const grip_mf_params *p, uint32_t options, grip_mf_p
         k->re_k = z.re_k;
         f |= z.flags;   /* MF_PF_CZ, MF_PF_RE, MF_PF_RE_U */
     }
+#if !GRIP_ARITH_FIXED
+    f |= mf_cert_ext_ok_f(p, k->fz_max) ? MF_PF_CERT_EXT : 0u;
+#endif
 #if MF_CERT_PATH
     {
         int64_t m = 0;

@@ -714,10 +714,13 @@ static MF_ALWAYS_INLINE void ext_relax(const ext_ctx *e, grip_real_t kxk, int kx
     if (op->mf52) {
         need &= ~(GRIP_MF_EXT_SIGMAX | GRIP_MF_EXT_SIGMAY);
     }
-    if (((need & (GRIP_MF_EXT_CX | GRIP_MF_EXT_SIGMAX)) != 0u) && (p->longitudinal_stiffness > R_ZERO)) {
+    /* the float build's certificate holds LONGITUDINAL_, LATERAL_STIFFNESS > 0 */
+    if (((need & (GRIP_MF_EXT_CX | GRIP_MF_EXT_SIGMAX)) != 0u) &&
+        ((!GRIP_ARITH_FIXED && cert) || (p->longitudinal_stiffness > R_ZERO))) {
         cxok = 1;
     }
-    if (((need & (GRIP_MF_EXT_CY | GRIP_MF_EXT_SIGMAY)) != 0u) && (p->lateral_stiffness > R_ZERO)) {
+    if (((need & (GRIP_MF_EXT_CY | GRIP_MF_EXT_SIGMAY)) != 0u) &&
+        ((!GRIP_ARITH_FIXED && cert) || (p->lateral_stiffness > R_ZERO))) {
         cyok = 1;
     }
     if (cxok) {
@@ -826,6 +829,34 @@ int mf_cert_ext_ok(const grip_mf_params *p, int64_t m)
     }
     return ext_cert_cstiff(p->pcfx1, p->pcfx2, p->pcfx3, p->longitudinal_stiffness, m) &&
            ext_cert_cstiff(p->pcfy1, p->pcfy2, p->pcfy3, p->lateral_stiffness, m);
+}
+#endif
+
+#if !GRIP_ARITH_FIXED
+/* The float build's certificate of Cx (c1..c3 PCFX1..3, c0
+ * LONGITUDINAL_STIFFNESS) for |dfz| <= m, |dpi| <= 1: c0 > 0, the factors of
+ * ext_cstiff and their product at most 29000 in magnitude and that times
+ * c0 at most 7.9e6 N/m, so that mf_times_ql's tests (30000, 8e6) hold for
+ * every input; the bound is formed from finite coefficients (the set was
+ * checked) with a margin far above float's rounding. */
+static int ext_cert_cstiff_f(grip_real_t c1, grip_real_t c2, grip_real_t c3, grip_real_t c0, grip_real_t m)
+{
+    grip_real_t bp = r_add(R_ONE, r_mul(r_add(r_abs(c1), r_mul(r_abs(c2), m)), m));
+    grip_real_t bq = r_add(R_ONE, r_abs(c3));
+    grip_real_t bf = r_mul(bp, bq);
+    return (c0 > R_ZERO) && (bp <= RC(29000.0)) && (bq <= RC(29000.0)) && (bf <= RC(29000.0)) &&
+           (r_mul(bf, c0) <= RC(7.9e6));
+}
+
+int mf_cert_ext_ok_f(const grip_mf_params *p, grip_real_t fz_max)
+{
+    /* dfz in [-1, dfz at fz_max] (mf_load's quotients are monotone in Fz) */
+    grip_real_t m = r_max(r_sub(r_div(r_div(fz_max, p->fnomin), p->lfzo), R_ONE), R_ONE);
+    if (!(m <= RC(1.0e4))) {
+        return 0;
+    }
+    return ext_cert_cstiff_f(p->pcfx1, p->pcfx2, p->pcfx3, p->longitudinal_stiffness, m) &&
+           ext_cert_cstiff_f(p->pcfy1, p->pcfy2, p->pcfy3, p->lateral_stiffness, m);
 }
 #endif
 
@@ -955,16 +986,10 @@ uint32_t grip_mf_ext_supported(const grip_mf_params *p)
     return m;
 }
 
-/* The start of both extended evaluations: every output zero, no channel
- * valid (out not NULL; args: whether the other arguments are). Field by
- * field: the compilers make a copy of a zero struct of this size a memset
- * call, ~60 instructions on the Cortex-M4F against 23 stores. */
-static MF_ALWAYS_INLINE grip_status_t ext_start(int args, grip_mf_output_ext *out)
+/* The channels an evaluation does not always write zero (all but Re:
+ * ext_channels_body writes it, and valid, once). */
+static MF_ALWAYS_INLINE void ext_zero_channels(grip_mf_output_ext *out)
 {
-    out->fx = R_ZERO;
-    out->fy = R_ZERO;
-    out->mz = R_ZERO;
-    out->re = R_ZERO;
     out->omega = R_ZERO;
     out->rl = R_ZERO;
     out->rho = R_ZERO;
@@ -983,8 +1008,19 @@ static MF_ALWAYS_INLINE grip_status_t ext_start(int args, grip_mf_output_ext *ou
     out->sigmay = R_ZERO;
     out->mx = R_ZERO;
     out->my = R_ZERO;
+}
+
+/* Every output zero, no channel valid: the outputs of an error. Field by
+ * field: the compilers make a copy of a zero struct of this size a memset
+ * call, ~60 instructions on the Cortex-M4F against 23 stores. */
+static void ext_zero(grip_mf_output_ext *out)
+{
+    out->fx = R_ZERO;
+    out->fy = R_ZERO;
+    out->mz = R_ZERO;
+    out->re = R_ZERO;
+    ext_zero_channels(out);
     out->valid = 0u;
-    return args ? GRIP_OK : GRIP_ERR_NULL;
 }
 
 /* A requested channel that is not finite: 0 and its bit cleared (also when
@@ -1074,8 +1110,10 @@ static MF_ALWAYS_INLINE void ext_stiff(const ext_ctx *e, uint32_t want, grip_mf_
     /* Kxk, Kya are finite where valid (a NaN or infinite product fails
      * |K| <= 8e6), and so are MF 6.x's sigma (|K| / |C| below 1000);
      * Cx, Cy and MF 5.2's sigma are not when a coefficient is not */
-    ext_finite(&out->cx, GRIP_MF_EXT_CX, want, valid);
-    ext_finite(&out->cy, GRIP_MF_EXT_CY, want, valid);
+    if ((want & (GRIP_MF_EXT_CX | GRIP_MF_EXT_CY)) != 0u) {
+        ext_finite(&out->cx, GRIP_MF_EXT_CX, want, valid);
+        ext_finite(&out->cy, GRIP_MF_EXT_CY, want, valid);
+    }
     if (c->op.mf52) {
         ext_finite(&out->sigmax, GRIP_MF_EXT_SIGMAX, want, valid);
         ext_finite(&out->sigmay, GRIP_MF_EXT_SIGMAY, want, valid);
@@ -1167,19 +1205,23 @@ static MF_NOINLINE uint32_t ext_more(ext_ctx *e, uint32_t mode, uint32_t want, g
     return valid;
 }
 
-/* The forces of an extended evaluation (base, its status st) into out;
- * whether to go on with the channels (st not an error). */
+/* The forces of an extended evaluation (base, its status st) into out and
+ * the channels but Re zero (ext_zero_channels: their fields are written
+ * once, where the evaluation would not zero them first); whether to go on
+ * with the channels (st not an error: the caller zeroes every output
+ * otherwise, ext_zero). */
 static MF_ALWAYS_INLINE int ext_forces(const grip_mf_output *base, grip_status_t st, grip_mf_output_ext *out)
 {
     out->fx = base->fx;
     out->fy = base->fy;
     out->mz = base->mz;
+    ext_zero_channels(out);
     return (st >= 0) ? 1 : 0;
 }
 
 /* The requested channels of an evaluation whose status st is not an error
  * (c: its intermediates; mode: its use-mode bits; out: the forces written,
- * the channels zero (ext_start); k: the prepared set of p, or NULL; cert, a
+ * the channels but Re zero (ext_forces); Re and valid are written here; k: the prepared set of p, or NULL; cert, a
  * constant in each caller: the set's extended certificate holds,
  * MF_PF_CERT_EXT). */
 static MF_ALWAYS_INLINE grip_status_t ext_channels_body(const grip_mf_params *p, const grip_mf_prepared *k, mf_core *c,
@@ -1190,10 +1232,19 @@ static MF_ALWAYS_INLINE grip_status_t ext_channels_body(const grip_mf_params *p,
     ext_ctx e;
     uint32_t valid = 0u;
     int ok;
+    grip_real_t re = R_ZERO;
     e.p = p;
     e.c = c;
-    if (ext_inputs(mode, outputs, in, spin, &c->io, &e) && (st == GRIP_OK)) {
+    if (k != NULL) {
+        /* the prepared evaluation's inputs as it took them (no spin) */
+        e.kap = c->kap;
+        e.gam = c->gam;
+        e.vx = c->vx;
+        e.omega = R_ZERO;
+    } else if (ext_inputs(mode, outputs, in, spin, &c->io, &e) && (st == GRIP_OK)) {
         st = GRIP_WARN_CLAMPED;
+    } else {
+        /* no spin clamped */
     }
     if (c->io.zero) {
         c->fx = R_ZERO;
@@ -1239,14 +1290,21 @@ static MF_ALWAYS_INLINE grip_status_t ext_channels_body(const grip_mf_params *p,
             ok = 1;
             /* finite: r is (ext_radius), and an R0 of +Inf has no Cz
              * (MF_PF_CZ); r <= MF_RE_MAX, so with R0 <= 5000 m the product
-             * is within QS without a test */
-            out->re = (p->unloaded_radius <= RC(5000.0)) ? r_mul_nt(e.r, p->unloaded_radius)
-                                                          : mf_times_qs(e.r, p->unloaded_radius, &ok);
+             * is within QS without a test (beyond it 0 when not) */
+            re = (p->unloaded_radius <= RC(5000.0)) ? r_mul_nt(e.r, p->unloaded_radius)
+                                                     : mf_times_qs(e.r, p->unloaded_radius, &ok);
             valid |= ok ? GRIP_MF_EXT_RE : 0u;
         }
     }
+    out->re = re;
     if ((outputs & EXT_STIFF) != 0u) {
+#if GRIP_ARITH_FIXED
         ext_stiff(&e, outputs, out, &valid, cert);
+#else
+        /* the float build's certificate of Cx, Cy (mf_cert_ext_ok_f): their
+         * format tests dropped, the same values */
+        ext_stiff(&e, outputs, out, &valid, (k != NULL) && ((k->flags & MF_PF_CERT_EXT) != 0u));
+#endif
     }
     if ((outputs & EXT_MORE) != 0u) {
         valid |= ext_more(&e, mode, outputs, out);
@@ -1319,14 +1377,15 @@ grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input
     if (out == NULL) {
         return GRIP_ERR_NULL;
     }
-    st = ext_start((p != NULL) && (in != NULL), out);
-    if (st != GRIP_OK) {
-        return st;
+    if ((p == NULL) || (in == NULL)) {
+        ext_zero(out);
+        return GRIP_ERR_NULL;
     }
     if (((outputs & ~(GRIP_MF_EXT_ALL | GRIP_MF_USE_ALL)) != 0u) ||
         ((outputs & (GRIP_MF_USE_TURN_SLIP | GRIP_MF_USE_NO_TURN_SLIP)) ==
          (GRIP_MF_USE_TURN_SLIP | GRIP_MF_USE_NO_TURN_SLIP)) ||
         ((outputs & (GRIP_MF_USE_LIMITS | GRIP_MF_USE_NO_LIMITS)) == (GRIP_MF_USE_LIMITS | GRIP_MF_USE_NO_LIMITS))) {
+        ext_zero(out);
         return GRIP_ERR_INPUT;
     }
     if (spin == NULL) {
@@ -1335,6 +1394,7 @@ grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input
     mode = mf_mode_use(p->options, outputs);
     /* the spin and the turn slip (float build: NaN and infinities) */
     if (!r_is_finite(spin->omega) || (((mode & GRIP_MF_OPT_TURN_SLIP) != 0u) && !r_is_finite(spin->phit))) {
+        ext_zero(out);
         return GRIP_ERR_INPUT;
     }
     if (((mode | p->options) & (GRIP_MF_OPT_TURN_SLIP | GRIP_MF_OPT_NO_LIMITS)) == 0u) {
@@ -1349,6 +1409,7 @@ grip_status_t grip_mf_eval_ext_spin(const grip_mf_params *p, const grip_mf_input
                               &base, &c);
     }
     if (!ext_forces(&base, st, out)) {
+        ext_zero(out);
         return st;
     }
     return ext_channels_spin(p, &c, in, spin, mode, outputs & GRIP_MF_EXT_ALL, st, out);
@@ -1363,19 +1424,22 @@ grip_status_t grip_mf_eval_ext_prepared(const grip_mf_prepared *prep, const grip
     if (out == NULL) {
         return GRIP_ERR_NULL;
     }
-    st = ext_start((prep != NULL) && (in != NULL), out);
-    if (st != GRIP_OK) {
-        return st;
+    if ((prep == NULL) || (in == NULL)) {
+        ext_zero(out);
+        return GRIP_ERR_NULL;
     }
     if (prep->p == NULL) {
+        ext_zero(out);
         return GRIP_ERR_PARAM;
     }
     /* channels only: the use modes are grip_mf_eval_ext_spin's */
     if ((outputs & ~GRIP_MF_EXT_ALL) != 0u) {
+        ext_zero(out);
         return GRIP_ERR_INPUT;
     }
     st = mf_eval_core_prepared(prep, in, &base, &c);
     if (!ext_forces(&base, st, out)) {
+        ext_zero(out);
         return st;
     }
 #if EXT_PREP_COPY

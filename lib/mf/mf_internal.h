@@ -519,7 +519,8 @@ int mf_params_usable_plain(const grip_mf_params *p);
 #define MF_PF_CERT        0x400u /* the coefficient terms cannot leave Q15.16  */
                                  /* (mf_cert_ok, the fixed build at -O2)       */
 #define MF_PF_CERT_EXT    0x800u /* and those of the extended outputs' Re, Cx, */
-                                 /* Cy (mf_cert_ext_ok, mf_ext.c)              */
+                                 /* Cy (mf_cert_ext_ok, mf_ext.c); float build: */
+                                 /* Cx, Cy within their formats (_ok_f)        */
 
 /* The set has what the turn-slip equations divide by: PHYP1 > 0 (C_Hyp)
  * and 0 < QDRP1 < 2 (C_Drp, sin(pi/2 C_Drp) > 0). */
@@ -566,6 +567,13 @@ void mf_ext_cz_form(const grip_mf_params *p, grip_real_t dpi, mf_ext_cz *z);
 #define mf_cert_ext_ok GRIP_TYPED(grip_mf_i_cert_ext_ok)
 int mf_cert_ext_ok(const grip_mf_params *p, int64_t m);
 #endif
+#if !GRIP_ARITH_FIXED
+/* The float build's MF_PF_CERT_EXT: Cx and Cy (ext_cstiff) within their
+ * formats' tests (mf_times_ql) for every input of a set whose loads are
+ * clamped to fz_max (mf_ext.c); there the channels skip those tests. */
+#define mf_cert_ext_ok_f GRIP_TYPED(grip_mf_i_cert_ext_ok_f)
+int mf_cert_ext_ok_f(const grip_mf_params *p, grip_real_t fz_max);
+#endif
 
 /* mu_x (4.E13) at dfz, dpi, the camber of mu_x and LMUX*. */
 static MF_ALWAYS_INLINE grip_real_t mf_mux(const grip_mf_params *p, grip_real_t dfz, grip_real_t dpi, grip_real_t gmux,
@@ -596,7 +604,6 @@ typedef struct {
     grip_real_t gmux;    /* camber of mu_x, LMUX* (mu_x by mf_mux)             */
     grip_real_t lmux_s;
     int mf52;
-    uint32_t mode;       /* the use-mode bits of the evaluation                */
 } mf_ext_op;
 
 /* What the extended outputs (mf_ext.c) take from one combined evaluation:
@@ -612,6 +619,9 @@ typedef struct {
     grip_real_t mzr;     /* combined residual moment Mzr / (Fz R0)             */
     grip_real_t fx;      /* combined Fx / Fz, Fy / Fz                          */
     grip_real_t fy;
+    grip_real_t kap;     /* kappa (ISO, clamped, before the low-speed scaling), */
+    grip_real_t gam;     /* gamma (ISO, mirrored, clamped), vx (clamped): the   */
+    grip_real_t vx;      /* prepared evaluation's only (mf_eval_core_prepared) */
 } mf_core;
 
 /* grip_mf_eval with the use modes of `mode` (GRIP_MF_OPT_* bits, turn slip
@@ -630,8 +640,9 @@ grip_status_t mf_eval_core(const grip_mf_params *p, const grip_mf_input *in, uin
 grip_status_t mf_eval_core_use(const grip_mf_params *p, const grip_mf_input *in, const grip_mf_spin *spin,
                                uint32_t mode, grip_real_t re, grip_mf_output *out, mf_core *x);
 /* mf_eval_core with a prepared set (k->p not NULL, checked by the caller):
- * grip_mf_eval_prepared's evaluation, bit for bit, with the intermediates;
- * x->op.mode holds k->options (no use mode: a prepared set has none). */
+ * grip_mf_eval_prepared's evaluation, bit for bit, with the intermediates
+ * and also the inputs as the model took them (x->kap, x->gam, x->vx: no
+ * use mode, a prepared set has none). */
 grip_status_t mf_eval_core_prepared(const grip_mf_prepared *k, const grip_mf_input *in, grip_mf_output *out,
                                     mf_core *x);
 
