@@ -824,7 +824,8 @@ int mf_cert_ext_ok(const grip_mf_params *p, int64_t m)
     int64_t lim = (int64_t)30000 << 16;
     int64_t tb = (ext_cert_abs(p->breff) * f5) >> 16;
     int64_t td = ((ext_cert_abs(p->dreff) + ext_cert_abs(p->freff)) * f5) >> 16;
-    if (((tb + 1) > lim) || ((td + 2) > lim)) {
+    /* R0 <= 5000 m: Re = r R0 within QS without a test (r <= MF_RE_MAX) */
+    if (((tb + 1) > lim) || ((td + 2) > lim) || (p->unloaded_radius > RC(5000.0))) {
         return 0;
     }
     return ext_cert_cstiff(p->pcfx1, p->pcfx2, p->pcfx3, p->longitudinal_stiffness, m) &&
@@ -848,11 +849,14 @@ static int ext_cert_cstiff_f(grip_real_t c1, grip_real_t c2, grip_real_t c3, gri
            (r_mul(bf, c0) <= RC(7.9e6));
 }
 
+/* The float build's MF_PF_CERT_EXT: R0 <= 5000 m (Re = r R0 with no
+ * range test) and Cx, Cy's certificates. */
 int mf_cert_ext_ok_f(const grip_mf_params *p, grip_real_t fz_max)
 {
     /* dfz in [-1, dfz at fz_max] (mf_load's quotients are monotone in Fz) */
     grip_real_t m = r_max(r_sub(r_div(r_div(fz_max, p->fnomin), p->lfzo), R_ONE), R_ONE);
-    if (!(m <= RC(1.0e4))) {
+    /* R0 <= 5000 m: Re = r R0 within QS without a test (r <= MF_RE_MAX) */
+    if (!(m <= RC(1.0e4)) || !(p->unloaded_radius <= RC(5000.0))) {
         return 0;
     }
     return ext_cert_cstiff_f(p->pcfx1, p->pcfx2, p->pcfx3, p->longitudinal_stiffness, m) &&
@@ -1233,6 +1237,15 @@ static MF_ALWAYS_INLINE grip_status_t ext_channels_body(const grip_mf_params *p,
     uint32_t valid = 0u;
     int ok;
     grip_real_t re = R_ZERO;
+    /* the set's extended certificate: the fixed build's a constant of the
+     * caller (its certified copy), the float build's the set's flag, read
+     * once (mf_cert_ext_ok_f: R0 <= 5000 m, Cx, Cy within their tests) */
+#if GRIP_ARITH_FIXED
+    int certx = cert;
+#else
+    int certx = 0;
+    (void)cert;
+#endif
     e.p = p;
     e.c = c;
     if (k != NULL) {
@@ -1241,6 +1254,9 @@ static MF_ALWAYS_INLINE grip_status_t ext_channels_body(const grip_mf_params *p,
         e.gam = c->gam;
         e.vx = c->vx;
         e.omega = R_ZERO;
+#if !GRIP_ARITH_FIXED
+        certx = ((k->flags & MF_PF_CERT_EXT) != 0u) ? 1 : 0;
+#endif
     } else if (ext_inputs(mode, outputs, in, spin, &c->io, &e) && (st == GRIP_OK)) {
         st = GRIP_WARN_CLAMPED;
     } else {
@@ -1261,17 +1277,18 @@ static MF_ALWAYS_INLINE grip_status_t ext_channels_body(const grip_mf_params *p,
     if ((outputs & EXT_NEED_CZ) != 0u) {
         /* the vertical stiffness at the pressure, times R0, over FNOMIN:
          * the prepared set's at its default pressure */
-        mf_ext_cz z;
         if ((k != NULL) && !(in->p > R_ZERO)) {
-            z.r0czp = k->r0czp;
-            z.re_k = k->re_k;
-            z.flags = k->flags & (MF_PF_CZ | MF_PF_RE | MF_PF_RE_U);
+            e.r0czp = k->r0czp;
+            e.re_k = k->re_k;
+            e.czf = k->flags & (MF_PF_CZ | MF_PF_RE | MF_PF_RE_U);
         } else {
+            /* z in this branch only: its address passed, it stays in memory */
+            mf_ext_cz z;
             mf_ext_cz_form(p, c->op.dpi, &z);
+            e.r0czp = z.r0czp;
+            e.re_k = z.re_k;
+            e.czf = z.flags;
         }
-        e.r0czp = z.r0czp;
-        e.re_k = z.re_k;
-        e.czf = z.flags;
         e.cz_r0 = R_ZERO;
         e.c0 = R_ZERO;
         if ((outputs & (GRIP_MF_EXT_RL | GRIP_MF_EXT_RHO | GRIP_MF_EXT_CZ | GRIP_MF_EXT_LENGTH | GRIP_MF_EXT_WIDTH)) !=
@@ -1290,24 +1307,24 @@ static MF_ALWAYS_INLINE grip_status_t ext_channels_body(const grip_mf_params *p,
             ok = 1;
             /* finite: r is (ext_radius), and an R0 of +Inf has no Cz
              * (MF_PF_CZ); r <= MF_RE_MAX, so with R0 <= 5000 m the product
-             * is within QS without a test (beyond it 0 when not) */
-            re = (p->unloaded_radius <= RC(5000.0)) ? r_mul_nt(e.r, p->unloaded_radius)
-                                                     : mf_times_qs(e.r, p->unloaded_radius, &ok);
+             * is within QS without a test (beyond it 0 when not); the
+             * certificate holds R0 <= 5000 m (mf_cert_ext_ok, _ok_f) */
+            re = (certx || (p->unloaded_radius <= RC(5000.0))) ? r_mul_nt(e.r, p->unloaded_radius)
+                                                                : mf_times_qs(e.r, p->unloaded_radius, &ok);
             valid |= ok ? GRIP_MF_EXT_RE : 0u;
         }
     }
     out->re = re;
     if ((outputs & EXT_STIFF) != 0u) {
-#if GRIP_ARITH_FIXED
-        ext_stiff(&e, outputs, out, &valid, cert);
-#else
         /* the float build's certificate of Cx, Cy (mf_cert_ext_ok_f): their
          * format tests dropped, the same values */
-        ext_stiff(&e, outputs, out, &valid, (k != NULL) && ((k->flags & MF_PF_CERT_EXT) != 0u));
-#endif
+        ext_stiff(&e, outputs, out, &valid, certx);
     }
     if ((outputs & EXT_MORE) != 0u) {
-        valid |= ext_more(&e, mode, outputs, out);
+        /* a copy whose address ext_more takes: e's own is never taken, so
+         * its fields stay in registers on the paths without ext_more */
+        ext_ctx m = e;
+        valid |= ext_more(&m, mode, outputs, out);
     }
     out->valid = valid;
     return st;

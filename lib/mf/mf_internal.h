@@ -519,8 +519,8 @@ int mf_params_usable_plain(const grip_mf_params *p);
 #define MF_PF_CERT        0x400u /* the coefficient terms cannot leave Q15.16  */
                                  /* (mf_cert_ok, the fixed build at -O2)       */
 #define MF_PF_CERT_EXT    0x800u /* and those of the extended outputs' Re, Cx, */
-                                 /* Cy (mf_cert_ext_ok, mf_ext.c); float build: */
-                                 /* Cx, Cy within their formats (_ok_f)        */
+                                 /* Cy, R0 <= 5000 m (mf_cert_ext_ok, mf_ext.c); */
+                                 /* float build: R0, Cx, Cy (_ok_f)            */
 
 /* The set has what the turn-slip equations divide by: PHYP1 > 0 (C_Hyp)
  * and 0 < QDRP1 < 2 (C_Drp, sin(pi/2 C_Drp) > 0). */
@@ -563,14 +563,16 @@ void mf_ext_cz_form(const grip_mf_params *p, grip_real_t dpi, mf_ext_cz *z);
  * terms of Re's deflection (BREFF, DREFF, FREFF times Fz / FNOMIN or an
  * arctangent) and the structural stiffnesses Cx, Cy (PCFX1, PCFX2 times dfz
  * and its square, PCFX3 times dpi; their product, and that times
- * LONGITUDINAL_STIFFNESS within MF_QL_MAX; PCFY* likewise). */
+ * LONGITUDINAL_STIFFNESS within MF_QL_MAX; PCFY* likewise), and R0 <= 5000 m
+ * (Re = r R0 within QS with no range test). */
 #define mf_cert_ext_ok GRIP_TYPED(grip_mf_i_cert_ext_ok)
 int mf_cert_ext_ok(const grip_mf_params *p, int64_t m);
 #endif
 #if !GRIP_ARITH_FIXED
-/* The float build's MF_PF_CERT_EXT: Cx and Cy (ext_cstiff) within their
- * formats' tests (mf_times_ql) for every input of a set whose loads are
- * clamped to fz_max (mf_ext.c); there the channels skip those tests. */
+/* The float build's MF_PF_CERT_EXT: R0 <= 5000 m, and Cx and Cy
+ * (ext_cstiff) within their formats' tests (mf_times_ql) for every input of
+ * a set whose loads are clamped to fz_max (mf_ext.c); there the channels
+ * skip those tests. */
 #define mf_cert_ext_ok_f GRIP_TYPED(grip_mf_i_cert_ext_ok_f)
 int mf_cert_ext_ok_f(const grip_mf_params *p, grip_real_t fz_max);
 #endif
