@@ -164,7 +164,9 @@ typedef struct {
     grip_real_t kin_acc_sd;    /* QS m/s^2 [0.01, 2], default 0.10: growth per second of
                                 * the kinematic vy's deviation (accelerometer offset,
                                 * road bank); the gyro offset's deviation times vx and
-                                * 25 % of the roll compensation are added */
+                                * 25 % of the roll compensation are added. Also the
+                                * measured ay's error: each axle force's deviation
+                                * carries its static share of mass times it        */
     grip_real_t beta_sd_max;   /* QS rad [0.001, 0.5], default 0.0175 (1 deg): V_BETA only
                                 * while beta_sd is at most this                       */
     grip_real_t vx_sd_max;     /* QS m/s [0, 50], default 0 (no limit): V_VX only while vx_sd

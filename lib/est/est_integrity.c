@@ -220,9 +220,12 @@ void est_bound_speed(grip_est_t *est, const est_ctx_t *s, grip_real_t kk, grip_r
 /* The axle forces' deviations [N]: the tire model's relative error
  * tire_tol of the force, the axle's slope (its wheels' |d Fy / d alpha| of
  * this step's Jacobians) times the slip angle's deviation (beta's, and the
- * yaw rate's lever arm over vx), and the force's change with mu (the
- * step's d Fy / d mu) times mu's deviation; summed (at least their root
- * sum square, and cheaper). vx's deviation with them. vx_sd_max > 0: V_VX
+ * yaw rate's lever arm over vx), the force's change with mu (the step's
+ * d Fy / d mu) times mu's deviation, and the axle's static share of
+ * m kin_acc_sd: the filter fits the two forces to the measured ay, whose
+ * offset and uncorrected bank they carry, which the slope term misses where
+ * the slope is small (a braked tire near zero slip angle); summed (at least
+ * their root sum square, and cheaper). vx's deviation with them. vx_sd_max > 0: V_VX
  * only while vx_sd is within it; fy_sd_max > 0: V_AXLE and V_MARGIN only
  * while both are within it. */
 void est_bound_outputs(const grip_est_t *est, est_ctx_t *s, grip_est_output_t *out)
@@ -243,8 +246,10 @@ void est_bound_outputs(const grip_est_t *est, est_ctx_t *s, grip_est_output_t *o
         int w0 = a + a, w1 = a + a + 1;
         grip_real_t arm = (a == 0) ? est->cfg.lf : est->cfg.lr;
         grip_real_t asd = r_min(r_add(s->beta_sd_f, r_mul(arm, q)), R_ONE);
+        grip_real_t share = (a == 0) ? est->sb_share_f : r_sub(R_ONE, est->sb_share_f);
         grip_real_t sd = r_add(r_mul(est->cfg.tire_tol, r_abs(out->fy_axle[a])), r_mul(s->slope[a], asd));
         sd = r_add(sd, r_mul(r_add(r_abs(est->fy_dmu[w0]), r_abs(est->fy_dmu[w1])), out->mu_sd));
+        sd = r_add(sd, r_mul(r_mul(share, est->cfg.kin_acc_sd), est->cfg.mass));
         out->fy_axle_sd[a] = sd;
         /* beyond the consumer's limit, when one is set: the axle forces
          * and the front axle's margin are not valid */

@@ -80,9 +80,11 @@ static int wheels_agree(grip_real_t vmin, grip_real_t vmin2, grip_real_t vmax, g
  * 0.25): within QS for |ay| <= ACC_MAX. */
 static grip_real_t wheel_long_acc(const grip_est_t *est, const est_ctx_t *s)
 {
-    const grip_est_config_t *c = &est->cfg;
-    grip_real_t lever = r_add(r_mul(c->lr, r_div(s->sd, s->cd)), r_mul(c->lf, r_div(s->sr, s->cr)));
-    return r_add(s->ax, r_div(r_mul(s->ay, lever), r_add(c->lf, c->lr)));
+    /* lr/l tan d_f + lf/l tan d_r, with lr/l the front axle's static share */
+    grip_real_t share_f = est->sb_share_f;
+    grip_real_t lever = r_add(r_mul(share_f, r_div(s->sd, s->cd)),
+                              r_mul(r_sub(R_ONE, share_f), r_div(s->sr, s->cr)));
+    return r_add(s->ax, r_mul(s->ay, lever));
 }
 
 void est_speed(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)

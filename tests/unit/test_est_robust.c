@@ -1018,6 +1018,63 @@ static void test_pitch_gradient(void **state)
     assert_true(fabs(with_pitch) < 0.16);
 }
 
+/* A straight ABS stop (every wheel 12 % slow: past the tire's peak slip,
+ * where its lateral slope is small) with the accelerometer's ay 0.1 m/s^2
+ * off: the filter fits the two axles' forces to that offset. Each axle's
+ * deviation carries its static share of m kin_acc_sd (est_bound_outputs),
+ * so the forces it reports (true: 0) stay within 3 of it. Returns the
+ * smallest fy_axle_sd over that share and the largest |fy_axle| / (3 sd)
+ * over the steps with V_AXLE. */
+static void abs_stop_axle_bound(double *sd_over_floor, double *err_over_3sd)
+{
+    grip_est_t e;
+    grip_est_config_t cfg;
+    grip_est_output_t o;
+    grip_input_sample_t s;
+    const double a = -8.0, ay_off = 0.1;
+    double v = 25.0, floor_n[2];
+    int k, i, ax;
+    assert_int_equal(grip_est_config_default(&cfg, tire()), GRIP_OK);
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_OK);
+    floor_n[0] = dq(cfg.lr) / (dq(cfg.lf) + dq(cfg.lr)) * dl(cfg.mass) * dq(cfg.kin_acc_sd);
+    floor_n[1] = dq(cfg.lf) / (dq(cfg.lf) + dq(cfg.lr)) * dl(cfg.mass) * dq(cfg.kin_acc_sd);
+    circle(&s, v, 0.0);
+    run(&e, &s, 100, &o);
+    *sd_over_floor = 1e9;
+    *err_over_3sd = 0.0;
+    for (k = 0; k < 200; ++k) {
+        v += a * 0.01;
+        circle(&s, v, 0.0);
+        for (i = 0; i < 4; ++i) {
+            s.value[i] = qs(0.88 * v);
+        }
+        s.value[GRIP_IN_AX] = qs(a);
+        s.value[GRIP_IN_AY] = qs(ay_off);
+        assert_int_equal(grip_est_step(&e, &s, &o), GRIP_OK);
+        assert_finite_out(&o);
+        if (!e.active) {
+            continue;
+        }
+        for (ax = 0; ax < 2; ++ax) {
+            *sd_over_floor = fmin(*sd_over_floor, dl(o.fy_axle_sd[ax]) / floor_n[ax]);
+            if (o.valid & GRIP_EST_V_AXLE) {
+                *err_over_3sd = fmax(*err_over_3sd, fabs(dl(o.fy_axle[ax])) / (3.0 * dl(o.fy_axle_sd[ax])));
+            }
+        }
+    }
+}
+
+static void test_axle_bound_carries_ay_offset(void **state)
+{
+    double sd_over_floor, err_over_3sd;
+    (void)state;
+    abs_stop_axle_bound(&sd_over_floor, &err_over_3sd);
+    printf("# ABS stop, ay 0.1 m/s^2 off: smallest fy_axle_sd / (share m kin_acc_sd) %.3f, largest |fy_axle| / "
+           "(3 fy_axle_sd) where V_AXLE %.3f\n", sd_over_floor, err_over_3sd);
+    assert_true(sd_over_floor >= 0.999);
+    assert_true(err_over_3sd <= 1.0);
+}
+
 static int misfit_run(const grip_mf_params *t, int *first_flag, int *vmu_after, int *vmu_steps, double *mu_end)
 {
     grip_est_t e;
@@ -1208,6 +1265,7 @@ int main(void)
         cmocka_unit_test(test_steering_lag),
         cmocka_unit_test(test_steering_latency),
         cmocka_unit_test(test_pitch_gradient),
+        cmocka_unit_test(test_axle_bound_carries_ay_offset),
         cmocka_unit_test(test_model_misfit),
         cmocka_unit_test(test_full_lock_turn),
         cmocka_unit_test(test_missing_ax),

@@ -960,7 +960,7 @@ class Estimator:
         # steady shares of m ay, times tan delta); at full lock and constant
         # speed ax is -0.8 m/s^2 of them, which read as braking left vx to
         # ax and its offset (docs/independent-judge.md, "Pitch and the speed reference's braking test")
-        a_w = ax + s.ay * (c["lr"] * s.sd / s.cd + c["lf"] * s.sr / s.cr) / (c["lf"] + c["lr"])
+        a_w = ax + s.ay * (self.sb_f_share * s.sd / s.cd + (1.0 - self.sb_f_share) * s.sr / s.cr)
         ws, ws_ok = [0.0] * 4, [False] * 4
         n_ws, vmin, vmax, vsum = 0, 1000.0, -1000.0, 0.0
         lock = spin = False
@@ -2078,7 +2078,9 @@ class Estimator:
         force, the axle's slope (g 2 c_alpha at its load) times the slip
         angle's deviation (beta's and the yaw rate's lever arm over vx; the
         slope: the step's Jacobians, |d Fy / d alpha| of the axle's wheels),
-        the force's change with mu times mu's deviation; summed."""
+        the force's change with mu times mu's deviation, and the axle's
+        static share of m kin_acc_sd (the measured ay's offset and
+        uncorrected bank, which the two forces are fitted to); summed."""
         c, o = self.cfg, s.out
         o["vx_sd"] = self.sd_vx if self.vx_init else 0.0
         o["fy_axle_sd"] = np.zeros(2)
@@ -2096,6 +2098,8 @@ class Estimator:
             asd = min(s.beta_sd_f + arm * q, 1.0)
             sd = tol * abs(float(o["fy_axle"][a])) + s.slope[a] * asd   # this step's Jacobians
             sd += (abs(float(s.dfdmu[w[0]])) + abs(float(s.dfdmu[w[1]]))) * o["mu_sd"]
+            share = self.sb_f_share if a == 0 else 1.0 - self.sb_f_share
+            sd += share * c.get("kin_acc_sd", KIN_ACC) * c["mass"]
             o["fy_axle_sd"][a] = sd
             # beyond the consumer's limit, when one is set
             if c.get("fy_sd_max", 0.0) > 0.0 and sd > c["fy_sd_max"]:
