@@ -665,14 +665,12 @@ static grip_status_t mf_pure_begin_prep_x(const grip_mf_prepared *k, const grip_
 static grip_status_t mf_pure_begin_prep_c(const grip_mf_prepared *k, const grip_mf_input *in, grip_mf_output *out,
                                           mf_pure *s)
 {
-    /* grip-deviation: ctunullpointer false positive: called only from the prepared evaluation, whose k the API checks */
     return mf_pure_begin_body(k->p, k, in, out, s, 1, NULL);
 }
 
 static grip_status_t mf_pure_begin_prep_c_x(const grip_mf_prepared *k, const grip_mf_input *in, grip_mf_output *out,
                                             mf_pure *s, mf_core *x)
 {
-    /* grip-deviation: ctunullpointer false positive: called only from the prepared evaluation, whose k the API checks */
     return mf_pure_begin_body(k->p, k, in, out, s, 1, x);
 }
 #endif
