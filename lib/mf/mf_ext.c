@@ -1255,7 +1255,7 @@ static MF_ALWAYS_INLINE grip_status_t ext_channels_body(const grip_mf_params *p,
         e.vx = c->vx;
         e.omega = R_ZERO;
 #if !GRIP_ARITH_FIXED
-        certx = ((k->flags & MF_PF_CERT_EXT) != 0u) ? 1 : 0;
+        certx = ((k->flags & MF_PF_CERT_EXT) != 0u) ? 1 : 0; /* grip-deviation: MISRA-10.6 tool: ?: of constants is not composite (8.10.3) */
 #endif
     } else if (ext_inputs(mode, outputs, in, spin, &c->io, &e) && (st == GRIP_OK)) {
         st = GRIP_WARN_CLAMPED;
