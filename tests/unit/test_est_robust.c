@@ -969,6 +969,19 @@ static void test_steering_latency(void **state)
  * only). With the gradient configured vx ends within that pull of the
  * truth and nearer it than without, where the ax error integrates;
  * out-of-range gradients are refused. */
+/* One sample of a straight stop at speed v: every wheel at wheel_ratio v,
+ * the accelerometer reading ax and ay */
+static void stop_sample(grip_input_sample_t *s, double v, double wheel_ratio, double ax, double ay)
+{
+    int i;
+    circle(s, v, 0.0);
+    for (i = 0; i < 4; ++i) {
+        s->value[i] = qs(wheel_ratio * v);
+    }
+    s->value[GRIP_IN_AX] = qs(ax);
+    s->value[GRIP_IN_AY] = qs(ay);
+}
+
 static double pitch_stop_error(double pitch_gradient)
 {
     grip_est_t e;
@@ -977,7 +990,7 @@ static double pitch_stop_error(double pitch_gradient)
     grip_input_sample_t s;
     const double kp = 0.005, a = -6.0;
     double v = 25.0;
-    int k, i;
+    int k;
     assert_int_equal(grip_est_config_default(&cfg, tire()), GRIP_OK);
     cfg.pitch_gradient = qs(pitch_gradient);
     assert_int_equal(grip_est_init(&e, &cfg), GRIP_OK);
@@ -985,11 +998,7 @@ static double pitch_stop_error(double pitch_gradient)
     run(&e, &s, 100, &o);
     for (k = 0; k < 200; ++k) {
         v += a * 0.01;
-        circle(&s, v, 0.0);
-        for (i = 0; i < 4; ++i) {
-            s.value[i] = qs(0.98 * v);
-        }
-        s.value[GRIP_IN_AX] = qs(a * (1.0 + 9.80665 * kp));
+        stop_sample(&s, v, 0.98, a * (1.0 + 9.80665 * kp), 0.0);
         assert_int_equal(grip_est_step(&e, &s, &o), GRIP_OK);
         assert_finite_out(&o);
     }
@@ -1033,7 +1042,7 @@ static void abs_stop_axle_bound(double *sd_over_floor, double *err_over_3sd)
     grip_input_sample_t s;
     const double a = -8.0, ay_off = 0.1;
     double v = 25.0, floor_n[2];
-    int k, i, ax;
+    int k, ax;
     assert_int_equal(grip_est_config_default(&cfg, tire()), GRIP_OK);
     assert_int_equal(grip_est_init(&e, &cfg), GRIP_OK);
     floor_n[0] = dq(cfg.lr) / (dq(cfg.lf) + dq(cfg.lr)) * dl(cfg.mass) * dq(cfg.kin_acc_sd);
@@ -1044,12 +1053,7 @@ static void abs_stop_axle_bound(double *sd_over_floor, double *err_over_3sd)
     *err_over_3sd = 0.0;
     for (k = 0; k < 200; ++k) {
         v += a * 0.01;
-        circle(&s, v, 0.0);
-        for (i = 0; i < 4; ++i) {
-            s.value[i] = qs(0.88 * v);
-        }
-        s.value[GRIP_IN_AX] = qs(a);
-        s.value[GRIP_IN_AY] = qs(ay_off);
+        stop_sample(&s, v, 0.88, a, ay_off);
         assert_int_equal(grip_est_step(&e, &s, &o), GRIP_OK);
         assert_finite_out(&o);
         if (!e.active) {
