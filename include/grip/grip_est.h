@@ -112,7 +112,9 @@ typedef struct {
                                 * Exactly 1 (front-wheel drive), rear wheels not steered:
                                 * while driving, the speed reference is the rear axle's
                                 * mean wheel speed instead of the slowest wheel
-                                * (est_speed.c) */
+                                * (est_speed.c). Exactly 0 or 1: the undriven axle's
+                                * wheels work at zero slip while the car is not braking
+                                * (est_tires.c) */
     uint32_t roll_est;         /* 1: learn the body's roll gradient online (est_roll.c,
                                 * docs/estimator/roll.md), starting from roll_gradient,
                                 * while the car weaves on the tires' linear part; kept
@@ -246,7 +248,8 @@ typedef struct {
     grip_real_t yaw_rate_ref;    /* QS rad/s bicycle reference, friction limited  */
     grip_real_t yaw_error;       /* QS rad/s yaw_rate - yaw_rate_ref              */
     grip_real_t delta;           /* QS rad road-wheel steer angle                 */
-    grip_real_t kappa[4];        /* QS slip ratio (ISO, > 0 driving)              */
+    grip_real_t kappa[4];        /* QS slip ratio (ISO, > 0 driving) the tire works
+                                  * at: 0 on the undriven axle while not braking */
     grip_real_t alpha[4];        /* QS rad slip angle (ISO-W), kinematic          */
     grip_real_t fz[4];           /* QL N vertical load                            */
     grip_real_t fx[4];           /* QL N                                          */

@@ -294,6 +294,10 @@ void est_speed(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)
     s->lock = (uint8_t)lock;
     s->spin = (uint8_t)spin;
     s->dead_reck = (uint8_t)dead_reck;
+    s->braking = 0u;
+    if (a_w < RC(-EST_AX_TH)) {
+        s->braking = 1u;
+    }
 
     s->vx = est->vx;
     if (r_abs(s->vx) < RC(EST_V_STAND)) {

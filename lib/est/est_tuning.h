@@ -49,7 +49,8 @@
                               *        car                                                 */
 #define EST_AX_TH    0.3     /* m/s^2  braking below -AX_TH takes the fastest wheel as the
                               *        reference, driving above +AX_TH the unsteered rear
-                              *        axle's mean (front drive) or the slowest (tuning)   */
+                              *        axle's mean (front drive) or the slowest; above
+                              *        -AX_TH an undriven axle works at zero slip (tuning) */
 #define EST_WHEEL_DEV 0.15   /* -      a wheel 15 % (+0.5 m/s) off the prediction counts as
                               *        locked or spinning and leaves the reference (tuning) */
 #define EST_K_HI     5.0     /* 1/s    gain of the wheel speeds on vx when they agree with

@@ -1079,6 +1079,48 @@ static void test_axle_bound_carries_ay_offset(void **state)
     assert_true(err_over_3sd <= 1.0);
 }
 
+/* A steady turn at 20 m/s and 6 m/s^2 with the inner front wheel 0.5 %
+ * slow (a lightly loaded wheel: its rolling resistance over a small slip
+ * stiffness), for 3 s at the longitudinal acceleration ax (the speed held:
+ * the wheels say it). Returns the front wheels' |Fx| sum at the end. */
+static double undriven_front_fx(double drive_front, double ax)
+{
+    grip_est_t e;
+    grip_est_config_t cfg;
+    grip_est_output_t o;
+    grip_input_sample_t s;
+    assert_int_equal(grip_est_config_default(&cfg, tire()), GRIP_OK);
+    cfg.drive_front = qs(drive_front);
+    assert_int_equal(grip_est_init(&e, &cfg), GRIP_OK);
+    circle(&s, 20.0, 6.0);
+    s.value[GRIP_IN_WHEEL_SPEED_FL] = qs(0.995 * dq(s.value[GRIP_IN_WHEEL_SPEED_FL]));
+    s.value[GRIP_IN_AX] = qs(ax);
+    run(&e, &s, 300, &o);
+    return fabs(dl(o.fx[0])) + fabs(dl(o.fx[1]));
+}
+
+/* The front wheels of a rear-driven car carry no torque but their rolling
+ * resistance while the car is not braking: they work at zero slip
+ * (est_tires.c), whatever their speeds say. Unknown drive layout, or
+ * braking: the measured slips (the front brakes act). */
+static void test_undriven_wheels_work_at_zero_slip(void **state)
+{
+    double rear_drive = undriven_front_fx(0.0, 0.0);
+    double unknown = undriven_front_fx(-1.0, 0.0);
+    double front_drive = undriven_front_fx(1.0, 0.0);
+    double braking = undriven_front_fx(0.0, -3.0);
+    (void)state;
+    printf("# turn at 6 m/s^2, inner front wheel 0.5 %% slow: front |Fx| sum %.1f N rear-driven, %.1f N drive "
+           "unknown, %.1f N front-driven, %.1f N rear-driven braking at 3 m/s^2\n",
+           rear_drive, unknown, front_drive, braking);
+    assert_true(unknown > 100.0);
+    assert_true(front_drive > 100.0);
+    assert_true(braking > 100.0);
+    /* what the tire gives at zero slip and the turn's slip angles (its
+     * horizontal and vertical shifts) */
+    assert_true(rear_drive < 0.1 * unknown);
+}
+
 static int misfit_run(const grip_mf_params *t, int *first_flag, int *vmu_after, int *vmu_steps, double *mu_end)
 {
     grip_est_t e;
@@ -1270,6 +1312,7 @@ int main(void)
         cmocka_unit_test(test_steering_latency),
         cmocka_unit_test(test_pitch_gradient),
         cmocka_unit_test(test_axle_bound_carries_ay_offset),
+        cmocka_unit_test(test_undriven_wheels_work_at_zero_slip),
         cmocka_unit_test(test_model_misfit),
         cmocka_unit_test(test_full_lock_turn),
         cmocka_unit_test(test_missing_ax),

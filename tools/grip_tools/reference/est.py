@@ -1088,6 +1088,7 @@ class Estimator:
             s.vbits |= V_VX
         s.ws, s.ws_ok, s.wheels_ok, s.lock, s.spin = ws, ws_ok, wheels_ok, lock, spin
         s.dead_reck, s.at_rest, s.vx = dead_reck, at_rest, vx
+        s.braking = a_w < -AX_TH
 
     # ---- est_lateral.c: the lateral filter ----------------------------------
     def switch_lateral_filter(self, s):
@@ -1397,6 +1398,15 @@ class Estimator:
         self.alpha_t = alpha.copy()
         kappa = np.array([_clamp((ws[i] - vxw[i]) / den[i], -1.0, 1.5) if ws_ok[i] else 0.0
                           for i in range(4)])
+        # an undriven axle (drive_front exactly 0 or 1) while the car is not
+        # braking: no torque but the rolling resistance, the slip of zero
+        # Fx, taken as 0 (est_tires.c)
+        if not s.braking:
+            df = c.get("drive_front", -1.0)
+            if df == 0.0:
+                kappa[0:2] = 0.0
+            elif df == 1.0:
+                kappa[2:4] = 0.0
         lever = xa * cdi + ya * sdi
         side = np.array([1.0, -1.0, 1.0, -1.0])
         # similarity up to the peak slip ratio; past it the tire's own
