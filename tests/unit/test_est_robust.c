@@ -56,16 +56,6 @@ static void make_est(grip_est_t *e)
     assert_int_equal(grip_est_init(e, &cfg), GRIP_OK);
 }
 
-/* steady circle: speed v [m/s], lateral acceleration ay; the steering-wheel
- * angle of the linear bicycle model (l = 2.7 m, stability factor
- * A = 3.7e-4 s^2/m^2 of the estimator's car and tire, steering ratio 15.5) */
-/* A steady circle of the default car at speed v and lateral acceleration
- * ay: steering from the linear bicycle, yaw rate ay / v, and the
- * accelerometer's reading of a body rolled by the default roll gradient
- * (0.0088 rad per m/s^2: ay (1 + g 0.0088)), which the estimator removes.
- * (A reading without the roll is 8 % below the kinematics, a persistent
- * deficit that mu's secant takes for low friction: docs/estimator.md,
- * "mu's secant".) */
 /* The wheel speeds, steering-wheel angle swa and yaw rate r of a steady
  * turn at speed v (the default car's half tracks 0.775 / 0.765 m). */
 static void turn(grip_input_sample_t *s, double v, double r, double swa)
@@ -78,6 +68,14 @@ static void turn(grip_input_sample_t *s, double v, double r, double swa)
     s->value[GRIP_IN_YAW_RATE] = qs(r);
 }
 
+/* A steady circle of the default car at speed v [m/s] and lateral
+ * acceleration ay: the steering-wheel angle of the linear bicycle model
+ * (l = 2.7 m, stability factor A = 3.7e-4 s^2/m^2 of the estimator's car
+ * and tire, steering ratio 15.5), yaw rate ay / v, and the accelerometer's
+ * reading of a body rolled by the default roll gradient (0.0088 rad per
+ * m/s^2: ay (1 + g 0.0088)), which the estimator removes. (A reading
+ * without the roll is 8 % below the kinematics, a persistent deficit that
+ * mu's secant takes for low friction: docs/estimator.md, "mu's secant".) */
 static void circle(grip_input_sample_t *s, double v, double ay)
 {
     double r = (v > 0.1) ? ay / v : 0.0;
