@@ -369,6 +369,8 @@ typedef struct {
     int32_t rlx_init;           /* alpha_t set since the lateral observer started */
     int32_t no_wheel_steps;
     int32_t dr_steps;           /* consecutive dead-reckoning steps */
+    int32_t braking;            /* this step's braking test (est_speed.c: the wheels' own
+                                 * acceleration below -EST_AX_TH), read by the tire stage */
     int32_t active;             /* lateral observer running */
     int32_t vx_init;
     grip_real_t vy_k;           /* QS m/s kinematic vy (est_integrity.c) */

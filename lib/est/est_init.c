@@ -238,6 +238,7 @@ grip_status_t grip_est_reset(grip_est_t *est)
     }
     est->no_wheel_steps = 1000000;
     est->dr_steps = 0;
+    est->braking = 0;
     est->ax_off = R_ZERO;
     est->r_lin_f = R_ZERO;
     est->delta_f = R_ZERO;

@@ -79,7 +79,6 @@ typedef struct {
     uint8_t at_rest;            /* at rest by the wheels and the prediction: the gyro reads its bias */
     uint8_t dead_reck;          /* vx integrates ax: every wheel locked or spinning */
     uint8_t kappa_slip;         /* a wheel at |kappa| >= LOCK_K */
-    uint8_t braking;            /* the wheels' own acceleration below -AX_TH (est_speed.c) */
     uint8_t excited;            /* mu may adapt in this step */
     uint8_t at_limit;           /* the mu-independent friction-limit test holds */
     uint8_t b_ok;               /* the gyro bias may adapt in this step */

@@ -294,9 +294,9 @@ void est_speed(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)
     s->lock = (uint8_t)lock;
     s->spin = (uint8_t)spin;
     s->dead_reck = (uint8_t)dead_reck;
-    s->braking = 0u;
+    est->braking = 0;
     if (a_w < RC(-EST_AX_TH)) {
-        s->braking = 1u;
+        est->braking = 1;
     }
 
     s->vx = est->vx;

@@ -72,6 +72,20 @@ static EST_NOINLINE void loads(const grip_est_t *est, est_ctx_t *s, grip_est_out
     }
 }
 
+/* An undriven axle (drive_front exactly 0 or 1, an OEM datum) while the
+ * car is not braking: no torque acts on its wheels but their rolling
+ * resistance, so they work at the slip of zero Fx, taken as 0. What their
+ * speeds show beyond it is the error of vx, of the wheel's radius and of
+ * its projection to the CG: a lightly loaded inner wheel that slows, a few
+ * tenths of a percent, is a few hundred N of Fx the tire model would
+ * otherwise take out of the axle's lateral friction (docs/estimator.md,
+ * stage 3). axle: 0 front, 1 rear. */
+static int axle_coasts(const grip_est_t *est, int axle)
+{
+    grip_real_t undriven = (axle == 0) ? R_ZERO : R_ONE; /* the drive_front that leaves it undriven */
+    return (est->braking == 0) && (est->cfg.drive_front == undriven);
+}
+
 /* The four tire evaluations at the prior state (s->vy, r, mu): per wheel
  * the slips, the forces and utilization (out), the excitation measures, and
  * the wheel's share of the Jacobians; then the model's accelerations and
@@ -87,22 +101,6 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
     grip_real_t umax = R_ZERO, umax_x = R_ZERO, kappa_sum = R_ZERO, umax_est = R_ZERO;
     int i, kappa_slip = 0;
 
-    /* An undriven axle (drive_front exactly 0 or 1, an OEM datum) while
-     * the car is not braking: no torque acts on its wheels but their
-     * rolling resistance, so they work at the slip of zero Fx, taken as 0.
-     * What their speeds show beyond it is the error of vx, of the wheel's
-     * radius and of its projection to the CG: a lightly loaded inner wheel
-     * that slows, a few tenths of a percent, is a few hundred N of Fx the
-     * tire model would otherwise take out of the axle's lateral friction
-     * (docs/estimator.md, stage 3). */
-    int undriven[2] = { 0, 0 };
-    if (c->drive_front == R_ZERO) {
-        undriven[0] = 1;
-    } else if (c->drive_front == R_ONE) {
-        undriven[1] = 1;
-    } else {
-        /* shared or not known: both axles may carry torque */
-    }
     s->slope[0] = R_ZERO;
     s->slope[1] = R_ZERO;
     for (i = 0; i < 4; ++i) {
@@ -121,7 +119,7 @@ static void tire_forces(grip_est_t *est, const grip_input_sample_t *in, est_ctx_
         grip_mf_input ti;
         grip_mf_output to;
         grip_status_t st;
-        if (s->ws_ok[i] && !(undriven[axle] && !s->braking)) {
+        if (s->ws_ok[i] && !axle_coasts(est, axle)) {
             kappa = r_clamp(r_div(r_sub(in->value[GRIP_IN_WHEEL_SPEED_FL + i], vxw), den), RC(-1.0), RC(1.5));
         }
         /* the tires work at the lagged slip angle; the Jacobians below keep
