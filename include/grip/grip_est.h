@@ -370,7 +370,8 @@ typedef struct {
     int32_t no_wheel_steps;
     int32_t dr_steps;           /* consecutive dead-reckoning steps */
     int32_t braking;            /* this step's braking test (est_speed.c: the wheels' own
-                                 * acceleration below -EST_AX_TH), read by the tire stage */
+                                 * acceleration below -EST_AX_TH): the speed reference's
+                                 * and the tire stage's undriven axle's                  */
     int32_t active;             /* lateral observer running */
     int32_t vx_init;
     grip_real_t vy_k;           /* QS m/s kinematic vy (est_integrity.c) */

@@ -116,6 +116,12 @@ void est_speed(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)
     far[1] = far[0];
     far[2] = r_abs(s->sr) > RC(EST_WS_STEER_MAX); /* grip-deviation: MISRA-10.3 result 0/1 stored in an int flag */
     far[3] = far[2];
+    /* braking by the wheels' own force: the reference below, and the tire
+     * stage's undriven axle (est_tires.c) */
+    est->braking = 0;
+    if (a_w < RC(-EST_AX_TH)) {
+        est->braking = 1;
+    }
     for (i = 0; i < 4; ++i) {
         grip_real_t v = in->value[GRIP_IN_WHEEL_SPEED_FL + i];
         ws_ok[i] = in->valid[GRIP_IN_WHEEL_SPEED_FL + i] && r_is_finite(v) && r_abs(v) < RC(EST_WS_MAX);
@@ -221,7 +227,7 @@ void est_speed(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)
     } else if (n_ws > 0) {
         static const grip_real_t inv_n[5] = { RC(0.0), RC(1.0), RC(0.5), RC(1.0 / 3.0), RC(0.25) };
         grip_real_t v_mean = r_mul(inv_n[n_ws], vsum);
-        if (a_w < RC(-EST_AX_TH)) {
+        if (est->braking != 0) {
             v_ref = vmax;
         } else if (a_w > RC(EST_AX_TH)) {
             v_ref = drive_reference(est, s, vcs, in_ref, vmin);
@@ -237,7 +243,7 @@ void est_speed(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)
             k = agree ? ((lock || spin) ? RC(EST_K_MID) : RC(EST_K_HI)) : RC(EST_K_LO); /* grip-deviation: MISRA-10.3 tool: cppcheck 2.10 types ?: by its int condition */
             /* braking slips every wheel (the brakes act on all four): the
              * fastest one is still slower than the car */
-            if (a_w < RC(-EST_AX_TH) && v_ref < vx_pred) {
+            if ((est->braking != 0) && (v_ref < vx_pred)) {
                 k = r_min(k, RC(EST_K_SLIP));
                 trusted = 0;
             }
@@ -294,10 +300,6 @@ void est_speed(grip_est_t *est, const grip_input_sample_t *in, est_ctx_t *s)
     s->lock = (uint8_t)lock;
     s->spin = (uint8_t)spin;
     s->dead_reck = (uint8_t)dead_reck;
-    est->braking = 0;
-    if (a_w < RC(-EST_AX_TH)) {
-        est->braking = 1;
-    }
 
     s->vx = est->vx;
     if (r_abs(s->vx) < RC(EST_V_STAND)) {

@@ -961,6 +961,7 @@ class Estimator:
         # speed ax is -0.8 m/s^2 of them, which read as braking left vx to
         # ax and its offset (docs/independent-judge.md, "Pitch and the speed reference's braking test")
         a_w = ax + s.ay * (self.sb_f_share * s.sd / s.cd + (1.0 - self.sb_f_share) * s.sr / s.cr)
+        s.braking = a_w < -AX_TH   # the reference below, and the tire stage's undriven axle
         ws, ws_ok = [0.0] * 4, [False] * 4
         n_ws, vmin, vmax, vsum = 0, 1000.0, -1000.0, 0.0
         lock = spin = False
@@ -1026,7 +1027,7 @@ class Estimator:
         if vs_ok:
             v_ref, k = self.hold[4], K_HI
         elif n_ws > 0:
-            if a_w < -AX_TH:
+            if s.braking:
                 v_ref = vmax
             elif a_w > AX_TH:
                 v_ref = drive_reference(c.get("drive_front", -1.0), s.sr != 0.0, vcs, in_ref, vmin)
@@ -1037,7 +1038,7 @@ class Estimator:
             trusted = agree and not lock and not spin
             # braking slips every wheel (the brakes act on all four): the
             # fastest one is still slower than the car
-            if a_w < -AX_TH and v_ref < vx_pred:
+            if s.braking and v_ref < vx_pred:
                 k = min(k, K_SLIP)
                 trusted = False
             # the ax offset (unconfigured grade, accelerometer bias) from the
@@ -1088,7 +1089,6 @@ class Estimator:
             s.vbits |= V_VX
         s.ws, s.ws_ok, s.wheels_ok, s.lock, s.spin = ws, ws_ok, wheels_ok, lock, spin
         s.dead_reck, s.at_rest, s.vx = dead_reck, at_rest, vx
-        s.braking = a_w < -AX_TH
 
     # ---- est_lateral.c: the lateral filter ----------------------------------
     def switch_lateral_filter(self, s):
